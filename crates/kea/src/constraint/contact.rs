@@ -1,0 +1,304 @@
+//! Contacts (the guide's `MdtContact`, `MdtBclContact`, `MdtBclContactParams`).
+//!
+//! A contact is a point `p`, a unit normal `n` pointing from body 2 towards body 1, and a
+//! penetration depth. It writes up to three rows:
+//!
+//! * **normal**: `J₁ = (n, r₁×n)`, `J₂ = (−n, −r₂×n)`, `xi = −penetration`, `λ ∈ [−F_adhesive, ∞)`.
+//!   When the approach speed exceeds the restitution threshold, the target velocity is
+//!   `c = e·v_in` and the row is made hard for that step (ε = 0, γ = 0) so that softness does
+//!   not eat into the bounce: rebound speed is exactly `e·v_in`.
+//! * **friction** along the primary direction `t₁` and (2D) the secondary `t₂ = n × t₁`
+//!   (right-hand rule): `J = (t, r₁×t)`, `(−t, −r₂×t)`, target `c = slide` (conveyor belt
+//!   speed of body 1 relative to body 2), slip factor `s` (sliding speed `s·|F|`), bounds by
+//!   model: box `±F_max`, Coulomb `±μλₙ` (linked to the normal row), infinite `±∞`.
+//!
+//! With no primary direction set, `t₁` follows the predicted tangential sliding velocity (so
+//! friction opposes sliding exactly, without the box model's anisotropy), or a fixed basis when
+//! there is none.
+
+use super::{Jacobian, Row, RowContext, RowWriter};
+use crate::error::{check_finite, check_non_negative, check_unit, check_vec3, KeaError, KeaResult};
+use crate::math::{orthonormal_basis, Real, Vec3};
+
+/// Which tangential directions carry friction (the guide's `MdtContactType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactType {
+    /// No friction: the bodies slide freely.
+    Frictionless,
+    /// Friction along the primary direction only.
+    Friction1D,
+    /// Friction along both tangential directions.
+    #[default]
+    Friction2D,
+}
+
+/// How friction is bounded along one direction (the guide's friction models).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrictionModel {
+    /// No bound: the surfaces never slide (the guide's default when no model is set).
+    Infinite,
+    /// Constant maximum force, N (the guide's `MdtFrictionModelBox`).
+    Box {
+        /// Maximum friction force along this direction, ≥ 0.
+        max_force: Real,
+    },
+    /// Coulomb: maximum force `μ` times the normal force.
+    Coulomb {
+        /// Friction coefficient, ≥ 0.
+        mu: Real,
+    },
+}
+
+/// The surface parameters of a contact (the guide's `MdtBclContactParams`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// Frictionless, 1D or 2D.
+    pub contact_type: ContactType,
+    /// Friction model along the primary and secondary directions.
+    pub friction: [FrictionModel; 2],
+    /// Coefficient of restitution in [0, ∞) (normally ≤ 1; above 1 adds energy, a pinball
+    /// bumper). 0 by default.
+    pub restitution: Real,
+    /// Minimum approach speed (m/s) for a bounce; slower impacts do not bounce. Default 0.1.
+    pub restitution_threshold: Real,
+    /// Contact softness ε (the guide's soft mode); `None` uses the world's ε. Around 1e-4 is
+    /// barely soft; 0.1–1 is visibly springy (units of inverse mass).
+    pub softness: Option<Real>,
+    /// Maximum adhesive (pulling) force, N; 0 for none (the guide's adhesive mode).
+    pub max_adhesive_force: Real,
+    /// Slip factor along the primary and secondary directions, m/s per N (0 = none).
+    pub slip: [Real; 2],
+    /// Surface (conveyor) speed of body 1 relative to body 2 along each direction, m/s.
+    pub slide: [Real; 2],
+}
+
+impl Default for ContactParams {
+    /// 2D Coulomb friction with μ = 0.5, no restitution, world softness, nothing else.
+    fn default() -> Self {
+        Self {
+            contact_type: ContactType::Friction2D,
+            friction: [FrictionModel::Coulomb { mu: 0.5 }; 2],
+            restitution: 0.0,
+            restitution_threshold: 0.1,
+            softness: None,
+            max_adhesive_force: 0.0,
+            slip: [0.0; 2],
+            slide: [0.0; 2],
+        }
+    }
+}
+
+impl ContactParams {
+    /// Checks every field; names the first bad one.
+    pub fn validate(&self) -> KeaResult<()> {
+        for (i, f) in self.friction.iter().enumerate() {
+            let arg = if i == 0 { "friction[0]" } else { "friction[1]" };
+            match *f {
+                FrictionModel::Infinite => {}
+                FrictionModel::Box { max_force } => {
+                    check_non_negative(arg, max_force)?;
+                }
+                FrictionModel::Coulomb { mu } => {
+                    check_non_negative(arg, mu)?;
+                }
+            }
+        }
+        check_non_negative("restitution", self.restitution)?;
+        check_non_negative("restitution_threshold", self.restitution_threshold)?;
+        if let Some(s) = self.softness {
+            check_non_negative("softness", s)?;
+        }
+        check_non_negative("max_adhesive_force", self.max_adhesive_force)?;
+        check_non_negative("slip[0]", self.slip[0])?;
+        check_non_negative("slip[1]", self.slip[1])?;
+        check_finite("slide[0]", self.slide[0])?;
+        check_finite("slide[1]", self.slide[1])?;
+        Ok(())
+    }
+
+    /// Number of rows a contact with these parameters writes.
+    #[must_use]
+    pub fn row_count(&self) -> usize {
+        match self.contact_type {
+            ContactType::Frictionless => 1,
+            ContactType::Friction1D => 2,
+            ContactType::Friction2D => 3,
+        }
+    }
+}
+
+/// A contact point between body 1 and body 2 (or the static world). Defaults follow the
+/// guide's reset table: position 0, normal +y, penetration 0, no primary direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    position: Vec3,
+    normal: Vec3,
+    penetration: Real,
+    direction: Option<Vec3>,
+    params: ContactParams,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Self {
+            position: Vec3::ZERO,
+            normal: Vec3::Y,
+            penetration: 0.0,
+            direction: None,
+            params: ContactParams::default(),
+        }
+    }
+}
+
+impl Contact {
+    /// A contact at a world point with a unit normal (from body 2 towards body 1) and a
+    /// penetration depth (positive when overlapping).
+    pub fn new(position: Vec3, normal: Vec3, penetration: Real) -> KeaResult<Self> {
+        let mut c = Self::default();
+        c.set_position(position)?;
+        c.set_normal(normal)?;
+        c.set_penetration(penetration)?;
+        Ok(c)
+    }
+    /// Contact point, world frame.
+    #[must_use]
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+    /// Unit normal, world frame, from body 2 towards body 1.
+    #[must_use]
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+    /// Penetration depth (positive when overlapping).
+    #[must_use]
+    pub fn penetration(&self) -> Real {
+        self.penetration
+    }
+    /// Primary friction direction, if set.
+    #[must_use]
+    pub fn direction(&self) -> Option<Vec3> {
+        self.direction
+    }
+    /// The surface parameters.
+    #[must_use]
+    pub fn params(&self) -> &ContactParams {
+        &self.params
+    }
+    /// Sets the contact point (world frame).
+    pub fn set_position(&mut self, p: Vec3) -> KeaResult<()> {
+        self.position = check_vec3("position", p)?;
+        Ok(())
+    }
+    /// Sets the normal (unit; from body 2 towards body 1). If a primary direction is set and
+    /// is no longer perpendicular, it is cleared.
+    pub fn set_normal(&mut self, n: Vec3) -> KeaResult<()> {
+        let n = check_unit("normal", n)?;
+        self.normal = n;
+        if let Some(d) = self.direction {
+            if d.dot(n).abs() > 1.0e-3 {
+                self.direction = None;
+            }
+        }
+        Ok(())
+    }
+    /// Sets the penetration depth (finite; negative means a gap).
+    pub fn set_penetration(&mut self, depth: Real) -> KeaResult<()> {
+        self.penetration = check_finite("penetration", depth)?;
+        Ok(())
+    }
+    /// Sets the primary friction direction (unit, perpendicular to the normal within 1e-3), or
+    /// clears it with `None`. The secondary direction is `normal × primary`.
+    pub fn set_direction(&mut self, d: Option<Vec3>) -> KeaResult<()> {
+        let Some(d) = d else {
+            self.direction = None;
+            return Ok(());
+        };
+        let d = check_unit("direction", d)?;
+        if d.dot(self.normal).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "direction",
+                value: format!("{d}"),
+                expected: "must be perpendicular to the contact normal",
+            });
+        }
+        // Remove the tiny normal component so the basis is exactly orthonormal.
+        self.direction = Some((d - self.normal * d.dot(self.normal)).normalize());
+        Ok(())
+    }
+    /// Replaces the surface parameters after checking them.
+    pub fn set_params(&mut self, params: ContactParams) -> KeaResult<()> {
+        params.validate()?;
+        self.params = params;
+        Ok(())
+    }
+
+    /// The friction directions `(t₁, t₂)` this contact would use now.
+    #[must_use]
+    pub fn friction_directions(&self, ctx: &RowContext) -> (Vec3, Vec3) {
+        let n = self.normal;
+        let t1 = match self.direction {
+            Some(d) => d,
+            None => {
+                let [b1, b2] = &ctx.bodies;
+                let v =
+                    b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
+                let vt = v - n * v.dot(n);
+                let speed = vt.length();
+                if speed > 1.0e-5 {
+                    -vt / speed
+                } else {
+                    orthonormal_basis(n).0
+                }
+            }
+        };
+        (t1, n.cross(t1))
+    }
+
+    /// Writes the contact's rows: normal first, then friction (see the module docs).
+    pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+        let [b1, b2] = &ctx.bodies;
+        let p = self.position;
+        let n = self.normal;
+        let r1 = p - b1.position;
+        let r2 = p - b2.position;
+        let prm = &self.params;
+        let jac = |d: Vec3| [Jacobian::new(d, r1.cross(d)), Jacobian::new(-d, -r2.cross(d))];
+
+        let mut normal = Row::new(jac(n)[0], jac(n)[1])
+            .with_error(-self.penetration)
+            .with_bounds(-prm.max_adhesive_force, Real::INFINITY);
+        if let Some(s) = prm.softness {
+            normal.softness = Some(s);
+        }
+        let approach = -(b1.velocity_at(p) - b2.velocity_at(p)).dot(n);
+        if prm.restitution > 0.0 && approach > prm.restitution_threshold {
+            normal.c = prm.restitution * approach;
+            normal.softness = Some(0.0);
+            normal.gamma = Some(0.0);
+        }
+        let normal_row = out.push(normal);
+
+        let directions = match prm.contact_type {
+            ContactType::Frictionless => 0,
+            ContactType::Friction1D => 1,
+            ContactType::Friction2D => 2,
+        };
+        if directions == 0 {
+            return;
+        }
+        let (t1, t2) = self.friction_directions(ctx);
+        for (k, t) in [t1, t2].into_iter().enumerate().take(directions) {
+            let j = jac(t);
+            let mut row = Row::new(j[0], j[1])
+                .with_target_velocity(prm.slide[k])
+                .with_slip(prm.slip[k]);
+            match prm.friction[k] {
+                FrictionModel::Infinite => {}
+                FrictionModel::Box { max_force } => row = row.with_bounds(-max_force, max_force),
+                FrictionModel::Coulomb { mu } => row = row.with_friction_link(normal_row, mu),
+            }
+            out.push(row);
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! Constraints as rows (the guide's MdtBcl): contacts, joints, and the user's own.
+//!
+//! Every constraint writes [`Row`]s through a [`RowWriter`], given a [`RowContext`] that shows the
+//! current state of its (up to) two bodies. Neither the constraint nor the user knows which solver
+//! will use the rows.
+
+pub mod ball;
+pub mod contact;
+pub mod row;
+
+pub use ball::BallJoint;
+pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
+pub use row::{FrictionLink, Jacobian, Row, RowWriter, Softness};
+
+use crate::math::{Quat, Real, Vec3};
+
+/// The state of one body of a constraint, as the constraint sees it while writing rows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowBody {
+    /// Centre of mass, world frame (zero for the static world).
+    pub position: Vec3,
+    /// Orientation (identity for the static world).
+    pub orientation: Quat,
+    /// Linear velocity at the start of the step.
+    pub linear_velocity: Vec3,
+    /// Angular velocity at the start of the step.
+    pub angular_velocity: Vec3,
+    /// Linear velocity the body would have at the end of the step with no constraints
+    /// (gravity, applied forces and damping included).
+    pub free_linear_velocity: Vec3,
+    /// Angular velocity the body would have at the end of the step with no constraints.
+    pub free_angular_velocity: Vec3,
+    /// False for the static world or a disabled body: it does not move.
+    pub dynamic: bool,
+}
+
+impl RowBody {
+    /// The static world: fixed at the origin.
+    pub const STATIC: Self = Self {
+        position: Vec3::ZERO,
+        orientation: Quat::IDENTITY,
+        linear_velocity: Vec3::ZERO,
+        angular_velocity: Vec3::ZERO,
+        free_linear_velocity: Vec3::ZERO,
+        free_angular_velocity: Vec3::ZERO,
+        dynamic: false,
+    };
+
+    /// A fixed body at a pose (a disabled body).
+    #[must_use]
+    pub fn fixed(position: Vec3, orientation: Quat) -> Self {
+        Self {
+            position,
+            orientation,
+            ..Self::STATIC
+        }
+    }
+
+    /// World position of a point given in this body's frame.
+    #[must_use]
+    pub fn point_to_world(&self, local: Vec3) -> Vec3 {
+        self.position + self.orientation * local
+    }
+
+    /// World direction of a vector given in this body's frame.
+    #[must_use]
+    pub fn vector_to_world(&self, local: Vec3) -> Vec3 {
+        self.orientation * local
+    }
+
+    /// Velocity at the start of the step of a world point moving with the body.
+    #[must_use]
+    pub fn velocity_at(&self, point: Vec3) -> Vec3 {
+        self.linear_velocity + self.angular_velocity.cross(point - self.position)
+    }
+
+    /// Unconstrained end-of-step velocity of a world point moving with the body.
+    #[must_use]
+    pub fn free_velocity_at(&self, point: Vec3) -> Vec3 {
+        self.free_linear_velocity + self.free_angular_velocity.cross(point - self.position)
+    }
+}
+
+/// What a constraint sees while writing its rows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowContext {
+    /// The constraint's first and second body (the second is [`RowBody::STATIC`] for the world).
+    pub bodies: [RowBody; 2],
+    /// The step size h.
+    pub dt: Real,
+    /// The solver's default softness ε.
+    pub epsilon: Real,
+    /// The solver's default relaxation γ.
+    pub gamma: Real,
+}
+
+/// A user-written constraint (the guide: "You Can Add Your Own Joint Types"): it only has to
+/// write rows. Add it with [`crate::World::add_custom_constraint`].
+pub trait CustomConstraint: std::fmt::Debug + Send + Sync + 'static {
+    /// A short name for logs and errors.
+    fn name(&self) -> &'static str {
+        "custom constraint"
+    }
+    /// Writes this step's rows. Friction links refer to row indices within this constraint.
+    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>);
+}

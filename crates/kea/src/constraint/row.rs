@@ -1,0 +1,253 @@
+//! The constraint row: the one contract every contact, joint and custom constraint writes
+//! (the guide's `MdtKeaConstraints`, one row at a time).
+//!
+//! A row `i` constrains the velocities `v` of at most two bodies through its Jacobian `J_i`
+//! (per body: 3 linear and 3 angular entries, world frame). With step `h`, error `xi`, target
+//! velocity `c`, softness `ε` and relaxation `γ`, the solver looks for a force `λ_i` with
+//!
+//! ```text
+//!   J_i v⁺ = c − (γ/h)·xi − ε·h·λ_i − s·λ_i         (s: slip, velocity per unit force)
+//!   lo_i ≤ λ_i ≤ hi_i,   complementary: λ_i at lo ⇒ J_i v⁺ ≥ target, at hi ⇒ ≤ target
+//! ```
+//!
+//! where `v⁺ = v + h M⁻¹(f_ext + Jᵀλ)`. Eliminating `v⁺` gives the guide's
+//! `(A + εI)λ = b` with `A = J M⁻¹ Jᵀ` (see [`crate::solver`]). Units: `λ` is a **force**
+//! (N for linear rows, N·m for angular rows), so `lo`/`hi` are force bounds and `ε` has units
+//! of inverse mass. A row with stiffness `k` and damping `d` is obtained with
+//! [`Softness::from_spring`].
+
+use crate::math::{Real, Vec3};
+
+/// The Jacobian entries of one row for one body: `J·(v, ω) = linear·v + angular·ω`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Jacobian {
+    /// Coefficients of the linear velocity.
+    pub linear: Vec3,
+    /// Coefficients of the angular velocity.
+    pub angular: Vec3,
+}
+
+impl Jacobian {
+    /// A Jacobian from its two parts.
+    #[must_use]
+    pub const fn new(linear: Vec3, angular: Vec3) -> Self {
+        Self { linear, angular }
+    }
+    /// The zero Jacobian (no coupling to that body).
+    pub const ZERO: Self = Self {
+        linear: Vec3::ZERO,
+        angular: Vec3::ZERO,
+    };
+}
+
+/// Coulomb coupling of a friction row to its normal row: the bounds become `±μ·max(λ_n, 0)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionLink {
+    /// Index of the normal row **within the same constraint** (0 for the first row written).
+    pub normal_row: u16,
+    /// Friction coefficient μ (≥ 0).
+    pub mu: Real,
+}
+
+/// One constraint row. Build it with [`Row::new`] and the `with_*` methods, or fill the public
+/// fields directly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// Jacobian for the constraint's first and second body. The entry of an absent (world)
+    /// body is ignored.
+    pub jacobian: [Jacobian; 2],
+    /// Position-level constraint error `C(x)` (the guide's `xi`); the solver drives it to zero
+    /// at rate `γ/h`.
+    pub xi: Real,
+    /// Target velocity of the row (the guide's `c`): motors, conveyor slide, restitution.
+    pub c: Real,
+    /// Lower bound on λ (force); may be `-INFINITY`.
+    pub lo: Real,
+    /// Upper bound on λ (force); may be `INFINITY`.
+    pub hi: Real,
+    /// Coulomb link to a normal row: if set, `lo`/`hi` are replaced by `∓μ·λ_normal`.
+    pub friction: Option<FrictionLink>,
+    /// First-order slip (the guide's `slipfactor`): velocity per unit force, ≥ 0.
+    pub slip: Real,
+    /// Per-row softness ε (inverse mass units); `None` uses the solver's ε.
+    pub softness: Option<Real>,
+    /// Per-row error reduction γ in [0, 1]; `None` uses the solver's γ.
+    pub gamma: Option<Real>,
+}
+
+impl Row {
+    /// An equality row (unbounded λ) with the given Jacobian for body 0 and body 1, no error and
+    /// zero target velocity.
+    #[must_use]
+    pub fn new(j0: Jacobian, j1: Jacobian) -> Self {
+        Self {
+            jacobian: [j0, j1],
+            xi: 0.0,
+            c: 0.0,
+            lo: Real::NEG_INFINITY,
+            hi: Real::INFINITY,
+            friction: None,
+            slip: 0.0,
+            softness: None,
+            gamma: None,
+        }
+    }
+    /// Sets the position error.
+    #[must_use]
+    pub fn with_error(mut self, xi: Real) -> Self {
+        self.xi = xi;
+        self
+    }
+    /// Sets the target velocity.
+    #[must_use]
+    pub fn with_target_velocity(mut self, c: Real) -> Self {
+        self.c = c;
+        self
+    }
+    /// Sets the force bounds.
+    #[must_use]
+    pub fn with_bounds(mut self, lo: Real, hi: Real) -> Self {
+        self.lo = lo;
+        self.hi = hi;
+        self
+    }
+    /// Makes this a Coulomb friction row bounded by `μ` times the λ of `normal_row`.
+    #[must_use]
+    pub fn with_friction_link(mut self, normal_row: u16, mu: Real) -> Self {
+        self.friction = Some(FrictionLink { normal_row, mu });
+        self
+    }
+    /// Sets the slip factor.
+    #[must_use]
+    pub fn with_slip(mut self, slip: Real) -> Self {
+        self.slip = slip;
+        self
+    }
+    /// Sets softness and relaxation for this row.
+    #[must_use]
+    pub fn with_softness(mut self, softness: Softness) -> Self {
+        self.softness = Some(softness.epsilon);
+        self.gamma = Some(softness.gamma);
+        self
+    }
+    /// Sets the per-row γ.
+    #[must_use]
+    pub fn with_gamma(mut self, gamma: Real) -> Self {
+        self.gamma = Some(gamma);
+        self
+    }
+
+    /// Checks the row's numbers: finite Jacobian, error and target, `lo ≤ hi`, no NaN bounds,
+    /// non-negative slip and μ, γ in [0, 1], ε ≥ 0. Returns the name of the first bad field.
+    pub fn invalid_field(&self) -> Option<&'static str> {
+        let fin = |v: Vec3| v.is_finite();
+        if !self.jacobian.iter().all(|j| fin(j.linear) && fin(j.angular)) {
+            return Some("jacobian");
+        }
+        if !self.xi.is_finite() {
+            return Some("xi");
+        }
+        if !self.c.is_finite() {
+            return Some("c");
+        }
+        if self.lo.is_nan() || self.hi.is_nan() || self.lo > self.hi {
+            return Some("lo/hi");
+        }
+        if !(self.slip.is_finite() && self.slip >= 0.0) {
+            return Some("slip");
+        }
+        if let Some(f) = self.friction {
+            if !(f.mu.is_finite() && f.mu >= 0.0) {
+                return Some("friction.mu");
+            }
+        }
+        if let Some(e) = self.softness {
+            if !(e.is_finite() && e >= 0.0) {
+                return Some("softness");
+            }
+        }
+        if let Some(g) = self.gamma {
+            if !(g.is_finite() && (0.0..=1.0).contains(&g)) {
+                return Some("gamma");
+            }
+        }
+        None
+    }
+}
+
+/// A row's softness ε and relaxation γ, usually derived from a physical spring.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Softness {
+    /// Softness ε (inverse mass units).
+    pub epsilon: Real,
+    /// Error reduction γ in [0, 1].
+    pub gamma: Real,
+}
+
+impl Softness {
+    /// The ε and γ that make a row behave as an implicit spring of stiffness `k` (N/m or
+    /// N·m/rad) and damping `d` (N·s/m or N·m·s/rad) at step `h`:
+    /// `γ = h·k / (h·k + d)`, `ε = 1 / (h·(h·k + d))`.
+    ///
+    /// With these, one step of the row reproduces implicit Euler on `m·ẍ = −k·x − d·ẋ`
+    /// exactly for a single body of effective mass `m`, so the spring oscillates at `√(k/m)`
+    /// whatever the step. Returns `None` unless `k ≥ 0`, `d ≥ 0`, `h > 0`, `h·k + d > 0`.
+    #[must_use]
+    pub fn from_spring(k: Real, d: Real, h: Real) -> Option<Self> {
+        let ok = k.is_finite() && d.is_finite() && h.is_finite() && k >= 0.0 && d >= 0.0;
+        let hkd = h * k + d;
+        if !ok || h <= 0.0 || hkd <= 0.0 {
+            return None;
+        }
+        Some(Self {
+            epsilon: 1.0 / (h * hkd),
+            gamma: h * k / hkd,
+        })
+    }
+}
+
+/// Where constraints write their rows. It remembers where the current constraint's rows begin so
+/// that [`FrictionLink::normal_row`] can be local.
+pub struct RowWriter<'a> {
+    rows: &'a mut Vec<Row>,
+    start: usize,
+}
+
+impl<'a> RowWriter<'a> {
+    /// A writer appending to `rows`; the current constraint's rows start at the current end.
+    pub fn new(rows: &'a mut Vec<Row>) -> Self {
+        let start = rows.len();
+        Self { rows, start }
+    }
+    /// Appends a row and returns its index within the current constraint.
+    pub fn push(&mut self, row: Row) -> u16 {
+        self.rows.push(row);
+        (self.rows.len() - 1 - self.start) as u16
+    }
+    /// Number of rows written for the current constraint.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.rows.len() - self.start
+    }
+    /// True when no row was written yet for the current constraint.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spring_mapping_round_trips() {
+        let h = 0.01;
+        let s = Softness::from_spring(1000.0, 10.0, h).unwrap();
+        // k = γ/(ε h²), d = (1 − γ)/(ε h)
+        let k = s.gamma / (s.epsilon * h * h);
+        let d = (1.0 - s.gamma) / (s.epsilon * h);
+        assert!((k - 1000.0).abs() < 1e-2 && (d - 10.0).abs() < 1e-3);
+        assert!(Softness::from_spring(-1.0, 0.0, h).is_none());
+    }
+}

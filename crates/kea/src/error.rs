@@ -1,0 +1,231 @@
+//! Errors returned for bad input. Every fallible call validates before it changes anything, so an
+//! `Err` always means the world is exactly as it was before the call.
+
+use thiserror::Error;
+
+/// What went wrong with a call. Each variant names the argument and shows the bad value.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum KeaError {
+    /// A number was NaN or infinite.
+    #[error("argument `{arg}` must be finite, got {value}")]
+    NonFinite {
+        /// The argument's name.
+        arg: &'static str,
+        /// The offending value, formatted.
+        value: String,
+    },
+    /// A number was outside its allowed range.
+    #[error("argument `{arg}` = {value} is out of range: {expected}")]
+    OutOfRange {
+        /// The argument's name.
+        arg: &'static str,
+        /// The offending value, formatted.
+        value: String,
+        /// What the argument must satisfy.
+        expected: &'static str,
+    },
+    /// A vector or quaternion that must be unit length was not (or was zero).
+    #[error("argument `{arg}` must be unit length (within 1e-3), got {value} of length {length}")]
+    NotUnit {
+        /// The argument's name.
+        arg: &'static str,
+        /// The offending value, formatted.
+        value: String,
+        /// Its length.
+        length: f64,
+    },
+    /// An inertia tensor that is not symmetric positive definite.
+    #[error("argument `{arg}` must be a symmetric positive-definite inertia tensor, got {value}: {reason}")]
+    BadInertia {
+        /// The argument's name.
+        arg: &'static str,
+        /// The offending matrix, formatted.
+        value: String,
+        /// Why it was rejected.
+        reason: &'static str,
+    },
+    /// A handle whose object was destroyed (its generation is stale) or never existed.
+    #[error("{kind} handle {index}v{generation} is stale: the {kind} was destroyed or never existed")]
+    StaleHandle {
+        /// "body" or "constraint".
+        kind: &'static str,
+        /// The handle's slot index.
+        index: u32,
+        /// The handle's generation.
+        generation: u32,
+    },
+    /// A handle that belongs to another world.
+    #[error("{kind} handle {index}v{generation} belongs to world {handle_world}, not to this world {world}")]
+    ForeignHandle {
+        /// "body" or "constraint".
+        kind: &'static str,
+        /// The handle's slot index.
+        index: u32,
+        /// The handle's generation.
+        generation: u32,
+        /// The world the handle came from.
+        handle_world: u32,
+        /// The world it was given to.
+        world: u32,
+    },
+    /// Creating the object would exceed a capacity fixed when the world was created.
+    #[error("capacity exceeded: the world holds at most {capacity} {what}")]
+    CapacityExceeded {
+        /// "bodies" or "constraints".
+        what: &'static str,
+        /// The capacity.
+        capacity: usize,
+    },
+    /// The constraint exists but is not of the kind the call needs (e.g. a joint given to a
+    /// contact accessor).
+    #[error("constraint {index}v{generation} is a {actual}, not a {expected}")]
+    WrongConstraintKind {
+        /// The handle's slot index.
+        index: u32,
+        /// The handle's generation.
+        generation: u32,
+        /// The kind the call needs.
+        expected: &'static str,
+        /// The kind the constraint is.
+        actual: &'static str,
+    },
+    /// A call that is only allowed in some state (e.g. changing bodies of an enabled constraint).
+    #[error("invalid state for `{operation}`: {reason}")]
+    InvalidState {
+        /// The operation attempted.
+        operation: &'static str,
+        /// Why it is not allowed now.
+        reason: &'static str,
+    },
+    /// The immediate-mode solver was given inconsistent arrays.
+    #[error("argument `{arg}` is inconsistent: {reason}")]
+    Inconsistent {
+        /// The argument's name.
+        arg: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type KeaResult<T> = Result<T, KeaError>;
+
+use crate::math::{is_finite3, is_finite_mat3, Mat3, Quat, Real, Vec3, UNIT_TOLERANCE};
+
+/// Checks that a real number is finite.
+pub(crate) fn check_finite(arg: &'static str, x: Real) -> KeaResult<Real> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(KeaError::NonFinite {
+            arg,
+            value: format!("{x}"),
+        })
+    }
+}
+
+/// Checks that a real number is finite and ≥ 0.
+pub(crate) fn check_non_negative(arg: &'static str, x: Real) -> KeaResult<Real> {
+    check_finite(arg, x)?;
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(KeaError::OutOfRange {
+            arg,
+            value: format!("{x}"),
+            expected: "must be >= 0",
+        })
+    }
+}
+
+/// Checks that a real number is finite and > 0.
+pub(crate) fn check_positive(arg: &'static str, x: Real) -> KeaResult<Real> {
+    check_finite(arg, x)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(KeaError::OutOfRange {
+            arg,
+            value: format!("{x}"),
+            expected: "must be > 0",
+        })
+    }
+}
+
+/// Checks that a vector is finite.
+pub(crate) fn check_vec3(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
+    if is_finite3(v) {
+        Ok(v)
+    } else {
+        Err(KeaError::NonFinite {
+            arg,
+            value: format!("{v}"),
+        })
+    }
+}
+
+/// Checks that a vector is finite and unit length (within [`UNIT_TOLERANCE`]); returns it
+/// renormalised.
+pub(crate) fn check_unit(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
+    check_vec3(arg, v)?;
+    let len = v.length();
+    if (len - 1.0).abs() <= UNIT_TOLERANCE {
+        Ok(v / len)
+    } else {
+        Err(KeaError::NotUnit {
+            arg,
+            value: format!("{v}"),
+            length: len as f64,
+        })
+    }
+}
+
+/// Checks that a quaternion is finite and unit length; returns it renormalised.
+pub(crate) fn check_quat(arg: &'static str, q: Quat) -> KeaResult<Quat> {
+    let finite = q.x.is_finite() && q.y.is_finite() && q.z.is_finite() && q.w.is_finite();
+    if !finite {
+        return Err(KeaError::NonFinite {
+            arg,
+            value: format!("{q}"),
+        });
+    }
+    let len = q.length();
+    if (len - 1.0).abs() <= UNIT_TOLERANCE {
+        Ok(q / len)
+    } else {
+        Err(KeaError::NotUnit {
+            arg,
+            value: format!("{q}"),
+            length: len as f64,
+        })
+    }
+}
+
+/// Checks that an inertia tensor is finite, symmetric and positive definite.
+pub(crate) fn check_inertia(arg: &'static str, m: Mat3) -> KeaResult<Mat3> {
+    let bad = |reason| KeaError::BadInertia {
+        arg,
+        value: format!("{m}"),
+        reason,
+    };
+    if !is_finite_mat3(&m) {
+        return Err(bad("it has a NaN or infinite entry"));
+    }
+    let scale = m.x_axis.x.abs().max(m.y_axis.y.abs()).max(m.z_axis.z.abs());
+    let tol = 1.0e-4 * scale.max(Real::MIN_POSITIVE);
+    let asym = (m.x_axis.y - m.y_axis.x)
+        .abs()
+        .max((m.x_axis.z - m.z_axis.x).abs())
+        .max((m.y_axis.z - m.z_axis.y).abs());
+    if asym > tol {
+        return Err(bad("it is not symmetric"));
+    }
+    // Sylvester's criterion: every leading principal minor is positive.
+    let m1 = m.x_axis.x;
+    let m2 = m.x_axis.x * m.y_axis.y - m.x_axis.y * m.y_axis.x;
+    let m3 = m.determinant();
+    if !(m1 > 0.0 && m2 > 0.0 && m3 > 0.0) {
+        return Err(bad("it is not positive definite"));
+    }
+    Ok(m)
+}

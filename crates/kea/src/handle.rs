@@ -1,0 +1,211 @@
+//! Typed generational handles and the fixed-capacity slot arena behind them.
+//!
+//! A handle is `(world, index, generation)`. Destroying an object bumps its slot's generation, so
+//! every handle to it becomes stale; a handle from another world is rejected by its world id. The
+//! arena reserves its full capacity when the world is created (the guide's `MdtWorldCreate`
+//! pool), so creating and destroying objects never allocates.
+
+use crate::error::{KeaError, KeaResult};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+static NEXT_WORLD_ID: AtomicU32 = AtomicU32::new(1);
+
+/// A fresh id for a new world, so handles from different worlds never mix.
+pub(crate) fn next_world_id() -> u32 {
+    NEXT_WORLD_ID.fetch_add(1, Ordering::Relaxed)
+}
+
+macro_rules! define_handle {
+    ($(#[$doc:meta])* $name:ident, $kind:literal) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub struct $name {
+            pub(crate) world: u32,
+            pub(crate) index: u32,
+            pub(crate) generation: u32,
+        }
+
+        impl $name {
+            /// The slot index (stable while the object lives; reused after it is destroyed).
+            #[must_use]
+            pub fn index(self) -> u32 {
+                self.index
+            }
+            /// The generation of the slot when the handle was made.
+            #[must_use]
+            pub fn generation(self) -> u32 {
+                self.generation
+            }
+        }
+
+        impl HandleKind for $name {
+            const KIND: &'static str = $kind;
+            fn parts(self) -> (u32, u32, u32) {
+                (self.world, self.index, self.generation)
+            }
+            fn from_parts(world: u32, index: u32, generation: u32) -> Self {
+                Self { world, index, generation }
+            }
+        }
+    };
+}
+
+define_handle!(
+    /// A handle to a body of a [`crate::World`] (the guide's `MdtBodyID`).
+    BodyHandle,
+    "body"
+);
+define_handle!(
+    /// A handle to a constraint of a [`crate::World`]: a contact, a joint or a custom constraint
+    /// (the guide's `MdtConstraintID`, `MdtContactID` and joint IDs).
+    ConstraintHandle,
+    "constraint"
+);
+
+/// What the arena needs from a handle type.
+pub(crate) trait HandleKind: Copy {
+    const KIND: &'static str;
+    fn parts(self) -> (u32, u32, u32);
+    fn from_parts(world: u32, index: u32, generation: u32) -> Self;
+}
+
+struct Slot<T> {
+    generation: u32,
+    value: Option<T>,
+}
+
+/// A slot arena with a fixed capacity, reserved up front.
+pub(crate) struct Arena<T, H: HandleKind> {
+    world: u32,
+    slots: Vec<Slot<T>>,
+    free: Vec<u32>,
+    len: usize,
+    capacity: usize,
+    what: &'static str,
+    _marker: std::marker::PhantomData<H>,
+}
+
+impl<T, H: HandleKind> Arena<T, H> {
+    pub(crate) fn new(world: u32, capacity: usize, what: &'static str) -> Self {
+        Self {
+            world,
+            slots: Vec::with_capacity(capacity),
+            free: Vec::with_capacity(capacity),
+            len: 0,
+            capacity,
+            what,
+            _marker: std::marker::PhantomData,
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    pub(crate) fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// Number of slots ever used: valid indices are `0..slot_count()`.
+    pub(crate) fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    pub(crate) fn insert(&mut self, value: T) -> KeaResult<H> {
+        if self.len >= self.capacity {
+            return Err(KeaError::CapacityExceeded {
+                what: self.what,
+                capacity: self.capacity,
+            });
+        }
+        // Reuse the lowest freed slot last freed (LIFO): deterministic for the same call sequence.
+        let index = if let Some(i) = self.free.pop() {
+            let slot = &mut self.slots[i as usize];
+            slot.value = Some(value);
+            i
+        } else {
+            self.slots.push(Slot {
+                generation: 0,
+                value: Some(value),
+            });
+            (self.slots.len() - 1) as u32
+        };
+        self.len += 1;
+        let generation = self.slots[index as usize].generation;
+        Ok(H::from_parts(self.world, index, generation))
+    }
+
+    pub(crate) fn check(&self, h: H) -> KeaResult<usize> {
+        let (world, index, generation) = h.parts();
+        if world != self.world {
+            return Err(KeaError::ForeignHandle {
+                kind: H::KIND,
+                index,
+                generation,
+                handle_world: world,
+                world: self.world,
+            });
+        }
+        match self.slots.get(index as usize) {
+            Some(slot) if slot.generation == generation && slot.value.is_some() => {
+                Ok(index as usize)
+            }
+            _ => Err(KeaError::StaleHandle {
+                kind: H::KIND,
+                index,
+                generation,
+            }),
+        }
+    }
+
+    pub(crate) fn get(&self, h: H) -> KeaResult<&T> {
+        let i = self.check(h)?;
+        Ok(self.slots[i].value.as_ref().expect("checked slot is occupied"))
+    }
+
+    pub(crate) fn get_mut(&mut self, h: H) -> KeaResult<&mut T> {
+        let i = self.check(h)?;
+        Ok(self.slots[i].value.as_mut().expect("checked slot is occupied"))
+    }
+
+    pub(crate) fn remove(&mut self, h: H) -> KeaResult<T> {
+        let i = self.check(h)?;
+        let slot = &mut self.slots[i];
+        slot.generation = slot.generation.wrapping_add(1);
+        self.free.push(i as u32);
+        self.len -= 1;
+        Ok(slot.value.take().expect("checked slot is occupied"))
+    }
+
+    /// The value in slot `i`, if occupied.
+    pub(crate) fn at(&self, i: usize) -> Option<&T> {
+        self.slots.get(i).and_then(|s| s.value.as_ref())
+    }
+
+    /// The value in slot `i`, mutably, if occupied.
+    pub(crate) fn at_mut(&mut self, i: usize) -> Option<&mut T> {
+        self.slots.get_mut(i).and_then(|s| s.value.as_mut())
+    }
+
+    /// The handle of the object in slot `i`, if occupied.
+    pub(crate) fn handle_at(&self, i: usize) -> Option<H> {
+        let slot = self.slots.get(i)?;
+        slot.value
+            .as_ref()
+            .map(|_| H::from_parts(self.world, i as u32, slot.generation))
+    }
+
+    /// Occupied slots in index order (deterministic).
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (H, &T)> + '_ {
+        self.slots.iter().enumerate().filter_map(move |(i, s)| {
+            s.value
+                .as_ref()
+                .map(|v| (H::from_parts(self.world, i as u32, s.generation), v))
+        })
+    }
+
+    /// Approximate bytes reserved by the arena.
+    pub(crate) fn reserved_bytes(&self) -> usize {
+        self.capacity * (std::mem::size_of::<Slot<T>>() + std::mem::size_of::<u32>())
+    }
+}

@@ -1,0 +1,41 @@
+//! # Kea: rigid-body dynamics with an exact constraint solver
+//!
+//! Kea re-creates the layered engine of the MathEngine Dynamics Toolkit 2.0 in Rust:
+//!
+//! * [`solver`] — the Kea solver (MdtKea): bodies and constraint rows in, new states and
+//!   constraint forces out, by an exact boxed-LCP solve per island. Callable without a world.
+//! * [`constraint`] — constraint rows (MdtBcl): contacts, joints, and your own.
+//! * [`World`] — the retained world (Mdt): bodies, constraints, the step.
+//!
+//! ```
+//! use kea::{World, BodyDef, Vec3};
+//! let mut world = World::with_capacity(16, 16).unwrap();
+//! let ball = world
+//!     .create_body(&BodyDef { position: Vec3::new(0.0, 10.0, 0.0), ..Default::default() })
+//!     .unwrap();
+//! for _ in 0..60 {
+//!     world.step(1.0 / 60.0).unwrap();
+//! }
+//! let y = world.body(ball).unwrap().position().y;
+//! assert!(y < 10.0 - 4.5 && y > 10.0 - 5.2); // about ½ g t² after 1 s
+//! ```
+#![warn(missing_docs)]
+
+pub mod body;
+pub mod constraint;
+pub mod error;
+mod handle;
+pub mod math;
+pub mod solver;
+pub mod world;
+
+pub use body::{inertia, Body, BodyDef};
+pub use constraint::{
+    BallJoint, Contact, ContactParams, ContactType, CustomConstraint, FrictionModel, Jacobian, Row,
+    RowBody, RowContext, RowWriter, Softness,
+};
+pub use error::{KeaError, KeaResult};
+pub use handle::{BodyHandle, ConstraintHandle};
+pub use math::{Mat3, Mat4, Quat, Real, Vec3};
+pub use solver::{Reaction, Solver, SolverBody, SolverParams, SolverStats};
+pub use world::{StepStats, World, WorldDef};

@@ -1,0 +1,152 @@
+//! Numbers and vectors: the guide's `MePrecision.h`.
+//!
+//! Every real number in the crate is a [`Real`]: `f32` by default, `f64` with the cargo feature
+//! `f64`. The vector types are glam's, chosen to match. The exact LCP solver always works in `f64`
+//! whatever `Real` is (see [`crate::solver`]).
+
+#[cfg(not(feature = "f64"))]
+mod precision {
+    /// The crate's real number type (the guide's `MeReal`): `f32` by default.
+    pub type Real = f32;
+    /// A 3-vector of [`Real`] (the guide's `MeVector3`).
+    pub type Vec3 = glam::Vec3;
+    /// A unit quaternion of [`Real`] describing an orientation.
+    pub type Quat = glam::Quat;
+    /// A 3×3 matrix of [`Real`] (the guide's `MeMatrix3`), column-major.
+    pub type Mat3 = glam::Mat3;
+    /// A 4×4 matrix of [`Real`] (the guide's `MeMatrix4`), column-major, as renderers expect.
+    pub type Mat4 = glam::Mat4;
+    /// π in [`Real`].
+    pub const PI: Real = std::f32::consts::PI;
+}
+
+#[cfg(feature = "f64")]
+mod precision {
+    /// The crate's real number type (the guide's `MeReal`): `f64` with the `f64` feature.
+    pub type Real = f64;
+    /// A 3-vector of [`Real`] (the guide's `MeVector3`).
+    pub type Vec3 = glam::DVec3;
+    /// A unit quaternion of [`Real`] describing an orientation.
+    pub type Quat = glam::DQuat;
+    /// A 3×3 matrix of [`Real`] (the guide's `MeMatrix3`), column-major.
+    pub type Mat3 = glam::DMat3;
+    /// A 4×4 matrix of [`Real`] (the guide's `MeMatrix4`), column-major, as renderers expect.
+    pub type Mat4 = glam::DMat4;
+    /// π in [`Real`].
+    pub const PI: Real = std::f64::consts::PI;
+}
+
+pub use precision::*;
+
+/// Machine epsilon of [`Real`].
+pub const REAL_EPSILON: Real = Real::EPSILON;
+
+/// Tolerance on the length of vectors and quaternions that the API requires to be unit length.
+///
+/// Inputs within this distance of length 1 are accepted and renormalised; farther ones are an
+/// error, because a far-from-unit normal or quaternion is almost always a bug in the caller.
+pub const UNIT_TOLERANCE: Real = 1.0e-3;
+
+/// A 3-vector in `f64`, used by the exact solver.
+pub type DVec3 = glam::DVec3;
+
+/// Converts a [`Vec3`] to `f64` for the exact solver.
+#[inline]
+#[must_use]
+#[allow(clippy::unnecessary_cast)]
+pub fn to_f64(v: Vec3) -> DVec3 {
+    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+/// Converts an `f64` vector back to a [`Vec3`].
+#[inline]
+#[must_use]
+#[allow(clippy::unnecessary_cast)]
+pub fn from_f64(v: DVec3) -> Vec3 {
+    Vec3::new(v.x as Real, v.y as Real, v.z as Real)
+}
+
+/// The skew-symmetric matrix `[a]×` such that `[a]× b = a × b`.
+#[inline]
+#[must_use]
+pub fn cross_matrix(a: Vec3) -> Mat3 {
+    Mat3::from_cols(
+        Vec3::new(0.0, a.z, -a.y),
+        Vec3::new(-a.z, 0.0, a.x),
+        Vec3::new(a.y, -a.x, 0.0),
+    )
+}
+
+/// Two unit vectors that complete `n` (unit) to a right-handed orthonormal basis `(t1, t2, n)`
+/// with `t1 × t2 = n`. Continuous away from `n ≈ -z` (the branch of Frisvad / Duff et al.).
+#[must_use]
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t1 = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let t2 = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+    (t1, t2)
+}
+
+/// True when every component of the vector is finite.
+#[inline]
+#[must_use]
+pub fn is_finite3(v: Vec3) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}
+
+/// True when every entry of the matrix is finite.
+#[inline]
+#[must_use]
+pub fn is_finite_mat3(m: &Mat3) -> bool {
+    is_finite3(m.x_axis) && is_finite3(m.y_axis) && is_finite3(m.z_axis)
+}
+
+/// Rotates orientation `q` by the finite rotation vector `phi` (axis × angle, world frame):
+/// `q' = exp(phi / 2) ⊗ q`, exact for any angle (no small-angle approximation).
+#[must_use]
+pub fn rotate_by_vector(q: Quat, phi: Vec3) -> Quat {
+    let angle = phi.length();
+    if angle < 1.0e-12 {
+        // Second-order expansion avoids 0/0 and is exact to round-off at this size.
+        let dq = Quat::from_xyzw(0.5 * phi.x, 0.5 * phi.y, 0.5 * phi.z, 1.0);
+        return (dq * q).normalize();
+    }
+    (Quat::from_axis_angle(phi / angle, angle) * q).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn basis_is_right_handed_and_orthonormal() {
+        for n in [
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.3, -0.4, 0.866).normalize(),
+        ] {
+            let (t1, t2) = orthonormal_basis(n);
+            assert!((t1.length() - 1.0).abs() < 1e-5);
+            assert!((t2.length() - 1.0).abs() < 1e-5);
+            assert!(t1.dot(n).abs() < 1e-5 && t2.dot(n).abs() < 1e-5);
+            assert!((t1.cross(t2) - n).length() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn cross_matrix_matches_cross_product() {
+        let a = Vec3::new(1.0, -2.0, 3.0);
+        let b = Vec3::new(0.5, 4.0, -1.0);
+        assert!((cross_matrix(a) * b - a.cross(b)).length() < 1e-5);
+    }
+
+    #[test]
+    fn rotation_by_vector_is_exact() {
+        let q = rotate_by_vector(Quat::IDENTITY, Vec3::new(0.0, 0.0, PI / 2.0));
+        assert!((q * Vec3::X - Vec3::Y).length() < 1e-5);
+    }
+}

@@ -1,0 +1,293 @@
+//! The exact island solve: assemble `A + εI` and `b` in `f64`, run the boxed LCP, iterate the
+//! Coulomb bounds, and hand the forces back.
+//!
+//! Assembly. For rows i, j and each body k they share,
+//! `A_ij += J_ik · M_k⁻¹ J_jkᵀ` with `M_k⁻¹ = diag(1/m_k, I_w,k⁻¹)`; then
+//! `A_ii += ε_i + s_i/h` (softness and slip) and `b_i = (c_i − γ_i·xi_i/h − J_i·v_f)/h`.
+//!
+//! Coulomb. A friction row linked to a normal row gets bounds `±μ·max(λₙ, 0)`. The first solve
+//! uses unbounded friction (the sticking guess); each re-solve uses the bounds from the previous
+//! normal forces, starting from the previous pivoting sets, until no bound moves by more than
+//! 1e-9 relative, or the pass cap is hit (reported).
+
+use super::integrate::BodyScratch;
+use super::lcp::{self, Bound, LcpWorkspace};
+use super::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
+use crate::constraint::Row;
+use crate::math::{to_f64, DVec3, Real};
+
+/// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
+#[derive(Debug, Clone, Copy, Default)]
+struct IslandRow {
+    global: u32,
+    bodies: [Option<u32>; 2],
+    jac: [DVec3; 4],
+    mj: [DVec3; 4],
+    /// Island index of the linked normal row, and μ.
+    link: Option<(u32, f64)>,
+}
+
+/// Workspace for island solves; grows to the largest island seen.
+#[derive(Debug, Default)]
+pub(crate) struct ExactWorkspace {
+    rows: Vec<IslandRow>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    x: Vec<f64>,
+    w: Vec<f64>,
+    state: Vec<Bound>,
+    lcp: LcpWorkspace,
+}
+
+impl ExactWorkspace {
+    pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
+        let n = island_rows;
+        fn r<T>(v: &mut Vec<T>, n: usize) {
+            if v.capacity() < n {
+                v.reserve(n - v.len());
+            }
+        }
+        r(&mut self.rows, n);
+        r(&mut self.a, n * n);
+        for v in [&mut self.b, &mut self.lo, &mut self.hi, &mut self.x, &mut self.w] {
+            r(v, n);
+        }
+        r(&mut self.state, n);
+        self.lcp.reserve(n);
+    }
+
+    pub(crate) fn bytes(&self) -> usize {
+        self.rows.capacity() * std::mem::size_of::<IslandRow>()
+            + self.a.capacity() * 8
+            + (self.b.capacity()
+                + self.lo.capacity()
+                + self.hi.capacity()
+                + self.x.capacity()
+                + self.w.capacity())
+                * 8
+            + self.state.capacity()
+            + self.lcp.bytes()
+    }
+
+    pub(crate) fn bytes_for(largest_island: usize, _rows: usize) -> usize {
+        let n = largest_island;
+        n * std::mem::size_of::<IslandRow>() + n * n * 8 + 5 * n * 8 + n + LcpWorkspace::bytes_for(n)
+    }
+
+    /// Solves one island and accumulates its constraint forces into `scratch`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_island(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+        stats: &mut SolverStats,
+    ) {
+        let n: usize = island_blocks
+            .iter()
+            .map(|&k| blocks[k as usize].row_count as usize)
+            .sum();
+        if n == 0 {
+            return;
+        }
+        self.reserve(n, n);
+        stats.islands += 1;
+        stats.rows += n as u32;
+        stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
+
+        let h = f64::from(params.dt);
+        self.gather(island_blocks, blocks, rows, bodies, scratch);
+        self.assemble(rows, scratch, params, h);
+        self.solve_with_friction(n, params, stats);
+
+        // Forces back to rows, bodies and constraints.
+        for (i, r) in self.rows.iter().enumerate() {
+            let l = self.x[i];
+            lambda[r.global as usize] = l as Real;
+            for s in 0..2 {
+                if let Some(b) = r.bodies[s] {
+                    scratch.constraint_force[b as usize] += r.jac[2 * s] * l;
+                    scratch.constraint_torque[b as usize] += r.jac[2 * s + 1] * l;
+                }
+            }
+        }
+        for &k in island_blocks {
+            let blk = &blocks[k as usize];
+            let mut out = [Reaction::default(); 2];
+            for g in blk.first_row..blk.first_row + blk.row_count {
+                let row = &rows[g as usize];
+                let l = lambda[g as usize];
+                for (s, o) in out.iter_mut().enumerate() {
+                    if blk.bodies[s].is_some() {
+                        o.force += row.jacobian[s].linear * l;
+                        o.torque += row.jacobian[s].angular * l;
+                    }
+                }
+            }
+            reactions[k as usize] = out;
+        }
+    }
+
+    fn gather(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &BodyScratch,
+    ) {
+        self.rows.clear();
+        for &k in island_blocks {
+            let blk = &blocks[k as usize];
+            let base = self.rows.len() as u32;
+            for g in blk.first_row..blk.first_row + blk.row_count {
+                let row = &rows[g as usize];
+                let mut ir = IslandRow {
+                    global: g,
+                    bodies: blk.bodies,
+                    link: row
+                        .friction
+                        .map(|f| (base + u32::from(f.normal_row), f64::from(f.mu))),
+                    ..IslandRow::default()
+                };
+                for s in 0..2 {
+                    if let Some(b) = blk.bodies[s] {
+                        let body = &bodies[b as usize];
+                        let jl = to_f64(row.jacobian[s].linear);
+                        let ja = to_f64(row.jacobian[s].angular);
+                        ir.jac[2 * s] = jl;
+                        ir.jac[2 * s + 1] = ja;
+                        ir.mj[2 * s] = jl * f64::from(body.inv_mass);
+                        ir.mj[2 * s + 1] = to_f64(scratch.inv_inertia_world[b as usize] * row.jacobian[s].angular);
+                    }
+                }
+                self.rows.push(ir);
+            }
+        }
+    }
+
+    fn assemble(&mut self, rows: &[Row], scratch: &BodyScratch, params: &SolverParams, h: f64) {
+        let n = self.rows.len();
+        self.a.clear();
+        self.a.resize(n * n, 0.0);
+        for v in [&mut self.b, &mut self.lo, &mut self.hi, &mut self.x, &mut self.w] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.state.clear();
+        self.state.resize(n, Bound::Free);
+        for i in 0..n {
+            let ri = self.rows[i];
+            for j in i..n {
+                let rj = &self.rows[j];
+                let mut s = 0.0;
+                for si in 0..2 {
+                    let Some(bi) = ri.bodies[si] else { continue };
+                    for sj in 0..2 {
+                        if rj.bodies[sj] == Some(bi) {
+                            s += ri.jac[2 * si].dot(rj.mj[2 * sj])
+                                + ri.jac[2 * si + 1].dot(rj.mj[2 * sj + 1]);
+                        }
+                    }
+                }
+                self.a[i * n + j] = s;
+                self.a[j * n + i] = s;
+            }
+            let row = &rows[ri.global as usize];
+            let eps = f64::from(row.softness.unwrap_or(params.epsilon));
+            let gamma = f64::from(row.gamma.unwrap_or(params.gamma));
+            self.a[i * n + i] += eps + f64::from(row.slip) / h;
+            let mut jv = 0.0;
+            for s in 0..2 {
+                if let Some(b) = ri.bodies[s] {
+                    jv += ri.jac[2 * s].dot(to_f64(scratch.free_linear[b as usize]))
+                        + ri.jac[2 * s + 1].dot(to_f64(scratch.free_angular[b as usize]));
+                }
+            }
+            self.b[i] = (f64::from(row.c) - gamma * f64::from(row.xi) / h - jv) / h;
+            if ri.link.is_some() {
+                // First pass: the sticking guess.
+                self.lo[i] = f64::NEG_INFINITY;
+                self.hi[i] = f64::INFINITY;
+            } else {
+                self.lo[i] = f64::from(row.lo);
+                self.hi[i] = f64::from(row.hi);
+            }
+        }
+        lcp::initial_state(&self.lo, &self.hi, &mut self.state);
+    }
+
+    fn solve_with_friction(&mut self, n: usize, params: &SolverParams, stats: &mut SolverStats) {
+        let has_friction = self.rows.iter().any(|r| r.link.is_some());
+        let (mut singular, mut cycled, mut capped) = (false, false, false);
+        let mut friction_converged = !has_friction;
+        for _pass in 0..params.max_friction_passes {
+            let rep = lcp::solve(
+                n,
+                &self.a,
+                &self.b,
+                &self.lo,
+                &self.hi,
+                &mut self.x,
+                &mut self.w,
+                &mut self.state,
+                &mut self.lcp,
+                params.max_lcp_iterations,
+            );
+            stats.friction_passes += 1;
+            stats.lcp_iterations += rep.iterations;
+            stats.pivots += rep.pivots;
+            singular |= rep.singular;
+            cycled = rep.cycled;
+            capped = rep.capped && !rep.converged;
+            if !has_friction {
+                break;
+            }
+            let mut moved = false;
+            for i in 0..n {
+                if let Some((normal, mu)) = self.rows[i].link {
+                    let bound = mu * self.x[normal as usize].max(0.0);
+                    if (bound - self.hi[i]).abs() > 1.0e-9 * (1.0 + bound) || self.hi[i].is_infinite() {
+                        moved = true;
+                    }
+                    self.lo[i] = -bound;
+                    self.hi[i] = bound;
+                }
+            }
+            if !moved {
+                friction_converged = true;
+                break;
+            }
+        }
+        if !friction_converged {
+            // The last solve used the previous bounds: clamp friction to the final ones so the
+            // Coulomb cone is never exceeded, and report.
+            for i in 0..n {
+                if self.rows[i].link.is_some() {
+                    self.x[i] = self.x[i].clamp(self.lo[i], self.hi[i]);
+                }
+            }
+            stats.friction_unconverged_islands += 1;
+            log::warn!("kea: Coulomb friction bounds still moving after {} re-solves", params.max_friction_passes);
+        }
+        if singular {
+            stats.singular_islands += 1;
+            log::warn!("kea: singular constraint system ({n} rows) regularised: redundant constraints with too small epsilon?");
+        }
+        if cycled {
+            stats.cycled_islands += 1;
+            log::warn!("kea: LCP pivoting cycle detected ({n} rows)");
+        }
+        if capped {
+            stats.capped_islands += 1;
+            log::warn!("kea: LCP iteration cap {} reached ({n} rows)", params.max_lcp_iterations);
+        }
+    }
+}

@@ -1,0 +1,420 @@
+//! The Kea solver (the guide's MdtKea): bodies and rows in, new body states and constraint forces
+//! out. Usable without a world (the guide's KeaOnly example, `examples/kea_only.rs`).
+//!
+//! # One step of size h
+//!
+//! 1. **Free velocities.** Damping is applied implicitly (`v ← v/(1 + h·d/m)`,
+//!    `ω ← (I + h·d_ω)⁻¹ I ω`), then gravity and applied forces:
+//!    `v_f = v + h(g + f/m)`, `ω_f = ω + h I⁻¹τ` (world-frame inertia at the current orientation).
+//! 2. **Islands.** Bodies coupled by constraints are grouped ([`island`]); each island is solved
+//!    on its own.
+//! 3. **Exact solve** per island ([`exact`]): `(A + εI)λ = b` as a boxed LCP with
+//!    `A = J M⁻¹ Jᵀ` and `b = (c − γ·xi/h − J v_f)/h`, λ in force units, by block principal
+//!    pivoting in `f64` ([`lcp`]). Coulomb bounds `±μλₙ` are iterated: solve, update the bounds
+//!    from the new normal forces, re-solve while they move.
+//! 4. **Integrate** ([`integrate`]): `v⁺ = v_f + h M⁻¹ Jᵀλ`, `x⁺ = x + h v⁺` (semi-implicit first
+//!    order), orientation by the exact rotation `exp(h ω⁺)` (the fast-spin component as its own
+//!    exact rotation about the body-fixed axis), then `ω` is re-expressed at the new orientation so
+//!    that the angular momentum `I ω` is unchanged by the rotation: the gyroscopic effect, with
+//!    `|L|` conserved exactly for a torque-free body.
+//!
+//! # Units and conventions
+//! λ is a force (N, or N·m for angular rows). ε is added to the diagonal of `A`, so it has the
+//! units of inverse mass; a row with ε behaves as a spring of stiffness `γ/(ε h²)` and damping
+//! `(1 − γ)/(ε h)` ([`crate::constraint::Softness::from_spring`] goes the other way). ODE's CFM
+//! equals `ε·h`. Slip `s` (velocity per force) adds `s/h` to the diagonal.
+//!
+//! # Memory
+//! A [`Solver`] owns a workspace that grows to the largest problem seen and is reused; after
+//! warm-up a step with the same counts performs no heap allocation. [`memory_required`] gives
+//! the size needed for given island sizes (the guide's `MdtKeaMemoryRequired`).
+
+mod exact;
+mod integrate;
+mod island;
+pub(crate) mod lcp;
+
+use crate::constraint::Row;
+use crate::error::{check_non_negative, check_positive, check_vec3, KeaError, KeaResult};
+use crate::math::{is_finite3, Mat3, Quat, Real, Vec3};
+use std::time::{Duration, Instant};
+
+/// One body as the solver sees it (the guide's `MdtKeaBody` and `MdtKeaTransformation`).
+///
+/// A body with `inv_mass == 0` and a zero `inv_inertia` is fixed (or kinematic: it moves with its
+/// set velocity and is not pushed by constraints); it never joins an island.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverBody {
+    /// Centre of mass, world frame.
+    pub position: Vec3,
+    /// Orientation.
+    pub orientation: Quat,
+    /// Linear velocity.
+    pub linear_velocity: Vec3,
+    /// Angular velocity, world frame.
+    pub angular_velocity: Vec3,
+    /// 1/mass (0 for a fixed body).
+    pub inv_mass: Real,
+    /// Inertia tensor, body frame.
+    pub inertia: Mat3,
+    /// Inverse inertia tensor, body frame (zero for a fixed body).
+    pub inv_inertia: Mat3,
+    /// Applied force at the centre of mass for this step (gravity comes from the parameters).
+    pub force: Vec3,
+    /// Applied torque for this step.
+    pub torque: Vec3,
+    /// Linear damping, kg/s.
+    pub linear_damping: Real,
+    /// Angular damping, N·m·s.
+    pub angular_damping: Real,
+    /// Fast-spin axis in the body frame (unit), if any.
+    pub fast_spin_axis: Option<Vec3>,
+    /// Output: linear acceleration over the step.
+    pub linear_acceleration: Vec3,
+    /// Output: angular acceleration over the step.
+    pub angular_acceleration: Vec3,
+    /// Output: total constraint force on the body (Σ Jᵀλ, linear part).
+    pub constraint_force: Vec3,
+    /// Output: total constraint torque on the body about its centre of mass.
+    pub constraint_torque: Vec3,
+}
+
+impl SolverBody {
+    /// A body at rest at a pose with a mass and body-frame inertia (both must be valid; the
+    /// world validates them for you, immediate-mode users are trusted here and checked by
+    /// [`Solver::step`]).
+    #[must_use]
+    pub fn new(mass: Real, inertia: Mat3, position: Vec3, orientation: Quat) -> Self {
+        Self {
+            position,
+            orientation,
+            linear_velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+            inv_mass: 1.0 / mass,
+            inertia,
+            inv_inertia: inertia.inverse(),
+            force: Vec3::ZERO,
+            torque: Vec3::ZERO,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            fast_spin_axis: None,
+            linear_acceleration: Vec3::ZERO,
+            angular_acceleration: Vec3::ZERO,
+            constraint_force: Vec3::ZERO,
+            constraint_torque: Vec3::ZERO,
+        }
+    }
+
+    /// True for a fixed (infinite-mass) body.
+    #[must_use]
+    pub fn is_fixed(&self) -> bool {
+        self.inv_mass == 0.0 && self.inv_inertia == Mat3::ZERO
+    }
+}
+
+/// A constraint as the solver sees it: which bodies (indices into the body slice, `None` for the
+/// static world) and which rows (a contiguous range of the row slice).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ConstraintBlock {
+    /// Body 0 and body 1 of the constraint's rows.
+    pub bodies: [Option<u32>; 2],
+    /// Index of the first row.
+    pub first_row: u32,
+    /// Number of rows.
+    pub row_count: u32,
+}
+
+/// Solver parameters (the guide's `MdtKeaParameters`). Every field is documented with its unit,
+/// normal value and safe range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// Step size h, s. Normal 1/60; any positive value. Results change slightly with h (first
+    /// order): tune at the rate you ship.
+    pub dt: Real,
+    /// Softness ε added to the diagonal (inverse mass units). Default 0.01. Larger makes
+    /// constraints springier but lets redundant systems solve; 0 makes rows rigid (redundant
+    /// rows are then regularised and reported). Heavy bodies (≫ 1 kg) may need smaller ε.
+    pub epsilon: Real,
+    /// Error reduction γ in [0, 1]: the fraction of constraint error removed per step. Default
+    /// 0.2; 0.1–0.8 works; 0 lets joints drift, 1 overshoots.
+    pub gamma: Real,
+    /// Gravity, m/s², applied to bodies with mass.
+    pub gravity: Vec3,
+    /// Cap on pivoting iterations per LCP solve. Default 100; reaching it is reported.
+    pub max_lcp_iterations: u32,
+    /// Cap on Coulomb re-solves per island. Default 16; reaching it is reported.
+    pub max_friction_passes: u32,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            dt: 1.0 / 60.0,
+            epsilon: 0.01,
+            gamma: 0.2,
+            gravity: Vec3::ZERO,
+            max_lcp_iterations: 100,
+            max_friction_passes: 16,
+        }
+    }
+}
+
+impl SolverParams {
+    /// Checks every field, naming the first bad one.
+    pub fn validate(&self) -> KeaResult<()> {
+        check_positive("dt", self.dt)?;
+        check_non_negative("epsilon", self.epsilon)?;
+        check_non_negative("gamma", self.gamma)?;
+        if self.gamma > 1.0 {
+            return Err(KeaError::OutOfRange {
+                arg: "gamma",
+                value: format!("{}", self.gamma),
+                expected: "must be in [0, 1]",
+            });
+        }
+        check_vec3("gravity", self.gravity)?;
+        if self.max_lcp_iterations == 0 {
+            return Err(KeaError::OutOfRange {
+                arg: "max_lcp_iterations",
+                value: "0".into(),
+                expected: "must be >= 1",
+            });
+        }
+        if self.max_friction_passes == 0 {
+            return Err(KeaError::OutOfRange {
+                arg: "max_friction_passes",
+                value: "0".into(),
+                expected: "must be >= 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The force and torque a constraint applies to one of its bodies (torque about that body's
+/// centre of mass).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Reaction {
+    /// Force, N.
+    pub force: Vec3,
+    /// Torque about the body's centre of mass, N·m.
+    pub torque: Vec3,
+}
+
+/// What the solver did in one step. Warnings are counts of islands, never aborts.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SolverStats {
+    /// Islands solved (with at least one row).
+    pub islands: u32,
+    /// Rows solved in total.
+    pub rows: u32,
+    /// Rows of the largest island.
+    pub largest_island_rows: u32,
+    /// LCP pivoting iterations (factorisations) in total.
+    pub lcp_iterations: u32,
+    /// Index moves between sets in total.
+    pub pivots: u32,
+    /// Coulomb re-solves in total (one per island without friction).
+    pub friction_passes: u32,
+    /// Islands whose system was singular and had to be regularised (redundant rows, ε = 0).
+    pub singular_islands: u32,
+    /// Islands where pivoting revisited a state and did not converge.
+    pub cycled_islands: u32,
+    /// Islands that hit the pivoting iteration cap.
+    pub capped_islands: u32,
+    /// Islands whose Coulomb bounds were still moving at the re-solve cap.
+    pub friction_unconverged_islands: u32,
+    /// Whether the workspace had to grow (allocate) this step.
+    pub workspace_grew: bool,
+    /// Time finding islands.
+    pub time_islands: Duration,
+    /// Time assembling and solving the LCPs.
+    pub time_solve: Duration,
+    /// Time integrating the bodies.
+    pub time_integrate: Duration,
+}
+
+impl SolverStats {
+    /// True when every island converged without regularisation.
+    #[must_use]
+    pub fn is_clean(&self) -> bool {
+        self.singular_islands == 0
+            && self.cycled_islands == 0
+            && self.capped_islands == 0
+            && self.friction_unconverged_islands == 0
+    }
+}
+
+/// The exact solver and its reusable workspace.
+#[derive(Debug, Default)]
+pub struct Solver {
+    islands: island::Islands,
+    exact: exact::ExactWorkspace,
+    integ: integrate::BodyScratch,
+}
+
+/// Bytes of workspace the solver needs for islands of the given row counts, with `bodies` and
+/// `rows` in total (the guide's `MdtKeaMemoryRequired`).
+#[must_use]
+pub fn memory_required(rows_per_island: &[usize], bodies: usize) -> usize {
+    let rows: usize = rows_per_island.iter().sum();
+    let largest = rows_per_island.iter().copied().max().unwrap_or(0);
+    exact::ExactWorkspace::bytes_for(largest, rows)
+        + integrate::BodyScratch::bytes_for(bodies)
+        + 16 * (bodies + rows)
+}
+
+impl Solver {
+    /// An empty solver; its workspace grows on first use.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A solver with workspace reserved for `bodies` bodies, `blocks` constraints, `rows` rows
+    /// in total and islands of up to `island_rows` rows.
+    #[must_use]
+    pub fn with_capacity(bodies: usize, blocks: usize, rows: usize, island_rows: usize) -> Self {
+        let mut s = Self::default();
+        s.reserve(bodies, blocks, rows, island_rows);
+        s
+    }
+
+    /// Reserves workspace (see [`Solver::with_capacity`]).
+    pub fn reserve(&mut self, bodies: usize, blocks: usize, rows: usize, island_rows: usize) {
+        self.islands.reserve(bodies, blocks);
+        self.exact.reserve(rows, island_rows);
+        self.integ.reserve(bodies);
+    }
+
+    /// Bytes of workspace currently held: the high-water mark of what steps have needed (the
+    /// guide's `MdtWorldGetMemoryPoolSize`).
+    #[must_use]
+    pub fn memory_used(&self) -> usize {
+        self.islands.bytes() + self.exact.bytes() + self.integ.bytes()
+    }
+
+    /// Advances `bodies` by one step under the constraints (`blocks` over `rows`).
+    ///
+    /// On return `lambda[i]` is row i's force and `reactions[k]` the force and torque of
+    /// constraint k on its two bodies. Everything is checked first: on `Err` nothing changed.
+    pub fn step(
+        &mut self,
+        bodies: &mut [SolverBody],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+    ) -> KeaResult<SolverStats> {
+        validate_inputs(bodies, blocks, rows, params, lambda, reactions)?;
+        let mut stats = SolverStats::default();
+        let before = self.memory_used();
+
+        let t0 = Instant::now();
+        self.integ.prepare(bodies, params);
+        self.islands
+            .build(bodies.len(), |i| !bodies[i].is_fixed(), blocks);
+        let t1 = Instant::now();
+        stats.time_islands = t1 - t0;
+
+        lambda.fill(0.0);
+        for r in reactions.iter_mut() {
+            *r = [Reaction::default(); 2];
+        }
+        for k in 0..self.islands.count() {
+            let island_blocks = self.islands.blocks(k);
+            self.exact.solve_island(
+                island_blocks,
+                blocks,
+                rows,
+                bodies,
+                &mut self.integ,
+                params,
+                lambda,
+                reactions,
+                &mut stats,
+            );
+        }
+        let t2 = Instant::now();
+        stats.time_solve = t2 - t1;
+
+        self.integ.integrate(bodies, params.dt);
+        stats.time_integrate = t2.elapsed();
+        stats.workspace_grew = self.memory_used() > before;
+        Ok(stats)
+    }
+}
+
+fn validate_inputs(
+    bodies: &[SolverBody],
+    blocks: &[ConstraintBlock],
+    rows: &[Row],
+    params: &SolverParams,
+    lambda: &[Real],
+    reactions: &[[Reaction; 2]],
+) -> KeaResult<()> {
+    params.validate()?;
+    let inconsistent = |arg, reason: String| Err(KeaError::Inconsistent { arg, reason });
+    if lambda.len() != rows.len() {
+        return inconsistent(
+            "lambda",
+            format!("has {} entries for {} rows", lambda.len(), rows.len()),
+        );
+    }
+    if reactions.len() != blocks.len() {
+        return inconsistent(
+            "reactions",
+            format!("has {} entries for {} constraints", reactions.len(), blocks.len()),
+        );
+    }
+    for (i, b) in bodies.iter().enumerate() {
+        let ok = is_finite3(b.position)
+            && is_finite3(b.linear_velocity)
+            && is_finite3(b.angular_velocity)
+            && is_finite3(b.force)
+            && is_finite3(b.torque)
+            && b.orientation.is_finite()
+            && b.inv_mass.is_finite()
+            && b.inv_mass >= 0.0
+            && b.inv_inertia.is_finite()
+            && b.linear_damping >= 0.0
+            && b.angular_damping >= 0.0;
+        if !ok {
+            return inconsistent("bodies", format!("body {i} has a NaN, infinite or negative field: {b:?}"));
+        }
+    }
+    for (k, blk) in blocks.iter().enumerate() {
+        for b in blk.bodies.iter().flatten() {
+            if *b as usize >= bodies.len() {
+                return inconsistent(
+                    "blocks",
+                    format!("constraint {k} names body {b} of {}", bodies.len()),
+                );
+            }
+        }
+        let end = blk.first_row as usize + blk.row_count as usize;
+        if end > rows.len() {
+            return inconsistent(
+                "blocks",
+                format!("constraint {k} uses rows up to {end} of {}", rows.len()),
+            );
+        }
+        for r in &rows[blk.first_row as usize..end] {
+            if let Some(f) = r.friction {
+                if u32::from(f.normal_row) >= blk.row_count {
+                    return inconsistent(
+                        "rows",
+                        format!("constraint {k} links friction to its row {} of {}", f.normal_row, blk.row_count),
+                    );
+                }
+            }
+        }
+    }
+    for (i, r) in rows.iter().enumerate() {
+        if let Some(field) = r.invalid_field() {
+            return inconsistent("rows", format!("row {i} has a bad `{field}`: {r:?}"));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,227 @@
+//! The world's constraint API (the guide's `MdtConstraint*`, `MdtContact*`, `MdtBSJoint*`).
+
+use super::constraint_entry::{ConstraintEntry, ConstraintKind};
+use super::World;
+use crate::constraint::{BallJoint, Contact, CustomConstraint};
+use crate::error::{check_vec3, KeaError, KeaResult};
+use crate::handle::{BodyHandle, ConstraintHandle};
+use crate::math::{Real, Vec3};
+use crate::solver::Reaction;
+
+impl World {
+    fn check_pair(&self, b1: BodyHandle, b2: Option<BodyHandle>) -> KeaResult<()> {
+        self.bodies.check(b1)?;
+        if let Some(b2) = b2 {
+            self.bodies.check(b2)?;
+            if b2 == b1 {
+                return Err(KeaError::InvalidState {
+                    operation: "constraint creation",
+                    reason: "body1 and body2 are the same body",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn insert_constraint(
+        &mut self,
+        kind: ConstraintKind,
+        b1: BodyHandle,
+        b2: Option<BodyHandle>,
+    ) -> KeaResult<ConstraintHandle> {
+        self.check_pair(b1, b2)?;
+        self.constraints
+            .insert(ConstraintEntry::new(kind, [Some(b1), b2]))
+    }
+
+    /// Creates an enabled contact between `body1` and `body2` (`None`: the static world), as
+    /// bounce.c does with `MdtContactCreate` + setters + `MdtContactEnable`.
+    pub fn create_contact(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        contact: Contact,
+    ) -> KeaResult<ConstraintHandle> {
+        contact.params().validate()?;
+        self.insert_constraint(ConstraintKind::Contact(contact), body1, body2)
+    }
+
+    /// Creates an enabled ball-and-socket joint at a world point, between `body1` and `body2`
+    /// (`None`: the world). The anchor is stored in each body's frame.
+    pub fn create_ball_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        self.check_pair(body1, body2)?;
+        let local_anchor1 = self.bodies.get(body1)?.point_to_local(anchor);
+        let local_anchor2 = match body2 {
+            Some(b) => self.bodies.get(b)?.point_to_local(anchor),
+            None => anchor,
+        };
+        let joint = BallJoint {
+            local_anchor1,
+            local_anchor2,
+        };
+        self.insert_constraint(ConstraintKind::Ball(joint), body1, body2)
+    }
+
+    /// Adds a user-written constraint (see [`CustomConstraint`]).
+    pub fn add_custom_constraint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        constraint: impl CustomConstraint,
+    ) -> KeaResult<ConstraintHandle> {
+        self.check_pair(body1, body2)?;
+        self.insert_constraint(ConstraintKind::Custom(Box::new(constraint)), body1, body2)
+    }
+
+    /// Destroys a constraint (the guide's `Mdt*Destroy`); its handle becomes stale.
+    pub fn destroy_constraint(&mut self, h: ConstraintHandle) -> KeaResult<()> {
+        self.constraints.remove(h).map(|_| ())
+    }
+
+    /// Enables or disables a constraint; a disabled one is kept but ignored by the step.
+    pub fn set_constraint_enabled(&mut self, h: ConstraintHandle, enabled: bool) -> KeaResult<()> {
+        self.constraints.get_mut(h)?.enabled = enabled;
+        Ok(())
+    }
+
+    /// Whether a constraint is enabled.
+    pub fn is_constraint_enabled(&self, h: ConstraintHandle) -> KeaResult<bool> {
+        Ok(self.constraints.get(h)?.enabled)
+    }
+
+    /// Changes a constraint's bodies; allowed only while it is disabled, as the guide requires.
+    pub fn set_constraint_bodies(
+        &mut self,
+        h: ConstraintHandle,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+    ) -> KeaResult<()> {
+        self.check_pair(body1, body2)?;
+        let entry = self.constraints.get_mut(h)?;
+        if entry.enabled {
+            return Err(KeaError::InvalidState {
+                operation: "set_constraint_bodies",
+                reason: "the constraint is enabled; disable it first",
+            });
+        }
+        entry.bodies = [Some(body1), body2];
+        Ok(())
+    }
+
+    /// The bodies of a constraint (`None` is the static world).
+    pub fn constraint_bodies(&self, h: ConstraintHandle) -> KeaResult<[Option<BodyHandle>; 2]> {
+        Ok(self.constraints.get(h)?.bodies)
+    }
+
+    /// The kind of a constraint, as a name ("contact", "ball joint", or a custom name).
+    pub fn constraint_kind(&self, h: ConstraintHandle) -> KeaResult<&'static str> {
+        Ok(self.constraints.get(h)?.kind.name())
+    }
+
+    /// Number of constraints.
+    #[must_use]
+    pub fn constraint_count(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// The force and torque the constraint applied to body 1 and body 2 in the last step
+    /// (zero before its first step or while disabled).
+    pub fn constraint_reaction(&self, h: ConstraintHandle) -> KeaResult<[Reaction; 2]> {
+        Ok(self.constraints.get(h)?.reaction)
+    }
+
+    /// The λ (force) of each of the constraint's rows in the last step (empty before its first
+    /// step or while disabled). For a contact: normal, then primary and secondary friction.
+    pub fn constraint_lambdas(&self, h: ConstraintHandle) -> KeaResult<&[Real]> {
+        let entry = self.constraints.get(h)?;
+        Ok(match entry.last_rows {
+            Some((first, count)) => {
+                &self.scratch.lambda[first as usize..(first + count) as usize]
+            }
+            None => &[],
+        })
+    }
+
+    /// A contact, read-only.
+    pub fn contact(&self, h: ConstraintHandle) -> KeaResult<&Contact> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Contact(c) => Ok(c),
+            other => Err(wrong_kind(h, "contact", other.name())),
+        }
+    }
+
+    /// A contact, to change through its validating setters.
+    pub fn contact_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut Contact> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Contact(c) => Ok(c),
+            other => Err(wrong_kind(h, "contact", other.name())),
+        }
+    }
+
+    /// The total force a contact applied to its first body in the last step (normal plus
+    /// friction), N.
+    pub fn contact_force(&self, h: ConstraintHandle) -> KeaResult<Vec3> {
+        self.contact(h)?;
+        Ok(self.constraints.get(h)?.reaction[0].force)
+    }
+
+    /// A ball joint, read-only.
+    pub fn ball_joint(&self, h: ConstraintHandle) -> KeaResult<&BallJoint> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Ball(j) => Ok(j),
+            other => Err(wrong_kind(h, "ball joint", other.name())),
+        }
+    }
+
+    /// A custom constraint, to update its parameters between steps.
+    pub fn custom_constraint_mut(
+        &mut self,
+        h: ConstraintHandle,
+    ) -> KeaResult<&mut dyn CustomConstraint> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Custom(c) => Ok(c.as_mut()),
+            other => Err(wrong_kind(h, "custom constraint", other.name())),
+        }
+    }
+
+    /// The contacts between two bodies (either order; `None` is the world), in slot order: the
+    /// guide's contact group walked with `MdtContactGetNext`.
+    pub fn contacts_between(
+        &self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+    ) -> impl Iterator<Item = ConstraintHandle> + '_ {
+        self.constraints.iter().filter_map(move |(h, e)| {
+            let is_contact = matches!(e.kind, ConstraintKind::Contact(_));
+            let same = e.bodies == [Some(body1), body2]
+                || (body2.is_some() && e.bodies == [body2, Some(body1)]);
+            (is_contact && same).then_some(h)
+        })
+    }
+
+    /// The next contact of the same body pair after `h` (the guide's `MdtContactGetNext`), or
+    /// `None` at the end of the group.
+    pub fn contact_next(&self, h: ConstraintHandle) -> KeaResult<Option<ConstraintHandle>> {
+        self.contact(h)?;
+        let [b1, b2] = self.constraints.get(h)?.bodies;
+        let b1 = b1.expect("constraints always have a first body");
+        Ok(self
+            .contacts_between(b1, b2)
+            .find(|c| c.index() > h.index()))
+    }
+}
+
+fn wrong_kind(h: ConstraintHandle, expected: &'static str, actual: &'static str) -> KeaError {
+    KeaError::WrongConstraintKind {
+        index: h.index(),
+        generation: h.generation(),
+        expected,
+        actual,
+    }
+}

@@ -1,0 +1,316 @@
+//! The world (the guide's Mdt layer): bodies, constraints and the step, in a retained API.
+//!
+//! A world is created with capacities ([`WorldDef::max_bodies`], [`WorldDef::max_constraints`],
+//! the guide's `MdtWorldCreate`) and reserves all its storage then; creating and destroying
+//! bodies and constraints never allocates, and a warm step allocates nothing. Worlds are
+//! independent: create as many as you like, and handles of one are rejected by the others.
+
+mod constraint_entry;
+mod constraints;
+mod step;
+
+pub use step::StepStats;
+
+use crate::body::{Body, BodyDef};
+use crate::error::{check_non_negative, check_vec3, KeaError, KeaResult};
+use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
+use crate::math::{Real, Vec3};
+use crate::solver::{ConstraintBlock, Reaction, Solver, SolverBody};
+use crate::constraint::Row;
+use constraint_entry::ConstraintEntry;
+
+/// Parameters of a new world. Every tunable says its unit, normal value and range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorldDef {
+    /// Most bodies the world can hold (≥ 1).
+    pub max_bodies: usize,
+    /// Most constraints (joints + contacts) the world can hold (≥ 1).
+    pub max_constraints: usize,
+    /// Rows of the largest island to reserve solver memory for up front. The exact solver's
+    /// memory grows as rows², so this is a hint, not a limit: bigger islands grow the workspace
+    /// once (reported in [`StepStats`]). Default 256.
+    pub max_island_rows: usize,
+    /// Gravity, m/s². Default (0, −9.81, 0).
+    pub gravity: Vec3,
+    /// Constraint softness ε (see [`crate::solver::SolverParams::epsilon`]). Default 0.01.
+    pub epsilon: Real,
+    /// Error reduction γ in [0, 1] (see [`crate::solver::SolverParams::gamma`]). Default 0.2.
+    pub gamma: Real,
+    /// Pivoting iteration cap per LCP. Default 100.
+    pub max_lcp_iterations: u32,
+    /// Coulomb re-solve cap per island. Default 16.
+    pub max_friction_passes: u32,
+}
+
+impl Default for WorldDef {
+    fn default() -> Self {
+        Self {
+            max_bodies: 1024,
+            max_constraints: 4096,
+            max_island_rows: 256,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            epsilon: 0.01,
+            gamma: 0.2,
+            max_lcp_iterations: 100,
+            max_friction_passes: 16,
+        }
+    }
+}
+
+/// Reused per-step buffers, sized from the capacities.
+#[derive(Default)]
+struct StepScratch {
+    solver_bodies: Vec<SolverBody>,
+    /// Body slot → solver body index (`u32::MAX` if not simulated this step).
+    slot_to_solver: Vec<u32>,
+    /// Solver body index → body slot.
+    solver_to_slot: Vec<u32>,
+    rows: Vec<Row>,
+    blocks: Vec<ConstraintBlock>,
+    /// Block index → constraint slot.
+    block_constraint: Vec<u32>,
+    lambda: Vec<Real>,
+    reactions: Vec<[Reaction; 2]>,
+}
+
+/// A simulated world.
+pub struct World {
+    id: u32,
+    bodies: Arena<Body, BodyHandle>,
+    constraints: Arena<ConstraintEntry, ConstraintHandle>,
+    gravity: Vec3,
+    epsilon: Real,
+    gamma: Real,
+    max_lcp_iterations: u32,
+    max_friction_passes: u32,
+    solver: Solver,
+    scratch: StepScratch,
+    time: f64,
+    steps: u64,
+}
+
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("World")
+            .field("id", &self.id)
+            .field("bodies", &self.bodies.len())
+            .field("constraints", &self.constraints.len())
+            .field("gravity", &self.gravity)
+            .field("epsilon", &self.epsilon)
+            .field("gamma", &self.gamma)
+            .field("time", &self.time)
+            .finish()
+    }
+}
+
+/// Upper bound on rows one constraint writes, used to size the row buffer up front.
+const ROWS_PER_CONSTRAINT: usize = 6;
+
+impl World {
+    /// Creates a world, reserving storage for its capacities (the guide's `MdtWorldCreate`).
+    pub fn new(def: WorldDef) -> KeaResult<Self> {
+        if def.max_bodies == 0 {
+            return Err(KeaError::OutOfRange {
+                arg: "max_bodies",
+                value: "0".into(),
+                expected: "must be >= 1",
+            });
+        }
+        if def.max_constraints == 0 {
+            return Err(KeaError::OutOfRange {
+                arg: "max_constraints",
+                value: "0".into(),
+                expected: "must be >= 1",
+            });
+        }
+        check_vec3("gravity", def.gravity)?;
+        let params = crate::solver::SolverParams {
+            dt: 1.0,
+            epsilon: def.epsilon,
+            gamma: def.gamma,
+            gravity: def.gravity,
+            max_lcp_iterations: def.max_lcp_iterations,
+            max_friction_passes: def.max_friction_passes,
+        };
+        params.validate()?;
+        let id = next_world_id();
+        let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
+        let island_rows = def.max_island_rows.min(rows);
+        let scratch = StepScratch {
+            solver_bodies: Vec::with_capacity(def.max_bodies),
+            slot_to_solver: Vec::with_capacity(def.max_bodies),
+            solver_to_slot: Vec::with_capacity(def.max_bodies),
+            rows: Vec::with_capacity(rows),
+            blocks: Vec::with_capacity(def.max_constraints),
+            block_constraint: Vec::with_capacity(def.max_constraints),
+            lambda: Vec::with_capacity(rows),
+            reactions: Vec::with_capacity(def.max_constraints),
+        };
+        Ok(Self {
+            id,
+            bodies: Arena::new(id, def.max_bodies, "bodies"),
+            constraints: Arena::new(id, def.max_constraints, "constraints"),
+            gravity: def.gravity,
+            epsilon: def.epsilon,
+            gamma: def.gamma,
+            max_lcp_iterations: def.max_lcp_iterations,
+            max_friction_passes: def.max_friction_passes,
+            solver: Solver::with_capacity(def.max_bodies, def.max_constraints, rows, island_rows),
+            scratch,
+            time: 0.0,
+            steps: 0,
+        })
+    }
+
+    /// A world with capacities for `max_bodies` bodies and `max_constraints` constraints and
+    /// default parameters.
+    pub fn with_capacity(max_bodies: usize, max_constraints: usize) -> KeaResult<Self> {
+        Self::new(WorldDef {
+            max_bodies,
+            max_constraints,
+            ..WorldDef::default()
+        })
+    }
+
+    /// This world's id (handles carry it).
+    #[must_use]
+    pub fn id(&self) -> u32 {
+        self.id
+    }
+    /// Simulated time, s.
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    /// Steps taken.
+    #[must_use]
+    pub fn step_count(&self) -> u64 {
+        self.steps
+    }
+    /// Gravity, m/s².
+    #[must_use]
+    pub fn gravity(&self) -> Vec3 {
+        self.gravity
+    }
+    /// Sets gravity (the guide's `MdtWorldSetGravity`).
+    pub fn set_gravity(&mut self, g: Vec3) -> KeaResult<()> {
+        self.gravity = check_vec3("gravity", g)?;
+        Ok(())
+    }
+    /// Softness ε.
+    #[must_use]
+    pub fn epsilon(&self) -> Real {
+        self.epsilon
+    }
+    /// Sets softness ε (≥ 0).
+    pub fn set_epsilon(&mut self, eps: Real) -> KeaResult<()> {
+        self.epsilon = check_non_negative("epsilon", eps)?;
+        Ok(())
+    }
+    /// Error reduction γ.
+    #[must_use]
+    pub fn gamma(&self) -> Real {
+        self.gamma
+    }
+    /// Sets error reduction γ in [0, 1].
+    pub fn set_gamma(&mut self, gamma: Real) -> KeaResult<()> {
+        check_non_negative("gamma", gamma)?;
+        if gamma > 1.0 {
+            return Err(KeaError::OutOfRange {
+                arg: "gamma",
+                value: format!("{gamma}"),
+                expected: "must be in [0, 1]",
+            });
+        }
+        self.gamma = gamma;
+        Ok(())
+    }
+
+    /// Creates a body (the guide's `MdtBodyCreate` + setters). Errors name the bad field.
+    pub fn create_body(&mut self, def: &BodyDef) -> KeaResult<BodyHandle> {
+        let body = Body::from_def(def)?;
+        self.bodies.insert(body)
+    }
+
+    /// Destroys a body and every constraint attached to it.
+    pub fn destroy_body(&mut self, h: BodyHandle) -> KeaResult<()> {
+        self.bodies.check(h)?;
+        for i in 0..self.constraints.slot_count() {
+            let attached = self
+                .constraints
+                .at(i)
+                .is_some_and(|c| c.bodies.contains(&Some(h)));
+            if attached {
+                let ch = self.constraints.handle_at(i).expect("occupied slot");
+                self.constraints.remove(ch)?;
+            }
+        }
+        self.bodies.remove(h)?;
+        Ok(())
+    }
+
+    /// A body, read-only.
+    pub fn body(&self, h: BodyHandle) -> KeaResult<&Body> {
+        self.bodies.get(h)
+    }
+
+    /// A body, to change through its validating setters.
+    pub fn body_mut(&mut self, h: BodyHandle) -> KeaResult<&mut Body> {
+        self.bodies.get_mut(h)
+    }
+
+    /// Number of bodies.
+    #[must_use]
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Every body with its handle, in slot order.
+    pub fn bodies(&self) -> impl Iterator<Item = (BodyHandle, &Body)> + '_ {
+        self.bodies.iter()
+    }
+
+    /// Body capacity.
+    #[must_use]
+    pub fn max_bodies(&self) -> usize {
+        self.bodies.capacity()
+    }
+
+    /// Constraint capacity.
+    #[must_use]
+    pub fn max_constraints(&self) -> usize {
+        self.constraints.capacity()
+    }
+
+    /// Bytes of solver workspace in use: the high-water mark of what steps have needed (the
+    /// guide's `MdtWorldGetMemoryPoolSize`). Compare with [`crate::solver::memory_required`].
+    #[must_use]
+    pub fn memory_pool_size(&self) -> usize {
+        self.solver.memory_used()
+    }
+
+    /// Bytes reserved for bodies, constraints and per-step buffers (excluding the solver pool).
+    #[must_use]
+    pub fn reserved_bytes(&self) -> usize {
+        let s = &self.scratch;
+        self.bodies.reserved_bytes()
+            + self.constraints.reserved_bytes()
+            + s.solver_bodies.capacity() * std::mem::size_of::<SolverBody>()
+            + (s.slot_to_solver.capacity() + s.solver_to_slot.capacity()) * 4
+            + s.rows.capacity() * std::mem::size_of::<Row>()
+            + s.blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
+            + s.block_constraint.capacity() * 4
+            + s.lambda.capacity() * std::mem::size_of::<Real>()
+            + s.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+    }
+
+    /// Total kinetic energy of enabled bodies.
+    #[must_use]
+    pub fn kinetic_energy(&self) -> Real {
+        self.bodies
+            .iter()
+            .filter(|(_, b)| b.enabled)
+            .map(|(_, b)| b.kinetic_energy())
+            .sum()
+    }
+}

@@ -1,0 +1,226 @@
+//! One world step, as a table of contents:
+//!
+//! ```text
+//! World::step(h)
+//!   collect_bodies   enabled bodies → compact solver array (hot data)
+//!   gather_rows      each enabled constraint writes its rows (the guide's Bcl)
+//!   solver.step      islands → exact LCP per island → semi-implicit integration
+//!   write_back       new states to bodies, forces to constraints, accumulators cleared
+//! ```
+
+use super::World;
+use crate::constraint::{RowBody, RowContext, RowWriter};
+use crate::error::{check_positive, KeaResult};
+use crate::math::Real;
+use crate::solver::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
+use std::time::{Duration, Instant};
+
+/// What one [`World::step`] did: counts, solver warnings and per-stage times.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepStats {
+    /// Bodies simulated (enabled).
+    pub bodies: u32,
+    /// Constraints that wrote rows.
+    pub constraints: u32,
+    /// Rows written.
+    pub rows: u32,
+    /// What the solver did, its warnings and its stage times.
+    pub solver: SolverStats,
+    /// Time copying bodies into the solver array.
+    pub time_collect: Duration,
+    /// Time writing constraint rows.
+    pub time_gather: Duration,
+    /// Time copying results back.
+    pub time_write_back: Duration,
+    /// Whole step.
+    pub time_total: Duration,
+}
+
+impl World {
+    /// Advances the world by `dt` seconds (the guide's `MdtWorldStep`). Any finite `dt > 0` is
+    /// allowed and it may change from step to step.
+    ///
+    /// Solver trouble (singular systems, cycles, caps) never aborts: it is counted in the
+    /// returned [`StepStats`] and logged. An `Err` means bad input (a bad `dt`, or a custom
+    /// constraint that wrote a NaN row) and the world is unchanged.
+    pub fn step(&mut self, dt: Real) -> KeaResult<StepStats> {
+        check_positive("dt", dt)?;
+        let t0 = Instant::now();
+        let params = SolverParams {
+            dt,
+            epsilon: self.epsilon,
+            gamma: self.gamma,
+            gravity: self.gravity,
+            max_lcp_iterations: self.max_lcp_iterations,
+            max_friction_passes: self.max_friction_passes,
+        };
+        self.collect_bodies();
+        let t1 = Instant::now();
+        let constraints = self.gather_rows(&params);
+        let t2 = Instant::now();
+        let s = &mut self.scratch;
+        s.lambda.clear();
+        s.lambda.resize(s.rows.len(), 0.0);
+        s.reactions.clear();
+        s.reactions.resize(s.blocks.len(), [Reaction::default(); 2]);
+        let solver_stats = self.solver.step(
+            &mut s.solver_bodies,
+            &s.blocks,
+            &s.rows,
+            &params,
+            &mut s.lambda,
+            &mut s.reactions,
+        )?;
+        let t3 = Instant::now();
+        self.write_back();
+        self.time += f64::from(dt);
+        self.steps += 1;
+        let t4 = Instant::now();
+        Ok(StepStats {
+            bodies: self.scratch.solver_bodies.len() as u32,
+            constraints,
+            rows: self.scratch.rows.len() as u32,
+            solver: solver_stats,
+            time_collect: t1 - t0,
+            time_gather: t2 - t1,
+            time_write_back: t4 - t3,
+            time_total: t4 - t0,
+        })
+    }
+
+    fn collect_bodies(&mut self) {
+        let s = &mut self.scratch;
+        s.solver_bodies.clear();
+        s.solver_to_slot.clear();
+        s.slot_to_solver.clear();
+        s.slot_to_solver.resize(self.bodies.slot_count(), u32::MAX);
+        for slot in 0..self.bodies.slot_count() {
+            let Some(b) = self.bodies.at(slot) else { continue };
+            if !b.enabled {
+                continue;
+            }
+            s.slot_to_solver[slot] = s.solver_bodies.len() as u32;
+            s.solver_to_slot.push(slot as u32);
+            s.solver_bodies.push(SolverBody {
+                position: b.position,
+                orientation: b.orientation,
+                linear_velocity: b.linear_velocity,
+                angular_velocity: b.angular_velocity,
+                inv_mass: b.inv_mass,
+                inertia: b.inertia,
+                inv_inertia: b.inv_inertia,
+                force: b.force,
+                torque: b.torque,
+                linear_damping: b.linear_damping,
+                angular_damping: b.angular_damping,
+                fast_spin_axis: b.fast_spin_axis,
+                ..SolverBody::new(1.0, crate::math::Mat3::IDENTITY, b.position, b.orientation)
+            });
+        }
+    }
+
+    /// The row-writing view of a body slot: dynamic if simulated, fixed if disabled.
+    fn row_body(&self, slot: Option<u32>, h: Real) -> (RowBody, Option<u32>) {
+        let Some(slot) = slot else {
+            return (RowBody::STATIC, None);
+        };
+        let b = self.bodies.at(slot as usize).expect("constraint bodies are live");
+        let solver_index = self.scratch.slot_to_solver[slot as usize];
+        if solver_index == u32::MAX {
+            return (RowBody::fixed(b.position, b.orientation), None);
+        }
+        let inv_iw = {
+            let r = crate::math::Mat3::from_quat(b.orientation);
+            r * b.inv_inertia * r.transpose()
+        };
+        let rb = RowBody {
+            position: b.position,
+            orientation: b.orientation,
+            linear_velocity: b.linear_velocity,
+            angular_velocity: b.angular_velocity,
+            free_linear_velocity: b.linear_velocity + h * (self.gravity + b.inv_mass * b.force),
+            free_angular_velocity: b.angular_velocity + h * (inv_iw * b.torque),
+            dynamic: true,
+        };
+        (rb, Some(solver_index))
+    }
+
+    /// Asks every enabled constraint for its rows. Returns how many wrote any.
+    fn gather_rows(&mut self, params: &SolverParams) -> u32 {
+        let mut rows = std::mem::take(&mut self.scratch.rows);
+        let mut blocks = std::mem::take(&mut self.scratch.blocks);
+        let mut block_constraint = std::mem::take(&mut self.scratch.block_constraint);
+        rows.clear();
+        blocks.clear();
+        block_constraint.clear();
+        for slot in 0..self.constraints.slot_count() {
+            let Some(entry) = self.constraints.at(slot) else { continue };
+            if !entry.enabled {
+                continue;
+            }
+            let slots = entry.bodies.map(|b| b.map(|h| h.index()));
+            let (rb0, s0) = self.row_body(slots[0], params.dt);
+            let (rb1, s1) = self.row_body(slots[1], params.dt);
+            if s0.is_none() && s1.is_none() {
+                continue; // nothing that moves
+            }
+            let ctx = RowContext {
+                bodies: [rb0, rb1],
+                dt: params.dt,
+                epsilon: params.epsilon,
+                gamma: params.gamma,
+            };
+            let first = rows.len();
+            let entry = self.constraints.at_mut(slot).expect("occupied");
+            let mut writer = RowWriter::new(&mut rows);
+            entry.kind.write_rows(&ctx, &mut writer);
+            let count = rows.len() - first;
+            if count > 0 {
+                blocks.push(ConstraintBlock {
+                    bodies: [s0, s1],
+                    first_row: first as u32,
+                    row_count: count as u32,
+                });
+                block_constraint.push(slot as u32);
+            }
+        }
+        let n = blocks.len() as u32;
+        self.scratch.rows = rows;
+        self.scratch.blocks = blocks;
+        self.scratch.block_constraint = block_constraint;
+        n
+    }
+
+    fn write_back(&mut self) {
+        let s = &self.scratch;
+        for (i, sb) in s.solver_bodies.iter().enumerate() {
+            let slot = s.solver_to_slot[i] as usize;
+            let b = self.bodies.at_mut(slot).expect("simulated bodies are live");
+            b.position = sb.position;
+            b.orientation = sb.orientation;
+            b.linear_velocity = sb.linear_velocity;
+            b.angular_velocity = sb.angular_velocity;
+            b.linear_acceleration = sb.linear_acceleration;
+            b.angular_acceleration = sb.angular_acceleration;
+            b.update_transform();
+        }
+        // Accumulators are cleared for every body, simulated or not (the guide's rule).
+        for slot in 0..self.bodies.slot_count() {
+            if let Some(b) = self.bodies.at_mut(slot) {
+                b.clear_forces();
+            }
+        }
+        for slot in 0..self.constraints.slot_count() {
+            if let Some(e) = self.constraints.at_mut(slot) {
+                e.last_rows = None;
+                e.reaction = [Reaction::default(); 2];
+            }
+        }
+        for (k, blk) in s.blocks.iter().enumerate() {
+            let slot = s.block_constraint[k] as usize;
+            let e = self.constraints.at_mut(slot).expect("solved constraints are live");
+            e.last_rows = Some((blk.first_row, blk.row_count));
+            e.reaction = s.reactions[k];
+        }
+    }
+}
