@@ -4,9 +4,11 @@
 //! penetration depth. It writes up to three rows:
 //!
 //! * **normal**: `J₁ = (n, r₁×n)`, `J₂ = (−n, −r₂×n)`, `xi = −penetration`, `λ ∈ [−F_adhesive, ∞)`.
-//!   When the approach speed exceeds the restitution threshold, the target velocity is
-//!   `c = e·v_in` and the row is made hard for that step (ε = 0, γ = 0) so that softness does
-//!   not eat into the bounce: rebound speed is exactly `e·v_in`.
+//!   A negative penetration is a gap (a speculative contact): the row then uses γ = 1, so the
+//!   bodies may close exactly the gap in this step and no more, and land without popping.
+//!   When the approach speed exceeds the restitution threshold (and the bodies touch this step),
+//!   the target velocity is `c = e·v_in` and the row is made hard for that step (ε = 0, no error
+//!   term) so that softness does not eat into the bounce: rebound speed is exactly `e·v_in`.
 //! * **friction** along the primary direction `t₁` and (2D) the secondary `t₂ = n × t₁`
 //!   (right-hand rule): `J = (t, r₁×t)`, `(−t, −r₂×t)`, target `c = slide` (conveyor belt
 //!   speed of body 1 relative to body 2), slip factor `s` (sliding speed `s·|F|`), bounds by
@@ -19,6 +21,10 @@
 use super::{Jacobian, Row, RowContext, RowWriter};
 use crate::error::{check_finite, check_non_negative, check_unit, check_vec3, KeaError, KeaResult};
 use crate::math::{orthonormal_basis, Real, Vec3};
+
+/// Softness of friction rows relative to the contact's normal softness (see
+/// [`Contact::write_rows`]).
+pub const FRICTION_SOFTNESS_RATIO: Real = 1.0e-3;
 
 /// Which tangential directions carry friction (the guide's `MdtContactType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -271,9 +277,16 @@ impl Contact {
         if let Some(s) = prm.softness {
             normal.softness = Some(s);
         }
+        let gap = -self.penetration;
+        if gap > 0.0 {
+            // Speculative contact: the bodies may close the whole gap this step, no more.
+            normal.gamma = Some(1.0);
+        }
         let approach = -(b1.velocity_at(p) - b2.velocity_at(p)).dot(n);
-        if prm.restitution > 0.0 && approach > prm.restitution_threshold {
+        let hits_this_step = gap <= 0.0 || approach * ctx.dt > gap;
+        if prm.restitution > 0.0 && approach > prm.restitution_threshold && hits_this_step {
             normal.c = prm.restitution * approach;
+            normal.xi = 0.0;
             normal.softness = Some(0.0);
             normal.gamma = Some(0.0);
         }
@@ -288,11 +301,16 @@ impl Contact {
             return;
         }
         let (t1, t2) = self.friction_directions(ctx);
+        // A friction row has no position error to recover, so softness would make a resting
+        // body creep at ε·h·F for ever; it gets a thousandth of the normal row's softness, just
+        // enough to regularise redundant contacts.
+        let friction_softness = prm.softness.unwrap_or(ctx.epsilon) * FRICTION_SOFTNESS_RATIO;
         for (k, t) in [t1, t2].into_iter().enumerate().take(directions) {
             let j = jac(t);
             let mut row = Row::new(j[0], j[1])
                 .with_target_velocity(prm.slide[k])
                 .with_slip(prm.slip[k]);
+            row.softness = Some(friction_softness);
             match prm.friction[k] {
                 FrictionModel::Infinite => {}
                 FrictionModel::Box { max_force } => row = row.with_bounds(-max_force, max_force),

@@ -1,0 +1,64 @@
+//! Small analytic contact generators shared by the physics tests (the collision crate is a
+//! later layer; the guide's own tutorials write contacts by hand like this).
+#![allow(dead_code)]
+
+use kea::{BodyHandle, Contact, ContactParams, ConstraintHandle, Real, Vec3, World};
+
+/// True when the tests run in double precision.
+pub const F64: bool = cfg!(feature = "f64");
+
+/// Removes the given contacts and empties the list (the guide's bounce.c pattern).
+pub fn clear_contacts(world: &mut World, contacts: &mut Vec<ConstraintHandle>) {
+    for c in contacts.drain(..) {
+        world.destroy_constraint(c).unwrap();
+    }
+}
+
+/// Contacts between the corners of a box and the plane `n·x = offset` (n unit, pointing out of
+/// the plane), for every corner closer than `margin` (negative penetration = speculative gap).
+pub fn box_plane_contacts(
+    world: &mut World,
+    body: BodyHandle,
+    half_extents: Vec3,
+    n: Vec3,
+    offset: Real,
+    margin: Real,
+    params: ContactParams,
+    direction: Option<Vec3>,
+    out: &mut Vec<ConstraintHandle>,
+) {
+    let b = world.body(body).unwrap().clone();
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                let local = half_extents * Vec3::new(sx, sy, sz);
+                let p = b.point_to_world(local);
+                let dist = n.dot(p) - offset;
+                if dist < margin {
+                    let mut c = Contact::new(p, n, -dist).unwrap();
+                    c.set_params(params).unwrap();
+                    c.set_direction(direction).unwrap();
+                    out.push(world.create_contact(body, None, c).unwrap());
+                }
+            }
+        }
+    }
+}
+
+/// One contact between a sphere and the plane `y = 0` when closer than `margin`.
+pub fn sphere_ground_contact(
+    world: &mut World,
+    body: BodyHandle,
+    radius: Real,
+    margin: Real,
+    params: ContactParams,
+    out: &mut Vec<ConstraintHandle>,
+) {
+    let p = world.body(body).unwrap().position();
+    let dist = p.y - radius;
+    if dist < margin {
+        let mut c = Contact::new(Vec3::new(p.x, 0.0, p.z), Vec3::Y, -dist).unwrap();
+        c.set_params(params).unwrap();
+        out.push(world.create_contact(body, None, c).unwrap());
+    }
+}
