@@ -36,6 +36,6 @@ pub use constraint::{
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};
-pub use math::{Mat3, Mat4, Quat, Real, Vec3};
+pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
 pub use solver::{Reaction, Solver, SolverBody, SolverParams, SolverStats};
 pub use world::{StepStats, World, WorldDef};

@@ -150,3 +150,82 @@ mod tests {
         assert!((q * Vec3::X - Vec3::Y).length() < 1e-5);
     }
 }
+
+/// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations (in `f64`):
+/// returns the rotation `P` (as a quaternion) and eigenvalues `d` with `m = P diag(d) Pᵀ`.
+/// A diagonal input returns the identity at once.
+#[must_use]
+#[allow(clippy::unnecessary_cast)]
+pub fn symmetric_eigen(m: Mat3) -> (Quat, Vec3) {
+    let off = m.x_axis.y.abs() + m.x_axis.z.abs() + m.y_axis.z.abs();
+    if off == 0.0 {
+        return (Quat::IDENTITY, Vec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z));
+    }
+    let mut a = [[0.0f64; 3]; 3];
+    for (c, col) in [m.x_axis, m.y_axis, m.z_axis].iter().enumerate() {
+        a[0][c] = col.x as f64;
+        a[1][c] = col.y as f64;
+        a[2][c] = col.z as f64;
+    }
+    let mut v = [[1.0f64, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _sweep in 0..32 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if off <= 1.0e-15 * scale {
+            break;
+        }
+        for (p, q) in [(0usize, 1usize), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // Columns of v are eigenvectors; make the frame right-handed.
+    let col = |j: usize| glam::DVec3::new(v[0][j], v[1][j], v[2][j]);
+    let (c0, c1) = (col(0), col(1));
+    let c2 = c0.cross(c1);
+    let rot = glam::DMat3::from_cols(c0, c1, c2);
+    let q = glam::DQuat::from_mat3(&rot).normalize();
+    (
+        Quat::from_xyzw(q.x as Real, q.y as Real, q.z as Real, q.w as Real),
+        Vec3::new(a[0][0] as Real, a[1][1] as Real, a[2][2] as Real),
+    )
+}
+
+#[cfg(test)]
+mod eigen_tests {
+    use super::*;
+
+    #[test]
+    fn eigen_decomposition_reconstructs_the_matrix() {
+        let r = Mat3::from_quat(Quat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1));
+        let d = Vec3::new(1.0, 2.5, 4.0);
+        let m = r * Mat3::from_diagonal(d) * r.transpose();
+        let (p, e) = symmetric_eigen(m);
+        let pm = Mat3::from_quat(p);
+        let back = pm * Mat3::from_diagonal(e) * pm.transpose();
+        for (a, b) in [(back.x_axis, m.x_axis), (back.y_axis, m.y_axis), (back.z_axis, m.z_axis)] {
+            assert!((a - b).length() < 1e-5, "{back} vs {m}");
+        }
+    }
+}

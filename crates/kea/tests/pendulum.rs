@@ -1,0 +1,50 @@
+//! VALIDATION #5: a ball-joint pendulum (small sphere) swings with T = 2π√(L/g)(1 + θ₀²/16)
+//! within 0.5% at 60 Hz, and the joint gap stays below 1 mm.
+
+use kea::{inertia, BodyDef, Real, Vec3, World, PI_REAL};
+
+#[test]
+fn ball_joint_pendulum_period_and_joint_gap() {
+    let l: Real = 1.0;
+    let g: Real = 9.81;
+    let theta0: Real = 5.0_f64.to_radians() as Real;
+    let h: Real = 1.0 / 60.0;
+    let mut world = World::with_capacity(4, 4).unwrap();
+    let r: Real = 0.02;
+    let bob = world
+        .create_body(&BodyDef {
+            position: Vec3::new(l * theta0.sin(), -l * theta0.cos(), 0.0),
+            inertia: inertia::solid_sphere(1.0, r).unwrap(),
+            ..Default::default()
+        })
+        .unwrap();
+    let joint = world.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
+    let mut crossings: Vec<Real> = Vec::new();
+    let mut prev_x = world.body(bob).unwrap().position().x;
+    let mut max_gap: Real = 0.0;
+    for i in 0..1200 {
+        let stats = world.step(h).unwrap();
+        assert!(stats.solver.is_clean());
+        let p = world.body(bob).unwrap().position();
+        max_gap = max_gap.max((p.length() - l).abs());
+        if prev_x > 0.0 && p.x <= 0.0 {
+            // Interpolate the downward crossing time.
+            let frac = prev_x / (prev_x - p.x);
+            crossings.push((i as Real + frac) * h);
+        }
+        prev_x = p.x;
+    }
+    let periods: Vec<Real> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
+    let mean = periods.iter().sum::<Real>() / periods.len() as Real;
+    // A sphere of radius r adds I = 2/5 m r² to the pendulum: a factor √(1 + 2r²/(5L²)).
+    let expected = 2.0 * PI_REAL * (l / g).sqrt() * (1.0 + theta0 * theta0 / 16.0)
+        * (1.0 + 0.4 * r * r / (l * l)).sqrt();
+    let rel = (mean - expected).abs() / expected;
+    eprintln!("pendulum: T = {mean} s, expected {expected} s (rel {rel:e}); max gap {max_gap:e} m; {} periods", periods.len());
+    assert!(periods.len() >= 5);
+    assert!(rel < 5.0e-3, "period {mean} vs {expected}");
+    assert!(max_gap < 1.0e-3, "joint gap {max_gap}");
+    // The joint force holds the bob: on average it balances gravity vertically.
+    let f = world.constraint_reaction(joint).unwrap()[0].force;
+    assert!(f.y > 0.9 * g && f.y < 1.1 * g, "joint force {f}");
+}
