@@ -65,7 +65,7 @@ impl Default for BodyDef {
 /// A rigid body in a world. Read it through [`crate::World::body`], change it through
 /// [`crate::World::body_mut`]; every setter validates its argument first and changes nothing on
 /// error.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Body {
     pub(crate) mass: Real,
     pub(crate) inv_mass: Real,

@@ -1,0 +1,189 @@
+//! Bad input gets a clear error naming the argument and the value, and leaves the world exactly
+//! as it was.
+
+use kea::{
+    BodyDef, BodyHandle, Contact, ContactParams, CustomConstraint, FrictionModel, Jacobian,
+    KeaError, Mat3, Quat, Real, Row, RowContext, RowWriter, Vec3, World, WorldDef,
+};
+
+fn world_with_things() -> (World, BodyHandle) {
+    let mut w = World::with_capacity(3, 3).unwrap();
+    let b = w
+        .create_body(&BodyDef { position: Vec3::new(0.0, 1.0, 0.0), ..Default::default() })
+        .unwrap();
+    w.create_ball_joint(b, None, Vec3::new(0.0, 2.0, 0.0)).unwrap();
+    w.step(0.01).unwrap();
+    (w, b)
+}
+
+type Snapshot = (Vec<(BodyHandle, kea::Body)>, usize, f64, Vec3, Real, Real);
+
+fn snapshot(w: &World) -> Snapshot {
+    (
+        w.bodies().map(|(h, b)| (h, b.clone())).collect(),
+        w.constraint_count(),
+        w.time(),
+        w.gravity(),
+        w.epsilon(),
+        w.gamma(),
+    )
+}
+
+/// Asserts the error message names `arg` and shows `value`, and the world did not change.
+fn expect_err(w: &World, before: &Snapshot, e: KeaError, arg: &str, value: &str) {
+    let msg = e.to_string();
+    assert!(msg.contains(arg), "`{msg}` does not name `{arg}`");
+    assert!(msg.contains(value), "`{msg}` does not show `{value}`");
+    assert!(snapshot(w) == *before, "world changed after: {msg}");
+}
+
+#[test]
+fn bad_body_definitions() {
+    let (mut w, _) = world_with_things();
+    let before = snapshot(&w);
+    let cases: Vec<(BodyDef, &str, &str)> = vec![
+        (BodyDef { mass: 0.0, ..Default::default() }, "mass", "0"),
+        (BodyDef { mass: -2.0, ..Default::default() }, "mass", "-2"),
+        (BodyDef { mass: Real::INFINITY, ..Default::default() }, "mass", "inf"),
+        (BodyDef { position: Vec3::new(Real::NAN, 0.0, 0.0), ..Default::default() }, "position", "NaN"),
+        (BodyDef { linear_velocity: Vec3::new(0.0, Real::INFINITY, 0.0), ..Default::default() }, "linear_velocity", "inf"),
+        (BodyDef { inertia: Mat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0)), ..Default::default() }, "inertia", "positive definite"),
+        (BodyDef { inertia: Mat3::from_cols(Vec3::new(1.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::Z), ..Default::default() }, "inertia", "symmetric"),
+        (BodyDef { orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 0.0), ..Default::default() }, "orientation", "length 0"),
+        (BodyDef { orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 2.0), ..Default::default() }, "orientation", "length 2"),
+        (BodyDef { linear_damping: -1.0, ..Default::default() }, "linear_damping", "-1"),
+        (BodyDef { fast_spin_axis: Some(Vec3::ZERO), ..Default::default() }, "fast_spin_axis", "length 0"),
+    ];
+    for (def, arg, value) in cases {
+        let e = w.create_body(&def).unwrap_err();
+        expect_err(&w, &before, e, arg, value);
+    }
+}
+
+#[test]
+fn bad_setters_change_nothing() {
+    let (mut w, b) = world_with_things();
+    let before = snapshot(&w);
+    let e = w.body_mut(b).unwrap().set_mass(-1.0).unwrap_err();
+    expect_err(&w, &before, e, "mass", "-1");
+    let e = w.body_mut(b).unwrap().set_position(Vec3::new(0.0, Real::NAN, 0.0)).unwrap_err();
+    expect_err(&w, &before, e, "position", "NaN");
+    let e = w.body_mut(b).unwrap().set_orientation(Quat::from_xyzw(0.0, 0.0, 0.0, 0.0)).unwrap_err();
+    expect_err(&w, &before, e, "orientation", "0");
+    let e = w.body_mut(b).unwrap().add_force(Vec3::new(Real::NAN, 0.0, 0.0)).unwrap_err();
+    expect_err(&w, &before, e, "force", "NaN");
+    let e = w.body_mut(b).unwrap().set_inertia(Mat3::ZERO).unwrap_err();
+    expect_err(&w, &before, e, "inertia", "positive definite");
+    let e = w.set_gravity(Vec3::new(0.0, Real::NAN, 0.0)).unwrap_err();
+    expect_err(&w, &before, e, "gravity", "NaN");
+    let e = w.set_gamma(1.5).unwrap_err();
+    expect_err(&w, &before, e, "gamma", "1.5");
+    let e = w.set_epsilon(-0.1).unwrap_err();
+    expect_err(&w, &before, e, "epsilon", "-0.1");
+}
+
+#[test]
+fn bad_time_steps() {
+    let (mut w, _) = world_with_things();
+    let before = snapshot(&w);
+    for (dt, shown) in [(0.0 as Real, "0"), (-0.01, "-0.01"), (Real::NAN, "NaN"), (Real::INFINITY, "inf")] {
+        let e = w.step(dt).unwrap_err();
+        expect_err(&w, &before, e, "dt", shown);
+    }
+}
+
+#[test]
+fn bad_contacts() {
+    let (mut w, b) = world_with_things();
+    let before = snapshot(&w);
+    let e = Contact::new(Vec3::ZERO, Vec3::ZERO, 0.0).unwrap_err();
+    expect_err(&w, &before, e, "normal", "length 0");
+    let e = Contact::new(Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0), 0.0).unwrap_err();
+    expect_err(&w, &before, e, "normal", "length 2");
+    let e = Contact::new(Vec3::ZERO, Vec3::Y, Real::NAN).unwrap_err();
+    expect_err(&w, &before, e, "penetration", "NaN");
+    let mut c = Contact::new(Vec3::ZERO, Vec3::Y, 0.0).unwrap();
+    let e = c.set_direction(Some(Vec3::Y)).unwrap_err();
+    assert!(e.to_string().contains("direction") && e.to_string().contains("perpendicular"));
+    let bad = ContactParams { friction: [FrictionModel::Coulomb { mu: -0.5 }; 2], ..Default::default() };
+    let e = c.set_params(bad).unwrap_err();
+    expect_err(&w, &before, e, "friction[0]", "-0.5");
+    let bad = ContactParams { restitution: Real::NAN, ..Default::default() };
+    let e = c.set_params(bad).unwrap_err();
+    expect_err(&w, &before, e, "restitution", "NaN");
+    // A contact on a destroyed body.
+    let other = w.create_body(&BodyDef::default()).unwrap();
+    w.destroy_body(other).unwrap();
+    let before = snapshot(&w);
+    let e = w.create_contact(other, None, c).unwrap_err();
+    expect_err(&w, &before, e, "body", "stale");
+    let e = w.create_contact(b, Some(b), c).unwrap_err();
+    expect_err(&w, &before, e, "body2", "same body");
+}
+
+#[test]
+fn stale_and_foreign_handles() {
+    let (mut w, b) = world_with_things();
+    let (other_world, foreign) = world_with_things();
+    let before = snapshot(&w);
+    let e = w.body(foreign).unwrap_err();
+    assert!(matches!(e, KeaError::ForeignHandle { .. }), "{e}");
+    expect_err(&w, &before, e, "body", &format!("world {}", other_world.id()));
+    w.destroy_body(b).unwrap();
+    assert_eq!(w.constraint_count(), 0, "attached joint destroyed with its body");
+    let before = snapshot(&w);
+    let e = w.body_mut(b).unwrap_err();
+    expect_err(&w, &before, e, "body", "stale");
+    // The slot is reused by a new body; the old handle stays stale.
+    let b2 = w.create_body(&BodyDef::default()).unwrap();
+    assert_eq!(b2.index(), b.index());
+    assert!(w.body(b).is_err() && w.body(b2).is_ok());
+}
+
+#[test]
+fn capacities_are_enforced() {
+    let mut w = World::with_capacity(2, 1).unwrap();
+    let a = w.create_body(&BodyDef::default()).unwrap();
+    w.create_body(&BodyDef::default()).unwrap();
+    let before = snapshot(&w);
+    let e = w.create_body(&BodyDef::default()).unwrap_err();
+    expect_err(&w, &before, e, "capacity", "2 bodies");
+    w.create_ball_joint(a, None, Vec3::ZERO).unwrap();
+    let before = snapshot(&w);
+    let e = w.create_ball_joint(a, None, Vec3::ZERO).unwrap_err();
+    expect_err(&w, &before, e, "capacity", "1 constraints");
+    let e = World::new(WorldDef { max_bodies: 0, ..Default::default() }).unwrap_err();
+    assert!(e.to_string().contains("max_bodies"));
+}
+
+#[test]
+fn constraint_state_rules() {
+    let (mut w, b) = world_with_things();
+    let j = w.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    let before = snapshot(&w);
+    let e = w.set_constraint_bodies(j, b, None).unwrap_err();
+    expect_err(&w, &before, e, "set_constraint_bodies", "disable it first");
+    let e = w.contact_mut(j).unwrap_err();
+    expect_err(&w, &before, e, "contact", "ball joint");
+    w.set_constraint_enabled(j, false).unwrap();
+    w.set_constraint_bodies(j, b, None).unwrap();
+    w.destroy_constraint(j).unwrap();
+    assert!(w.is_constraint_enabled(j).is_err());
+}
+
+#[derive(Debug)]
+struct Broken;
+impl CustomConstraint for Broken {
+    fn write_rows(&mut self, _: &RowContext, out: &mut RowWriter<'_>) {
+        out.push(Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO).with_error(Real::NAN));
+    }
+}
+
+#[test]
+fn a_custom_constraint_writing_nan_fails_the_step_cleanly() {
+    let (mut w, b) = world_with_things();
+    w.add_custom_constraint(b, None, Broken).unwrap();
+    let before = snapshot(&w);
+    let e = w.step(0.01).unwrap_err();
+    expect_err(&w, &before, e, "rows", "xi");
+}
