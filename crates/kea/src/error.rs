@@ -45,7 +45,9 @@ pub enum KeaError {
         reason: &'static str,
     },
     /// A handle whose object was destroyed (its generation is stale) or never existed.
-    #[error("{kind} handle {index}v{generation} is stale: the {kind} was destroyed or never existed")]
+    #[error(
+        "{kind} handle {index}v{generation} is stale: the {kind} was destroyed or never existed"
+    )]
     StaleHandle {
         /// "body" or "constraint".
         kind: &'static str,
@@ -175,7 +177,7 @@ pub(crate) fn check_unit(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
         Err(KeaError::NotUnit {
             arg,
             value: format!("{v}"),
-            length: len as f64,
+            length: crate::math::wide(len),
         })
     }
 }
@@ -196,7 +198,7 @@ pub(crate) fn check_quat(arg: &'static str, q: Quat) -> KeaResult<Quat> {
         Err(KeaError::NotUnit {
             arg,
             value: format!("{q}"),
-            length: len as f64,
+            length: crate::math::wide(len),
         })
     }
 }

@@ -160,12 +160,18 @@ impl<T, H: HandleKind> Arena<T, H> {
 
     pub(crate) fn get(&self, h: H) -> KeaResult<&T> {
         let i = self.check(h)?;
-        Ok(self.slots[i].value.as_ref().expect("checked slot is occupied"))
+        Ok(self.slots[i]
+            .value
+            .as_ref()
+            .expect("checked slot is occupied"))
     }
 
     pub(crate) fn get_mut(&mut self, h: H) -> KeaResult<&mut T> {
         let i = self.check(h)?;
-        Ok(self.slots[i].value.as_mut().expect("checked slot is occupied"))
+        Ok(self.slots[i]
+            .value
+            .as_mut()
+            .expect("checked slot is occupied"))
     }
 
     pub(crate) fn remove(&mut self, h: H) -> KeaResult<T> {

@@ -50,6 +50,14 @@ pub const UNIT_TOLERANCE: Real = 1.0e-3;
 /// A 3-vector in `f64`, used by the exact solver.
 pub type DVec3 = glam::DVec3;
 
+/// Widens a [`Real`] to `f64` (a no-op with the `f64` feature).
+#[inline]
+#[must_use]
+#[allow(clippy::unnecessary_cast)]
+pub fn wide(x: Real) -> f64 {
+    x as f64
+}
+
 /// Converts a [`Vec3`] to `f64` for the exact solver.
 #[inline]
 #[must_use]
@@ -155,11 +163,14 @@ mod tests {
 /// returns the rotation `P` (as a quaternion) and eigenvalues `d` with `m = P diag(d) Pᵀ`.
 /// A diagonal input returns the identity at once.
 #[must_use]
-#[allow(clippy::unnecessary_cast)]
+#[allow(clippy::unnecessary_cast, clippy::needless_range_loop)]
 pub fn symmetric_eigen(m: Mat3) -> (Quat, Vec3) {
     let off = m.x_axis.y.abs() + m.x_axis.z.abs() + m.y_axis.z.abs();
     if off == 0.0 {
-        return (Quat::IDENTITY, Vec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z));
+        return (
+            Quat::IDENTITY,
+            Vec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z),
+        );
     }
     let mut a = [[0.0f64; 3]; 3];
     for (c, col) in [m.x_axis, m.y_axis, m.z_axis].iter().enumerate() {
@@ -224,7 +235,11 @@ mod eigen_tests {
         let (p, e) = symmetric_eigen(m);
         let pm = Mat3::from_quat(p);
         let back = pm * Mat3::from_diagonal(e) * pm.transpose();
-        for (a, b) in [(back.x_axis, m.x_axis), (back.y_axis, m.y_axis), (back.z_axis, m.z_axis)] {
+        for (a, b) in [
+            (back.x_axis, m.x_axis),
+            (back.y_axis, m.y_axis),
+            (back.z_axis, m.z_axis),
+        ] {
             assert!((a - b).length() < 1e-5, "{back} vs {m}");
         }
     }

@@ -9,9 +9,13 @@ use kea::{
 fn world_with_things() -> (World, BodyHandle) {
     let mut w = World::with_capacity(3, 3).unwrap();
     let b = w
-        .create_body(&BodyDef { position: Vec3::new(0.0, 1.0, 0.0), ..Default::default() })
+        .create_body(&BodyDef {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            ..Default::default()
+        })
         .unwrap();
-    w.create_ball_joint(b, None, Vec3::new(0.0, 2.0, 0.0)).unwrap();
+    w.create_ball_joint(b, None, Vec3::new(0.0, 2.0, 0.0))
+        .unwrap();
     w.step(0.01).unwrap();
     (w, b)
 }
@@ -42,17 +46,98 @@ fn bad_body_definitions() {
     let (mut w, _) = world_with_things();
     let before = snapshot(&w);
     let cases: Vec<(BodyDef, &str, &str)> = vec![
-        (BodyDef { mass: 0.0, ..Default::default() }, "mass", "0"),
-        (BodyDef { mass: -2.0, ..Default::default() }, "mass", "-2"),
-        (BodyDef { mass: Real::INFINITY, ..Default::default() }, "mass", "inf"),
-        (BodyDef { position: Vec3::new(Real::NAN, 0.0, 0.0), ..Default::default() }, "position", "NaN"),
-        (BodyDef { linear_velocity: Vec3::new(0.0, Real::INFINITY, 0.0), ..Default::default() }, "linear_velocity", "inf"),
-        (BodyDef { inertia: Mat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0)), ..Default::default() }, "inertia", "positive definite"),
-        (BodyDef { inertia: Mat3::from_cols(Vec3::new(1.0, 0.5, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::Z), ..Default::default() }, "inertia", "symmetric"),
-        (BodyDef { orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 0.0), ..Default::default() }, "orientation", "length 0"),
-        (BodyDef { orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 2.0), ..Default::default() }, "orientation", "length 2"),
-        (BodyDef { linear_damping: -1.0, ..Default::default() }, "linear_damping", "-1"),
-        (BodyDef { fast_spin_axis: Some(Vec3::ZERO), ..Default::default() }, "fast_spin_axis", "length 0"),
+        (
+            BodyDef {
+                mass: 0.0,
+                ..Default::default()
+            },
+            "mass",
+            "0",
+        ),
+        (
+            BodyDef {
+                mass: -2.0,
+                ..Default::default()
+            },
+            "mass",
+            "-2",
+        ),
+        (
+            BodyDef {
+                mass: Real::INFINITY,
+                ..Default::default()
+            },
+            "mass",
+            "inf",
+        ),
+        (
+            BodyDef {
+                position: Vec3::new(Real::NAN, 0.0, 0.0),
+                ..Default::default()
+            },
+            "position",
+            "NaN",
+        ),
+        (
+            BodyDef {
+                linear_velocity: Vec3::new(0.0, Real::INFINITY, 0.0),
+                ..Default::default()
+            },
+            "linear_velocity",
+            "inf",
+        ),
+        (
+            BodyDef {
+                inertia: Mat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0)),
+                ..Default::default()
+            },
+            "inertia",
+            "positive definite",
+        ),
+        (
+            BodyDef {
+                inertia: Mat3::from_cols(
+                    Vec3::new(1.0, 0.5, 0.0),
+                    Vec3::new(0.0, 1.0, 0.0),
+                    Vec3::Z,
+                ),
+                ..Default::default()
+            },
+            "inertia",
+            "symmetric",
+        ),
+        (
+            BodyDef {
+                orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+                ..Default::default()
+            },
+            "orientation",
+            "length 0",
+        ),
+        (
+            BodyDef {
+                orientation: Quat::from_xyzw(0.0, 0.0, 0.0, 2.0),
+                ..Default::default()
+            },
+            "orientation",
+            "length 2",
+        ),
+        (
+            BodyDef {
+                linear_damping: -1.0,
+                ..Default::default()
+            },
+            "linear_damping",
+            "-1",
+        ),
+        (
+            BodyDef {
+                fast_spin_axis: Some(Vec3::ZERO),
+                ..Default::default()
+            },
+            "fast_spin_axis",
+            "length 0",
+        ),
     ];
     for (def, arg, value) in cases {
         let e = w.create_body(&def).unwrap_err();
@@ -66,11 +151,23 @@ fn bad_setters_change_nothing() {
     let before = snapshot(&w);
     let e = w.body_mut(b).unwrap().set_mass(-1.0).unwrap_err();
     expect_err(&w, &before, e, "mass", "-1");
-    let e = w.body_mut(b).unwrap().set_position(Vec3::new(0.0, Real::NAN, 0.0)).unwrap_err();
+    let e = w
+        .body_mut(b)
+        .unwrap()
+        .set_position(Vec3::new(0.0, Real::NAN, 0.0))
+        .unwrap_err();
     expect_err(&w, &before, e, "position", "NaN");
-    let e = w.body_mut(b).unwrap().set_orientation(Quat::from_xyzw(0.0, 0.0, 0.0, 0.0)).unwrap_err();
+    let e = w
+        .body_mut(b)
+        .unwrap()
+        .set_orientation(Quat::from_xyzw(0.0, 0.0, 0.0, 0.0))
+        .unwrap_err();
     expect_err(&w, &before, e, "orientation", "0");
-    let e = w.body_mut(b).unwrap().add_force(Vec3::new(Real::NAN, 0.0, 0.0)).unwrap_err();
+    let e = w
+        .body_mut(b)
+        .unwrap()
+        .add_force(Vec3::new(Real::NAN, 0.0, 0.0))
+        .unwrap_err();
     expect_err(&w, &before, e, "force", "NaN");
     let e = w.body_mut(b).unwrap().set_inertia(Mat3::ZERO).unwrap_err();
     expect_err(&w, &before, e, "inertia", "positive definite");
@@ -86,7 +183,12 @@ fn bad_setters_change_nothing() {
 fn bad_time_steps() {
     let (mut w, _) = world_with_things();
     let before = snapshot(&w);
-    for (dt, shown) in [(0.0 as Real, "0"), (-0.01, "-0.01"), (Real::NAN, "NaN"), (Real::INFINITY, "inf")] {
+    for (dt, shown) in [
+        (0.0 as Real, "0"),
+        (-0.01, "-0.01"),
+        (Real::NAN, "NaN"),
+        (Real::INFINITY, "inf"),
+    ] {
         let e = w.step(dt).unwrap_err();
         expect_err(&w, &before, e, "dt", shown);
     }
@@ -105,10 +207,16 @@ fn bad_contacts() {
     let mut c = Contact::new(Vec3::ZERO, Vec3::Y, 0.0).unwrap();
     let e = c.set_direction(Some(Vec3::Y)).unwrap_err();
     assert!(e.to_string().contains("direction") && e.to_string().contains("perpendicular"));
-    let bad = ContactParams { friction: [FrictionModel::Coulomb { mu: -0.5 }; 2], ..Default::default() };
+    let bad = ContactParams {
+        friction: [FrictionModel::Coulomb { mu: -0.5 }; 2],
+        ..Default::default()
+    };
     let e = c.set_params(bad).unwrap_err();
     expect_err(&w, &before, e, "friction[0]", "-0.5");
-    let bad = ContactParams { restitution: Real::NAN, ..Default::default() };
+    let bad = ContactParams {
+        restitution: Real::NAN,
+        ..Default::default()
+    };
     let e = c.set_params(bad).unwrap_err();
     expect_err(&w, &before, e, "restitution", "NaN");
     // A contact on a destroyed body.
@@ -128,9 +236,19 @@ fn stale_and_foreign_handles() {
     let before = snapshot(&w);
     let e = w.body(foreign).unwrap_err();
     assert!(matches!(e, KeaError::ForeignHandle { .. }), "{e}");
-    expect_err(&w, &before, e, "body", &format!("world {}", other_world.id()));
+    expect_err(
+        &w,
+        &before,
+        e,
+        "body",
+        &format!("world {}", other_world.id()),
+    );
     w.destroy_body(b).unwrap();
-    assert_eq!(w.constraint_count(), 0, "attached joint destroyed with its body");
+    assert_eq!(
+        w.constraint_count(),
+        0,
+        "attached joint destroyed with its body"
+    );
     let before = snapshot(&w);
     let e = w.body_mut(b).unwrap_err();
     expect_err(&w, &before, e, "body", "stale");
@@ -152,7 +270,11 @@ fn capacities_are_enforced() {
     let before = snapshot(&w);
     let e = w.create_ball_joint(a, None, Vec3::ZERO).unwrap_err();
     expect_err(&w, &before, e, "capacity", "1 constraints");
-    let e = World::new(WorldDef { max_bodies: 0, ..Default::default() }).unwrap_err();
+    let e = World::new(WorldDef {
+        max_bodies: 0,
+        ..Default::default()
+    })
+    .unwrap_err();
     assert!(e.to_string().contains("max_bodies"));
 }
 
@@ -175,7 +297,9 @@ fn constraint_state_rules() {
 struct Broken;
 impl CustomConstraint for Broken {
     fn write_rows(&mut self, _: &RowContext, out: &mut RowWriter<'_>) {
-        out.push(Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO).with_error(Real::NAN));
+        out.push(
+            Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO).with_error(Real::NAN),
+        );
     }
 }
 

@@ -20,8 +20,8 @@ impl CustomConstraint for Distance {
         let d = p - self.anchor;
         let len = d.length();
         let u = d / len;
-        let mut row = Row::new(Jacobian::new(u, Vec3::ZERO), Jacobian::ZERO)
-            .with_error(len - self.length);
+        let mut row =
+            Row::new(Jacobian::new(u, Vec3::ZERO), Jacobian::ZERO).with_error(len - self.length);
         if self.rope {
             // A rope only pulls: λ (force along u on body 1) ≤ 0.
             row = row.with_bounds(Real::NEG_INFINITY, 0.0);
@@ -40,7 +40,15 @@ fn custom_distance_joint_holds_its_length() {
         })
         .unwrap();
     let j = world
-        .add_custom_constraint(b, None, Distance { anchor: Vec3::ZERO, length: 2.0, rope: false })
+        .add_custom_constraint(
+            b,
+            None,
+            Distance {
+                anchor: Vec3::ZERO,
+                length: 2.0,
+                rope: false,
+            },
+        )
         .unwrap();
     assert_eq!(world.constraint_kind(j).unwrap(), "distance joint");
     let mut max_err: Real = 0.0;
@@ -68,7 +76,15 @@ fn rope_goes_slack_when_pushed_in() {
         })
         .unwrap();
     world
-        .add_custom_constraint(b, None, Distance { anchor: Vec3::ZERO, length: 2.0, rope: true })
+        .add_custom_constraint(
+            b,
+            None,
+            Distance {
+                anchor: Vec3::ZERO,
+                length: 2.0,
+                rope: true,
+            },
+        )
         .unwrap();
     world.step(0.1).unwrap();
     // Moving inward, the rope is slack: the velocity is untouched.

@@ -37,8 +37,14 @@ fn free_fall_matches_discrete_recurrence() {
         let y_exact = 100.0 + 2.0 * t + 0.5 * g * h * h * n * (n + 1.0);
         let v_exact = 2.0 + g * t;
         // Relative to the problem's scale (100 m), since y crosses zero.
-        assert!(((yn - y_exact) / 100.0).abs() < tol, "step {n}: {yn} vs {y_exact}");
-        assert!((vn - v_exact).abs() < tol * 100.0, "step {n}: v {vn} vs {v_exact}");
+        assert!(
+            ((yn - y_exact) / 100.0).abs() < tol,
+            "step {n}: {yn} vs {y_exact}"
+        );
+        assert!(
+            (vn - v_exact).abs() < tol * 100.0,
+            "step {n}: v {vn} vs {v_exact}"
+        );
     }
 }
 
@@ -54,7 +60,10 @@ fn free_fall_error_against_half_g_t_squared_is_first_order() {
         let continuous = 100.0 + 2.0 * t + 0.5 * g * t * t;
         let err = y[steps - 1] - continuous;
         let predicted = 0.5 * g * h * t;
-        assert!((err - predicted).abs() < if F64 { 1e-9 } else { 2e-4 }, "h={h}: {err} vs {predicted}");
+        assert!(
+            (err - predicted).abs() < if F64 { 1e-9 } else { 2e-4 },
+            "h={h}: {err} vs {predicted}"
+        );
         errors.push(err);
     }
     assert!((errors[0] / errors[1] - 2.0).abs() < 1e-2);
@@ -65,8 +74,17 @@ fn free_fall_error_against_half_g_t_squared_is_first_order() {
 fn forces_are_applied_for_one_step_and_cleared() {
     let mut world = World::with_capacity(2, 2).unwrap();
     world.set_gravity(Vec3::ZERO).unwrap();
-    let b = world.create_body(&BodyDef { mass: 2.0, ..Default::default() }).unwrap();
-    world.body_mut(b).unwrap().add_force(Vec3::new(4.0, 0.0, 0.0)).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            mass: 2.0,
+            ..Default::default()
+        })
+        .unwrap();
+    world
+        .body_mut(b)
+        .unwrap()
+        .add_force(Vec3::new(4.0, 0.0, 0.0))
+        .unwrap();
     world.step(0.5).unwrap();
     let body = world.body(b).unwrap();
     assert!((body.linear_velocity().x - 1.0).abs() < 1e-6); // a = 2 m/s² for 0.5 s

@@ -33,7 +33,17 @@ fn slope_run(theta: Real, mu: Real, seconds: Real, h: Real) -> Vec<Real> {
     let steps = (seconds / h).round() as usize;
     for _ in 0..steps {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(&mut world, body, HALF, n, 0.0, 0.01, params, None, &mut contacts);
+        box_plane_contacts(
+            &mut world,
+            body,
+            HALF,
+            n,
+            0.0,
+            0.01,
+            params,
+            None,
+            &mut contacts,
+        );
         let stats = world.step(h).unwrap();
         assert!(stats.solver.is_clean(), "{stats:?}");
         s.push((world.body(body).unwrap().position() - start).dot(down));
@@ -88,7 +98,17 @@ fn push_run(push: Real, max_force: Real, seconds: Real) -> (Real, Real) {
     let mut v_half = 0.0;
     for i in 0..steps {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(&mut world, body, HALF, Vec3::Y, 0.0, 0.01, params, None, &mut contacts);
+        box_plane_contacts(
+            &mut world,
+            body,
+            HALF,
+            Vec3::Y,
+            0.0,
+            0.01,
+            params,
+            None,
+            &mut contacts,
+        );
         world
             .body_mut(body)
             .unwrap()

@@ -24,9 +24,18 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
     let v0 = Vec3::new(0.0, 0.0, 1.0);
 
     // Immediate mode.
-    let mut bodies = [SolverBody::new(2.0, cuboid_inertia(), start, Quat::IDENTITY)];
+    let mut bodies = [SolverBody::new(
+        2.0,
+        cuboid_inertia(),
+        start,
+        Quat::IDENTITY,
+    )];
     bodies[0].linear_velocity = v0;
-    let params = SolverParams { dt: h, gravity: g, ..Default::default() };
+    let params = SolverParams {
+        dt: h,
+        gravity: g,
+        ..Default::default()
+    };
     let mut solver = Solver::new();
     let mut rows: Vec<Row> = Vec::new();
     let mut lambda = vec![0.0; 3];
@@ -50,9 +59,27 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
         rows.clear();
         let body = &bodies[0];
         let a1 = body.position + body.orientation * LOCAL;
-        write_point_rows(a1 - body.position, ANCHOR, a1 - ANCHOR, &mut RowWriter::new(&mut rows));
-        let blocks = [ConstraintBlock { bodies: [Some(0), None], first_row: 0, row_count: 3 }];
-        let stats = solver.step(&mut bodies, &blocks, &rows, &params, &mut lambda, &mut reactions).unwrap();
+        write_point_rows(
+            a1 - body.position,
+            ANCHOR,
+            a1 - ANCHOR,
+            &mut RowWriter::new(&mut rows),
+        );
+        let blocks = [ConstraintBlock {
+            bodies: [Some(0), None],
+            first_row: 0,
+            row_count: 3,
+        }];
+        let stats = solver
+            .step(
+                &mut bodies,
+                &blocks,
+                &rows,
+                &params,
+                &mut lambda,
+                &mut reactions,
+            )
+            .unwrap();
         assert_eq!(stats.islands, 1);
         world.step(h).unwrap();
         let wb = world.body(b).unwrap();
@@ -70,21 +97,41 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
 #[test]
 fn islands_are_independent_and_static_bodies_do_not_join_them() {
     let mut world = World::with_capacity(8, 8).unwrap();
-    let mk = |w: &mut World, x: Real| w.create_body(&BodyDef { position: Vec3::new(x, -1.0, 0.0), ..Default::default() }).unwrap();
+    let mk = |w: &mut World, x: Real| {
+        w.create_body(&BodyDef {
+            position: Vec3::new(x, -1.0, 0.0),
+            ..Default::default()
+        })
+        .unwrap()
+    };
     let a = mk(&mut world, 0.0);
     let b = mk(&mut world, 3.0);
     let c = mk(&mut world, 6.0);
     let fixed = mk(&mut world, 9.0);
     world.body_mut(fixed).unwrap().set_enabled(false);
-    world.create_ball_joint(a, None, Vec3::new(0.0, 0.0, 0.0)).unwrap();
-    world.create_ball_joint(b, Some(fixed), Vec3::new(3.0, 0.0, 0.0)).unwrap();
-    world.create_ball_joint(c, Some(fixed), Vec3::new(6.0, 0.0, 0.0)).unwrap();
+    world
+        .create_ball_joint(a, None, Vec3::new(0.0, 0.0, 0.0))
+        .unwrap();
+    world
+        .create_ball_joint(b, Some(fixed), Vec3::new(3.0, 0.0, 0.0))
+        .unwrap();
+    world
+        .create_ball_joint(c, Some(fixed), Vec3::new(6.0, 0.0, 0.0))
+        .unwrap();
     let stats = world.step(0.01).unwrap();
-    assert_eq!(stats.solver.islands, 3, "the disabled body must not merge b and c");
+    assert_eq!(
+        stats.solver.islands, 3,
+        "the disabled body must not merge b and c"
+    );
     assert_eq!(stats.bodies, 3);
-    assert_eq!(world.body(fixed).unwrap().position(), Vec3::new(9.0, -1.0, 0.0));
+    assert_eq!(
+        world.body(fixed).unwrap().position(),
+        Vec3::new(9.0, -1.0, 0.0)
+    );
     // Joining a and b makes one island of them.
-    world.create_ball_joint(a, Some(b), Vec3::new(1.5, -1.0, 0.0)).unwrap();
+    world
+        .create_ball_joint(a, Some(b), Vec3::new(1.5, -1.0, 0.0))
+        .unwrap();
     assert_eq!(world.step(0.01).unwrap().solver.islands, 2);
 }
 
@@ -123,22 +170,75 @@ fn same_inputs_give_bit_identical_results() {
 
 #[test]
 fn inconsistent_immediate_input_is_rejected_without_change() {
-    let mut bodies = [SolverBody::new(1.0, kea::Mat3::IDENTITY, Vec3::ZERO, Quat::IDENTITY)];
+    let mut bodies = [SolverBody::new(
+        1.0,
+        kea::Mat3::IDENTITY,
+        Vec3::ZERO,
+        Quat::IDENTITY,
+    )];
     let before = bodies;
-    let rows = [Row::new(kea::Jacobian::new(Vec3::X, Vec3::ZERO), kea::Jacobian::ZERO)];
+    let rows = [Row::new(
+        kea::Jacobian::new(Vec3::X, Vec3::ZERO),
+        kea::Jacobian::ZERO,
+    )];
     let mut lambda = [0.0];
     let mut reactions = [[Reaction::default(); 2]];
     let mut solver = Solver::new();
     let params = SolverParams::default();
-    let bad_block = [ConstraintBlock { bodies: [Some(3), None], first_row: 0, row_count: 1 }];
-    let e = solver.step(&mut bodies, &bad_block, &rows, &params, &mut lambda, &mut reactions).unwrap_err();
-    assert!(e.to_string().contains("blocks") && e.to_string().contains("body 3"), "{e}");
-    let block = [ConstraintBlock { bodies: [Some(0), None], first_row: 0, row_count: 2 }];
-    let e = solver.step(&mut bodies, &block, &rows, &params, &mut lambda, &mut reactions).unwrap_err();
+    let bad_block = [ConstraintBlock {
+        bodies: [Some(3), None],
+        first_row: 0,
+        row_count: 1,
+    }];
+    let e = solver
+        .step(
+            &mut bodies,
+            &bad_block,
+            &rows,
+            &params,
+            &mut lambda,
+            &mut reactions,
+        )
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("blocks") && e.to_string().contains("body 3"),
+        "{e}"
+    );
+    let block = [ConstraintBlock {
+        bodies: [Some(0), None],
+        first_row: 0,
+        row_count: 2,
+    }];
+    let e = solver
+        .step(
+            &mut bodies,
+            &block,
+            &rows,
+            &params,
+            &mut lambda,
+            &mut reactions,
+        )
+        .unwrap_err();
     assert!(e.to_string().contains("rows up to 2"), "{e}");
-    let bad_params = SolverParams { dt: -1.0, ..Default::default() };
-    let block = [ConstraintBlock { bodies: [Some(0), None], first_row: 0, row_count: 1 }];
-    let e = solver.step(&mut bodies, &block, &rows, &bad_params, &mut lambda, &mut reactions).unwrap_err();
+    let bad_params = SolverParams {
+        dt: -1.0,
+        ..Default::default()
+    };
+    let block = [ConstraintBlock {
+        bodies: [Some(0), None],
+        first_row: 0,
+        row_count: 1,
+    }];
+    let e = solver
+        .step(
+            &mut bodies,
+            &block,
+            &rows,
+            &bad_params,
+            &mut lambda,
+            &mut reactions,
+        )
+        .unwrap_err();
     assert!(e.to_string().contains("dt"), "{e}");
     assert_eq!(bodies, before);
 }
@@ -147,7 +247,9 @@ fn inconsistent_immediate_input_is_rejected_without_change() {
 fn memory_figures_are_reported() {
     let mut world = World::with_capacity(4, 4).unwrap();
     let b = world.create_body(&BodyDef::default()).unwrap();
-    world.create_ball_joint(b, None, Vec3::new(0.0, 1.0, 0.0)).unwrap();
+    world
+        .create_ball_joint(b, None, Vec3::new(0.0, 1.0, 0.0))
+        .unwrap();
     world.step(0.01).unwrap();
     let used = world.memory_pool_size();
     assert!(used >= kea::solver::memory_required(&[3], 1), "{used}");

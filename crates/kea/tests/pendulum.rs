@@ -37,7 +37,10 @@ fn ball_joint_pendulum_period_and_joint_gap() {
     let periods: Vec<Real> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
     let mean = periods.iter().sum::<Real>() / periods.len() as Real;
     // A sphere of radius r adds I = 2/5 m r² to the pendulum: a factor √(1 + 2r²/(5L²)).
-    let expected = 2.0 * PI_REAL * (l / g).sqrt() * (1.0 + theta0 * theta0 / 16.0)
+    let expected = 2.0
+        * PI_REAL
+        * (l / g).sqrt()
+        * (1.0 + theta0 * theta0 / 16.0)
         * (1.0 + 0.4 * r * r / (l * l)).sqrt();
     let rel = (mean - expected).abs() / expected;
     eprintln!("pendulum: T = {mean} s, expected {expected} s (rel {rel:e}); max gap {max_gap:e} m; {} periods", periods.len());

@@ -41,9 +41,17 @@ fn two_ball_joints_as_a_hinge_are_redundant_but_fine_with_default_epsilon() {
             ..Default::default()
         })
         .unwrap();
-    world.create_ball_joint(b, None, Vec3::new(0.0, 0.0, -0.5)).unwrap();
-    world.create_ball_joint(b, None, Vec3::new(0.0, 0.0, 0.5)).unwrap();
-    world.body_mut(b).unwrap().set_linear_velocity(Vec3::new(1.0, 0.0, 0.0)).unwrap();
+    world
+        .create_ball_joint(b, None, Vec3::new(0.0, 0.0, -0.5))
+        .unwrap();
+    world
+        .create_ball_joint(b, None, Vec3::new(0.0, 0.0, 0.5))
+        .unwrap();
+    world
+        .body_mut(b)
+        .unwrap()
+        .set_linear_velocity(Vec3::new(1.0, 0.0, 0.0))
+        .unwrap();
     for _ in 0..120 {
         let stats = world.step(1.0 / 60.0).unwrap();
         assert!(stats.solver.is_clean(), "{stats:?}");

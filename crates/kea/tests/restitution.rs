@@ -55,15 +55,24 @@ fn rebound_speed_is_e_times_impact_speed_and_apexes_fall_by_e_squared() {
     }
     assert!(ratios.len() >= 3, "bounces: {ratios:?}");
     for r in &ratios[..3] {
-        assert!((r - e).abs() < if F64 { 1e-9 } else { 1e-5 }, "rebound ratio {r}");
+        assert!(
+            (r - e).abs() < if F64 { 1e-9 } else { 1e-5 },
+            "rebound ratio {r}"
+        );
     }
     assert!(apexes.len() >= 3, "apexes {apexes:?}");
     let h0 = 0.5 * g * h * h * n_steps * (n_steps + 1.0);
     let first = apexes[0] / h0;
-    assert!((first - e * e).abs() / (e * e) < 1e-2, "first apex ratio {first}");
+    assert!(
+        (first - e * e).abs() / (e * e) < 1e-2,
+        "first apex ratio {first}"
+    );
     for k in 0..2 {
         let ratio = apexes[k + 1] / apexes[k];
-        assert!((ratio - e * e).abs() / (e * e) < 0.02, "apex ratio {k}: {ratio}");
+        assert!(
+            (ratio - e * e).abs() / (e * e) < 0.02,
+            "apex ratio {k}: {ratio}"
+        );
     }
 }
 
@@ -93,7 +102,11 @@ fn impact_below_threshold_does_not_bounce_and_settles_quickly() {
             max_height_after = max_height_after.max(b.position().y - R);
             if step > l + 6 {
                 // within 0.1 s of landing
-                assert!(b.linear_velocity().length() < 1e-3, "step {step}: v = {}", b.linear_velocity());
+                assert!(
+                    b.linear_velocity().length() < 1e-3,
+                    "step {step}: v = {}",
+                    b.linear_velocity()
+                );
             }
         }
     }

@@ -15,17 +15,30 @@ fn free_world() -> World {
 fn constant_torque_about_principal_axis_gives_linear_spin_up() {
     let mut world = free_world();
     let i = inertia::solid_box(3.0, Vec3::new(0.5, 1.0, 1.5)).unwrap();
-    let b = world.create_body(&BodyDef { mass: 3.0, inertia: i, ..Default::default() }).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            mass: 3.0,
+            inertia: i,
+            ..Default::default()
+        })
+        .unwrap();
     let tau: Real = 2.0;
     let h: Real = 0.01;
     for _ in 0..500 {
-        world.body_mut(b).unwrap().add_torque(Vec3::new(0.0, tau, 0.0)).unwrap();
+        world
+            .body_mut(b)
+            .unwrap()
+            .add_torque(Vec3::new(0.0, tau, 0.0))
+            .unwrap();
         world.step(h).unwrap();
     }
     let w = world.body(b).unwrap().angular_velocity();
     let expected = tau * 5.0 / i.y_axis.y;
     let rel = (w.y - expected).abs() / expected;
-    assert!(rel < if F64 { 1e-9 } else { 1e-5 }, "ω = {w}, expected {expected}");
+    assert!(
+        rel < if F64 { 1e-9 } else { 1e-5 },
+        "ω = {w}, expected {expected}"
+    );
     assert!(w.x.abs() < 1e-6 && w.z.abs() < 1e-6);
 }
 
@@ -58,7 +71,10 @@ fn torque_free_box_keeps_angular_momentum_and_flips_about_intermediate_axis() {
         min_dot = min_dot.min((body.orientation() * Vec3::Y).dot(l0.normalize()));
     }
     eprintln!("tennis racket: |L| rel err {max_l_err:e}, energy rel err {max_e_err:e}, min axis·L {min_dot}");
-    assert!(max_l_err < if F64 { 1e-9 } else { 1e-4 }, "|L| drift {max_l_err}");
+    assert!(
+        max_l_err < if F64 { 1e-9 } else { 1e-4 },
+        "|L| drift {max_l_err}"
+    );
     assert!(min_dot < -0.9, "no flip: min dot {min_dot}");
     assert!(max_e_err < 2e-3, "energy drift {max_e_err}");
 }

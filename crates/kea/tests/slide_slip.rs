@@ -21,7 +21,17 @@ fn run(params: ContactParams, push: Vec3, seconds: Real) -> Vec3 {
     let mut contacts = Vec::new();
     for _ in 0..(seconds / h).round() as usize {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(&mut world, body, HALF, Vec3::Y, 0.0, 0.01, params, Some(Vec3::X), &mut contacts);
+        box_plane_contacts(
+            &mut world,
+            body,
+            HALF,
+            Vec3::Y,
+            0.0,
+            0.01,
+            params,
+            Some(Vec3::X),
+            &mut contacts,
+        );
         world.body_mut(body).unwrap().add_force(push).unwrap();
         world.step(h).unwrap();
     }

@@ -3,7 +3,9 @@
 
 mod common;
 use common::F64;
-use kea::{BodyDef, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter, Softness, Vec3, World};
+use kea::{
+    BodyDef, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter, Softness, Vec3, World,
+};
 
 #[derive(Debug)]
 struct Spring {
@@ -32,9 +34,15 @@ fn soft_row_follows_the_implicit_euler_spring() {
     let mut world = World::with_capacity(2, 2).unwrap();
     world.set_gravity(Vec3::ZERO).unwrap();
     let b = world
-        .create_body(&BodyDef { mass: m, position: Vec3::new(0.1, 0.0, 0.0), ..Default::default() })
+        .create_body(&BodyDef {
+            mass: m,
+            position: Vec3::new(0.1, 0.0, 0.0),
+            ..Default::default()
+        })
         .unwrap();
-    world.add_custom_constraint(b, None, Spring { k, d, stop: false }).unwrap();
+    world
+        .add_custom_constraint(b, None, Spring { k, d, stop: false })
+        .unwrap();
     let (mut x, mut v): (Real, Real) = (0.1, 0.0);
     let mut crossings = 0;
     for _ in 0..2000 {
@@ -47,11 +55,18 @@ fn soft_row_follows_the_implicit_euler_spring() {
         }
         let body = world.body(b).unwrap();
         let tol = if F64 { 1e-9 } else { 1e-4 } * 0.1;
-        assert!((body.position().x - x).abs() < tol, "x {} vs {x}", body.position().x);
+        assert!(
+            (body.position().x - x).abs() < tol,
+            "x {} vs {x}",
+            body.position().x
+        );
         assert!((body.linear_velocity().x - v).abs() < tol * 20.0);
     }
     // Period ≈ 2π√(m/k) = 0.513 s: 20 s gives ~39 crossings while the oscillation lasts.
-    assert!(crossings > 10, "it should oscillate ({crossings} crossings)");
+    assert!(
+        crossings > 10,
+        "it should oscillate ({crossings} crossings)"
+    );
 }
 
 #[test]
@@ -60,12 +75,30 @@ fn constant_load_against_a_soft_stop_deflects_by_f_over_k() {
     let mut world = World::with_capacity(2, 2).unwrap();
     world.set_gravity(Vec3::ZERO).unwrap();
     let b = world.create_body(&BodyDef::default()).unwrap();
-    world.add_custom_constraint(b, None, Spring { k, d: 5.0, stop: true }).unwrap();
+    world
+        .add_custom_constraint(
+            b,
+            None,
+            Spring {
+                k,
+                d: 5.0,
+                stop: true,
+            },
+        )
+        .unwrap();
     for _ in 0..3000 {
-        world.body_mut(b).unwrap().add_force(Vec3::new(-f, 0.0, 0.0)).unwrap();
+        world
+            .body_mut(b)
+            .unwrap()
+            .add_force(Vec3::new(-f, 0.0, 0.0))
+            .unwrap();
         world.step(0.01).unwrap();
     }
     let x = world.body(b).unwrap().position().x;
     let rel = (x + f / k).abs() / (f / k);
-    assert!(rel < if F64 { 1e-6 } else { 1e-4 }, "deflection {x} vs {}", -f / k);
+    assert!(
+        rel < if F64 { 1e-6 } else { 1e-4 },
+        "deflection {x} vs {}",
+        -f / k
+    );
 }

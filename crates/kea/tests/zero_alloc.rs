@@ -4,8 +4,8 @@
 mod common;
 use common::{box_plane_contacts, clear_contacts, sphere_ground_contact};
 use kea::{
-    inertia, BodyDef, ContactParams, CustomConstraint, Jacobian, Real, Row, RowContext,
-    RowWriter, Vec3, World,
+    inertia, BodyDef, ContactParams, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter,
+    Vec3, World,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -75,16 +75,35 @@ fn warm_step_allocates_nothing() {
             ..Default::default()
         })
         .unwrap();
-    world.create_ball_joint(bob, None, Vec3::new(-1.0, 2.0, 0.0)).unwrap();
+    world
+        .create_ball_joint(bob, None, Vec3::new(-1.0, 2.0, 0.0))
+        .unwrap();
     world.add_custom_constraint(crate_, None, Spring).unwrap();
-    let params = ContactParams { restitution: 0.5, ..Default::default() };
+    let params = ContactParams {
+        restitution: 0.5,
+        ..Default::default()
+    };
     let mut contacts = Vec::with_capacity(64);
 
-    let mut step = |world: &mut World, contacts: &mut Vec<_>| {
+    let step = |world: &mut World, contacts: &mut Vec<_>| {
         clear_contacts(world, contacts);
         sphere_ground_contact(world, ball, 0.2, 0.05, params, contacts);
-        box_plane_contacts(world, crate_, half, Vec3::Y, 0.0, 0.05, params, None, contacts);
-        world.body_mut(crate_).unwrap().add_force(Vec3::new(1.0, 0.0, 0.0)).unwrap();
+        box_plane_contacts(
+            world,
+            crate_,
+            half,
+            Vec3::Y,
+            0.0,
+            0.05,
+            params,
+            None,
+            contacts,
+        );
+        world
+            .body_mut(crate_)
+            .unwrap()
+            .add_force(Vec3::new(1.0, 0.0, 0.0))
+            .unwrap();
         world.step(1.0 / 60.0).unwrap()
     };
     for _ in 0..120 {
@@ -99,7 +118,10 @@ fn warm_step_allocates_nothing() {
     }
     COUNTING.with(|c| c.set(false));
     let n = ALLOCATIONS.load(Ordering::Relaxed);
-    assert!(rows > 240 * 8, "the scene should keep contacts and joints busy ({rows} rows)");
+    assert!(
+        rows > 240 * 8,
+        "the scene should keep contacts and joints busy ({rows} rows)"
+    );
     assert_eq!(n, 0, "{n} heap allocations in 240 warm steps");
     let _: Real = world.kinetic_energy();
 

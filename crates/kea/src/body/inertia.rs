@@ -24,7 +24,9 @@ pub fn solid_box(mass: Real, half_extents: Vec3) -> KeaResult<Mat3> {
 pub fn solid_sphere(mass: Real, radius: Real) -> KeaResult<Mat3> {
     check_positive("mass", mass)?;
     check_positive("radius", radius)?;
-    Ok(Mat3::from_diagonal(Vec3::splat(0.4 * mass * radius * radius)))
+    Ok(Mat3::from_diagonal(Vec3::splat(
+        0.4 * mass * radius * radius,
+    )))
 }
 
 /// Inertia of a solid cylinder along local y with `radius` and `half_height`:

@@ -247,8 +247,7 @@ impl Contact {
             Some(d) => d,
             None => {
                 let [b1, b2] = &ctx.bodies;
-                let v =
-                    b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
+                let v = b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
                 let vt = v - n * v.dot(n);
                 let speed = vt.length();
                 if speed > 1.0e-5 {
@@ -269,7 +268,12 @@ impl Contact {
         let r1 = p - b1.position;
         let r2 = p - b2.position;
         let prm = &self.params;
-        let jac = |d: Vec3| [Jacobian::new(d, r1.cross(d)), Jacobian::new(-d, -r2.cross(d))];
+        let jac = |d: Vec3| {
+            [
+                Jacobian::new(d, r1.cross(d)),
+                Jacobian::new(-d, -r2.cross(d)),
+            ]
+        };
 
         let mut normal = Row::new(jac(n)[0], jac(n)[1])
             .with_error(-self.penetration)

@@ -141,7 +141,11 @@ impl Row {
     /// non-negative slip and μ, γ in [0, 1], ε ≥ 0. Returns the name of the first bad field.
     pub fn invalid_field(&self) -> Option<&'static str> {
         let fin = |v: Vec3| v.is_finite();
-        if !self.jacobian.iter().all(|j| fin(j.linear) && fin(j.angular)) {
+        if !self
+            .jacobian
+            .iter()
+            .all(|j| fin(j.linear) && fin(j.angular))
+        {
             return Some("jacobian");
         }
         if !self.xi.is_finite() {

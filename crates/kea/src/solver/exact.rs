@@ -14,7 +14,7 @@ use super::integrate::BodyScratch;
 use super::lcp::{self, Bound, LcpWorkspace};
 use super::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use crate::constraint::Row;
-use crate::math::{to_f64, DVec3, Real};
+use crate::math::{to_f64, wide, DVec3, Real};
 
 /// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
 #[derive(Debug, Clone, Copy, Default)]
@@ -51,7 +51,13 @@ impl ExactWorkspace {
         }
         r(&mut self.rows, n);
         r(&mut self.a, n * n);
-        for v in [&mut self.b, &mut self.lo, &mut self.hi, &mut self.x, &mut self.w] {
+        for v in [
+            &mut self.b,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.x,
+            &mut self.w,
+        ] {
             r(v, n);
         }
         r(&mut self.state, n);
@@ -73,7 +79,11 @@ impl ExactWorkspace {
 
     pub(crate) fn bytes_for(largest_island: usize, _rows: usize) -> usize {
         let n = largest_island;
-        n * std::mem::size_of::<IslandRow>() + n * n * 8 + 5 * n * 8 + n + LcpWorkspace::bytes_for(n)
+        n * std::mem::size_of::<IslandRow>()
+            + n * n * 8
+            + 5 * n * 8
+            + n
+            + LcpWorkspace::bytes_for(n)
     }
 
     /// Solves one island and accumulates its constraint forces into `scratch`.
@@ -102,7 +112,7 @@ impl ExactWorkspace {
         stats.rows += n as u32;
         stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
 
-        let h = f64::from(params.dt);
+        let h = wide(params.dt);
         self.gather(island_blocks, blocks, rows, bodies, scratch);
         self.assemble(rows, scratch, params, h);
         self.solve_with_friction(n, params, stats);
@@ -154,7 +164,7 @@ impl ExactWorkspace {
                     bodies: blk.bodies,
                     link: row
                         .friction
-                        .map(|f| (base + u32::from(f.normal_row), f64::from(f.mu))),
+                        .map(|f| (base + u32::from(f.normal_row), wide(f.mu))),
                     ..IslandRow::default()
                 };
                 for s in 0..2 {
@@ -164,8 +174,9 @@ impl ExactWorkspace {
                         let ja = to_f64(row.jacobian[s].angular);
                         ir.jac[2 * s] = jl;
                         ir.jac[2 * s + 1] = ja;
-                        ir.mj[2 * s] = jl * f64::from(body.inv_mass);
-                        ir.mj[2 * s + 1] = to_f64(scratch.inv_inertia_world[b as usize] * row.jacobian[s].angular);
+                        ir.mj[2 * s] = jl * wide(body.inv_mass);
+                        ir.mj[2 * s + 1] =
+                            to_f64(scratch.inv_inertia_world[b as usize] * row.jacobian[s].angular);
                     }
                 }
                 self.rows.push(ir);
@@ -177,7 +188,13 @@ impl ExactWorkspace {
         let n = self.rows.len();
         self.a.clear();
         self.a.resize(n * n, 0.0);
-        for v in [&mut self.b, &mut self.lo, &mut self.hi, &mut self.x, &mut self.w] {
+        for v in [
+            &mut self.b,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.x,
+            &mut self.w,
+        ] {
             v.clear();
             v.resize(n, 0.0);
         }
@@ -201,9 +218,9 @@ impl ExactWorkspace {
                 self.a[j * n + i] = s;
             }
             let row = &rows[ri.global as usize];
-            let eps = f64::from(row.softness.unwrap_or(params.epsilon));
-            let gamma = f64::from(row.gamma.unwrap_or(params.gamma));
-            self.a[i * n + i] += eps + f64::from(row.slip) / h;
+            let eps = wide(row.softness.unwrap_or(params.epsilon));
+            let gamma = wide(row.gamma.unwrap_or(params.gamma));
+            self.a[i * n + i] += eps + wide(row.slip) / h;
             let mut jv = 0.0;
             for s in 0..2 {
                 if let Some(b) = ri.bodies[s] {
@@ -211,14 +228,14 @@ impl ExactWorkspace {
                         + ri.jac[2 * s + 1].dot(to_f64(scratch.free_angular[b as usize]));
                 }
             }
-            self.b[i] = (f64::from(row.c) - gamma * f64::from(row.xi) / h - jv) / h;
+            self.b[i] = (wide(row.c) - gamma * wide(row.xi) / h - jv) / h;
             if ri.link.is_some() {
                 // First pass: the sticking guess.
                 self.lo[i] = f64::NEG_INFINITY;
                 self.hi[i] = f64::INFINITY;
             } else {
-                self.lo[i] = f64::from(row.lo);
-                self.hi[i] = f64::from(row.hi);
+                self.lo[i] = wide(row.lo);
+                self.hi[i] = wide(row.hi);
             }
         }
         lcp::initial_state(&self.lo, &self.hi, &mut self.state);
@@ -254,7 +271,9 @@ impl ExactWorkspace {
             for i in 0..n {
                 if let Some((normal, mu)) = self.rows[i].link {
                     let bound = mu * self.x[normal as usize].max(0.0);
-                    if (bound - self.hi[i]).abs() > 1.0e-9 * (1.0 + bound) || self.hi[i].is_infinite() {
+                    if (bound - self.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
+                        || self.hi[i].is_infinite()
+                    {
                         moved = true;
                     }
                     self.lo[i] = -bound;
@@ -275,7 +294,10 @@ impl ExactWorkspace {
                 }
             }
             stats.friction_unconverged_islands += 1;
-            log::warn!("kea: Coulomb friction bounds still moving after {} re-solves", params.max_friction_passes);
+            log::warn!(
+                "kea: Coulomb friction bounds still moving after {} re-solves",
+                params.max_friction_passes
+            );
         }
         if singular {
             stats.singular_islands += 1;
@@ -287,7 +309,10 @@ impl ExactWorkspace {
         }
         if capped {
             stats.capped_islands += 1;
-            log::warn!("kea: LCP iteration cap {} reached ({n} rows)", params.max_lcp_iterations);
+            log::warn!(
+                "kea: LCP iteration cap {} reached ({n} rows)",
+                params.max_lcp_iterations
+            );
         }
     }
 }

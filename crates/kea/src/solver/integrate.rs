@@ -18,7 +18,7 @@
 
 use super::{SolverBody, SolverParams};
 use crate::math::{
-    from_f64, rotate_by_vector, symmetric_eigen, to_f64, DVec3, Mat3, Quat, Real, Vec3,
+    from_f64, rotate_by_vector, symmetric_eigen, to_f64, wide, DVec3, Mat3, Quat, Real, Vec3,
 };
 use glam::{DMat3, DQuat};
 
@@ -122,7 +122,7 @@ impl BodyScratch {
 /// Computed in `f64` whatever `Real` is, so that `f32` bodies keep `|L|` to ~1e-6 over
 /// thousands of steps.
 fn rotate_free(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
-    let h = f64::from(h);
+    let h = wide(h);
     let q0 = to_dquat(b.orientation);
     let w = to_f64(w_step);
     let inertia = to_dmat3(&b.inertia);
@@ -156,10 +156,16 @@ fn rotate_free(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
 fn split_rotation(mut qp: DQuat, l: DVec3, d: DVec3, h: f64) -> DQuat {
     let mut lb = qp.inverse() * l;
     let axes = [DVec3::X, DVec3::Y, DVec3::Z];
-    for (k, tau) in [(0usize, 0.5 * h), (1, 0.5 * h), (2, h), (1, 0.5 * h), (0, 0.5 * h)] {
+    for (k, tau) in [
+        (0usize, 0.5 * h),
+        (1, 0.5 * h),
+        (2, h),
+        (1, 0.5 * h),
+        (0, 0.5 * h),
+    ] {
         let theta = tau * lb[k] / d[k];
         let r = DQuat::from_axis_angle(axes[k], theta);
-        qp = qp * r;
+        qp *= r;
         lb = r.inverse() * lb;
     }
     qp

@@ -51,8 +51,14 @@ impl Islands {
         i
     }
 
-    /// Groups bodies and blocks. `dynamic[i]` says whether body i can join islands.
-    pub(crate) fn build(&mut self, body_count: usize, dynamic: impl Fn(usize) -> bool, blocks: &[ConstraintBlock]) {
+    /// Groups bodies and blocks. `dynamic(i)` says whether body i can join islands.
+    #[allow(clippy::needless_range_loop)]
+    pub(crate) fn build(
+        &mut self,
+        body_count: usize,
+        dynamic: impl Fn(usize) -> bool,
+        blocks: &[ConstraintBlock],
+    ) {
         self.parent.clear();
         self.parent.extend(0..body_count as u32);
         let dyn_body = |b: Option<u32>| b.filter(|&i| dynamic(i as usize));
@@ -116,7 +122,8 @@ impl Islands {
             self.island_start[k + 1] += self.island_start[k];
         }
         self.block_order.clear();
-        self.block_order.resize(self.island_start[islands as usize] as usize, 0);
+        self.block_order
+            .resize(self.island_start[islands as usize] as usize, 0);
         // Use island_of_root as the running cursor per island.
         self.island_of_root.clear();
         self.island_of_root

@@ -101,7 +101,7 @@ pub(crate) fn initial_state(lo: &[f64], hi: &[f64], state: &mut [Bound]) {
 
 /// Solves the BLCP. `state` is read as the starting guess and left at the final sets; `x` and
 /// `w` receive the solution and `A x − b`.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 pub(crate) fn solve(
     n: usize,
     a: &[f64],
@@ -209,7 +209,7 @@ pub(crate) fn solve(
 
 /// Sets bound indices to their bound and solves the free block for the rest. Returns true if
 /// the block had to be regularised.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 fn solve_free_block(
     n: usize,
     a: &[f64],
@@ -289,7 +289,14 @@ fn solve_free_block(
 
 /// Cholesky factor of `A_FF + shift·I` into `out` (m×m). False if a pivot is not clearly
 /// positive (relative to the largest diagonal of the whole matrix).
-fn cholesky(a: &[f64], n: usize, free: &[usize], out: &mut [f64], shift: f64, diag_max: f64) -> bool {
+fn cholesky(
+    a: &[f64],
+    n: usize,
+    free: &[usize],
+    out: &mut [f64],
+    shift: f64,
+    diag_max: f64,
+) -> bool {
     let m = free.len();
     let tiny = 1.0e-13 * diag_max.max(1.0e-300);
     for i in 0..m {
@@ -302,7 +309,7 @@ fn cholesky(a: &[f64], n: usize, free: &[usize], out: &mut [f64], shift: f64, di
                 s -= out[i * m + k] * out[j * m + k];
             }
             if i == j {
-                if !(s > tiny) {
+                if s.is_nan() || s <= tiny {
                     return false;
                 }
                 out[i * m + i] = s.sqrt();
@@ -357,7 +364,9 @@ mod tests {
         // Deterministic pseudo-random SPD matrices A = MᵀM + 0.01 I with mixed bounds.
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         };
         for n in [1usize, 2, 5, 12, 30] {

@@ -365,7 +365,11 @@ fn validate_inputs(
     if reactions.len() != blocks.len() {
         return inconsistent(
             "reactions",
-            format!("has {} entries for {} constraints", reactions.len(), blocks.len()),
+            format!(
+                "has {} entries for {} constraints",
+                reactions.len(),
+                blocks.len()
+            ),
         );
     }
     for (i, b) in bodies.iter().enumerate() {
@@ -381,7 +385,10 @@ fn validate_inputs(
             && b.linear_damping >= 0.0
             && b.angular_damping >= 0.0;
         if !ok {
-            return inconsistent("bodies", format!("body {i} has a NaN, infinite or negative field: {b:?}"));
+            return inconsistent(
+                "bodies",
+                format!("body {i} has a NaN, infinite or negative field: {b:?}"),
+            );
         }
     }
     for (k, blk) in blocks.iter().enumerate() {
@@ -405,7 +412,10 @@ fn validate_inputs(
                 if u32::from(f.normal_row) >= blk.row_count {
                     return inconsistent(
                         "rows",
-                        format!("constraint {k} links friction to its row {} of {}", f.normal_row, blk.row_count),
+                        format!(
+                            "constraint {k} links friction to its row {} of {}",
+                            f.normal_row, blk.row_count
+                        ),
                     );
                 }
             }

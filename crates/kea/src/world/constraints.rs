@@ -141,9 +141,7 @@ impl World {
     pub fn constraint_lambdas(&self, h: ConstraintHandle) -> KeaResult<&[Real]> {
         let entry = self.constraints.get(h)?;
         Ok(match entry.last_rows {
-            Some((first, count)) => {
-                &self.scratch.lambda[first as usize..(first + count) as usize]
-            }
+            Some((first, count)) => &self.scratch.lambda[first as usize..(first + count) as usize],
             None => &[],
         })
     }

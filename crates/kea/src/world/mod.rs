@@ -12,11 +12,11 @@ mod step;
 pub use step::StepStats;
 
 use crate::body::{Body, BodyDef};
+use crate::constraint::Row;
 use crate::error::{check_non_negative, check_vec3, KeaError, KeaResult};
 use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::{ConstraintBlock, Reaction, Solver, SolverBody};
-use crate::constraint::Row;
 use constraint_entry::ConstraintEntry;
 
 /// Parameters of a new world. Every tunable says its unit, normal value and range.

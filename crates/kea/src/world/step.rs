@@ -11,7 +11,7 @@
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
-use crate::math::Real;
+use crate::math::{wide, Real};
 use crate::solver::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use std::time::{Duration, Instant};
 
@@ -73,7 +73,7 @@ impl World {
         )?;
         let t3 = Instant::now();
         self.write_back();
-        self.time += f64::from(dt);
+        self.time += wide(dt);
         self.steps += 1;
         let t4 = Instant::now();
         Ok(StepStats {
@@ -95,7 +95,9 @@ impl World {
         s.slot_to_solver.clear();
         s.slot_to_solver.resize(self.bodies.slot_count(), u32::MAX);
         for slot in 0..self.bodies.slot_count() {
-            let Some(b) = self.bodies.at(slot) else { continue };
+            let Some(b) = self.bodies.at(slot) else {
+                continue;
+            };
             if !b.enabled {
                 continue;
             }
@@ -124,7 +126,10 @@ impl World {
         let Some(slot) = slot else {
             return (RowBody::STATIC, None);
         };
-        let b = self.bodies.at(slot as usize).expect("constraint bodies are live");
+        let b = self
+            .bodies
+            .at(slot as usize)
+            .expect("constraint bodies are live");
         let solver_index = self.scratch.slot_to_solver[slot as usize];
         if solver_index == u32::MAX {
             return (RowBody::fixed(b.position, b.orientation), None);
@@ -154,7 +159,9 @@ impl World {
         blocks.clear();
         block_constraint.clear();
         for slot in 0..self.constraints.slot_count() {
-            let Some(entry) = self.constraints.at(slot) else { continue };
+            let Some(entry) = self.constraints.at(slot) else {
+                continue;
+            };
             if !entry.enabled {
                 continue;
             }
@@ -218,7 +225,10 @@ impl World {
         }
         for (k, blk) in s.blocks.iter().enumerate() {
             let slot = s.block_constraint[k] as usize;
-            let e = self.constraints.at_mut(slot).expect("solved constraints are live");
+            let e = self
+                .constraints
+                .at_mut(slot)
+                .expect("solved constraints are live");
             e.last_rows = Some((blk.first_row, blk.row_count));
             e.reaction = s.reactions[k];
         }

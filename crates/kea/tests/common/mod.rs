@@ -1,8 +1,10 @@
 //! Small analytic contact generators shared by the physics tests (the collision crate is a
 //! later layer; the guide's own tutorials write contacts by hand like this).
 #![allow(dead_code)]
+// Test helpers spell out every contact setting at the call site, on purpose.
+#![allow(clippy::too_many_arguments)]
 
-use kea::{BodyHandle, Contact, ContactParams, ConstraintHandle, Real, Vec3, World};
+use kea::{BodyHandle, ConstraintHandle, Contact, ContactParams, Real, Vec3, World};
 
 /// True when the tests run in double precision.
 pub const F64: bool = cfg!(feature = "f64");
