@@ -39,3 +39,8 @@ pub use handle::{BodyHandle, ConstraintHandle};
 pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
 pub use solver::{Reaction, Solver, SolverBody, SolverParams, SolverStats};
 pub use world::{StepStats, World, WorldDef};
+
+/// The README's tour, compiled and run as a doctest so that it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
