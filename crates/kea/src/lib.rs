@@ -27,6 +27,7 @@ pub mod error;
 mod handle;
 pub mod math;
 pub mod solver;
+mod union_find;
 pub mod world;
 
 pub use body::{inertia, Body, BodyDef};
@@ -38,7 +39,7 @@ pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};
 pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
 pub use solver::{Reaction, Solver, SolverBody, SolverParams, SolverStats};
-pub use world::{StepStats, World, WorldDef};
+pub use world::{DemMode, DemSettings, StepStats, World, WorldDef};
 
 /// The README's tour, compiled and run as a doctest so that it stays true.
 #[cfg(doctest)]

@@ -4,8 +4,8 @@
 mod common;
 use common::{box_plane_contacts, clear_contacts, sphere_ground_contact};
 use kea::{
-    inertia, BodyDef, ContactParams, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter,
-    Vec3, World,
+    inertia, BodyDef, ContactParams, CustomConstraint, DemMode, DemSettings, Jacobian, Real, Row,
+    RowContext, RowWriter, Vec3, World,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -54,6 +54,13 @@ impl CustomConstraint for Spring {
 #[test]
 fn warm_step_allocates_nothing() {
     let mut world = World::with_capacity(16, 64).unwrap();
+    // Auto-disable on, so the sleep bookkeeping is counted too.
+    world
+        .set_dem(DemSettings {
+            mode: DemMode::PartitionAutoDisable,
+            ..Default::default()
+        })
+        .unwrap();
     let ball = world
         .create_body(&BodyDef {
             position: Vec3::new(0.0, 2.0, 0.0),

@@ -85,6 +85,10 @@ pub struct Body {
     pub(crate) fast_spin_axis: Option<Vec3>,
     pub(crate) enabled: bool,
     pub(crate) user_data: u64,
+    /// Disabled automatically because its island rested (see [`crate::world::DemSettings`]).
+    pub(crate) sleeping: bool,
+    /// Time this body has been resting, s.
+    pub(crate) rest_time: Real,
 }
 
 impl Body {
@@ -109,6 +113,8 @@ impl Body {
             fast_spin_axis: None,
             enabled: def.enabled,
             user_data: def.user_data,
+            sleeping: false,
+            rest_time: 0.0,
         };
         // Validate everything before building, so a bad field reports its own name.
         check_positive("mass", def.mass)?;
@@ -237,6 +243,12 @@ impl Body {
     pub fn user_data(&self) -> u64 {
         self.user_data
     }
+    /// Whether the body was disabled automatically because its island came to rest. It is
+    /// still enabled: it wakes when touched, pushed, moved, or by [`crate::World::wake_body`].
+    #[must_use]
+    pub fn is_sleeping(&self) -> bool {
+        self.sleeping
+    }
     /// Converts a point from body to world coordinates.
     #[must_use]
     pub fn point_to_world(&self, local: Vec3) -> Vec3 {
@@ -267,22 +279,26 @@ impl Body {
         check_vec3("position", position)?;
         self.position = position;
         self.update_transform();
+        self.wake();
         Ok(())
     }
     /// Sets the orientation (unit quaternion; renormalised).
     pub fn set_orientation(&mut self, orientation: Quat) -> KeaResult<()> {
         self.orientation = check_quat("orientation", orientation)?;
         self.update_transform();
+        self.wake();
         Ok(())
     }
     /// Sets the linear velocity.
     pub fn set_linear_velocity(&mut self, v: Vec3) -> KeaResult<()> {
         self.linear_velocity = check_vec3("linear_velocity", v)?;
+        self.wake();
         Ok(())
     }
     /// Sets the angular velocity (world frame).
     pub fn set_angular_velocity(&mut self, w: Vec3) -> KeaResult<()> {
         self.angular_velocity = check_vec3("angular_velocity", w)?;
+        self.wake();
         Ok(())
     }
     /// Sets linear damping (kg/s, ≥ 0).
@@ -334,6 +350,19 @@ impl Body {
     pub fn clear_forces(&mut self) {
         self.force = Vec3::ZERO;
         self.torque = Vec3::ZERO;
+    }
+
+    pub(crate) fn wake(&mut self) {
+        self.sleeping = false;
+        self.rest_time = 0.0;
+    }
+
+    pub(crate) fn sleep(&mut self) {
+        self.sleeping = true;
+        self.linear_velocity = Vec3::ZERO;
+        self.angular_velocity = Vec3::ZERO;
+        self.linear_acceleration = Vec3::ZERO;
+        self.angular_acceleration = Vec3::ZERO;
     }
 
     pub(crate) fn update_transform(&mut self) {

@@ -3,11 +3,12 @@
 //! one problem. Island ids follow the lowest body index in each island: deterministic.
 
 use super::ConstraintBlock;
+use crate::union_find::UnionFind;
 
 /// Union-find with path halving over preallocated arrays.
 #[derive(Debug, Default)]
 pub(crate) struct Islands {
-    parent: Vec<u32>,
+    sets: UnionFind,
     island_of_root: Vec<u32>,
     /// Island id of each body, or `u32::MAX` for a body in no constraint.
     pub(crate) body_island: Vec<u32>,
@@ -20,7 +21,7 @@ pub(crate) struct Islands {
 
 impl Islands {
     pub(crate) fn reserve(&mut self, bodies: usize, blocks: usize) {
-        reserve(&mut self.parent, bodies);
+        self.sets.reserve(bodies);
         reserve(&mut self.island_of_root, bodies);
         reserve(&mut self.body_island, bodies);
         reserve(&mut self.block_order, blocks);
@@ -29,26 +30,17 @@ impl Islands {
     }
 
     pub(crate) fn bytes(&self) -> usize {
-        4 * (self.parent.capacity()
-            + self.island_of_root.capacity()
-            + self.body_island.capacity()
-            + self.block_order.capacity()
-            + self.block_island.capacity()
-            + self.island_start.capacity())
+        self.sets.bytes()
+            + 4 * (self.island_of_root.capacity()
+                + self.body_island.capacity()
+                + self.block_order.capacity()
+                + self.block_island.capacity()
+                + self.island_start.capacity())
     }
 
     /// Number of islands found by the last [`Islands::build`].
     pub(crate) fn count(&self) -> usize {
         self.island_start.len().saturating_sub(1)
-    }
-
-    fn find(&mut self, mut i: u32) -> u32 {
-        while self.parent[i as usize] != i {
-            let gp = self.parent[self.parent[i as usize] as usize];
-            self.parent[i as usize] = gp;
-            i = gp;
-        }
-        i
     }
 
     /// Groups bodies and blocks. `dynamic(i)` says whether body i can join islands.
@@ -58,17 +50,21 @@ impl Islands {
         body_count: usize,
         dynamic: impl Fn(usize) -> bool,
         blocks: &[ConstraintBlock],
+        partition: bool,
     ) {
-        self.parent.clear();
-        self.parent.extend(0..body_count as u32);
+        self.sets.reset(body_count);
         let dyn_body = |b: Option<u32>| b.filter(|&i| dynamic(i as usize));
+        // Without partitioning (the guide's MdtDEMModeNoPartition) every block joins one island.
+        let mut first_dynamic = None;
         for blk in blocks {
-            if let (Some(a), Some(b)) = (dyn_body(blk.bodies[0]), dyn_body(blk.bodies[1])) {
-                let (ra, rb) = (self.find(a), self.find(b));
-                if ra != rb {
-                    // Lower index becomes the root: keeps ids independent of block order.
-                    let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-                    self.parent[hi as usize] = lo;
+            let (a, b) = (dyn_body(blk.bodies[0]), dyn_body(blk.bodies[1]));
+            if let (Some(a), Some(b)) = (a, b) {
+                self.sets.union(a, b);
+            }
+            if !partition {
+                for x in [a, b].into_iter().flatten() {
+                    let f = *first_dynamic.get_or_insert(x);
+                    self.sets.union(f, x);
                 }
             }
         }
@@ -92,7 +88,7 @@ impl Islands {
             if in_block[i] == 0 {
                 continue;
             }
-            let r = self.find(i as u32) as usize;
+            let r = self.sets.find(i as u32) as usize;
             if self.island_of_root[r] == u32::MAX {
                 self.island_of_root[r] = islands;
                 islands += 1;

@@ -144,6 +144,9 @@ pub struct SolverParams {
     pub max_lcp_iterations: u32,
     /// Cap on Coulomb re-solves per island. Default 16; reaching it is reported.
     pub max_friction_passes: u32,
+    /// Split the problem into independent islands (default true). False solves every coupled
+    /// body as one problem (the guide's `MdtDEMModeNoPartition`): same answer, more work.
+    pub partition: bool,
 }
 
 impl Default for SolverParams {
@@ -155,6 +158,7 @@ impl Default for SolverParams {
             gravity: Vec3::ZERO,
             max_lcp_iterations: 100,
             max_friction_passes: 16,
+            partition: true,
         }
     }
 }
@@ -313,8 +317,12 @@ impl Solver {
 
         let t0 = Instant::now();
         self.integ.prepare(bodies, params);
-        self.islands
-            .build(bodies.len(), |i| !bodies[i].is_fixed(), blocks);
+        self.islands.build(
+            bodies.len(),
+            |i| !bodies[i].is_fixed(),
+            blocks,
+            params.partition,
+        );
         let t1 = Instant::now();
         stats.time_islands = t1 - t0;
 

@@ -7,8 +7,10 @@
 
 mod constraint_entry;
 mod constraints;
+mod sleep;
 mod step;
 
+pub use sleep::{DemMode, DemSettings};
 pub use step::StepStats;
 
 use crate::body::{Body, BodyDef};
@@ -40,6 +42,8 @@ pub struct WorldDef {
     pub max_lcp_iterations: u32,
     /// Coulomb re-solve cap per island. Default 16.
     pub max_friction_passes: u32,
+    /// Partitioning and automatic disabling of resting islands (the guide's DEM).
+    pub dem: DemSettings,
 }
 
 impl Default for WorldDef {
@@ -53,6 +57,7 @@ impl Default for WorldDef {
             gamma: 0.2,
             max_lcp_iterations: 100,
             max_friction_passes: 16,
+            dem: DemSettings::default(),
         }
     }
 }
@@ -71,6 +76,10 @@ struct StepScratch {
     block_constraint: Vec<u32>,
     lambda: Vec<Real>,
     reactions: Vec<[Reaction; 2]>,
+    /// Body slots grouped by enabled constraints, for auto-disable.
+    sleep_sets: crate::union_find::UnionFind,
+    /// Per island root: awake flag, then smallest resting time.
+    island_flag: Vec<Real>,
 }
 
 /// A simulated world.
@@ -83,6 +92,7 @@ pub struct World {
     gamma: Real,
     max_lcp_iterations: u32,
     max_friction_passes: u32,
+    dem: DemSettings,
     solver: Solver,
     scratch: StepScratch,
     time: f64,
@@ -131,11 +141,15 @@ impl World {
             gravity: def.gravity,
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
+            partition: true,
         };
         params.validate()?;
+        def.dem.validate()?;
         let id = next_world_id();
         let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
         let island_rows = def.max_island_rows.min(rows);
+        let mut sleep_sets = crate::union_find::UnionFind::default();
+        sleep_sets.reserve(def.max_bodies);
         let scratch = StepScratch {
             solver_bodies: Vec::with_capacity(def.max_bodies),
             slot_to_solver: Vec::with_capacity(def.max_bodies),
@@ -145,6 +159,8 @@ impl World {
             block_constraint: Vec::with_capacity(def.max_constraints),
             lambda: Vec::with_capacity(rows),
             reactions: Vec::with_capacity(def.max_constraints),
+            sleep_sets,
+            island_flag: Vec::with_capacity(def.max_bodies),
         };
         Ok(Self {
             id,
@@ -155,6 +171,7 @@ impl World {
             gamma: def.gamma,
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
+            dem: def.dem,
             solver: Solver::with_capacity(def.max_bodies, def.max_constraints, rows, island_rows),
             scratch,
             time: 0.0,
@@ -302,6 +319,8 @@ impl World {
             + s.block_constraint.capacity() * 4
             + s.lambda.capacity() * std::mem::size_of::<Real>()
             + s.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+            + s.sleep_sets.bytes()
+            + s.island_flag.capacity() * std::mem::size_of::<Real>()
     }
 
     /// Total kinetic energy of enabled bodies.

@@ -18,8 +18,10 @@ use std::time::{Duration, Instant};
 /// What one [`World::step`] did: counts, solver warnings and per-stage times.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
-    /// Bodies simulated (enabled).
+    /// Bodies simulated this step (enabled and awake).
     pub bodies: u32,
+    /// Enabled bodies asleep after this step (disabled automatically).
+    pub sleeping_bodies: u32,
     /// Constraints that wrote rows.
     pub constraints: u32,
     /// Rows written.
@@ -53,7 +55,12 @@ impl World {
             gravity: self.gravity,
             max_lcp_iterations: self.max_lcp_iterations,
             max_friction_passes: self.max_friction_passes,
+            partition: self.dem.mode != super::DemMode::NoPartition,
         };
+        let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
+        if auto_disable {
+            self.wake_islands();
+        }
         self.collect_bodies();
         let t1 = Instant::now();
         let constraints = self.gather_rows(&params);
@@ -73,11 +80,20 @@ impl World {
         )?;
         let t3 = Instant::now();
         self.write_back();
+        if auto_disable {
+            self.disable_resting_islands(dt);
+        }
         self.time += wide(dt);
         self.steps += 1;
         let t4 = Instant::now();
+        let sleeping_bodies = if auto_disable {
+            self.bodies.iter().filter(|(_, b)| b.sleeping).count() as u32
+        } else {
+            0
+        };
         Ok(StepStats {
             bodies: self.scratch.solver_bodies.len() as u32,
+            sleeping_bodies,
             constraints,
             rows: self.scratch.rows.len() as u32,
             solver: solver_stats,
@@ -98,7 +114,7 @@ impl World {
             let Some(b) = self.bodies.at(slot) else {
                 continue;
             };
-            if !b.enabled {
+            if !b.enabled || b.sleeping {
                 continue;
             }
             s.slot_to_solver[slot] = s.solver_bodies.len() as u32;

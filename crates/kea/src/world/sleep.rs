@@ -1,0 +1,197 @@
+//! Automatic disabling of resting bodies (the guide's DEM: "disabling bodies"), island by island.
+//!
+//! A body rests while its speed, spin and last-step accelerations are all under the world's
+//! thresholds. When every body of an island (bodies coupled by enabled constraints, as the
+//! solver partitions them) has rested for the alive window, the whole island is disabled:
+//! its velocities are zeroed, the solver skips it, and constraints see its bodies as fixed.
+//! It wakes, whole, when any of its bodies is touched by an awake body through a constraint,
+//! is given a force or torque above the wake thresholds, or has its pose or velocity set, or on
+//! [`World::wake_body`]. Disabling a single body inside a moving pile would be wrong, hence
+//! islands.
+
+use super::World;
+use crate::error::{check_non_negative, KeaResult};
+use crate::handle::BodyHandle;
+use crate::math::Real;
+
+/// How the world partitions and disables bodies (the guide's `MdtDEMMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DemMode {
+    /// Partition into islands and disable resting islands automatically.
+    PartitionAutoDisable,
+    /// Partition into islands, never disable automatically (the guide's default).
+    #[default]
+    PartitionNoAutoDisable,
+    /// Solve every coupled body as one problem and never disable (slower; for comparison).
+    NoPartition,
+}
+
+/// Thresholds for automatic disabling (the guide's `MdtWorldSetDEM*`). Units are SI.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DemSettings {
+    /// The mode. Default [`DemMode::PartitionNoAutoDisable`], as in the guide.
+    pub mode: DemMode,
+    /// Speed below which a body may rest, m/s. Default 0.01.
+    pub velocity_threshold: Real,
+    /// Spin below which a body may rest, rad/s. Default 0.03 (about 2°/s).
+    pub angular_velocity_threshold: Real,
+    /// Acceleration over the last step below which a body may rest, m/s². Default 0.5.
+    pub acceleration_threshold: Real,
+    /// Angular acceleration below which a body may rest, rad/s². Default 1.0.
+    pub angular_acceleration_threshold: Real,
+    /// Time every body of an island must have rested before it is disabled, s. Default 0.5.
+    pub alive_window: Real,
+    /// Applied force that wakes a disabled body, N. Default 1e-3.
+    pub force_threshold: Real,
+    /// Applied torque that wakes a disabled body, N·m. Default 1e-3.
+    pub torque_threshold: Real,
+}
+
+impl Default for DemSettings {
+    fn default() -> Self {
+        Self {
+            mode: DemMode::default(),
+            velocity_threshold: 0.01,
+            angular_velocity_threshold: 0.03,
+            acceleration_threshold: 0.5,
+            angular_acceleration_threshold: 1.0,
+            alive_window: 0.5,
+            force_threshold: 1.0e-3,
+            torque_threshold: 1.0e-3,
+        }
+    }
+}
+
+impl DemSettings {
+    /// Checks every threshold (finite, ≥ 0).
+    pub fn validate(&self) -> KeaResult<()> {
+        check_non_negative("velocity_threshold", self.velocity_threshold)?;
+        check_non_negative(
+            "angular_velocity_threshold",
+            self.angular_velocity_threshold,
+        )?;
+        check_non_negative("acceleration_threshold", self.acceleration_threshold)?;
+        check_non_negative(
+            "angular_acceleration_threshold",
+            self.angular_acceleration_threshold,
+        )?;
+        check_non_negative("alive_window", self.alive_window)?;
+        check_non_negative("force_threshold", self.force_threshold)?;
+        check_non_negative("torque_threshold", self.torque_threshold)?;
+        Ok(())
+    }
+}
+
+impl World {
+    /// The partitioning and auto-disable settings.
+    #[must_use]
+    pub fn dem(&self) -> &DemSettings {
+        &self.dem
+    }
+
+    /// Changes the partitioning and auto-disable settings (the guide's `MdtWorldSetDEMMode` and
+    /// threshold setters). Leaving auto-disable mode wakes every body.
+    pub fn set_dem(&mut self, settings: DemSettings) -> KeaResult<()> {
+        settings.validate()?;
+        self.dem = settings;
+        if settings.mode != DemMode::PartitionAutoDisable {
+            for slot in 0..self.bodies.slot_count() {
+                if let Some(b) = self.bodies.at_mut(slot) {
+                    b.wake();
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Wakes a body and, at the next step, its whole island.
+    pub fn wake_body(&mut self, h: BodyHandle) -> KeaResult<()> {
+        self.bodies.get_mut(h)?.wake();
+        Ok(())
+    }
+
+    /// Groups enabled bodies by enabled constraints; wakes every island that has an awake
+    /// member or a member pushed harder than the wake thresholds.
+    pub(super) fn wake_islands(&mut self) {
+        let n = self.bodies.slot_count();
+        let s = &mut self.scratch;
+        s.sleep_sets.reset(n);
+        for slot in 0..self.constraints.slot_count() {
+            let Some(c) = self.constraints.at(slot) else {
+                continue;
+            };
+            if !c.enabled {
+                continue;
+            }
+            if let [Some(a), Some(b)] = c.bodies {
+                let both_enabled = [a, b].iter().all(|h| {
+                    self.bodies
+                        .at(h.index() as usize)
+                        .is_some_and(|b| b.enabled)
+                });
+                if both_enabled {
+                    s.sleep_sets.union(a.index(), b.index());
+                }
+            }
+        }
+        s.island_flag.clear();
+        s.island_flag.resize(n, 0.0);
+        let (ft, tt) = (self.dem.force_threshold, self.dem.torque_threshold);
+        for slot in 0..n {
+            let Some(b) = self.bodies.at(slot) else {
+                continue;
+            };
+            let pushed = b.force.length() > ft || b.torque.length() > tt;
+            if b.enabled && (!b.sleeping || pushed) {
+                let r = s.sleep_sets.find(slot as u32) as usize;
+                s.island_flag[r] = 1.0;
+            }
+        }
+        for slot in 0..n {
+            let r = s.sleep_sets.find(slot as u32) as usize;
+            if s.island_flag[r] > 0.0 {
+                if let Some(b) = self.bodies.at_mut(slot) {
+                    if b.sleeping {
+                        b.wake();
+                    }
+                }
+            }
+        }
+    }
+
+    /// After a step: accumulates each awake body's resting time and disables islands whose
+    /// every body has rested for the alive window. Uses the grouping of [`World::wake_islands`].
+    pub(super) fn disable_resting_islands(&mut self, dt: Real) {
+        let n = self.bodies.slot_count();
+        let d = self.dem;
+        let s = &mut self.scratch;
+        // island_flag now holds the smallest resting time of each island's awake bodies.
+        s.island_flag.clear();
+        s.island_flag.resize(n, Real::INFINITY);
+        for slot in 0..n {
+            let Some(b) = self.bodies.at_mut(slot) else {
+                continue;
+            };
+            if !b.enabled || b.sleeping {
+                continue;
+            }
+            let resting = b.linear_velocity.length() < d.velocity_threshold
+                && b.angular_velocity.length() < d.angular_velocity_threshold
+                && b.linear_acceleration.length() < d.acceleration_threshold
+                && b.angular_acceleration.length() < d.angular_acceleration_threshold;
+            b.rest_time = if resting { b.rest_time + dt } else { 0.0 };
+            let r = s.sleep_sets.find(slot as u32) as usize;
+            s.island_flag[r] = s.island_flag[r].min(b.rest_time);
+        }
+        for slot in 0..n {
+            let r = s.sleep_sets.find(slot as u32) as usize;
+            let island_rest = s.island_flag[r];
+            let Some(b) = self.bodies.at_mut(slot) else {
+                continue;
+            };
+            if b.enabled && !b.sleeping && island_rest >= d.alive_window {
+                b.sleep();
+            }
+        }
+    }
+}
