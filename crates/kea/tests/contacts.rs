@@ -2,7 +2,7 @@
 //! grouping of a body pair's contacts (the guide's MdtContactGetNext).
 
 mod common;
-use common::{box_plane_contacts, clear_contacts, F64};
+use common::{box_plane_contacts, clear_contacts, ground_box_contacts, F64};
 use kea::{
     inertia, BodyDef, Contact, ContactParams, ContactType, FrictionModel, Real, Vec3, World,
 };
@@ -29,13 +29,10 @@ fn resting_contact_forces_sum_to_the_weight() {
     let mut contacts = Vec::new();
     for _ in 0..120 {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(
+        ground_box_contacts(
             &mut world,
             b,
             HALF,
-            Vec3::Y,
-            0.0,
-            0.01,
             ContactParams::default(),
             None,
             &mut contacts,
@@ -73,17 +70,7 @@ fn adhesion_holds_up_to_its_maximum_force() {
         let mut contacts = Vec::new();
         for _ in 0..60 {
             clear_contacts(&mut world, &mut contacts);
-            box_plane_contacts(
-                &mut world,
-                b,
-                HALF,
-                Vec3::Y,
-                0.0,
-                0.01,
-                params,
-                None,
-                &mut contacts,
-            );
+            ground_box_contacts(&mut world, b, HALF, params, None, &mut contacts);
             // 4 contacts × 2 N of adhesion = 8 N.
             world
                 .body_mut(b)
@@ -150,17 +137,7 @@ fn one_dimensional_friction_holds_only_along_its_direction() {
         let mut contacts = Vec::new();
         for _ in 0..60 {
             clear_contacts(&mut world, &mut contacts);
-            box_plane_contacts(
-                &mut world,
-                b,
-                HALF,
-                Vec3::Y,
-                0.0,
-                0.01,
-                params,
-                Some(Vec3::X),
-                &mut contacts,
-            );
+            ground_box_contacts(&mut world, b, HALF, params, Some(Vec3::X), &mut contacts);
             world.body_mut(b).unwrap().add_force(push).unwrap();
             world.step(H).unwrap();
         }

@@ -2,7 +2,7 @@
 //! a = g(sinθ − μcosθ) below), and box friction holding up to n_contacts × F_max.
 
 mod common;
-use common::{box_plane_contacts, clear_contacts};
+use common::{box_plane_contacts, clear_contacts, ground_box_contacts};
 use kea::{inertia, BodyDef, ContactParams, FrictionModel, Quat, Real, Vec3, World};
 
 const HALF: Vec3 = Vec3::new(0.5, 0.25, 0.5);
@@ -98,17 +98,7 @@ fn push_run(push: Real, max_force: Real, seconds: Real) -> (Real, Real) {
     let mut v_half = 0.0;
     for i in 0..steps {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(
-            &mut world,
-            body,
-            HALF,
-            Vec3::Y,
-            0.0,
-            0.01,
-            params,
-            None,
-            &mut contacts,
-        );
+        ground_box_contacts(&mut world, body, HALF, params, None, &mut contacts);
         world
             .body_mut(body)
             .unwrap()

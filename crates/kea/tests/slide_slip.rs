@@ -2,7 +2,7 @@
 //! speed; a slip factor gives a sliding speed proportional to the tangential force.
 
 mod common;
-use common::{box_plane_contacts, clear_contacts};
+use common::{clear_contacts, ground_box_contacts};
 use kea::{inertia, BodyDef, ContactParams, ContactType, FrictionModel, Real, Vec3, World};
 
 const HALF: Vec3 = Vec3::new(0.5, 0.25, 0.5);
@@ -21,17 +21,7 @@ fn run(params: ContactParams, push: Vec3, seconds: Real) -> Vec3 {
     let mut contacts = Vec::new();
     for _ in 0..(seconds / h).round() as usize {
         clear_contacts(&mut world, &mut contacts);
-        box_plane_contacts(
-            &mut world,
-            body,
-            HALF,
-            Vec3::Y,
-            0.0,
-            0.01,
-            params,
-            Some(Vec3::X),
-            &mut contacts,
-        );
+        ground_box_contacts(&mut world, body, HALF, params, Some(Vec3::X), &mut contacts);
         world.body_mut(body).unwrap().add_force(push).unwrap();
         world.step(h).unwrap();
     }

@@ -12,7 +12,7 @@
 
 use super::integrate::BodyScratch;
 use super::lcp::{self, Bound, LcpWorkspace};
-use super::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
+use super::{reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use crate::constraint::Row;
 use crate::math::{to_f64, wide, DVec3, Real};
 
@@ -44,13 +44,8 @@ pub(crate) struct ExactWorkspace {
 impl ExactWorkspace {
     pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
         let n = island_rows;
-        fn r<T>(v: &mut Vec<T>, n: usize) {
-            if v.capacity() < n {
-                v.reserve(n - v.len());
-            }
-        }
-        r(&mut self.rows, n);
-        r(&mut self.a, n * n);
+        reserve(&mut self.rows, n);
+        reserve(&mut self.a, n * n);
         for v in [
             &mut self.b,
             &mut self.lo,
@@ -58,9 +53,9 @@ impl ExactWorkspace {
             &mut self.x,
             &mut self.w,
         ] {
-            r(v, n);
+            reserve(v, n);
         }
-        r(&mut self.state, n);
+        reserve(&mut self.state, n);
         self.lcp.reserve(n);
     }
 

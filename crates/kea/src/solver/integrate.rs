@@ -16,7 +16,7 @@
 //! a wheel keeps its axle exactly however fast it spins); `ω` is then re-expressed at the new
 //! orientation with `L` unchanged.
 
-use super::{SolverBody, SolverParams};
+use super::{reserve, SolverBody, SolverParams};
 use crate::math::{
     from_f64, rotate_by_vector, symmetric_eigen, to_f64, wide, DVec3, Mat3, Quat, Real, Vec3,
 };
@@ -34,16 +34,11 @@ pub(crate) struct BodyScratch {
 
 impl BodyScratch {
     pub(crate) fn reserve(&mut self, n: usize) {
-        fn r<T>(v: &mut Vec<T>, n: usize) {
-            if v.capacity() < n {
-                v.reserve(n - v.len());
-            }
-        }
-        r(&mut self.inv_inertia_world, n);
-        r(&mut self.free_linear, n);
-        r(&mut self.free_angular, n);
-        r(&mut self.constraint_force, n);
-        r(&mut self.constraint_torque, n);
+        reserve(&mut self.inv_inertia_world, n);
+        reserve(&mut self.free_linear, n);
+        reserve(&mut self.free_angular, n);
+        reserve(&mut self.constraint_force, n);
+        reserve(&mut self.constraint_torque, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {

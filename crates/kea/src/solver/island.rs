@@ -2,7 +2,7 @@
 //! Static bodies (and the world) never join an island, so a floor does not merge every pile into
 //! one problem. Island ids follow the lowest body index in each island: deterministic.
 
-use super::ConstraintBlock;
+use super::{reserve, ConstraintBlock};
 use crate::union_find::UnionFind;
 
 /// Union-find with path halving over preallocated arrays.
@@ -137,11 +137,5 @@ impl Islands {
     /// The blocks of island `k`.
     pub(crate) fn blocks(&self, k: usize) -> &[u32] {
         &self.block_order[self.island_start[k] as usize..self.island_start[k + 1] as usize]
-    }
-}
-
-fn reserve<T>(v: &mut Vec<T>, n: usize) {
-    if v.capacity() < n {
-        v.reserve(n - v.len());
     }
 }

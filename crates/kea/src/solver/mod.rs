@@ -354,6 +354,13 @@ impl Solver {
     }
 }
 
+/// Grows `v`'s capacity to at least `n` (no-op when it is already enough).
+pub(crate) fn reserve<T>(v: &mut Vec<T>, n: usize) {
+    if v.capacity() < n {
+        v.reserve(n - v.len());
+    }
+}
+
 fn validate_inputs(
     bodies: &[SolverBody],
     blocks: &[ConstraintBlock],

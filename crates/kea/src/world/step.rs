@@ -11,7 +11,7 @@
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
-use crate::math::{wide, Real};
+use crate::math::{wide, Real, Vec3};
 use crate::solver::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use std::time::{Duration, Instant};
 
@@ -132,7 +132,10 @@ impl World {
                 linear_damping: b.linear_damping,
                 angular_damping: b.angular_damping,
                 fast_spin_axis: b.fast_spin_axis,
-                ..SolverBody::new(1.0, crate::math::Mat3::IDENTITY, b.position, b.orientation)
+                linear_acceleration: Vec3::ZERO,
+                angular_acceleration: Vec3::ZERO,
+                constraint_force: Vec3::ZERO,
+                constraint_torque: Vec3::ZERO,
             });
         }
     }

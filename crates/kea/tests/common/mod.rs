@@ -47,6 +47,28 @@ pub fn box_plane_contacts(
     }
 }
 
+/// [`box_plane_contacts`] against the ground `y = 0` with a 1 cm speculative margin.
+pub fn ground_box_contacts(
+    world: &mut World,
+    body: BodyHandle,
+    half_extents: Vec3,
+    params: ContactParams,
+    direction: Option<Vec3>,
+    out: &mut Vec<ConstraintHandle>,
+) {
+    box_plane_contacts(
+        world,
+        body,
+        half_extents,
+        Vec3::Y,
+        0.0,
+        0.01,
+        params,
+        direction,
+        out,
+    );
+}
+
 /// One contact between a sphere and the plane `y = 0` when closer than `margin`.
 pub fn sphere_ground_contact(
     world: &mut World,
