@@ -38,7 +38,10 @@ pub use constraint::{
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};
 pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
-pub use solver::{Reaction, Solver, SolverBody, SolverParams, SolverStats};
+pub use solver::{
+    IslandReport, IterativeParams, Reaction, Routing, Solver, SolverBody, SolverMode, SolverParams,
+    SolverPath, SolverStats,
+};
 pub use world::{DemMode, DemSettings, StepStats, World, WorldDef};
 
 /// The README's tour, compiled and run as a doctest so that it stays true.

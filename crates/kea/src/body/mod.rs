@@ -11,6 +11,7 @@ use crate::error::{
     KeaResult,
 };
 use crate::math::{Mat3, Mat4, Quat, Real, Vec3};
+use crate::solver::SolverPath;
 
 /// Everything needed to create a body. Defaults follow the guide's `MdtBodyCreate`: mass 1,
 /// identity inertia (a unit sphere's... almost: the guide's default), at the origin, at rest,
@@ -42,6 +43,9 @@ pub struct BodyDef {
     pub enabled: bool,
     /// Free for the user (the guide's user data pointer).
     pub user_data: u64,
+    /// Ask for the exact solver for this body's island whatever its size (vehicles, ragdolls),
+    /// when the world routes islands in hybrid mode.
+    pub prefer_exact: bool,
 }
 
 impl Default for BodyDef {
@@ -58,6 +62,7 @@ impl Default for BodyDef {
             fast_spin_axis: None,
             enabled: true,
             user_data: 0,
+            prefer_exact: false,
         }
     }
 }
@@ -89,6 +94,8 @@ pub struct Body {
     pub(crate) sleeping: bool,
     /// Time this body has been resting, s.
     pub(crate) rest_time: Real,
+    pub(crate) prefer_exact: bool,
+    pub(crate) last_path: SolverPath,
 }
 
 impl Body {
@@ -115,6 +122,8 @@ impl Body {
             user_data: def.user_data,
             sleeping: false,
             rest_time: 0.0,
+            prefer_exact: def.prefer_exact,
+            last_path: SolverPath::None,
         };
         // Validate everything before building, so a bad field reports its own name.
         check_positive("mass", def.mass)?;
@@ -242,6 +251,20 @@ impl Body {
     #[must_use]
     pub fn user_data(&self) -> u64 {
         self.user_data
+    }
+    /// Whether this body asks for exact solving of its island.
+    #[must_use]
+    pub fn prefers_exact(&self) -> bool {
+        self.prefer_exact
+    }
+    /// Asks for (or stops asking for) exact solving of this body's island in hybrid mode.
+    pub fn set_prefer_exact(&mut self, prefer: bool) {
+        self.prefer_exact = prefer;
+    }
+    /// Which path solved this body's island in the last step.
+    #[must_use]
+    pub fn last_solver_path(&self) -> SolverPath {
+        self.last_path
     }
     /// Whether the body was disabled automatically because its island came to rest. It is
     /// still enabled: it wakes when touched, pushed, moved, or by [`crate::World::wake_body`].

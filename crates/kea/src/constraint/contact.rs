@@ -290,6 +290,7 @@ impl Contact {
         let hits_this_step = gap <= 0.0 || approach * ctx.dt > gap;
         if prm.restitution > 0.0 && approach > prm.restitution_threshold && hits_this_step {
             normal.c = prm.restitution * approach;
+            normal.bounce = true;
             normal.xi = 0.0;
             normal.softness = Some(0.0);
             normal.gamma = Some(0.0);

@@ -73,6 +73,10 @@ pub struct Row {
     pub softness: Option<Real>,
     /// Per-row error reduction γ in [0, 1]; `None` uses the solver's γ.
     pub gamma: Option<Real>,
+    /// `c` is a restitution (bounce) velocity. The exact path uses it as the target of its one
+    /// solve; the iterative path treats the row as resting during its substeps and applies the
+    /// bounce once afterwards, if the row carried impulse.
+    pub bounce: bool,
 }
 
 impl Row {
@@ -90,6 +94,7 @@ impl Row {
             slip: 0.0,
             softness: None,
             gamma: None,
+            bounce: false,
         }
     }
     /// Sets the position error.

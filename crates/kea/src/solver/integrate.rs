@@ -30,6 +30,8 @@ pub(crate) struct BodyScratch {
     pub(crate) free_angular: Vec<Vec3>,
     pub(crate) constraint_force: Vec<DVec3>,
     pub(crate) constraint_torque: Vec<DVec3>,
+    /// Bodies already advanced by the iterative path this step.
+    pub(crate) integrated: Vec<bool>,
 }
 
 impl BodyScratch {
@@ -39,6 +41,7 @@ impl BodyScratch {
         reserve(&mut self.free_angular, n);
         reserve(&mut self.constraint_force, n);
         reserve(&mut self.constraint_torque, n);
+        reserve(&mut self.integrated, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -46,10 +49,11 @@ impl BodyScratch {
             + (self.free_linear.capacity() + self.free_angular.capacity())
                 * std::mem::size_of::<Vec3>()
             + (self.constraint_force.capacity() + self.constraint_torque.capacity()) * 24
+            + self.integrated.capacity()
     }
 
     pub(crate) fn bytes_for(n: usize) -> usize {
-        n * (std::mem::size_of::<Mat3>() + 2 * std::mem::size_of::<Vec3>() + 48)
+        n * (std::mem::size_of::<Mat3>() + 2 * std::mem::size_of::<Vec3>() + 49)
     }
 
     /// Computes world inverse inertia and free (unconstrained) end-of-step velocities.
@@ -60,6 +64,8 @@ impl BodyScratch {
         self.free_angular.clear();
         self.constraint_force.clear();
         self.constraint_torque.clear();
+        self.integrated.clear();
+        self.integrated.resize(bodies.len(), false);
         for b in bodies {
             let r = Mat3::from_quat(b.orientation);
             let inv_iw = r * b.inv_inertia * r.transpose();
@@ -90,16 +96,15 @@ impl BodyScratch {
     /// Applies constraint forces and advances every body by `h`.
     pub(crate) fn integrate(&self, bodies: &mut [SolverBody], h: Real) {
         for (i, b) in bodies.iter_mut().enumerate() {
+            if self.integrated[i] {
+                continue;
+            }
             let f = from_f64(self.constraint_force[i]);
             let t = from_f64(self.constraint_torque[i]);
             let v_new = self.free_linear[i] + h * b.inv_mass * f;
             let w_step = self.free_angular[i] + h * (self.inv_inertia_world[i] * t);
 
-            let (q1, w_new) = if b.is_fixed() {
-                (rotate_by_vector(b.orientation, w_step * h), w_step)
-            } else {
-                rotate_free(b, w_step, h)
-            };
+            let (q1, w_new) = rotate_body(b, w_step, h);
 
             b.linear_acceleration = (v_new - b.linear_velocity) / h;
             b.angular_acceleration = (w_new - b.angular_velocity) / h;
@@ -110,6 +115,16 @@ impl BodyScratch {
             b.constraint_force = f;
             b.constraint_torque = t;
         }
+    }
+}
+
+/// New orientation and angular velocity after a step `h` at angular velocity `w_step`: a fixed
+/// (kinematic) body just rotates; a body with mass keeps its angular momentum (module docs).
+pub(crate) fn rotate_body(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
+    if b.is_fixed() {
+        (rotate_by_vector(b.orientation, w_step * h), w_step)
+    } else {
+        rotate_free(b, w_step, h)
     }
 }
 

@@ -16,7 +16,10 @@ pub(crate) struct Islands {
     pub(crate) block_order: Vec<u32>,
     /// `block_order[island_start[k]..island_start[k+1]]` are island k's blocks.
     pub(crate) island_start: Vec<u32>,
-    block_island: Vec<u32>,
+    /// Island of each block, `u32::MAX` when it touches no dynamic body.
+    pub(crate) block_island: Vec<u32>,
+    /// Number of bodies in each island.
+    pub(crate) island_bodies: Vec<u32>,
 }
 
 impl Islands {
@@ -27,6 +30,7 @@ impl Islands {
         reserve(&mut self.block_order, blocks);
         reserve(&mut self.block_island, blocks.max(bodies));
         reserve(&mut self.island_start, bodies + 1);
+        reserve(&mut self.island_bodies, bodies);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -35,7 +39,8 @@ impl Islands {
                 + self.body_island.capacity()
                 + self.block_order.capacity()
                 + self.block_island.capacity()
-                + self.island_start.capacity())
+                + self.island_start.capacity()
+                + self.island_bodies.capacity())
     }
 
     /// Number of islands found by the last [`Islands::build`].
@@ -94,6 +99,13 @@ impl Islands {
                 islands += 1;
             }
             self.body_island[i] = self.island_of_root[r];
+        }
+        self.island_bodies.clear();
+        self.island_bodies.resize(islands as usize, 0);
+        for &k in &self.body_island {
+            if k != u32::MAX {
+                self.island_bodies[k as usize] += 1;
+            }
         }
         // Island of each block (u32::MAX when it touches no dynamic body).
         in_block.clear();

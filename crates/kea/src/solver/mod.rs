@@ -32,7 +32,12 @@
 mod exact;
 mod integrate;
 mod island;
+mod iterative;
 pub(crate) mod lcp;
+mod routing;
+
+pub use iterative::IterativeParams;
+pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
 
 use crate::constraint::Row;
 use crate::error::{check_non_negative, check_positive, check_vec3, KeaError, KeaResult};
@@ -77,6 +82,10 @@ pub struct SolverBody {
     pub constraint_force: Vec3,
     /// Output: total constraint torque on the body about its centre of mass.
     pub constraint_torque: Vec3,
+    /// Ask for the exact path for this body's island (vehicles, ragdolls), in hybrid mode.
+    pub prefer_exact: bool,
+    /// In/out: which path solved this body's island last step (for hysteresis).
+    pub last_path: SolverPath,
 }
 
 impl SolverBody {
@@ -102,6 +111,8 @@ impl SolverBody {
             angular_acceleration: Vec3::ZERO,
             constraint_force: Vec3::ZERO,
             constraint_torque: Vec3::ZERO,
+            prefer_exact: false,
+            last_path: SolverPath::None,
         }
     }
 
@@ -147,6 +158,10 @@ pub struct SolverParams {
     /// Split the problem into independent islands (default true). False solves every coupled
     /// body as one problem (the guide's `MdtDEMModeNoPartition`): same answer, more work.
     pub partition: bool,
+    /// Which path solves each island (default: hybrid, small islands exact).
+    pub routing: Routing,
+    /// Settings of the iterative path.
+    pub iterative: IterativeParams,
 }
 
 impl Default for SolverParams {
@@ -159,6 +174,8 @@ impl Default for SolverParams {
             max_lcp_iterations: 100,
             max_friction_passes: 16,
             partition: true,
+            routing: Routing::default(),
+            iterative: IterativeParams::default(),
         }
     }
 }
@@ -191,6 +208,8 @@ impl SolverParams {
                 expected: "must be >= 1",
             });
         }
+        self.routing.validate()?;
+        self.iterative.validate()?;
         Ok(())
     }
 }
@@ -230,9 +249,23 @@ pub struct SolverStats {
     pub friction_unconverged_islands: u32,
     /// Whether the workspace had to grow (allocate) this step.
     pub workspace_grew: bool,
-    /// Time finding islands.
+    /// Islands solved by the exact path.
+    pub exact_islands: u32,
+    /// Islands solved by the iterative path.
+    pub iterative_islands: u32,
+    /// Rows solved by the exact path.
+    pub exact_rows: u32,
+    /// Rows solved by the iterative path.
+    pub iterative_rows: u32,
+    /// Gauss-Seidel sweeps of the iterative path (per island, summed).
+    pub iterative_sweeps: u32,
+    /// Time finding islands and routing them.
     pub time_islands: Duration,
-    /// Time assembling and solving the LCPs.
+    /// Time assembling and solving exact islands.
+    pub time_solve_exact: Duration,
+    /// Time in the iterative path (its substep integration included).
+    pub time_solve_iterative: Duration,
+    /// Time in both solvers.
     pub time_solve: Duration,
     /// Time integrating the bodies.
     pub time_integrate: Duration,
@@ -254,7 +287,9 @@ impl SolverStats {
 pub struct Solver {
     islands: island::Islands,
     exact: exact::ExactWorkspace,
+    iterative: iterative::IterativeWorkspace,
     integ: integrate::BodyScratch,
+    reports: Vec<IslandReport>,
 }
 
 /// Bytes of workspace the solver needs for islands of the given row counts, with `bodies` and
@@ -264,7 +299,9 @@ pub fn memory_required(rows_per_island: &[usize], bodies: usize) -> usize {
     let rows: usize = rows_per_island.iter().sum();
     let largest = rows_per_island.iter().copied().max().unwrap_or(0);
     exact::ExactWorkspace::bytes_for(largest, rows)
+        + iterative::IterativeWorkspace::bytes_for(bodies, rows)
         + integrate::BodyScratch::bytes_for(bodies)
+        + std::mem::size_of::<IslandReport>() * rows_per_island.len()
         + 16 * (bodies + rows)
 }
 
@@ -288,20 +325,35 @@ impl Solver {
     pub fn reserve(&mut self, bodies: usize, blocks: usize, rows: usize, island_rows: usize) {
         self.islands.reserve(bodies, blocks);
         self.exact.reserve(rows, island_rows);
+        self.iterative.reserve(bodies, rows);
         self.integ.reserve(bodies);
+        reserve(&mut self.reports, bodies);
     }
 
     /// Bytes of workspace currently held: the high-water mark of what steps have needed (the
     /// guide's `MdtWorldGetMemoryPoolSize`).
     #[must_use]
     pub fn memory_used(&self) -> usize {
-        self.islands.bytes() + self.exact.bytes() + self.integ.bytes()
+        self.islands.bytes()
+            + self.exact.bytes()
+            + self.iterative.bytes()
+            + self.integ.bytes()
+            + self.reports.capacity() * std::mem::size_of::<IslandReport>()
+    }
+
+    /// One report per island of the last step: which path solved it, its size and effort.
+    #[must_use]
+    pub fn island_reports(&self) -> &[IslandReport] {
+        &self.reports
     }
 
     /// Advances `bodies` by one step under the constraints (`blocks` over `rows`).
     ///
-    /// On return `lambda[i]` is row i's force and `reactions[k]` the force and torque of
-    /// constraint k on its two bodies. Everything is checked first: on `Err` nothing changed.
+    /// On input `lambda[i]` is a warm-start guess of row i's force for the iterative path (0 when
+    /// unknown; the exact path needs none). On return it is row i's force, and `reactions[k]`
+    /// the force and torque of constraint k on its two bodies. Each body's `last_path` is set
+    /// to the path that solved its island. Everything is checked first: on `Err` nothing
+    /// changed.
     pub fn step(
         &mut self,
         bodies: &mut [SolverBody],
@@ -326,23 +378,77 @@ impl Solver {
         let t1 = Instant::now();
         stats.time_islands = t1 - t0;
 
-        lambda.fill(0.0);
         for r in reactions.iter_mut() {
             *r = [Reaction::default(); 2];
         }
+        // Rows of constraints that touch no dynamic body carry no force.
+        for (k, blk) in blocks.iter().enumerate() {
+            if self.islands.block_island[k] == u32::MAX {
+                let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
+                lambda[range].fill(0.0);
+            }
+        }
+        self.reports.clear();
         for k in 0..self.islands.count() {
+            let path = routing::choose(&params.routing, &self.islands, k, blocks, bodies);
             let island_blocks = self.islands.blocks(k);
-            self.exact.solve_island(
-                island_blocks,
-                blocks,
-                rows,
-                bodies,
-                &mut self.integ,
-                params,
-                lambda,
-                reactions,
-                &mut stats,
-            );
+            let t = Instant::now();
+            let before = stats;
+            match path {
+                SolverPath::Exact => {
+                    self.exact.solve_island(
+                        island_blocks,
+                        blocks,
+                        rows,
+                        bodies,
+                        &mut self.integ,
+                        params,
+                        lambda,
+                        reactions,
+                        &mut stats,
+                    );
+                    stats.exact_islands += 1;
+                    stats.exact_rows += stats.rows - before.rows;
+                    stats.time_solve_exact += t.elapsed();
+                }
+                _ => {
+                    self.iterative.solve_island(
+                        island_blocks,
+                        blocks,
+                        rows,
+                        bodies,
+                        &mut self.integ,
+                        params,
+                        lambda,
+                        reactions,
+                        &mut stats,
+                    );
+                    stats.iterative_islands += 1;
+                    stats.iterative_rows += stats.rows - before.rows;
+                    stats.time_solve_iterative += t.elapsed();
+                }
+            }
+            if self.reports.len() < self.reports.capacity() {
+                self.reports.push(IslandReport {
+                    path,
+                    bodies: self.islands.island_bodies[k],
+                    rows: stats.rows - before.rows,
+                    iterations: stats.lcp_iterations - before.lcp_iterations
+                        + stats.iterative_sweeps
+                        - before.iterative_sweeps,
+                    pivots: stats.pivots - before.pivots,
+                });
+            }
+        }
+        for (i, b) in bodies.iter_mut().enumerate() {
+            let k = self.islands.body_island[i];
+            b.last_path = if k == u32::MAX {
+                SolverPath::None
+            } else {
+                self.reports
+                    .get(k as usize)
+                    .map_or(SolverPath::None, |r| r.path)
+            };
         }
         let t2 = Instant::now();
         stats.time_solve = t2 - t1;

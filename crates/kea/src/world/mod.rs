@@ -18,7 +18,9 @@ use crate::constraint::Row;
 use crate::error::{check_non_negative, check_vec3, KeaError, KeaResult};
 use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
-use crate::solver::{ConstraintBlock, Reaction, Solver, SolverBody};
+use crate::solver::{
+    ConstraintBlock, IslandReport, IterativeParams, Reaction, Routing, Solver, SolverBody,
+};
 use constraint_entry::ConstraintEntry;
 
 /// Parameters of a new world. Every tunable says its unit, normal value and range.
@@ -44,6 +46,10 @@ pub struct WorldDef {
     pub max_friction_passes: u32,
     /// Partitioning and automatic disabling of resting islands (the guide's DEM).
     pub dem: DemSettings,
+    /// Which solver handles each island (default hybrid: small islands exact).
+    pub routing: Routing,
+    /// Settings of the iterative path.
+    pub iterative: IterativeParams,
 }
 
 impl Default for WorldDef {
@@ -58,6 +64,8 @@ impl Default for WorldDef {
             max_lcp_iterations: 100,
             max_friction_passes: 16,
             dem: DemSettings::default(),
+            routing: Routing::default(),
+            iterative: IterativeParams::default(),
         }
     }
 }
@@ -75,6 +83,8 @@ struct StepScratch {
     /// Block index → constraint slot.
     block_constraint: Vec<u32>,
     lambda: Vec<Real>,
+    /// The previous step's λ, for warm starting the iterative path.
+    prev_lambda: Vec<Real>,
     reactions: Vec<[Reaction; 2]>,
     /// Body slots grouped by enabled constraints, for auto-disable.
     sleep_sets: crate::union_find::UnionFind,
@@ -93,6 +103,8 @@ pub struct World {
     max_lcp_iterations: u32,
     max_friction_passes: u32,
     dem: DemSettings,
+    routing: Routing,
+    iterative: IterativeParams,
     solver: Solver,
     scratch: StepScratch,
     time: f64,
@@ -142,6 +154,8 @@ impl World {
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
             partition: true,
+            routing: def.routing,
+            iterative: def.iterative,
         };
         params.validate()?;
         def.dem.validate()?;
@@ -158,6 +172,7 @@ impl World {
             blocks: Vec::with_capacity(def.max_constraints),
             block_constraint: Vec::with_capacity(def.max_constraints),
             lambda: Vec::with_capacity(rows),
+            prev_lambda: Vec::with_capacity(rows),
             reactions: Vec::with_capacity(def.max_constraints),
             sleep_sets,
             island_flag: Vec::with_capacity(def.max_bodies),
@@ -172,6 +187,8 @@ impl World {
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
             dem: def.dem,
+            routing: def.routing,
+            iterative: def.iterative,
             solver: Solver::with_capacity(def.max_bodies, def.max_constraints, rows, island_rows),
             scratch,
             time: 0.0,
@@ -317,10 +334,42 @@ impl World {
             + s.rows.capacity() * std::mem::size_of::<Row>()
             + s.blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
             + s.block_constraint.capacity() * 4
-            + s.lambda.capacity() * std::mem::size_of::<Real>()
+            + (s.lambda.capacity() + s.prev_lambda.capacity()) * std::mem::size_of::<Real>()
             + s.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
             + s.sleep_sets.bytes()
             + s.island_flag.capacity() * std::mem::size_of::<Real>()
+    }
+
+    /// Island routing (see [`Routing`]).
+    #[must_use]
+    pub fn routing(&self) -> &Routing {
+        &self.routing
+    }
+
+    /// Sets island routing: hybrid (default), or force the exact or iterative path.
+    pub fn set_routing(&mut self, routing: Routing) -> KeaResult<()> {
+        routing.validate()?;
+        self.routing = routing;
+        Ok(())
+    }
+
+    /// Settings of the iterative path.
+    #[must_use]
+    pub fn iterative_params(&self) -> &IterativeParams {
+        &self.iterative
+    }
+
+    /// Sets substeps, iterations and the correction speed cap of the iterative path.
+    pub fn set_iterative_params(&mut self, params: IterativeParams) -> KeaResult<()> {
+        params.validate()?;
+        self.iterative = params;
+        Ok(())
+    }
+
+    /// One report per island of the last step: path, bodies, rows, iterations or pivots.
+    #[must_use]
+    pub fn island_reports(&self) -> &[IslandReport] {
+        self.solver.island_reports()
     }
 
     /// Total kinetic energy of enabled bodies.

@@ -56,6 +56,8 @@ impl World {
             max_lcp_iterations: self.max_lcp_iterations,
             max_friction_passes: self.max_friction_passes,
             partition: self.dem.mode != super::DemMode::NoPartition,
+            routing: self.routing,
+            iterative: self.iterative,
         };
         let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
         if auto_disable {
@@ -65,9 +67,8 @@ impl World {
         let t1 = Instant::now();
         let constraints = self.gather_rows(&params);
         let t2 = Instant::now();
+        self.warm_start_lambda();
         let s = &mut self.scratch;
-        s.lambda.clear();
-        s.lambda.resize(s.rows.len(), 0.0);
         s.reactions.clear();
         s.reactions.resize(s.blocks.len(), [Reaction::default(); 2]);
         let solver_stats = self.solver.step(
@@ -77,7 +78,15 @@ impl World {
             &params,
             &mut s.lambda,
             &mut s.reactions,
-        )?;
+        );
+        let solver_stats = match solver_stats {
+            Ok(stats) => stats,
+            Err(e) => {
+                // Leave last step's λ where the read-outs expect it.
+                std::mem::swap(&mut s.lambda, &mut s.prev_lambda);
+                return Err(e);
+            }
+        };
         let t3 = Instant::now();
         self.write_back();
         if auto_disable {
@@ -136,6 +145,8 @@ impl World {
                 angular_acceleration: Vec3::ZERO,
                 constraint_force: Vec3::ZERO,
                 constraint_torque: Vec3::ZERO,
+                prefer_exact: b.prefer_exact,
+                last_path: b.last_path,
             });
         }
     }
@@ -217,6 +228,29 @@ impl World {
         n
     }
 
+    /// Fills λ with each constraint's forces from the previous step (same constraint, same
+    /// number of rows), keyed by the constraint's handle and row index; 0 otherwise.
+    fn warm_start_lambda(&mut self) {
+        let s = &mut self.scratch;
+        std::mem::swap(&mut s.lambda, &mut s.prev_lambda);
+        s.lambda.clear();
+        s.lambda.resize(s.rows.len(), 0.0);
+        for (k, blk) in s.blocks.iter().enumerate() {
+            let slot = s.block_constraint[k] as usize;
+            let entry = self
+                .constraints
+                .at(slot)
+                .expect("gathered constraints are live");
+            if let Some((first, count)) = entry.last_rows {
+                if count == blk.row_count {
+                    let from = &s.prev_lambda[first as usize..(first + count) as usize];
+                    let to = blk.first_row as usize..(blk.first_row + count) as usize;
+                    s.lambda[to].copy_from_slice(from);
+                }
+            }
+        }
+    }
+
     fn write_back(&mut self) {
         let s = &self.scratch;
         for (i, sb) in s.solver_bodies.iter().enumerate() {
@@ -228,6 +262,7 @@ impl World {
             b.angular_velocity = sb.angular_velocity;
             b.linear_acceleration = sb.linear_acceleration;
             b.angular_acceleration = sb.angular_acceleration;
+            b.last_path = sb.last_path;
             b.update_transform();
         }
         // Accumulators are cleared for every body, simulated or not (the guide's rule).

@@ -1,0 +1,137 @@
+//! Hybrid routing: which path solves each island.
+//!
+//! Small islands go to the exact solver, where pivoting is cheap and its answer is the
+//! reference; big ones to the iterative solver, whose cost grows only linearly. An island that
+//! was iterative last step returns to exact only once it is clearly small again (below the
+//! thresholds times `hysteresis`), so an island near the threshold does not flip every step.
+//! A body can ask for exact solving of its island (vehicles, ragdolls), and the world can force
+//! either path.
+
+use super::island::Islands;
+use super::{ConstraintBlock, SolverBody};
+use crate::error::{KeaError, KeaResult};
+use crate::math::Real;
+
+/// Which solver handled an island.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverPath {
+    /// Not solved (no constraint) this step.
+    #[default]
+    None,
+    /// The exact pivoting solver.
+    Exact,
+    /// The iterative substepping solver.
+    Iterative,
+}
+
+/// How islands are routed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverMode {
+    /// Small islands exact, big ones iterative (the default).
+    #[default]
+    Hybrid,
+    /// Every island exact (slow for big islands: rows² to rows³).
+    Exact,
+    /// Every island iterative.
+    Iterative,
+}
+
+/// Routing settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Routing {
+    /// The mode. Default hybrid.
+    pub mode: SolverMode,
+    /// Largest island, in rows, that the hybrid mode sends to the exact path. Default 64.
+    pub max_exact_rows: u32,
+    /// Largest island, in bodies, that the hybrid mode sends to the exact path. Default 32.
+    pub max_exact_bodies: u32,
+    /// An island that was iterative goes back to exact only below `hysteresis ×` the limits,
+    /// in (0, 1]. Default 0.75.
+    pub hysteresis: Real,
+}
+
+impl Default for Routing {
+    fn default() -> Self {
+        Self {
+            mode: SolverMode::Hybrid,
+            max_exact_rows: 64,
+            max_exact_bodies: 32,
+            hysteresis: 0.75,
+        }
+    }
+}
+
+impl Routing {
+    /// Checks the thresholds.
+    pub fn validate(&self) -> KeaResult<()> {
+        if !(self.hysteresis.is_finite() && self.hysteresis > 0.0 && self.hysteresis <= 1.0) {
+            return Err(KeaError::OutOfRange {
+                arg: "hysteresis",
+                value: format!("{}", self.hysteresis),
+                expected: "must be in (0, 1]",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What one island was and how it was solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IslandReport {
+    /// The path that solved it.
+    pub path: SolverPath,
+    /// Bodies in the island.
+    pub bodies: u32,
+    /// Rows in the island.
+    pub rows: u32,
+    /// LCP factorisations (exact) or Gauss-Seidel sweeps (iterative).
+    pub iterations: u32,
+    /// Pivots (exact path only).
+    pub pivots: u32,
+}
+
+/// Chooses the path of island `k`.
+pub(crate) fn choose(
+    routing: &Routing,
+    islands: &Islands,
+    k: usize,
+    blocks: &[ConstraintBlock],
+    bodies: &[SolverBody],
+) -> SolverPath {
+    match routing.mode {
+        SolverMode::Exact => return SolverPath::Exact,
+        SolverMode::Iterative => return SolverPath::Iterative,
+        SolverMode::Hybrid => {}
+    }
+    let rows: u32 = islands
+        .blocks(k)
+        .iter()
+        .map(|&b| blocks[b as usize].row_count)
+        .sum();
+    let n_bodies = islands.island_bodies[k];
+    let mut was_iterative = false;
+    let mut prefer_exact = false;
+    for &b in islands.blocks(k) {
+        for i in blocks[b as usize].bodies.iter().flatten() {
+            let body = &bodies[*i as usize];
+            if islands.body_island[*i as usize] == k as u32 {
+                was_iterative |= body.last_path == SolverPath::Iterative;
+                prefer_exact |= body.prefer_exact;
+            }
+        }
+    }
+    if prefer_exact {
+        return SolverPath::Exact;
+    }
+    let scale = if was_iterative {
+        routing.hysteresis
+    } else {
+        1.0
+    };
+    let fits = |n: u32, max: u32| n as Real <= max as Real * scale;
+    if fits(rows, routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies) {
+        SolverPath::Exact
+    } else {
+        SolverPath::Iterative
+    }
+}
