@@ -29,7 +29,7 @@ use super::integrate::{rotate_body, BodyScratch};
 use super::{reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use crate::constraint::Row;
 use crate::error::{check_positive, KeaError, KeaResult};
-use crate::math::{from_f64, to_f64, Mat3, Real, Vec3};
+use crate::math::{from_f64, rotate_by_vector, to_f64, Mat3, Real, Vec3};
 
 /// Settings of the iterative path. Every field has its unit, normal value and range.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -252,7 +252,7 @@ impl IterativeWorkspace {
                 self.total[i] += self.impulse[i];
             }
         }
-        self.restitution();
+        self.restitution(bodies, h);
         let sweeps = n_sub * (it.iterations + it.relax_iterations);
         stats.iterative_sweeps += sweeps;
         self.write_out(
@@ -565,8 +565,17 @@ impl IterativeWorkspace {
     }
 
     /// Restitution, once, after the substeps: bounce rows whose contact carried impulse are
-    /// driven to their rebound velocity (a hard solve of the row's target).
-    fn restitution(&mut self) {
+    /// driven to their rebound velocity (a hard solve of the row's target). The bounce belongs
+    /// to the impact at the start of the step, so the bodies also travel with their change of
+    /// velocity for the whole step, as they do in the exact path (otherwise every bounce would
+    /// start a step late and apexes would come out low by `e·v_in·h`).
+    fn restitution(&mut self, bodies: &mut [SolverBody], h: Real) {
+        if !self.flags.iter().any(|f| f & BOUNCE != 0) {
+            return;
+        }
+        // dx/dθ are free after the substeps: keep the velocities before the pass there.
+        self.dx.copy_from_slice(&self.v);
+        self.dtheta.copy_from_slice(&self.w);
         let n = self.row_global.len();
         for i in 0..n {
             if self.flags[i] & BOUNCE == 0 || self.total[i] <= 0.0 || self.diag[i] <= 0.0 {
@@ -579,6 +588,15 @@ impl IterativeWorkspace {
             self.impulse[i] = new;
             self.total[i] += dp;
             self.apply(i, dp);
+        }
+        for (l, &g) in self.body_global.iter().enumerate() {
+            let dv = self.v[l] - self.dx[l];
+            let dw = self.w[l] - self.dtheta[l];
+            if dv != Vec3::ZERO || dw != Vec3::ZERO {
+                let b = &mut bodies[g as usize];
+                b.position += h * dv;
+                b.orientation = rotate_by_vector(b.orientation, h * dw);
+            }
         }
     }
 

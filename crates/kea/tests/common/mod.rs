@@ -4,10 +4,22 @@
 // Test helpers spell out every contact setting at the call site, on purpose.
 #![allow(clippy::too_many_arguments)]
 
-use kea::{BodyHandle, ConstraintHandle, Contact, ContactParams, Real, Vec3, World};
+use kea::{
+    BodyHandle, ConstraintHandle, Contact, ContactParams, Real, Routing, SolverMode, Vec3, World,
+};
 
 /// True when the tests run in double precision.
 pub const F64: bool = cfg!(feature = "f64");
+
+/// Both solver paths, for scenarios that must hold in each.
+pub const PATHS: [SolverMode; 2] = [SolverMode::Exact, SolverMode::Iterative];
+
+/// A world with default parameters whose islands all go to `mode`'s path.
+pub fn world_on(mode: SolverMode, bodies: usize, constraints: usize) -> World {
+    let mut w = World::with_capacity(bodies, constraints).unwrap();
+    w.set_routing(Routing { mode, ..Default::default() }).unwrap();
+    w
+}
 
 /// Removes the given contacts and empties the list (the guide's bounce.c pattern).
 pub fn clear_contacts(world: &mut World, contacts: &mut Vec<ConstraintHandle>) {
@@ -84,5 +96,66 @@ pub fn sphere_ground_contact(
         let mut c = Contact::new(Vec3::new(p.x, 0.0, p.z), Vec3::Y, -dist).unwrap();
         c.set_params(params).unwrap();
         out.push(world.create_contact(body, None, c).unwrap());
+    }
+}
+
+/// Contacts between a box's corners and a plane that persist from step to step (a contact is
+/// updated while its corner stays close, as a collision layer does), so their handles — and
+/// the iterative path's warm start — carry over.
+#[derive(Default)]
+pub struct BoxPlaneContacts {
+    corners: [Option<ConstraintHandle>; 8],
+}
+
+impl BoxPlaneContacts {
+    /// Creates, updates or removes the corner contacts for the current pose.
+    pub fn update(
+        &mut self,
+        world: &mut World,
+        body: BodyHandle,
+        half_extents: Vec3,
+        n: Vec3,
+        offset: Real,
+        margin: Real,
+        params: ContactParams,
+        direction: Option<Vec3>,
+    ) {
+        let b = world.body(body).unwrap().clone();
+        let mut k = 0;
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    let p = b.point_to_world(half_extents * Vec3::new(sx, sy, sz));
+                    let dist = n.dot(p) - offset;
+                    match (dist < margin, self.corners[k]) {
+                        (true, Some(h)) => {
+                            let c = world.contact_mut(h).unwrap();
+                            c.set_position(p).unwrap();
+                            c.set_normal(n).unwrap();
+                            c.set_penetration(-dist).unwrap();
+                            c.set_params(params).unwrap();
+                            c.set_direction(direction).unwrap();
+                        }
+                        (true, None) => {
+                            let mut c = Contact::new(p, n, -dist).unwrap();
+                            c.set_params(params).unwrap();
+                            c.set_direction(direction).unwrap();
+                            self.corners[k] = Some(world.create_contact(body, None, c).unwrap());
+                        }
+                        (false, Some(h)) => {
+                            world.destroy_constraint(h).unwrap();
+                            self.corners[k] = None;
+                        }
+                        (false, None) => {}
+                    }
+                    k += 1;
+                }
+            }
+        }
+    }
+
+    /// The live contacts.
+    pub fn handles(&self) -> impl Iterator<Item = ConstraintHandle> + '_ {
+        self.corners.iter().flatten().copied()
     }
 }
