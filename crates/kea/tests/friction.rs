@@ -64,10 +64,16 @@ fn block_slides_with_coulomb_acceleration() {
         let a = (s[i3 - 1] - 2.0 * s[i2 - 1] + s[i1 - 1]) / (dt * dt);
         let rel = (a - a_expected).abs() / a_expected;
         eprintln!("{mode:?}: slope slide a = {a}, expected {a_expected}, rel {rel:e}");
-        assert!(rel < tol, "{mode:?}: a = {a}, expected {a_expected} (rel {rel})");
+        assert!(
+            rel < tol,
+            "{mode:?}: a = {a}, expected {a_expected} (rel {rel})"
+        );
         measured.push(a);
     }
-    assert!((measured[0] - measured[1]).abs() < 0.02 * a_expected, "paths disagree: {measured:?}");
+    assert!(
+        (measured[0] - measured[1]).abs() < 0.02 * a_expected,
+        "paths disagree: {measured:?}"
+    );
 }
 
 /// Pushes a box on flat ground with box friction; returns (final x, acceleration over the
@@ -91,7 +97,11 @@ fn push_run(mode: SolverMode, push: Real, max_force: Real, seconds: Real) -> (Re
     let mut v_half = 0.0;
     for i in 0..steps {
         contacts.update(&mut world, body, HALF, Vec3::Y, 0.0, 0.01, params, None);
-        world.body_mut(body).unwrap().add_force(Vec3::new(push, 0.0, 0.0)).unwrap();
+        world
+            .body_mut(body)
+            .unwrap()
+            .add_force(Vec3::new(push, 0.0, 0.0))
+            .unwrap();
         world.step(h).unwrap();
         if i + 1 == steps / 2 {
             v_half = world.body(body).unwrap().linear_velocity().x;
@@ -113,6 +123,9 @@ fn box_friction_holds_below_its_limit_and_slides_above() {
         // Sliding: a = (P − 4 F_max)/m
         let (_, a) = push_run(mode, 6.0, f_max, 2.0);
         eprintln!("{mode:?}: box friction sliding a = {a} (expected 2)");
-        assert!((a - 2.0).abs() < 0.02 * 2.0, "{mode:?}: sliding acceleration {a}");
+        assert!(
+            (a - 2.0).abs() < 0.02 * 2.0,
+            "{mode:?}: sliding acceleration {a}"
+        );
     }
 }

@@ -69,8 +69,15 @@ fn bounce_run(mode: SolverMode) {
     assert!(apexes.len() >= 3, "apexes {apexes:?}");
     let h0 = 0.5 * g * h * h * n_steps * (n_steps + 1.0);
     let first = apexes[0] / h0;
-    eprintln!("{mode:?}: rebound ratios {:?}, apexes {:?}", &ratios[..3], &apexes[..3]);
-    assert!((first - e * e).abs() / (e * e) < 1e-2, "{mode:?}: first apex ratio {first}");
+    eprintln!(
+        "{mode:?}: rebound ratios {:?}, apexes {:?}",
+        &ratios[..3],
+        &apexes[..3]
+    );
+    assert!(
+        (first - e * e).abs() / (e * e) < 1e-2,
+        "{mode:?}: first apex ratio {first}"
+    );
     for k in 0..2 {
         let ratio = apexes[k + 1] / apexes[k];
         assert!(
@@ -121,5 +128,8 @@ fn settle_run(mode: SolverMode) {
         }
     }
     assert!(landed_at.is_some());
-    assert!(max_height_after < 1e-3, "{mode:?}: bounced to {max_height_after}");
+    assert!(
+        max_height_after < 1e-3,
+        "{mode:?}: bounced to {max_height_after}"
+    );
 }

@@ -2,14 +2,14 @@
 //! speed; a slip factor gives a sliding speed proportional to the tangential force.
 
 mod common;
-use common::{clear_contacts, ground_box_contacts};
-use kea::{inertia, BodyDef, ContactParams, ContactType, FrictionModel, Real, Vec3, World};
+use common::{world_on, BoxPlaneContacts, PATHS};
+use kea::{inertia, BodyDef, ContactParams, ContactType, FrictionModel, Real, SolverMode, Vec3};
 
 const HALF: Vec3 = Vec3::new(0.5, 0.25, 0.5);
 
-fn run(params: ContactParams, push: Vec3, seconds: Real) -> Vec3 {
+fn run(mode: SolverMode, params: ContactParams, push: Vec3, seconds: Real) -> Vec3 {
     let h: Real = 1.0 / 60.0;
-    let mut world = World::with_capacity(4, 32).unwrap();
+    let mut world = world_on(mode, 4, 32);
     let body = world
         .create_body(&BodyDef {
             position: Vec3::new(0.0, HALF.y, 0.0),
@@ -18,10 +18,18 @@ fn run(params: ContactParams, push: Vec3, seconds: Real) -> Vec3 {
             ..Default::default()
         })
         .unwrap();
-    let mut contacts = Vec::new();
+    let mut contacts = BoxPlaneContacts::default();
     for _ in 0..(seconds / h).round() as usize {
-        clear_contacts(&mut world, &mut contacts);
-        ground_box_contacts(&mut world, body, HALF, params, Some(Vec3::X), &mut contacts);
+        contacts.update(
+            &mut world,
+            body,
+            HALF,
+            Vec3::Y,
+            0.0,
+            0.01,
+            params,
+            Some(Vec3::X),
+        );
         world.body_mut(body).unwrap().add_force(push).unwrap();
         world.step(h).unwrap();
     }
@@ -36,10 +44,12 @@ fn slide_carries_a_resting_box_at_the_surface_speed() {
         slide: [u, 0.0],
         ..Default::default()
     };
-    let v = run(params, Vec3::ZERO, 3.0);
-    eprintln!("slide: box speed {v} for surface speed {u}");
-    assert!((v.x - u).abs() < 0.01 * u, "speed {}", v.x);
-    assert!(v.z.abs() < 1e-4 && v.y.abs() < 1e-3);
+    for mode in PATHS {
+        let v = run(mode, params, Vec3::ZERO, 3.0);
+        eprintln!("{mode:?}: slide: box speed {v} for surface speed {u}");
+        assert!((v.x - u).abs() < 0.01 * u, "{mode:?}: speed {}", v.x);
+        assert!(v.z.abs() < 1e-4 && v.y.abs() < 1e-3, "{mode:?}: {v}");
+    }
 }
 
 #[test]
@@ -52,11 +62,20 @@ fn slip_gives_velocity_proportional_to_force() {
             slip: [s, 0.0],
             ..Default::default()
         };
-        let v = run(params, Vec3::new(push, 0.0, 0.0), 2.0);
-        // Four contacts share the push: each carries push/4 of tangential force.
-        let expected = s * push / 4.0;
-        eprintln!("slip: push {push} N → speed {} (expected {expected})", v.x);
-        assert!((v.x - expected).abs() < 0.02 * expected, "speed {}", v.x);
-        assert!(v.z.abs() < 1e-5, "no slip sideways: {}", v.z);
+        for mode in PATHS {
+            let v = run(mode, params, Vec3::new(push, 0.0, 0.0), 2.0);
+            // Four contacts share the push: each carries push/4 of tangential force.
+            let expected = s * push / 4.0;
+            eprintln!(
+                "{mode:?}: slip: push {push} N → speed {} (expected {expected})",
+                v.x
+            );
+            assert!(
+                (v.x - expected).abs() < 0.02 * expected,
+                "{mode:?}: speed {}",
+                v.x
+            );
+            assert!(v.z.abs() < 1e-5, "{mode:?}: no slip sideways: {}", v.z);
+        }
     }
 }

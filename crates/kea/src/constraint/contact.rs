@@ -316,6 +316,8 @@ impl Contact {
                 .with_target_velocity(prm.slide[k])
                 .with_slip(prm.slip[k]);
             row.softness = Some(friction_softness);
+            // Friction acts on velocity only: no position error to drive (γ = 0).
+            row.gamma = Some(0.0);
             match prm.friction[k] {
                 FrictionModel::Infinite => {}
                 FrictionModel::Box { max_force } => row = row.with_bounds(-max_force, max_force),

@@ -71,7 +71,8 @@ pub struct Row {
     pub slip: Real,
     /// Per-row softness ε (inverse mass units); `None` uses the solver's ε.
     pub softness: Option<Real>,
-    /// Per-row error reduction γ in [0, 1]; `None` uses the solver's γ.
+    /// Per-row error reduction γ in [0, 1]; `None` uses the solver's γ. A row with γ = 0 acts
+    /// on velocity only (friction, motors): its error is neither corrected nor tracked.
     pub gamma: Option<Real>,
     /// `c` is a restitution (bounce) velocity. The exact path uses it as the target of its one
     /// solve; the iterative path treats the row as resting during its substeps and applies the

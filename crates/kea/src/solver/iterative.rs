@@ -29,7 +29,7 @@ use super::integrate::{rotate_body, BodyScratch};
 use super::{reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use crate::constraint::Row;
 use crate::error::{check_positive, KeaError, KeaResult};
-use crate::math::{from_f64, rotate_by_vector, to_f64, Mat3, Real, Vec3};
+use crate::math::{from_f64, rotate_by_vector, to_f64, wide, Mat3, Real, Vec3};
 
 /// Settings of the iterative path. Every field has its unit, normal value and range.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -130,7 +130,18 @@ pub(crate) struct IterativeWorkspace {
     flags: Vec<u8>,
     impulse: Vec<Real>,
     total: Vec<Real>,
+    // Equality blocks: the unbounded rows of one constraint, solved together.
+    in_block: Vec<bool>,
+    eq_start: Vec<u32>,
+    eq_len: Vec<u32>,
+    eq_rows: Vec<u32>,
+    /// Start of each block's m×m inverse in `eq_kinv`.
+    eq_kstart: Vec<u32>,
+    eq_kinv: Vec<Real>,
 }
+
+/// Most rows solved as one block (a fixed joint has 6).
+const MAX_BLOCK: usize = 6;
 
 const HARD: u8 = 1;
 const BOUNCE: u8 = 2;
@@ -180,6 +191,16 @@ impl IterativeWorkspace {
             reserve(v, rows);
         }
         reserve(&mut self.flags, rows);
+        reserve(&mut self.in_block, rows);
+        for v in [
+            &mut self.eq_start,
+            &mut self.eq_len,
+            &mut self.eq_rows,
+            &mut self.eq_kstart,
+        ] {
+            reserve(v, rows);
+        }
+        reserve(&mut self.eq_kinv, rows * MAX_BLOCK);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -196,12 +217,19 @@ impl IterativeWorkspace {
             + 8 * self.ja_lin.capacity() * v3
             + 11 * self.diag.capacity() * r
             + self.flags.capacity()
+            + self.in_block.capacity()
+            + (self.eq_start.capacity()
+                + self.eq_len.capacity()
+                + self.eq_rows.capacity()
+                + self.eq_kstart.capacity())
+                * 4
+            + self.eq_kinv.capacity() * r
     }
 
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        bodies * (8 + 4 * v3) + rows * (16 + 8 * v3 + 11 * r + 1)
+        bodies * (8 + 4 * v3) + rows * (32 + 8 * v3 + (11 + MAX_BLOCK) * r + 2)
     }
 
     /// Solves one island and integrates its bodies. `lambda` holds warm-start forces on input.
@@ -340,7 +368,13 @@ impl IterativeWorkspace {
             rate,
             flags,
             impulse,
-            total
+            total,
+            in_block,
+            eq_start,
+            eq_len,
+            eq_rows,
+            eq_kstart,
+            eq_kinv
         );
         let h = params.dt;
         let n_sub = params.iterative.substeps as Real;
@@ -430,12 +464,63 @@ impl IterativeWorkspace {
                 let w = warm[g as usize];
                 self.impulse.push(if w.is_finite() { w * hs } else { 0.0 });
                 self.total.push(0.0);
+                self.in_block.push(false);
             }
+            self.make_block(base as usize, rows, blk);
         }
         // Warm-start impulses must respect their bounds.
         for i in 0..self.row_global.len() {
             let (lo, hi) = self.bounds(i);
             self.impulse[i] = self.impulse[i].clamp(lo, hi);
+        }
+    }
+
+    /// Groups a constraint's unbounded rows (2 to 6 of them) into one block and stores the
+    /// inverse of its `J M⁻¹ Jᵀ + E`, so that a joint's rows are solved together: per-row
+    /// Gauss-Seidel converges slowly when rows share a badly conditioned body (a small sphere at
+    /// the end of a long pendulum).
+    fn make_block(&mut self, base: usize, rows: &[Row], blk: &ConstraintBlock) {
+        let mut idx = [0usize; MAX_BLOCK];
+        let mut m = 0;
+        for i in base..self.row_global.len() {
+            let row = &rows[self.row_global[i] as usize];
+            let equality =
+                row.lo == Real::NEG_INFINITY && row.hi == Real::INFINITY && row.friction.is_none();
+            if equality {
+                if m == MAX_BLOCK {
+                    return;
+                }
+                idx[m] = i;
+                m += 1;
+            }
+        }
+        if m < 2 || (blk.bodies[0].is_some() && blk.bodies[0] == blk.bodies[1]) {
+            return;
+        }
+        let mut k = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
+        for a in 0..m {
+            for b in 0..m {
+                let (i, j) = (idx[a], idx[b]);
+                let mut s = self.ja_lin[i].dot(self.ma_lin[j])
+                    + self.ja_ang[i].dot(self.ma_ang[j])
+                    + self.jb_lin[i].dot(self.mb_lin[j])
+                    + self.jb_ang[i].dot(self.mb_ang[j]);
+                if a == b {
+                    s += self.extra[i];
+                }
+                k[a][b] = wide(s);
+            }
+        }
+        let Some(inv) = invert(&mut k, m) else { return };
+        self.eq_start.push(self.eq_rows.len() as u32);
+        self.eq_len.push(m as u32);
+        self.eq_kstart.push(self.eq_kinv.len() as u32);
+        for a in 0..m {
+            self.eq_rows.push(idx[a] as u32);
+            self.in_block[idx[a]] = true;
+            for b in 0..m {
+                self.eq_kinv.push(inv[a][b] as Real);
+            }
         }
     }
 
@@ -515,25 +600,54 @@ impl IterativeWorkspace {
         (jv, xi)
     }
 
-    /// One Gauss-Seidel sweep over the rows, in order.
-    fn sweep(&mut self, hs: Real, use_bias: bool, max_speed: Real) {
-        for i in 0..self.row_global.len() {
-            let (jv, xi) = self.jv_and_error(i);
-            let flags = self.flags[i];
-            let unilateral = flags & UNILATERAL != 0;
-            let bias = if unilateral && xi > 0.0 {
-                // A gap may be closed within the substep, never more.
-                xi / hs
-            } else if flags & HARD != 0 && !use_bias {
-                0.0
+    /// The velocity bias of row i for error `xi` (see the module docs).
+    #[inline]
+    fn bias(&self, i: usize, xi: Real, hs: Real, use_bias: bool, max_speed: Real) -> Real {
+        let flags = self.flags[i];
+        let unilateral = flags & UNILATERAL != 0;
+        if unilateral && xi > 0.0 {
+            // A gap may be closed within the substep, never more.
+            xi / hs
+        } else if flags & HARD != 0 && !use_bias {
+            0.0
+        } else {
+            let b = self.rate[i] * xi;
+            if unilateral {
+                b.max(-max_speed)
             } else {
-                let b = self.rate[i] * xi;
-                if unilateral {
-                    b.max(-max_speed)
-                } else {
-                    b
-                }
-            };
+                b
+            }
+        }
+    }
+
+    /// One sweep: the equality blocks, then every other row, each in constraint order.
+    fn sweep(&mut self, hs: Real, use_bias: bool, max_speed: Real) {
+        for blk in 0..self.eq_start.len() {
+            let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
+            let mut r = [0.0 as Real; MAX_BLOCK];
+            for a in 0..m {
+                let i = self.eq_rows[start + a] as usize;
+                let (jv, xi) = self.jv_and_error(i);
+                let bias = self.bias(i, xi, hs, use_bias, max_speed);
+                r[a] = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
+            }
+            let mut dp = [0.0 as Real; MAX_BLOCK];
+            for a in 0..m {
+                let kinv = &self.eq_kinv[self.eq_kstart[blk] as usize + a * m..];
+                dp[a] = (0..m).map(|b| kinv[b] * r[b]).sum();
+            }
+            for a in 0..m {
+                let i = self.eq_rows[start + a] as usize;
+                self.impulse[i] += dp[a];
+                self.apply(i, dp[a]);
+            }
+        }
+        for i in 0..self.row_global.len() {
+            if self.in_block[i] {
+                continue;
+            }
+            let (jv, xi) = self.jv_and_error(i);
+            let bias = self.bias(i, xi, hs, use_bias, max_speed);
             let e = self.extra[i];
             let denom = self.diag[i] + e;
             if denom <= 0.0 {
@@ -657,4 +771,43 @@ impl IterativeWorkspace {
             self.local_of[g] = NONE;
         }
     }
+}
+
+/// Inverse of the leading `m×m` block of `k` by Gauss-Jordan elimination with partial pivoting;
+/// `None` if it is singular.
+#[allow(clippy::needless_range_loop)]
+fn invert(
+    k: &mut [[f64; MAX_BLOCK]; MAX_BLOCK],
+    m: usize,
+) -> Option<[[f64; MAX_BLOCK]; MAX_BLOCK]> {
+    let mut inv = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
+    for (i, row) in inv.iter_mut().enumerate().take(m) {
+        row[i] = 1.0;
+    }
+    let scale = (0..m).fold(0.0f64, |s, i| s.max(k[i][i].abs()));
+    for col in 0..m {
+        let pivot = (col..m).max_by(|&a, &b| k[a][col].abs().total_cmp(&k[b][col].abs()))?;
+        if k[pivot][col].abs().is_nan() || k[pivot][col].abs() <= 1.0e-12 * scale {
+            return None;
+        }
+        k.swap(col, pivot);
+        inv.swap(col, pivot);
+        let p = k[col][col];
+        for j in 0..m {
+            k[col][j] /= p;
+            inv[col][j] /= p;
+        }
+        for r in 0..m {
+            if r != col {
+                let f = k[r][col];
+                if f != 0.0 {
+                    for j in 0..m {
+                        k[r][j] -= f * k[col][j];
+                        inv[r][j] -= f * inv[col][j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
 }

@@ -17,7 +17,11 @@ pub const PATHS: [SolverMode; 2] = [SolverMode::Exact, SolverMode::Iterative];
 /// A world with default parameters whose islands all go to `mode`'s path.
 pub fn world_on(mode: SolverMode, bodies: usize, constraints: usize) -> World {
     let mut w = World::with_capacity(bodies, constraints).unwrap();
-    w.set_routing(Routing { mode, ..Default::default() }).unwrap();
+    w.set_routing(Routing {
+        mode,
+        ..Default::default()
+    })
+    .unwrap();
     w
 }
 
