@@ -105,6 +105,10 @@ pub(crate) struct IterativeWorkspace {
     w: Vec<Vec3>,
     dx: Vec<Vec3>,
     dtheta: Vec<Vec3>,
+    /// Displacement at the start of the current substep (soft rows relax with the error the
+    /// substep started from, so a spring stays one implicit-Euler step per substep).
+    dx_sub: Vec<Vec3>,
+    dtheta_sub: Vec<Vec3>,
     // Rows of the island.
     row_global: Vec<u32>,
     row_a: Vec<u32>,
@@ -152,7 +156,14 @@ impl IterativeWorkspace {
         for v in [&mut self.body_global, &mut self.local_of] {
             reserve(v, bodies);
         }
-        for v in [&mut self.v, &mut self.w, &mut self.dx, &mut self.dtheta] {
+        for v in [
+            &mut self.v,
+            &mut self.w,
+            &mut self.dx,
+            &mut self.dtheta,
+            &mut self.dx_sub,
+            &mut self.dtheta_sub,
+        ] {
             reserve(v, bodies);
         }
         for v in [
@@ -207,7 +218,12 @@ impl IterativeWorkspace {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
         (self.body_global.capacity() + self.local_of.capacity()) * 4
-            + (self.v.capacity() + self.w.capacity() + self.dx.capacity() + self.dtheta.capacity())
+            + (self.v.capacity()
+                + self.w.capacity()
+                + self.dx.capacity()
+                + self.dtheta.capacity()
+                + self.dx_sub.capacity()
+                + self.dtheta_sub.capacity())
                 * v3
             + (self.row_global.capacity()
                 + self.row_a.capacity()
@@ -229,7 +245,7 @@ impl IterativeWorkspace {
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        bodies * (8 + 4 * v3) + rows * (32 + 8 * v3 + (11 + MAX_BLOCK) * r + 2)
+        bodies * (8 + 6 * v3) + rows * (32 + 8 * v3 + (11 + MAX_BLOCK) * r + 2)
     }
 
     /// Solves one island and integrates its bodies. `lambda` holds warm-start forces on input.
@@ -308,6 +324,8 @@ impl IterativeWorkspace {
         self.w.clear();
         self.dx.clear();
         self.dtheta.clear();
+        self.dx_sub.clear();
+        self.dtheta_sub.clear();
         if self.local_of.len() < bodies.len() {
             self.local_of.resize(bodies.len(), NONE);
         }
@@ -324,6 +342,8 @@ impl IterativeWorkspace {
                 self.w.push(bodies[g].angular_velocity);
                 self.dx.push(Vec3::ZERO);
                 self.dtheta.push(Vec3::ZERO);
+                self.dx_sub.push(Vec3::ZERO);
+                self.dtheta_sub.push(Vec3::ZERO);
             }
         }
         let _ = scratch;
@@ -582,20 +602,27 @@ impl IterativeWorkspace {
         }
     }
 
+    /// `J v` and the tracked error of row i; `substep_start` takes the error at the start of
+    /// the substep instead of now.
     #[inline]
-    fn jv_and_error(&self, i: usize) -> (Real, Real) {
+    fn jv_and_error(&self, i: usize, substep_start: bool) -> (Real, Real) {
+        let (dx, dth) = if substep_start {
+            (&self.dx_sub, &self.dtheta_sub)
+        } else {
+            (&self.dx, &self.dtheta)
+        };
         let (a, b) = (self.row_a[i], self.row_b[i]);
         let mut jv = 0.0;
         let mut xi = self.xi0[i];
         if a != NONE {
             let a = a as usize;
             jv += self.ja_lin[i].dot(self.v[a]) + self.ja_ang[i].dot(self.w[a]);
-            xi += self.ja_lin[i].dot(self.dx[a]) + self.ja_ang[i].dot(self.dtheta[a]);
+            xi += self.ja_lin[i].dot(dx[a]) + self.ja_ang[i].dot(dth[a]);
         }
         if b != NONE {
             let b = b as usize;
             jv += self.jb_lin[i].dot(self.v[b]) + self.jb_ang[i].dot(self.w[b]);
-            xi += self.jb_lin[i].dot(self.dx[b]) + self.jb_ang[i].dot(self.dtheta[b]);
+            xi += self.jb_lin[i].dot(dx[b]) + self.jb_ang[i].dot(dth[b]);
         }
         (jv, xi)
     }
@@ -608,15 +635,15 @@ impl IterativeWorkspace {
         if unilateral && xi > 0.0 {
             // A gap may be closed within the substep, never more.
             xi / hs
-        } else if flags & HARD != 0 && !use_bias {
+        } else if flags & HARD == 0 {
+            // A soft row is a physical spring: its full force, always.
+            self.rate[i] * xi
+        } else if !use_bias {
             0.0
+        } else if unilateral {
+            (self.rate[i] * xi).max(-max_speed)
         } else {
-            let b = self.rate[i] * xi;
-            if unilateral {
-                b.max(-max_speed)
-            } else {
-                b
-            }
+            self.rate[i] * xi
         }
     }
 
@@ -627,7 +654,8 @@ impl IterativeWorkspace {
             let mut r = [0.0 as Real; MAX_BLOCK];
             for a in 0..m {
                 let i = self.eq_rows[start + a] as usize;
-                let (jv, xi) = self.jv_and_error(i);
+                let soft_relax = !use_bias && self.flags[i] & HARD == 0;
+                let (jv, xi) = self.jv_and_error(i, soft_relax);
                 let bias = self.bias(i, xi, hs, use_bias, max_speed);
                 r[a] = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
             }
@@ -646,7 +674,8 @@ impl IterativeWorkspace {
             if self.in_block[i] {
                 continue;
             }
-            let (jv, xi) = self.jv_and_error(i);
+            let soft_relax = !use_bias && self.flags[i] & HARD == 0;
+            let (jv, xi) = self.jv_and_error(i, soft_relax);
             let bias = self.bias(i, xi, hs, use_bias, max_speed);
             let e = self.extra[i];
             let denom = self.diag[i] + e;
@@ -670,6 +699,8 @@ impl IterativeWorkspace {
             let v = self.v[l];
             let w = self.w[l];
             b.position += hs * v;
+            self.dx_sub[l] = self.dx[l];
+            self.dtheta_sub[l] = self.dtheta[l];
             self.dx[l] += hs * v;
             self.dtheta[l] += hs * w;
             let (q, w_new) = rotate_body(b, w, hs);
@@ -695,7 +726,7 @@ impl IterativeWorkspace {
             if self.flags[i] & BOUNCE == 0 || self.total[i] <= 0.0 || self.diag[i] <= 0.0 {
                 continue;
             }
-            let (jv, _) = self.jv_and_error(i);
+            let (jv, _) = self.jv_and_error(i, false);
             let dp = (self.bounce_target[i] - jv) / self.diag[i];
             let new = (self.impulse[i] + dp).max(self.lo[i]);
             let dp = new - self.impulse[i];
