@@ -1,7 +1,9 @@
 //! Redundant constraints with ε = 0 (the guide's over-determinacy): the system is singular, the
 //! step says so in its stats, regularises, and stays finite and sensible.
 
-use kea::{BodyDef, Real, Vec3, World};
+mod common;
+use common::world_on;
+use kea::{BodyDef, Real, SolverMode, Vec3, World};
 
 #[test]
 fn redundant_ball_joints_with_zero_epsilon_are_reported_and_stay_finite() {
@@ -59,4 +61,26 @@ fn two_ball_joints_as_a_hinge_are_redundant_but_fine_with_default_epsilon() {
     let body = world.body(b).unwrap();
     let z: Real = body.position().z;
     assert!(z.abs() < 1e-3, "moved along the hinge axis: {z}");
+}
+
+#[test]
+fn redundant_rows_with_zero_epsilon_stay_finite_in_the_iterative_path() {
+    let mut world = world_on(SolverMode::Iterative, 4, 8);
+    world.set_epsilon(0.0).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            position: Vec3::new(1.0, 0.0, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    for _ in 0..300 {
+        let stats = world.step(1.0 / 60.0).unwrap();
+        assert_eq!(stats.solver.iterative_islands, 1);
+        let p = world.body(b).unwrap().position();
+        assert!(p.is_finite() && p.length() < 1.5, "blew up: {p}");
+    }
+    let p = world.body(b).unwrap().position();
+    assert!((p.length() - 1.0).abs() < 1e-3, "joint failed to hold: {p}");
 }
