@@ -26,6 +26,12 @@ use crate::math::{orthonormal_basis, Real, Vec3};
 /// [`Contact::write_rows`]).
 pub const FRICTION_SOFTNESS_RATIO: Real = 1.0e-3;
 
+/// Predicted sliding speed, m/s, above which a contact with no primary direction aligns its
+/// friction with the sliding direction. Below it the direction comes from a fixed basis of the
+/// normal, so resting contacts keep the same friction rows from step to step (and their warm
+/// start stays meaningful) instead of following jitter.
+pub const SLIDING_SPEED: Real = 1.0e-2;
+
 /// Which tangential directions carry friction (the guide's `MdtContactType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ContactType {
@@ -142,6 +148,9 @@ pub struct Contact {
     penetration: Real,
     direction: Option<Vec3>,
     params: ContactParams,
+    /// The primary friction direction used last step, kept so that a persistent contact keeps
+    /// its friction rows (and their warm start) from step to step.
+    last_direction: Option<Vec3>,
 }
 
 impl Default for Contact {
@@ -152,6 +161,7 @@ impl Default for Contact {
             penetration: 0.0,
             direction: None,
             params: ContactParams::default(),
+            last_direction: None,
         }
     }
 }
@@ -250,18 +260,24 @@ impl Contact {
                 let v = b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
                 let vt = v - n * v.dot(n);
                 let speed = vt.length();
-                if speed > 1.0e-5 {
+                if speed > SLIDING_SPEED {
                     -vt / speed
                 } else {
-                    orthonormal_basis(n).0
+                    // Keep last step's direction, re-projected on the new tangent plane: a
+                    // fixed basis of the normal jumps when the normal crosses its seam.
+                    self.last_direction
+                        .map(|d| d - n * d.dot(n))
+                        .filter(|d| d.length_squared() > 0.25)
+                        .map_or_else(|| orthonormal_basis(n).0, Vec3::normalize)
                 }
             }
         };
         (t1, n.cross(t1))
     }
 
-    /// Writes the contact's rows: normal first, then friction (see the module docs).
-    pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    /// Writes the contact's rows: normal first, then friction (see the module docs). Remembers
+    /// the friction direction it chose, for the next step.
+    pub fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
         let p = self.position;
         let n = self.normal;
@@ -306,6 +322,7 @@ impl Contact {
             return;
         }
         let (t1, t2) = self.friction_directions(ctx);
+        self.last_direction = Some(t1);
         // A friction row has no position error to recover, so softness would make a resting
         // body creep at ε·h·F for ever; it gets a thousandth of the normal row's softness, just
         // enough to regularise redundant contacts.

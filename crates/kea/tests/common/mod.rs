@@ -109,9 +109,38 @@ pub fn sphere_ground_contact(
 #[derive(Default)]
 pub struct BoxPlaneContacts {
     corners: [Option<ConstraintHandle>; 8],
+    /// The body whose plane it is (`None`: the static world).
+    other: Option<BodyHandle>,
 }
 
 impl BoxPlaneContacts {
+    /// Contacts against a plane of body `other` (for a box resting on another box).
+    pub fn against(other: BodyHandle) -> Self {
+        Self {
+            corners: [None; 8],
+            other: Some(other),
+        }
+    }
+
+    /// Updates the contacts of box `body` (half extents `half`) resting on the top face of box
+    /// `self.other` (same half extents), face normal along the lower box's +y.
+    pub fn update_on_box(
+        &mut self,
+        world: &mut World,
+        body: BodyHandle,
+        half: Vec3,
+        margin: Real,
+        params: ContactParams,
+    ) {
+        let lower = world
+            .body(self.other.expect("a box to rest on"))
+            .unwrap()
+            .clone();
+        let n = lower.orientation() * Vec3::Y;
+        let offset = n.dot(lower.position()) + half.y;
+        self.update(world, body, half, n, offset, margin, params, None);
+    }
+
     /// Creates, updates or removes the corner contacts for the current pose.
     pub fn update(
         &mut self,
@@ -144,7 +173,8 @@ impl BoxPlaneContacts {
                             let mut c = Contact::new(p, n, -dist).unwrap();
                             c.set_params(params).unwrap();
                             c.set_direction(direction).unwrap();
-                            self.corners[k] = Some(world.create_contact(body, None, c).unwrap());
+                            self.corners[k] =
+                                Some(world.create_contact(body, self.other, c).unwrap());
                         }
                         (false, Some(h)) => {
                             world.destroy_constraint(h).unwrap();
