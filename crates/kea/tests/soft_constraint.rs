@@ -5,7 +5,7 @@ mod common;
 use common::{world_on, F64, PATHS};
 use kea::{
     BodyDef, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter, Softness, SolverMode,
-    Vec3, World,
+    Vec3,
 };
 
 #[derive(Debug)]

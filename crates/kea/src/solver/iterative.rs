@@ -613,7 +613,7 @@ impl IterativeWorkspace {
                 dot(j, j) + self.extra[j],
             );
             let det = k11 * k22 - k12 * k12;
-            if !(det > 1.0e-9 * k11 * k22) {
+            if det.is_nan() || det <= 1.0e-9 * k11 * k22 {
                 i += 1;
                 continue;
             }
