@@ -20,7 +20,7 @@ impl CustomConstraint for Ring {
     fn name(&self) -> &'static str {
         "ring"
     }
-    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let p = ctx.bodies[0].position;
         // Row 1: stay in the plane z = 0. C = z, J = (ẑ, 0).
         out.push(Row::new(Jacobian::new(Vec3::Z, Vec3::ZERO), Jacobian::ZERO).with_error(p.z));

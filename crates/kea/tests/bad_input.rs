@@ -296,7 +296,7 @@ fn constraint_state_rules() {
 #[derive(Debug)]
 struct Broken;
 impl CustomConstraint for Broken {
-    fn write_rows(&mut self, _: &RowContext, out: &mut RowWriter<'_>) {
+    fn write_rows(&self, _: &RowContext, out: &mut RowWriter<'_>) {
         out.push(
             Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO).with_error(Real::NAN),
         );
@@ -310,4 +310,50 @@ fn a_custom_constraint_writing_nan_fails_the_step_cleanly() {
     let before = snapshot(&w);
     let e = w.step(0.01).unwrap_err();
     expect_err(&w, &before, e, "rows", "xi");
+}
+
+#[test]
+fn a_failed_step_commits_neither_waking_nor_contact_state() {
+    // A sleeping box with a persistent contact, touched by an awake ball through a contact,
+    // and a broken custom constraint: the step fails, and nothing may have changed.
+    let mut w = World::with_capacity(4, 8).unwrap();
+    w.set_dem(kea::DemSettings {
+        mode: kea::DemMode::PartitionAutoDisable,
+        alive_window: 0.0,
+        ..Default::default()
+    })
+    .unwrap();
+    let resting = w
+        .create_body(&BodyDef {
+            position: Vec3::new(0.0, 0.5, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    let ground = Contact::new(Vec3::ZERO, Vec3::Y, 0.0).unwrap();
+    let support = w.create_contact(resting, None, ground).unwrap();
+    w.set_gravity(Vec3::ZERO).unwrap();
+    w.step(0.01).unwrap();
+    assert!(w.body(resting).unwrap().is_sleeping());
+    let ball = w
+        .create_body(&BodyDef {
+            position: Vec3::new(0.0, 1.5, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    w.create_contact(
+        ball,
+        Some(resting),
+        Contact::new(Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0.0).unwrap(),
+    )
+    .unwrap();
+    w.add_custom_constraint(ball, None, Broken).unwrap();
+    let before = snapshot(&w);
+    let contact_before = *w.contact(support).unwrap();
+    assert!(w.step(0.01).is_err());
+    assert!(snapshot(&w) == before);
+    assert!(
+        w.body(resting).unwrap().is_sleeping(),
+        "a failed step woke a body"
+    );
+    assert_eq!(*w.contact(support).unwrap(), contact_before);
 }

@@ -15,7 +15,7 @@ impl CustomConstraint for Distance {
     fn name(&self) -> &'static str {
         "distance joint"
     }
-    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let p = ctx.bodies[0].position;
         let d = p - self.anchor;
         let len = d.length();

@@ -79,3 +79,33 @@ fn slip_gives_velocity_proportional_to_force() {
         }
     }
 }
+
+#[test]
+fn slide_without_a_direction_still_carries_the_box() {
+    // With no primary direction the slide follows a fixed direction of the contact, not the
+    // sliding velocity it causes: the box reaches the surface speed along it.
+    let u: Real = 1.0;
+    let params = ContactParams {
+        friction: [FrictionModel::Coulomb { mu: 0.5 }; 2],
+        slide: [u, 0.0],
+        ..Default::default()
+    };
+    for mode in PATHS {
+        let h: Real = 1.0 / 60.0;
+        let mut world = world_on(mode, 4, 32);
+        let body = world
+            .create_body(&BodyDef {
+                position: Vec3::new(0.0, HALF.y, 0.0),
+                inertia: inertia::solid_box(1.0, HALF).unwrap(),
+                ..Default::default()
+            })
+            .unwrap();
+        let mut contacts = BoxPlaneContacts::default();
+        for _ in 0..180 {
+            contacts.update(&mut world, body, HALF, Vec3::Y, 0.0, 0.01, params, None);
+            world.step(h).unwrap();
+        }
+        let speed = world.body(body).unwrap().linear_velocity().length();
+        assert!((speed - u).abs() < 0.01 * u, "{mode:?}: speed {speed}");
+    }
+}

@@ -16,7 +16,7 @@ struct Spring {
 }
 
 impl CustomConstraint for Spring {
-    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let x = ctx.bodies[0].position.x;
         let mut row = Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO)
             .with_error(x)

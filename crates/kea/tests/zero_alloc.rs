@@ -41,7 +41,7 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 #[derive(Debug)]
 struct Spring;
 impl CustomConstraint for Spring {
-    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let x = ctx.bodies[0].position.x - 3.0;
         out.push(
             Row::new(Jacobian::new(Vec3::X, Vec3::ZERO), Jacobian::ZERO)

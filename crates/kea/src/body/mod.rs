@@ -293,6 +293,8 @@ impl Body {
     /// Sets the body-frame inertia tensor (symmetric positive definite).
     pub fn set_inertia(&mut self, inertia: Mat3) -> KeaResult<()> {
         check_inertia("inertia", inertia)?;
+        // Store the symmetric part: the check allows round-off asymmetry.
+        let inertia = (inertia + inertia.transpose()) * 0.5;
         self.inertia = inertia;
         self.inv_inertia = inertia.inverse();
         Ok(())

@@ -7,8 +7,8 @@
 //!   A negative penetration is a gap (a speculative contact): the row then uses γ = 1, so the
 //!   bodies may close exactly the gap in this step and no more, and land without popping.
 //!   When the approach speed exceeds the restitution threshold (and the bodies touch this step),
-//!   the target velocity is `c = e·v_in` and the row is made hard for that step (ε = 0, no error
-//!   term) so that softness does not eat into the bounce: rebound speed is exactly `e·v_in`.
+//!   the target velocity is `c = e·v_in` and the row is made nearly rigid for that step (ε ≈ 0, no error
+//!   term) so that softness does not eat into the bounce: rebound speed is `e·v_in` to round-off.
 //! * **friction** along the primary direction `t₁` and (2D) the secondary `t₂ = n × t₁`
 //!   (right-hand rule): `J = (t, r₁×t)`, `(−t, −r₂×t)`, target `c = slide` (conveyor belt
 //!   speed of body 1 relative to body 2), slip factor `s` (sliding speed `s·|F|`), bounds by
@@ -31,6 +31,10 @@ pub const FRICTION_SOFTNESS_RATIO: Real = 1.0e-3;
 /// normal, so resting contacts keep the same friction rows from step to step (and their warm
 /// start stays meaningful) instead of following jitter.
 pub const SLIDING_SPEED: Real = 1.0e-2;
+
+/// Softness of a bounce row (inverse mass units): small enough that the rebound is exact to
+/// ~1e-10 relative for bodies of a gram or more, large enough to keep redundant bounces regular.
+pub const BOUNCE_SOFTNESS: Real = 1.0e-10;
 
 /// Which tangential directions carry friction (the guide's `MdtContactType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -249,6 +253,14 @@ impl Contact {
         Ok(())
     }
 
+    /// Records the primary friction direction used in a step, so that a persistent contact
+    /// keeps the same friction rows (and their warm start) at the next one.
+    pub fn remember_direction(&mut self, t1: Vec3) {
+        if t1.is_finite() && (t1.length() - 1.0).abs() < 1.0e-3 {
+            self.last_direction = Some(t1);
+        }
+    }
+
     /// The friction directions `(t₁, t₂)` this contact would use now.
     #[must_use]
     pub fn friction_directions(&self, ctx: &RowContext) -> (Vec3, Vec3) {
@@ -260,7 +272,10 @@ impl Contact {
                 let v = b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
                 let vt = v - n * v.dot(n);
                 let speed = vt.length();
-                if speed > SLIDING_SPEED {
+                // A conveyor's slide is along t₁: it needs a direction that does not follow
+                // the motion it causes.
+                let conveyor = self.params.slide != [0.0; 2];
+                if speed > SLIDING_SPEED && !conveyor {
                     -vt / speed
                 } else {
                     // Keep last step's direction, re-projected on the new tangent plane: a
@@ -275,9 +290,10 @@ impl Contact {
         (t1, n.cross(t1))
     }
 
-    /// Writes the contact's rows: normal first, then friction (see the module docs). Remembers
-    /// the friction direction it chose, for the next step.
-    pub fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    /// Writes the contact's rows: normal first, then friction (see the module docs). The
+    /// primary friction direction is the linear Jacobian of the second row for body 1; the
+    /// world remembers it after a successful step ([`Contact::remember_direction`]).
+    pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
         let p = self.position;
         let n = self.normal;
@@ -300,6 +316,8 @@ impl Contact {
         let gap = -self.penetration;
         if gap > 0.0 {
             // Speculative contact: the bodies may close the whole gap this step, no more.
+            // Adhesion still acts across the gap: a held adhesive contact opens slightly
+            // under load (softness), and the guide's sticky contacts fail exactly there.
             normal.gamma = Some(1.0);
         }
         let approach = -(b1.velocity_at(p) - b2.velocity_at(p)).dot(n);
@@ -308,7 +326,9 @@ impl Contact {
             normal.c = prm.restitution * approach;
             normal.bounce = true;
             normal.xi = 0.0;
-            normal.softness = Some(0.0);
+            // Nearly rigid, so the rebound is e·v_in to ~1e-10, yet regular when several
+            // bounce rows on one body are redundant (a box landing flat).
+            normal.softness = Some(BOUNCE_SOFTNESS);
             normal.gamma = Some(0.0);
         }
         let normal_row = out.push(normal);
@@ -322,7 +342,6 @@ impl Contact {
             return;
         }
         let (t1, t2) = self.friction_directions(ctx);
-        self.last_direction = Some(t1);
         // A friction row has no position error to recover, so softness would make a resting
         // body creep at ε·h·F for ever; it gets a thousandth of the normal row's softness, just
         // enough to regularise redundant contacts.

@@ -102,5 +102,10 @@ pub trait CustomConstraint: std::fmt::Debug + Send + Sync + 'static {
         "custom constraint"
     }
     /// Writes this step's rows. Friction links refer to row indices within this constraint.
-    fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>);
+    ///
+    /// It must depend only on its inputs: the world may call it more than once per step (the
+    /// position projection writes rows again at the new state), and discards the rows of a
+    /// step that fails. Change the constraint's parameters between steps through
+    /// [`crate::World::custom_constraint_mut`].
+    fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>);
 }

@@ -160,7 +160,12 @@ impl Row {
         if !self.c.is_finite() {
             return Some("c");
         }
-        if self.lo.is_nan() || self.hi.is_nan() || self.lo > self.hi {
+        if self.lo.is_nan()
+            || self.hi.is_nan()
+            || self.lo > self.hi
+            || self.lo == Real::INFINITY
+            || self.hi == Real::NEG_INFINITY
+        {
             return Some("lo/hi");
         }
         if !(self.slip.is_finite() && self.slip >= 0.0) {

@@ -108,7 +108,7 @@ impl ExactWorkspace {
         stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
 
         let h = wide(params.dt);
-        self.gather(island_blocks, blocks, rows, bodies, scratch);
+        self.gather(island_blocks, blocks, rows, bodies, scratch, |_| true);
         self.assemble(rows, scratch, params, h);
         self.solve_with_friction(n, params, stats);
 
@@ -147,6 +147,7 @@ impl ExactWorkspace {
         rows: &[Row],
         bodies: &[SolverBody],
         scratch: &BodyScratch,
+        keep: impl Fn(&Row) -> bool,
     ) {
         self.rows.clear();
         for &k in island_blocks {
@@ -154,6 +155,9 @@ impl ExactWorkspace {
             let base = self.rows.len() as u32;
             for g in blk.first_row..blk.first_row + blk.row_count {
                 let row = &rows[g as usize];
+                if !keep(row) {
+                    continue;
+                }
                 let mut ir = IslandRow {
                     global: g,
                     bodies: blk.bodies,
@@ -179,7 +183,8 @@ impl ExactWorkspace {
         }
     }
 
-    fn assemble(&mut self, rows: &[Row], scratch: &BodyScratch, params: &SolverParams, h: f64) {
+    /// Sizes the vectors for the gathered rows and fills `A = J M⁻¹ Jᵀ` (no diagonal terms).
+    fn assemble_matrix(&mut self) {
         let n = self.rows.len();
         self.a.clear();
         self.a.resize(n * n, 0.0);
@@ -212,6 +217,14 @@ impl ExactWorkspace {
                 self.a[i * n + j] = s;
                 self.a[j * n + i] = s;
             }
+        }
+    }
+
+    fn assemble(&mut self, rows: &[Row], scratch: &BodyScratch, params: &SolverParams, h: f64) {
+        self.assemble_matrix();
+        let n = self.rows.len();
+        for i in 0..n {
+            let ri = self.rows[i];
             let row = &rows[ri.global as usize];
             let eps = wide(row.softness.unwrap_or(params.epsilon));
             let gamma = wide(row.gamma.unwrap_or(params.gamma));
@@ -234,6 +247,74 @@ impl ExactWorkspace {
             }
         }
         lcp::initial_state(&self.lo, &self.hi, &mut self.state);
+    }
+
+    /// Position projection of one island: moves its bodies so that the equality rows without
+    /// their own softness (joints) have zero error, by solving `(J M⁻¹ Jᵀ + δI) Δ = −xi` for
+    /// the rows evaluated at the new state and applying `Δq = M⁻¹ Jᵀ Δ` to positions and
+    /// orientations (velocities are left alone: a post-stabilisation). The displacements are
+    /// accumulated in `scratch` (linear in `constraint_force`, angular in `constraint_torque`)
+    /// for the caller to apply. Returns the largest error it started from.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn project_island(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        stats: &mut SolverStats,
+    ) -> f64 {
+        let projectable = |r: &Row| {
+            r.lo == Real::NEG_INFINITY
+                && r.hi == Real::INFINITY
+                && r.friction.is_none()
+                && r.softness.is_none()
+                && r.gamma != Some(0.0)
+        };
+        self.gather(island_blocks, blocks, rows, bodies, scratch, projectable);
+        let n = self.rows.len();
+        if n == 0 {
+            return 0.0;
+        }
+        self.reserve(n, n);
+        self.assemble_matrix();
+        let diag_max = (0..n).fold(0.0f64, |m, i| m.max(self.a[i * n + i]));
+        // A light regularisation keeps redundant joints solvable without softening them.
+        let delta = (wide(params.epsilon) * 1.0e-3).max(1.0e-12 * diag_max);
+        let mut worst = 0.0f64;
+        for i in 0..n {
+            self.a[i * n + i] += delta;
+            let xi = wide(rows[self.rows[i].global as usize].xi);
+            worst = worst.max(xi.abs());
+            self.b[i] = -xi;
+            self.lo[i] = f64::NEG_INFINITY;
+            self.hi[i] = f64::INFINITY;
+        }
+        let rep = lcp::solve(
+            n,
+            &self.a,
+            &self.b,
+            &self.lo,
+            &self.hi,
+            &mut self.x,
+            &mut self.w,
+            &mut self.state,
+            &mut self.lcp,
+            params.max_lcp_iterations,
+        );
+        stats.lcp_iterations += rep.iterations;
+        for (i, r) in self.rows.iter().enumerate() {
+            let d = self.x[i];
+            for s in 0..2 {
+                if let Some(b) = r.bodies[s] {
+                    scratch.constraint_force[b as usize] += r.mj[2 * s] * d;
+                    scratch.constraint_torque[b as usize] += r.mj[2 * s + 1] * d;
+                }
+            }
+        }
+        worst
     }
 
     fn solve_with_friction(&mut self, n: usize, params: &SolverParams, stats: &mut SolverStats) {

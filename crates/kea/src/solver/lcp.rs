@@ -85,7 +85,9 @@ impl LcpWorkspace {
 /// start at rest, friction starts free because its bounds straddle zero).
 pub(crate) fn initial_state(lo: &[f64], hi: &[f64], state: &mut [Bound]) {
     for i in 0..state.len() {
-        state[i] = if lo[i] <= 0.0 && hi[i] >= 0.0 {
+        state[i] = if lo[i] == hi[i] {
+            Bound::Lower
+        } else if lo[i] <= 0.0 && hi[i] >= 0.0 {
             if lo[i] == 0.0 && hi[i] > 0.0 {
                 Bound::Lower
             } else {
@@ -119,6 +121,7 @@ pub(crate) fn solve(
     // Indices that cannot be at a bound (both infinite) stay free; fix impossible states.
     for i in 0..n {
         state[i] = match state[i] {
+            _ if lo[i] == hi[i] => Bound::Lower,
             Bound::Lower if lo[i] == f64::NEG_INFINITY => Bound::Free,
             Bound::Upper if hi[i] == f64::INFINITY => Bound::Free,
             s => s,
@@ -146,7 +149,9 @@ pub(crate) fn solve(
         }
         let x_scale = x[..n].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
         let tol_x = 1.0e-11 * x_scale;
+        // An index with lo = hi is fixed: never a violation, whatever w says.
         let violates = |i: usize, x: &[f64], w: &[f64], s: Bound| match s {
+            _ if lo[i] == hi[i] => false,
             Bound::Free => x[i] < lo[i] - tol_x || x[i] > hi[i] + tol_x,
             Bound::Lower => w[i] < -tol_w,
             Bound::Upper => w[i] > tol_w,

@@ -41,7 +41,7 @@ pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
 
 use crate::constraint::Row;
 use crate::error::{check_non_negative, check_positive, check_vec3, KeaError, KeaResult};
-use crate::math::{is_finite3, Mat3, Quat, Real, Vec3};
+use crate::math::{from_f64, is_finite3, rotate_by_vector, DVec3, Mat3, Quat, Real, Vec3};
 use std::time::{Duration, Instant};
 
 /// One body as the solver sees it (the guide's `MdtKeaBody` and `MdtKeaTransformation`).
@@ -389,6 +389,7 @@ impl Solver {
             }
         }
         self.reports.clear();
+        reserve(&mut self.reports, self.islands.count());
         for k in 0..self.islands.count() {
             let path = routing::choose(&params.routing, &self.islands, k, blocks, bodies);
             let island_blocks = self.islands.blocks(k);
@@ -428,7 +429,7 @@ impl Solver {
                     stats.time_solve_iterative += t.elapsed();
                 }
             }
-            if self.reports.len() < self.reports.capacity() {
+            {
                 self.reports.push(IslandReport {
                     path,
                     bodies: self.islands.island_bodies[k],
@@ -457,6 +458,62 @@ impl Solver {
         stats.time_integrate = t2.elapsed();
         stats.workspace_grew = self.memory_used() > before;
         Ok(stats)
+    }
+}
+
+impl Solver {
+    /// Position projection after a step, for the islands the exact path solved: moves bodies so
+    /// that rigid equality rows (joints without their own softness) have zero error, leaving
+    /// velocities alone (see `exact::ExactWorkspace::project_island`). `rows` must have been
+    /// written at the bodies' new state, by the same constraints in the same order as the
+    /// step's. Returns the largest joint error found before projecting. Allocation-free after
+    /// warm-up, like [`Solver::step`].
+    pub fn project(
+        &mut self,
+        bodies: &mut [SolverBody],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        params: &SolverParams,
+    ) -> KeaResult<f64> {
+        params.validate()?;
+        validate_rows(bodies, blocks, rows)?;
+        self.integ.prepare(bodies, params);
+        self.islands.build(
+            bodies.len(),
+            |i| !bodies[i].is_fixed(),
+            blocks,
+            params.partition,
+        );
+        let mut stats = SolverStats::default();
+        let mut worst = 0.0f64;
+        for k in 0..self.islands.count() {
+            let path = match self.reports.get(k) {
+                Some(r) => r.path,
+                None => routing::choose(&params.routing, &self.islands, k, blocks, bodies),
+            };
+            if path != SolverPath::Exact {
+                continue;
+            }
+            let e = self.exact.project_island(
+                self.islands.blocks(k),
+                blocks,
+                rows,
+                bodies,
+                &mut self.integ,
+                params,
+                &mut stats,
+            );
+            worst = worst.max(e);
+        }
+        for (i, b) in bodies.iter_mut().enumerate() {
+            let dx = self.integ.constraint_force[i];
+            let dtheta = self.integ.constraint_torque[i];
+            if dx != DVec3::ZERO || dtheta != DVec3::ZERO {
+                b.position += from_f64(dx);
+                b.orientation = rotate_by_vector(b.orientation, from_f64(dtheta));
+            }
+        }
+        Ok(worst)
     }
 }
 
@@ -493,22 +550,40 @@ fn validate_inputs(
             ),
         );
     }
+    validate_rows(bodies, blocks, rows)
+}
+
+/// Checks bodies, blocks and rows for consistency and finiteness.
+fn validate_rows(bodies: &[SolverBody], blocks: &[ConstraintBlock], rows: &[Row]) -> KeaResult<()> {
+    let inconsistent = |arg, reason: String| Err(KeaError::Inconsistent { arg, reason });
     for (i, b) in bodies.iter().enumerate() {
+        let unit = |q: Real| (q - 1.0).abs() <= crate::math::UNIT_TOLERANCE;
+        let diag_ok = |m: &Mat3, strict: bool| {
+            let d = [m.x_axis.x, m.y_axis.y, m.z_axis.z];
+            m.is_finite() && d.iter().all(|&x| if strict { x > 0.0 } else { x >= 0.0 })
+        };
         let ok = is_finite3(b.position)
             && is_finite3(b.linear_velocity)
             && is_finite3(b.angular_velocity)
             && is_finite3(b.force)
             && is_finite3(b.torque)
             && b.orientation.is_finite()
+            && unit(b.orientation.length())
             && b.inv_mass.is_finite()
             && b.inv_mass >= 0.0
-            && b.inv_inertia.is_finite()
+            && diag_ok(&b.inv_inertia, false)
+            && (b.is_fixed() || diag_ok(&b.inertia, true))
+            && b.fast_spin_axis
+                .is_none_or(|a| a.is_finite() && unit(a.length()))
             && b.linear_damping >= 0.0
             && b.angular_damping >= 0.0;
         if !ok {
             return inconsistent(
                 "bodies",
-                format!("body {i} has a NaN, infinite or negative field: {b:?}"),
+                format!(
+                    "body {i} has a NaN, infinite or negative field, a non-unit orientation or \
+                     fast-spin axis, or a non-positive inertia: {b:?}"
+                ),
             );
         }
     }
@@ -520,6 +595,12 @@ fn validate_inputs(
                     format!("constraint {k} names body {b} of {}", bodies.len()),
                 );
             }
+        }
+        if blk.row_count > u32::from(u16::MAX) {
+            return inconsistent(
+                "blocks",
+                format!("constraint {k} has {} rows (at most 65535)", blk.row_count),
+            );
         }
         let end = blk.first_row as usize + blk.row_count as usize;
         if end > rows.len() {

@@ -21,7 +21,7 @@ impl ConstraintKind {
         }
     }
 
-    pub(crate) fn write_rows(&mut self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+    pub(crate) fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         match self {
             ConstraintKind::Contact(c) => c.write_rows(ctx, out),
             ConstraintKind::Ball(j) => j.write_rows(ctx, out),

@@ -81,12 +81,33 @@ impl World {
 
     /// Destroys a constraint (the guide's `Mdt*Destroy`); its handle becomes stale.
     pub fn destroy_constraint(&mut self, h: ConstraintHandle) -> KeaResult<()> {
-        self.constraints.remove(h).map(|_| ())
+        let entry = self.constraints.remove(h)?;
+        if !matches!(entry.kind, ConstraintKind::Contact(_)) {
+            self.wake_bodies(entry.bodies);
+        }
+        Ok(())
+    }
+
+    fn wake_bodies(&mut self, bodies: [Option<BodyHandle>; 2]) {
+        for b in bodies.into_iter().flatten() {
+            if let Ok(body) = self.bodies.get_mut(b) {
+                body.wake();
+            }
+        }
     }
 
     /// Enables or disables a constraint; a disabled one is kept but ignored by the step.
     pub fn set_constraint_enabled(&mut self, h: ConstraintHandle, enabled: bool) -> KeaResult<()> {
-        self.constraints.get_mut(h)?.enabled = enabled;
+        let entry = self.constraints.get_mut(h)?;
+        let changed = entry.enabled != enabled;
+        entry.enabled = enabled;
+        let (is_contact, bodies) = (
+            matches!(entry.kind, ConstraintKind::Contact(_)),
+            entry.bodies,
+        );
+        if changed && !is_contact {
+            self.wake_bodies(bodies);
+        }
         Ok(())
     }
 

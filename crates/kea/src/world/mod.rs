@@ -50,6 +50,10 @@ pub struct WorldDef {
     pub routing: Routing,
     /// Settings of the iterative path.
     pub iterative: IterativeParams,
+    /// Position-projection passes after each step for the islands the exact path solved
+    /// (0 to 16). Default 1: joints are put back together at the position level, so a whipped
+    /// chain does not stretch; velocities are left alone. 0 leaves only the γ correction.
+    pub projection_iterations: u32,
 }
 
 impl Default for WorldDef {
@@ -66,6 +70,7 @@ impl Default for WorldDef {
             dem: DemSettings::default(),
             routing: Routing::default(),
             iterative: IterativeParams::default(),
+            projection_iterations: 1,
         }
     }
 }
@@ -90,6 +95,8 @@ struct StepScratch {
     sleep_sets: crate::union_find::UnionFind,
     /// Per island root: awake flag, then smallest resting time.
     island_flag: Vec<Real>,
+    /// Sleeping bodies (by slot) that this step wakes, committed when it succeeds.
+    wake: Vec<bool>,
 }
 
 /// A simulated world.
@@ -105,6 +112,7 @@ pub struct World {
     dem: DemSettings,
     routing: Routing,
     iterative: IterativeParams,
+    projection_iterations: u32,
     solver: Solver,
     scratch: StepScratch,
     time: f64,
@@ -159,6 +167,7 @@ impl World {
         };
         params.validate()?;
         def.dem.validate()?;
+        check_projection(def.projection_iterations)?;
         let id = next_world_id();
         let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
         let island_rows = def.max_island_rows.min(rows);
@@ -176,6 +185,7 @@ impl World {
             reactions: Vec::with_capacity(def.max_constraints),
             sleep_sets,
             island_flag: Vec::with_capacity(def.max_bodies),
+            wake: Vec::with_capacity(def.max_bodies),
         };
         Ok(Self {
             id,
@@ -189,6 +199,7 @@ impl World {
             dem: def.dem,
             routing: def.routing,
             iterative: def.iterative,
+            projection_iterations: def.projection_iterations,
             solver: Solver::with_capacity(def.max_bodies, def.max_constraints, rows, island_rows),
             scratch,
             time: 0.0,
@@ -229,6 +240,11 @@ impl World {
     /// Sets gravity (the guide's `MdtWorldSetGravity`).
     pub fn set_gravity(&mut self, g: Vec3) -> KeaResult<()> {
         self.gravity = check_vec3("gravity", g)?;
+        for slot in 0..self.bodies.slot_count() {
+            if let Some(b) = self.bodies.at_mut(slot) {
+                b.wake();
+            }
+        }
         Ok(())
     }
     /// Softness ε.
@@ -269,6 +285,7 @@ impl World {
     /// Destroys a body and every constraint attached to it.
     pub fn destroy_body(&mut self, h: BodyHandle) -> KeaResult<()> {
         self.bodies.check(h)?;
+        self.wake_neighbours(h);
         for i in 0..self.constraints.slot_count() {
             let attached = self
                 .constraints
@@ -338,6 +355,7 @@ impl World {
             + s.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
             + s.sleep_sets.bytes()
             + s.island_flag.capacity() * std::mem::size_of::<Real>()
+            + s.wake.capacity()
     }
 
     /// Island routing (see [`Routing`]).
@@ -366,6 +384,19 @@ impl World {
         Ok(())
     }
 
+    /// Position-projection passes after each step (see [`WorldDef::projection_iterations`]).
+    #[must_use]
+    pub fn projection_iterations(&self) -> u32 {
+        self.projection_iterations
+    }
+
+    /// Sets the position-projection passes (0 to 16).
+    pub fn set_projection_iterations(&mut self, iterations: u32) -> KeaResult<()> {
+        check_projection(iterations)?;
+        self.projection_iterations = iterations;
+        Ok(())
+    }
+
     /// One report per island of the last step: path, bodies, rows, iterations or pivots.
     #[must_use]
     pub fn island_reports(&self) -> &[IslandReport] {
@@ -381,4 +412,15 @@ impl World {
             .map(|(_, b)| b.kinetic_energy())
             .sum()
     }
+}
+
+fn check_projection(iterations: u32) -> KeaResult<()> {
+    if iterations > 16 {
+        return Err(KeaError::OutOfRange {
+            arg: "projection_iterations",
+            value: iterations.to_string(),
+            expected: "must be in 0..=16",
+        });
+    }
+    Ok(())
 }

@@ -5,8 +5,11 @@
 //! solver partitions them) has rested for the alive window, the whole island is disabled:
 //! its velocities are zeroed, the solver skips it, and constraints see its bodies as fixed.
 //! It wakes, whole, when any of its bodies is touched by an awake body through a constraint,
-//! is given a force or torque above the wake thresholds, or has its pose or velocity set, or on
-//! [`World::wake_body`]. Disabling a single body inside a moving pile would be wrong, hence
+//! is given a force or torque above the wake thresholds, or has its pose or velocity set; when
+//! a joint on it is destroyed, enabled or disabled, or a body it is attached to is destroyed;
+//! when gravity changes; or on [`World::wake_body`]. Destroying a *contact* does not wake it
+//! (collision code remakes contacts every step): wake a body yourself if you take its support
+//! away. Disabling a single body inside a moving pile would be wrong, hence
 //! islands.
 
 use super::World;
@@ -110,9 +113,10 @@ impl World {
         Ok(())
     }
 
-    /// Groups enabled bodies by enabled constraints; wakes every island that has an awake
-    /// member or a member pushed harder than the wake thresholds.
-    pub(super) fn wake_islands(&mut self) {
+    /// Groups enabled bodies by enabled constraints and marks (in scratch, without changing any
+    /// body yet) every sleeping body whose island has an awake member or a member pushed harder
+    /// than the wake thresholds. [`World::apply_wake`] commits it once the step succeeds.
+    pub(super) fn plan_wake(&mut self) {
         let n = self.bodies.slot_count();
         let s = &mut self.scratch;
         s.sleep_sets.reset(n);
@@ -147,12 +151,36 @@ impl World {
                 s.island_flag[r] = 1.0;
             }
         }
+        s.wake.clear();
+        s.wake.resize(n, false);
         for slot in 0..n {
             let r = s.sleep_sets.find(slot as u32) as usize;
-            if s.island_flag[r] > 0.0 {
+            s.wake[slot] =
+                s.island_flag[r] > 0.0 && self.bodies.at(slot).is_some_and(|b| b.sleeping);
+        }
+    }
+
+    /// Wakes the bodies [`World::plan_wake`] marked.
+    pub(super) fn apply_wake(&mut self) {
+        for slot in 0..self.scratch.wake.len() {
+            if self.scratch.wake[slot] {
                 if let Some(b) = self.bodies.at_mut(slot) {
-                    if b.sleeping {
-                        b.wake();
+                    b.wake();
+                }
+            }
+        }
+    }
+
+    /// Wakes every body attached to `h` by a constraint (a support or a joint changed).
+    pub(super) fn wake_neighbours(&mut self, h: BodyHandle) {
+        for i in 0..self.constraints.slot_count() {
+            let Some(c) = self.constraints.at(i) else {
+                continue;
+            };
+            if c.bodies.contains(&Some(h)) {
+                for b in c.bodies.into_iter().flatten() {
+                    if let Ok(body) = self.bodies.get_mut(b) {
+                        body.wake();
                     }
                 }
             }

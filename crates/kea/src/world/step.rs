@@ -8,6 +8,7 @@
 //!   write_back       new states to bodies, forces to constraints, accumulators cleared
 //! ```
 
+use super::constraint_entry::ConstraintKind;
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
@@ -34,6 +35,11 @@ pub struct StepStats {
     pub time_gather: Duration,
     /// Time copying results back.
     pub time_write_back: Duration,
+    /// Time in position projection.
+    pub time_projection: Duration,
+    /// Largest error of a rigid joint row after the velocity step, before projection (0 when no
+    /// projection ran).
+    pub max_joint_error: Real,
     /// Whole step.
     pub time_total: Duration,
 }
@@ -44,7 +50,8 @@ impl World {
     ///
     /// Solver trouble (singular systems, cycles, caps) never aborts: it is counted in the
     /// returned [`StepStats`] and logged. An `Err` means bad input (a bad `dt`, or a custom
-    /// constraint that wrote a NaN row) and the world is unchanged.
+    /// constraint that wrote a NaN row) and the world is unchanged: nothing is committed until
+    /// the solver has accepted every row.
     pub fn step(&mut self, dt: Real) -> KeaResult<StepStats> {
         check_positive("dt", dt)?;
         let t0 = Instant::now();
@@ -61,7 +68,9 @@ impl World {
         };
         let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
         if auto_disable {
-            self.wake_islands();
+            self.plan_wake();
+        } else {
+            self.scratch.wake.clear();
         }
         self.collect_bodies();
         let t1 = Instant::now();
@@ -88,7 +97,16 @@ impl World {
             }
         };
         let t3 = Instant::now();
+        // The step succeeded: from here on the world changes.
+        self.apply_wake();
         self.write_back();
+        let t_proj = Instant::now();
+        let max_joint_error = if solver_stats.exact_islands > 0 {
+            self.project_positions(&params)
+        } else {
+            0.0
+        };
+        let time_projection = t_proj.elapsed();
         if auto_disable {
             self.disable_resting_islands(dt);
         }
@@ -108,7 +126,9 @@ impl World {
             solver: solver_stats,
             time_collect: t1 - t0,
             time_gather: t2 - t1,
-            time_write_back: t4 - t3,
+            time_write_back: t4 - t3 - time_projection,
+            time_projection,
+            max_joint_error,
             time_total: t4 - t0,
         })
     }
@@ -123,7 +143,8 @@ impl World {
             let Some(b) = self.bodies.at(slot) else {
                 continue;
             };
-            if !b.enabled || b.sleeping {
+            let waking = s.wake.get(slot).copied().unwrap_or(false);
+            if !b.enabled || (b.sleeping && !waking) {
                 continue;
             }
             s.slot_to_solver[slot] = s.solver_bodies.len() as u32;
@@ -208,7 +229,7 @@ impl World {
                 gamma: params.gamma,
             };
             let first = rows.len();
-            let entry = self.constraints.at_mut(slot).expect("occupied");
+            let entry = self.constraints.at(slot).expect("occupied");
             let mut writer = RowWriter::new(&mut rows);
             entry.kind.write_rows(&ctx, &mut writer);
             let count = rows.len() - first;
@@ -226,6 +247,38 @@ impl World {
         self.scratch.blocks = blocks;
         self.scratch.block_constraint = block_constraint;
         n
+    }
+
+    /// Position projection for exact islands, repeated `projection_iterations` times: rows are
+    /// written again at the new state and the solver moves bodies so that rigid joints close.
+    /// Returns the largest joint error found by the first pass.
+    fn project_positions(&mut self, params: &SolverParams) -> Real {
+        let mut first = None;
+        for _ in 0..self.projection_iterations {
+            self.gather_rows(params);
+            let s = &mut self.scratch;
+            let worst = match self
+                .solver
+                .project(&mut s.solver_bodies, &s.blocks, &s.rows, params)
+            {
+                Ok(w) => w,
+                Err(e) => {
+                    // Rows were valid for the step; a constraint that writes bad rows at the
+                    // new state only loses its projection.
+                    log::warn!("kea: position projection skipped: {e}");
+                    break;
+                }
+            };
+            first.get_or_insert(worst as Real);
+            for (i, sb) in s.solver_bodies.iter().enumerate() {
+                let slot = s.solver_to_slot[i] as usize;
+                let b = self.bodies.at_mut(slot).expect("simulated bodies are live");
+                b.position = sb.position;
+                b.orientation = sb.orientation;
+                b.update_transform();
+            }
+        }
+        first.unwrap_or(0.0)
     }
 
     /// Fills λ with each constraint's forces from the previous step (same constraint, same
@@ -285,6 +338,11 @@ impl World {
                 .expect("solved constraints are live");
             e.last_rows = Some((blk.first_row, blk.row_count));
             e.reaction = s.reactions[k];
+            if let ConstraintKind::Contact(c) = &mut e.kind {
+                if blk.row_count >= 2 {
+                    c.remember_direction(s.rows[blk.first_row as usize + 1].jacobian[0].linear);
+                }
+            }
         }
     }
 }
