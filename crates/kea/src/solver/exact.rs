@@ -249,10 +249,13 @@ impl ExactWorkspace {
         lcp::initial_state(&self.lo, &self.hi, &mut self.state);
     }
 
-    /// Position projection of one island: moves its bodies so that the equality rows without
-    /// their own softness (joints) have zero error, by solving `(J M⁻¹ Jᵀ + δI) Δ = −xi` for
-    /// the rows evaluated at the new state and applying `Δq = M⁻¹ Jᵀ Δ` to positions and
-    /// orientations (velocities are left alone: a post-stabilisation). The displacements are
+    /// Position projection of one island: moves its bodies so that each equality row without
+    /// its own softness (a joint) sits where the step's force puts it, by solving
+    /// `(J M⁻¹ Jᵀ + δI) Δ = xi* − xi` for the rows evaluated at the new state and applying
+    /// `Δq = M⁻¹ Jᵀ Δ` to positions and orientations (velocities are left alone: a
+    /// post-stabilisation). With the world's ε a joint is a stiff spring, `k = γ/(ε h²)`, so its
+    /// target is the spring's deflection under the force λ it carried, `xi* = −λ/k`: projecting
+    /// to zero would fight the velocity solve, which keeps that deflection. The displacements are
     /// accumulated in `scratch` (linear in `constraint_force`, angular in `constraint_torque`)
     /// for the caller to apply. Returns the largest error it started from.
     #[allow(clippy::too_many_arguments)]
@@ -264,6 +267,7 @@ impl ExactWorkspace {
         bodies: &[SolverBody],
         scratch: &mut BodyScratch,
         params: &SolverParams,
+        lambda: &[Real],
         stats: &mut SolverStats,
     ) -> f64 {
         let projectable = |r: &Row| {
@@ -284,11 +288,20 @@ impl ExactWorkspace {
         // A light regularisation keeps redundant joints solvable without softening them.
         let delta = (wide(params.epsilon) * 1.0e-3).max(1.0e-12 * diag_max);
         let mut worst = 0.0f64;
+        let h = wide(params.dt);
         for i in 0..n {
             self.a[i * n + i] += delta;
-            let xi = wide(rows[self.rows[i].global as usize].xi);
+            let g = self.rows[i].global as usize;
+            let row = &rows[g];
+            let xi = wide(row.xi);
+            let gamma = wide(row.gamma.unwrap_or(params.gamma));
+            let deflection = if gamma > 0.0 {
+                -wide(params.epsilon) * h * h / gamma * wide(lambda[g])
+            } else {
+                0.0
+            };
             worst = worst.max(xi.abs());
-            self.b[i] = -xi;
+            self.b[i] = deflection - xi;
             self.lo[i] = f64::NEG_INFINITY;
             self.hi[i] = f64::INFINITY;
         }

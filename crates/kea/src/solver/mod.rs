@@ -466,17 +466,24 @@ impl Solver {
     /// that rigid equality rows (joints without their own softness) have zero error, leaving
     /// velocities alone (see `exact::ExactWorkspace::project_island`). `rows` must have been
     /// written at the bodies' new state, by the same constraints in the same order as the
-    /// step's. Returns the largest joint error found before projecting. Allocation-free after
-    /// warm-up, like [`Solver::step`].
+    /// step's, and `lambda` is the step's output. Returns the largest joint error found before
+    /// projecting. Allocation-free after warm-up, like [`Solver::step`].
     pub fn project(
         &mut self,
         bodies: &mut [SolverBody],
         blocks: &[ConstraintBlock],
         rows: &[Row],
+        lambda: &[Real],
         params: &SolverParams,
     ) -> KeaResult<f64> {
         params.validate()?;
         validate_rows(bodies, blocks, rows)?;
+        if lambda.len() != rows.len() {
+            return Err(KeaError::Inconsistent {
+                arg: "lambda",
+                reason: format!("has {} entries for {} rows", lambda.len(), rows.len()),
+            });
+        }
         self.integ.prepare(bodies, params);
         self.islands.build(
             bodies.len(),
@@ -501,6 +508,7 @@ impl Solver {
                 bodies,
                 &mut self.integ,
                 params,
+                lambda,
                 &mut stats,
             );
             worst = worst.max(e);

@@ -11,7 +11,7 @@ mod sleep;
 mod step;
 
 pub use sleep::{DemMode, DemSettings};
-pub use step::StepStats;
+pub use step::{StepStats, PROJECTION_TOLERANCE};
 
 use crate::body::{Body, BodyDef};
 use crate::constraint::Row;
@@ -50,9 +50,13 @@ pub struct WorldDef {
     pub routing: Routing,
     /// Settings of the iterative path.
     pub iterative: IterativeParams,
-    /// Position-projection passes after each step for the islands the exact path solved
-    /// (0 to 16). Default 1: joints are put back together at the position level, so a whipped
-    /// chain does not stretch; velocities are left alone. 0 leaves only the γ correction.
+    /// Most position-projection passes after each step, for the islands the exact path solved
+    /// (0 to 16; default 0, only the guide's γ correction). Each pass writes the joints' rows at
+    /// the new state and moves bodies (not velocities) so that rigid joints close: a Newton
+    /// step, stopping early once every error is below 1 µm. Use it with rigid joints, a small
+    /// ε (≤ 1e-4): with the default ε a joint is a spring of stiffness `γ/(ε h²)` whose
+    /// stretch the projection would fight. 4 passes keep a 100-link chain whipped at 60 Hz
+    /// closed to 1 mm (`tests/chain.rs`).
     pub projection_iterations: u32,
 }
 
@@ -70,7 +74,7 @@ impl Default for WorldDef {
             dem: DemSettings::default(),
             routing: Routing::default(),
             iterative: IterativeParams::default(),
-            projection_iterations: 1,
+            projection_iterations: 0,
         }
     }
 }

@@ -16,6 +16,9 @@ use crate::math::{wide, Real, Vec3};
 use crate::solver::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
 use std::time::{Duration, Instant};
 
+/// Joint error, m (or rad), below which position projection stops early.
+pub const PROJECTION_TOLERANCE: Real = 1.0e-6;
+
 /// What one [`World::step`] did: counts, solver warnings and per-stage times.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
@@ -249,7 +252,8 @@ impl World {
         n
     }
 
-    /// Position projection for exact islands, repeated `projection_iterations` times: rows are
+    /// Position projection for exact islands, up to `projection_iterations` Newton passes
+    /// (stopping once the largest joint error is below [`PROJECTION_TOLERANCE`]): rows are
     /// written again at the new state and the solver moves bodies so that rigid joints close.
     /// Returns the largest joint error found by the first pass.
     fn project_positions(&mut self, params: &SolverParams) -> Real {
@@ -257,10 +261,16 @@ impl World {
         for _ in 0..self.projection_iterations {
             self.gather_rows(params);
             let s = &mut self.scratch;
-            let worst = match self
-                .solver
-                .project(&mut s.solver_bodies, &s.blocks, &s.rows, params)
-            {
+            if s.rows.len() != s.lambda.len() {
+                break; // a constraint changed its rows: the step's forces no longer line up
+            }
+            let worst = match self.solver.project(
+                &mut s.solver_bodies,
+                &s.blocks,
+                &s.rows,
+                &s.lambda,
+                params,
+            ) {
                 Ok(w) => w,
                 Err(e) => {
                     // Rows were valid for the step; a constraint that writes bad rows at the
@@ -270,6 +280,9 @@ impl World {
                 }
             };
             first.get_or_insert(worst as Real);
+            if worst < wide(PROJECTION_TOLERANCE) {
+                break; // already closed: this pass moved (almost) nothing
+            }
             for (i, sb) in s.solver_bodies.iter().enumerate() {
                 let slot = s.solver_to_slot[i] as usize;
                 let b = self.bodies.at_mut(slot).expect("simulated bodies are live");
