@@ -6,17 +6,30 @@
 //! 1. **Free velocities.** Damping is applied implicitly (`v ← v/(1 + h·d/m)`,
 //!    `ω ← (I + h·d_ω)⁻¹ I ω`), then gravity and applied forces:
 //!    `v_f = v + h(g + f/m)`, `ω_f = ω + h I⁻¹τ` (world-frame inertia at the current orientation).
-//! 2. **Islands.** Bodies coupled by constraints are grouped ([`island`]); each island is solved
-//!    on its own.
-//! 3. **Exact solve** per island ([`exact`]): `(A + εI)λ = b` as a boxed LCP with
+//! 2. **Islands.** Bodies coupled by constraints are grouped (`island`); each island is solved
+//!    on its own, by the path [`Routing`] chooses: small islands exact, big ones iterative
+//!    (hybrid, the default, with hysteresis), or all one way. [`Solver::island_reports`] says
+//!    which path solved each island, its size and its effort.
+//! 3. **Exact path** per island (`exact`): `(A + εI)λ = b` as a boxed LCP with
 //!    `A = J M⁻¹ Jᵀ` and `b = (c − γ·xi/h − J v_f)/h`, λ in force units, by block principal
-//!    pivoting in `f64` ([`lcp`]). Coulomb bounds `±μλₙ` are iterated: solve, update the bounds
-//!    from the new normal forces, re-solve while they move.
-//! 4. **Integrate** ([`integrate`]): `v⁺ = v_f + h M⁻¹ Jᵀλ`, `x⁺ = x + h v⁺` (semi-implicit first
-//!    order), orientation by the exact rotation `exp(h ω⁺)` (the fast-spin component as its own
-//!    exact rotation about the body-fixed axis), then `ω` is re-expressed at the new orientation so
-//!    that the angular momentum `I ω` is unchanged by the rotation: the gyroscopic effect, with
-//!    `|L|` conserved exactly for a torque-free body.
+//!    pivoting in `f64` (`lcp`). Coulomb bounds `±μλₙ` are iterated: solve, update the bounds
+//!    from the new normal forces, re-solve while they move. The reference answer.
+//! 4. **Iterative path** per island (`iterative`): warm-started projected Gauss-Seidel with
+//!    substeps (Box2D v3's soft step over the same rows): per substep integrate velocities,
+//!    warm start, solve with error correction, integrate positions, relax without it;
+//!    restitution once afterwards. A row's own softness is the same spring as in the exact
+//!    path, re-discretised at the substep; rows without one are rigid and use γ as their rate
+//!    of error reduction. Cost linear in rows.
+//! 5. **Integrate** (`integrate`, exact islands and free bodies): `v⁺ = v_f + h M⁻¹ Jᵀλ`,
+//!    `x⁺ = x + h v⁺` (semi-implicit first order), orientation by the exact rotation
+//!    `exp(h ω⁺)` (the fast-spin component as its own exact rotation about the body-fixed axis),
+//!    then `ω` is re-expressed at the new orientation so that the angular momentum `I ω` is
+//!    unchanged by the rotation: the gyroscopic effect, with `|L|` conserved exactly for a
+//!    torque-free body. The iterative path does the same per substep.
+//!
+//! After a step, [`Solver::project`] can move the bodies of exact islands so that rigid joints
+//! close at the position level (Newton passes on the rows written at the new state); the world
+//! does it when asked (`WorldDef::projection_iterations`).
 //!
 //! # Units and conventions
 //! λ is a force (N, or N·m for angular rows). ε is added to the diagonal of `A`, so it has the
@@ -26,7 +39,9 @@
 //!
 //! # Memory
 //! A [`Solver`] owns a workspace that grows to the largest problem seen and is reused; after
-//! warm-up a step with the same counts performs no heap allocation. [`memory_required`] gives
+//! warm-up a step with the same counts performs no heap allocation, in either path. A logger
+//! installed for the `log` crate may allocate when the solver warns (singular system, cycle,
+//! cap reached); with no logger, warnings cost nothing. [`memory_required`] gives
 //! the size needed for given island sizes (the guide's `MdtKeaMemoryRequired`).
 
 mod exact;
