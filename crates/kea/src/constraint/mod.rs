@@ -26,7 +26,7 @@ pub struct RowBody {
     /// Angular velocity at the start of the step.
     pub angular_velocity: Vec3,
     /// Linear velocity the body would have at the end of the step with no constraints
-    /// (gravity, applied forces and damping included).
+    /// (gravity and applied forces included, damping not).
     pub free_linear_velocity: Vec3,
     /// Angular velocity the body would have at the end of the step with no constraints.
     pub free_angular_velocity: Vec3,
