@@ -5,6 +5,7 @@
 //! `Ċ = v₁ + ω₁ × r₁ − v₂ − ω₂ × r₂` (r = a − x) gives, for each world axis `e`:
 //! `J₁ = (e, r₁ × e)`, `J₂ = (−e, −(r₂ × e))`, `xi = e·C`, unbounded λ, zero target.
 //! The λ of the three rows are the world components of the force on body 1 at the anchor.
+//! Both lever arms are taken to the anchors' midpoint, so the force pair has no net moment.
 
 use super::{Jacobian, Row, RowContext, RowWriter};
 use crate::math::Vec3;
@@ -27,7 +28,20 @@ impl BallJoint {
         let [b1, b2] = &ctx.bodies;
         let a1 = b1.point_to_world(self.local_anchor1);
         let a2 = b2.point_to_world(self.local_anchor2);
-        write_point_rows(a1 - b1.position, a2 - b2.position, a1 - a2, out);
+        // Both bodies are pushed at the same point, the anchors' midpoint: the joint's force on
+        // the pair then has no net moment even while the anchors are apart, so the pair's
+        // angular momentum is kept (a first-order change of the Jacobian, of the size of the
+        // gap, that the error term corrects anyway). A joint torn far apart keeps its own
+        // anchors, where that approximation would no longer hold.
+        let (r1, r2) = (a1 - b1.position, a2 - b2.position);
+        let gap = (a1 - a2).length();
+        let reach = r1.length().max(r2.length());
+        if gap <= 0.1 * reach {
+            let mid = 0.5 * (a1 + a2);
+            write_point_rows(mid - b1.position, mid - b2.position, a1 - a2, out);
+        } else {
+            write_point_rows(r1, r2, a1 - a2, out);
+        }
     }
 
     /// The joint's anchor on body 1 and on body 2, world frame.
