@@ -31,12 +31,12 @@ impl BallJoint {
         // Both bodies are pushed at the same point, the anchors' midpoint: the joint's force on
         // the pair then has no net moment even while the anchors are apart, so the pair's
         // angular momentum is kept (a first-order change of the Jacobian, of the size of the
-        // gap, that the error term corrects anyway). A joint torn far apart keeps its own
-        // anchors, where that approximation would no longer hold.
+        // gap, that the error term corrects anyway). A joint to the world, or one torn far
+        // apart, keeps its own anchor.
         let (r1, r2) = (a1 - b1.position, a2 - b2.position);
         let gap = (a1 - a2).length();
         let reach = r1.length().max(r2.length());
-        if gap <= 0.1 * reach {
+        if b2.dynamic && gap <= 0.1 * reach {
             let mid = 0.5 * (a1 + a2);
             write_point_rows(mid - b1.position, mid - b2.position, a1 - a2, out);
         } else {
