@@ -12,7 +12,9 @@
 
 use super::integrate::BodyScratch;
 use super::lcp::{self, Bound, LcpWorkspace};
-use super::{reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
+use super::{
+    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats,
+};
 use crate::constraint::Row;
 use crate::math::{to_f64, wide, DVec3, Real};
 
@@ -123,21 +125,7 @@ impl ExactWorkspace {
                 }
             }
         }
-        for &k in island_blocks {
-            let blk = &blocks[k as usize];
-            let mut out = [Reaction::default(); 2];
-            for g in blk.first_row..blk.first_row + blk.row_count {
-                let row = &rows[g as usize];
-                let l = lambda[g as usize];
-                for (s, o) in out.iter_mut().enumerate() {
-                    if blk.bodies[s].is_some() {
-                        o.force += row.jacobian[s].linear * l;
-                        o.torque += row.jacobian[s].angular * l;
-                    }
-                }
-            }
-            reactions[k as usize] = out;
-        }
+        block_reactions(island_blocks, blocks, rows, lambda, reactions);
     }
 
     fn gather(

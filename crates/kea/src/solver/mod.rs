@@ -540,6 +540,31 @@ impl Solver {
     }
 }
 
+/// Each constraint's force and torque on its two bodies, from its rows' λ.
+pub(crate) fn block_reactions(
+    island_blocks: &[u32],
+    blocks: &[ConstraintBlock],
+    rows: &[Row],
+    lambda: &[Real],
+    reactions: &mut [[Reaction; 2]],
+) {
+    for &k in island_blocks {
+        let blk = &blocks[k as usize];
+        let mut out = [Reaction::default(); 2];
+        for g in blk.first_row..blk.first_row + blk.row_count {
+            let row = &rows[g as usize];
+            let l = lambda[g as usize];
+            for (s, o) in out.iter_mut().enumerate() {
+                if blk.bodies[s].is_some() {
+                    o.force += row.jacobian[s].linear * l;
+                    o.torque += row.jacobian[s].angular * l;
+                }
+            }
+        }
+        reactions[k as usize] = out;
+    }
+}
+
 /// Grows `v`'s capacity to at least `n` (no-op when it is already enough).
 pub(crate) fn reserve<T>(v: &mut Vec<T>, n: usize) {
     if v.capacity() < n {

@@ -1,0 +1,364 @@
+//! Packing an island into the iterative path's arrays: bodies, rows, equality blocks (a joint's
+//! rows, solved together) and friction pairs (a contact's two tangential rows).
+
+use super::{IterativeWorkspace, BOUNCE, HARD, MAX_BLOCK, NONE, UNILATERAL};
+use crate::constraint::Row;
+use crate::math::{wide, Real, Vec3};
+use crate::solver::integrate::BodyScratch;
+use crate::solver::{ConstraintBlock, SolverBody, SolverParams};
+
+impl IterativeWorkspace {
+    pub(super) fn gather_bodies(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        bodies: &[SolverBody],
+        scratch: &BodyScratch,
+    ) {
+        self.body_global.clear();
+        self.v.clear();
+        self.w.clear();
+        self.dx.clear();
+        self.dtheta.clear();
+        self.dx_sub.clear();
+        self.dtheta_sub.clear();
+        if self.local_of.len() < bodies.len() {
+            self.local_of.resize(bodies.len(), NONE);
+        }
+        for &k in island_blocks {
+            for b in blocks[k as usize].bodies.iter().flatten() {
+                let g = *b as usize;
+                if bodies[g].is_fixed() || self.local_of[g] != NONE {
+                    continue;
+                }
+                self.local_of[g] = self.body_global.len() as u32;
+                self.body_global.push(g as u32);
+                // Start from the step's velocity: each substep damps and adds forces itself.
+                self.v.push(bodies[g].linear_velocity);
+                self.w.push(bodies[g].angular_velocity);
+                self.dx.push(Vec3::ZERO);
+                self.dtheta.push(Vec3::ZERO);
+                self.dx_sub.push(Vec3::ZERO);
+                self.dtheta_sub.push(Vec3::ZERO);
+            }
+        }
+        let _ = scratch;
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn gather_rows(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &BodyScratch,
+        params: &SolverParams,
+        hs: Real,
+        warm: &[Real],
+    ) {
+        macro_rules! clear_all {
+            ($($v:ident),*) => { $(self.$v.clear();)* };
+        }
+        clear_all!(
+            row_global,
+            row_a,
+            row_b,
+            ja_lin,
+            ja_ang,
+            jb_lin,
+            jb_ang,
+            ma_lin,
+            ma_ang,
+            mb_lin,
+            mb_ang,
+            diag,
+            xi0,
+            target,
+            bounce_target,
+            lo,
+            hi,
+            link,
+            mu,
+            extra,
+            rate,
+            mass_scale,
+            impulse_scale,
+            flags,
+            impulse,
+            total,
+            in_block,
+            eq_start,
+            eq_len,
+            eq_rows,
+            eq_kstart,
+            eq_kinv,
+            pair_of,
+            pair_second,
+            pair_kinv
+        );
+        let h = params.dt;
+        let n_sub = params.iterative.substeps as Real;
+        for &k in island_blocks {
+            let blk = &blocks[k as usize];
+            let base = self.row_global.len() as u32;
+            for g in blk.first_row..blk.first_row + blk.row_count {
+                let row = &rows[g as usize];
+                let mut kinematic = 0.0;
+                let mut local = [NONE; 2];
+                let mut jm = [(Vec3::ZERO, Vec3::ZERO); 2];
+                let mut diag = 0.0;
+                for s in 0..2 {
+                    let Some(b) = blk.bodies[s] else { continue };
+                    let body = &bodies[b as usize];
+                    let j = row.jacobian[s];
+                    if body.is_fixed() {
+                        // A kinematic body: its motion is a constant target offset.
+                        kinematic += j.linear.dot(body.linear_velocity)
+                            + j.angular.dot(body.angular_velocity);
+                        continue;
+                    }
+                    local[s] = self.local_of[b as usize];
+                    let ml = j.linear * body.inv_mass;
+                    let ma = scratch.inv_inertia_world[b as usize] * j.angular;
+                    diag += j.linear.dot(ml) + j.angular.dot(ma);
+                    jm[s] = (ml, ma);
+                }
+                // Two slots on the same body add their cross terms.
+                if local[0] != NONE && local[0] == local[1] {
+                    diag += 2.0
+                        * (row.jacobian[0].linear.dot(jm[1].0)
+                            + row.jacobian[0].angular.dot(jm[1].1));
+                }
+                // Only a row's own softness is a physical spring; the world's ε regularises the
+                // exact path's matrix and is not needed here (see the module docs).
+                let eps = row.softness.unwrap_or(0.0);
+                let gamma = row.gamma.unwrap_or(params.gamma);
+                let mut flags = 0u8;
+                let (rate, extra) = if eps > 0.0 {
+                    let k = gamma / (eps * h * h);
+                    let d = (1.0 - gamma) / (eps * h);
+                    let hkd = hs * k + d;
+                    (hs * k / hkd / hs, 1.0 / (hs * hkd))
+                } else {
+                    flags |= HARD;
+                    ((1.0 - (1.0 - gamma).powf(1.0 / n_sub)) / hs, 0.0)
+                };
+                let (ms, is) = if flags & HARD != 0 {
+                    hard_softening(rate, hs)
+                } else {
+                    (1.0, 0.0)
+                };
+                self.mass_scale.push(ms);
+                self.impulse_scale.push(is);
+                if row.bounce {
+                    flags |= BOUNCE;
+                }
+                if row.friction.is_none() && row.hi == Real::INFINITY && row.lo > Real::NEG_INFINITY
+                {
+                    flags |= UNILATERAL;
+                }
+                self.row_global.push(g);
+                self.row_a.push(local[0]);
+                self.row_b.push(local[1]);
+                self.ja_lin.push(row.jacobian[0].linear);
+                self.ja_ang.push(row.jacobian[0].angular);
+                self.jb_lin.push(row.jacobian[1].linear);
+                self.jb_ang.push(row.jacobian[1].angular);
+                self.ma_lin.push(jm[0].0);
+                self.ma_ang.push(jm[0].1);
+                self.mb_lin.push(jm[1].0);
+                self.mb_ang.push(jm[1].1);
+                self.diag.push(diag);
+                self.xi0.push(row.xi);
+                // A bounce target waits for the post-pass; the substeps treat the contact as
+                // resting.
+                let c = if row.bounce { 0.0 } else { row.c };
+                self.target.push(c - kinematic);
+                self.bounce_target.push(row.c - kinematic);
+                self.lo.push(row.lo * hs);
+                self.hi.push(row.hi * hs);
+                match row.friction {
+                    Some(f) => {
+                        self.link.push(base + u32::from(f.normal_row));
+                        self.mu.push(f.mu);
+                    }
+                    None => {
+                        self.link.push(NONE);
+                        self.mu.push(0.0);
+                    }
+                }
+                self.extra.push(extra + row.slip / hs);
+                self.rate.push(rate);
+                self.flags.push(flags);
+                let w = warm[g as usize];
+                self.impulse.push(if w.is_finite() { w * hs } else { 0.0 });
+                self.total.push(0.0);
+                self.in_block.push(false);
+                self.pair_of.push(NONE);
+            }
+            self.make_block(base as usize, rows, blk);
+            self.make_pairs(base as usize, rows);
+        }
+        // Warm-start impulses must respect their bounds.
+        for i in 0..self.row_global.len() {
+            let (lo, hi) = self.bounds(i);
+            self.impulse[i] = self.impulse[i].clamp(lo, hi);
+        }
+    }
+
+    /// Groups a constraint's unbounded rows (2 to 6 of them) into one block and stores the
+    /// inverse of its `J M⁻¹ Jᵀ + E`, so that a joint's rows are solved together: per-row
+    /// Gauss-Seidel converges slowly when rows share a badly conditioned body (a small sphere at
+    /// the end of a long pendulum).
+    pub(super) fn make_block(&mut self, base: usize, rows: &[Row], blk: &ConstraintBlock) {
+        let mut idx = [0usize; MAX_BLOCK];
+        let mut m = 0;
+        for i in base..self.row_global.len() {
+            let row = &rows[self.row_global[i] as usize];
+            let equality =
+                row.lo == Real::NEG_INFINITY && row.hi == Real::INFINITY && row.friction.is_none();
+            if equality {
+                if m == MAX_BLOCK {
+                    return;
+                }
+                idx[m] = i;
+                m += 1;
+            }
+        }
+        if m < 2 || (blk.bodies[0].is_some() && blk.bodies[0] == blk.bodies[1]) {
+            return;
+        }
+        let mut k = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
+        for a in 0..m {
+            for b in 0..m {
+                let (i, j) = (idx[a], idx[b]);
+                let mut s = self.ja_lin[i].dot(self.ma_lin[j])
+                    + self.ja_ang[i].dot(self.ma_ang[j])
+                    + self.jb_lin[i].dot(self.mb_lin[j])
+                    + self.jb_ang[i].dot(self.mb_ang[j]);
+                if a == b {
+                    s += self.extra[i];
+                }
+                k[a][b] = wide(s);
+            }
+        }
+        let Some(inv) = invert(&mut k, m) else { return };
+        self.eq_start.push(self.eq_rows.len() as u32);
+        self.eq_len.push(m as u32);
+        self.eq_kstart.push(self.eq_kinv.len() as u32);
+        for a in 0..m {
+            self.eq_rows.push(idx[a] as u32);
+            self.in_block[idx[a]] = true;
+            for b in 0..m {
+                self.eq_kinv.push(inv[a][b] as Real);
+            }
+        }
+    }
+
+    /// Pairs consecutive bounded tangential rows of one constraint (Coulomb rows on the same
+    /// normal row, or symmetric box bounds) and stores the inverse of their 2×2 `K + E`.
+    pub(super) fn make_pairs(&mut self, base: usize, rows: &[Row]) {
+        let end = self.row_global.len();
+        let mut i = base;
+        while i + 1 < end {
+            let j = i + 1;
+            let (ri, rj) = (
+                &rows[self.row_global[i] as usize],
+                &rows[self.row_global[j] as usize],
+            );
+            let free = !self.in_block[i] && !self.in_block[j];
+            let coulomb = matches!((ri.friction, rj.friction), (Some(a), Some(b)) if a.normal_row == b.normal_row);
+            let boxed = ri.friction.is_none()
+                && rj.friction.is_none()
+                && ri.hi.is_finite()
+                && rj.hi.is_finite()
+                && ri.lo == -ri.hi
+                && rj.lo == -rj.hi;
+            if !(free && (coulomb || boxed)) {
+                i += 1;
+                continue;
+            }
+            let dot = |a: usize, b: usize| {
+                self.ja_lin[a].dot(self.ma_lin[b])
+                    + self.ja_ang[a].dot(self.ma_ang[b])
+                    + self.jb_lin[a].dot(self.mb_lin[b])
+                    + self.jb_ang[a].dot(self.mb_ang[b])
+            };
+            let (k11, k12, k22) = (
+                dot(i, i) + self.extra[i],
+                dot(i, j),
+                dot(j, j) + self.extra[j],
+            );
+            let det = k11 * k22 - k12 * k12;
+            if det.is_nan() || det <= 1.0e-9 * k11 * k22 {
+                i += 1;
+                continue;
+            }
+            self.pair_of[i] = self.pair_kinv.len() as u32;
+            self.pair_second.push(j as u32);
+            self.pair_kinv
+                .push([k22 / det, -k12 / det, -k12 / det, k11 / det]);
+            self.in_block[j] = true;
+            i += 2;
+        }
+    }
+}
+
+/// Damping ratio of the implicit softening of hard rows in the biased solve.
+const HARD_DAMPING_RATIO: Real = 10.0;
+
+/// Softening of a hard row in the biased solve (the soft step of Box2D v3, after Catto): the
+/// row behaves there as a heavily damped spring, mass-normalised, whose bias rate equals the
+/// γ-derived `rate`; this damps the Gauss-Seidel iteration of stiff stacks. The relax solve is
+/// rigid. Returns (mass scale, impulse scale).
+pub(super) fn hard_softening(rate: Real, hs: Real) -> (Real, Real) {
+    if rate <= 0.0 {
+        return (1.0, 0.0);
+    }
+    // Bias rate of a spring (ω, ζ) at step hs is ω/(2ζ + hs·ω); solve it for ω.
+    let hr = (hs * rate).min(0.9);
+    let omega = 2.0 * HARD_DAMPING_RATIO * rate / (1.0 - hr);
+    let a1 = 2.0 * HARD_DAMPING_RATIO + hs * omega;
+    let a2 = hs * omega * a1;
+    (a2 / (1.0 + a2), 1.0 / (1.0 + a2))
+}
+
+/// Inverse of the leading `m×m` block of `k` by Gauss-Jordan elimination with partial pivoting;
+/// `None` if it is singular.
+#[allow(clippy::needless_range_loop)]
+fn invert(
+    k: &mut [[f64; MAX_BLOCK]; MAX_BLOCK],
+    m: usize,
+) -> Option<[[f64; MAX_BLOCK]; MAX_BLOCK]> {
+    let mut inv = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
+    for (i, row) in inv.iter_mut().enumerate().take(m) {
+        row[i] = 1.0;
+    }
+    let scale = (0..m).fold(0.0f64, |s, i| s.max(k[i][i].abs()));
+    for col in 0..m {
+        let pivot = (col..m).max_by(|&a, &b| k[a][col].abs().total_cmp(&k[b][col].abs()))?;
+        if k[pivot][col].abs().is_nan() || k[pivot][col].abs() <= 1.0e-12 * scale {
+            return None;
+        }
+        k.swap(col, pivot);
+        inv.swap(col, pivot);
+        let p = k[col][col];
+        for j in 0..m {
+            k[col][j] /= p;
+            inv[col][j] /= p;
+        }
+        for r in 0..m {
+            if r != col {
+                let f = k[r][col];
+                if f != 0.0 {
+                    for j in 0..m {
+                        k[r][j] -= f * k[col][j];
+                        inv[r][j] -= f * inv[col][j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
+}

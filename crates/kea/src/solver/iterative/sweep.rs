@@ -1,0 +1,195 @@
+//! The Gauss-Seidel sweeps of the iterative path: per row, per equality block and per friction
+//! pair, with the soft and hard row rules of the module docs.
+
+use super::{IterativeWorkspace, HARD, MAX_BLOCK, NONE, UNILATERAL};
+use crate::math::Real;
+
+impl IterativeWorkspace {
+    /// Solves friction pair `p` starting at row `i`.
+    pub(super) fn solve_pair(
+        &mut self,
+        p: usize,
+        i: usize,
+        hs: Real,
+        use_bias: bool,
+        max_speed: Real,
+    ) {
+        let j = self.pair_second[p] as usize;
+        let mut r = [0.0 as Real; 2];
+        for (k, row) in [i, j].into_iter().enumerate() {
+            let soft_relax = !use_bias && self.flags[row] & HARD == 0;
+            let (jv, xi) = self.jv_and_error(row, soft_relax);
+            let bias = self.bias(row, xi, hs, use_bias, max_speed);
+            r[k] = self.target[row] - bias - jv - self.extra[row] * self.impulse[row];
+        }
+        let kinv = self.pair_kinv[p];
+        let (msi, isi) = self.scales(i, use_bias);
+        let (msj, isj) = self.scales(j, use_bias);
+        let mut new = [
+            self.impulse[i] + msi * (kinv[0] * r[0] + kinv[1] * r[1]) - isi * self.impulse[i],
+            self.impulse[j] + msj * (kinv[2] * r[0] + kinv[3] * r[1]) - isj * self.impulse[j],
+        ];
+        // Each direction within its own bounds: the exact path's friction model (a pyramid,
+        // with the primary direction along the sliding velocity), so the two paths agree.
+        for (k, row) in [i, j].into_iter().enumerate() {
+            let (lo, hi) = self.bounds(row);
+            new[k] = new[k].clamp(lo, hi);
+        }
+        for (k, row) in [i, j].into_iter().enumerate() {
+            let dp = new[k] - self.impulse[row];
+            self.impulse[row] = new[k];
+            if dp != 0.0 {
+                self.apply(row, dp);
+            }
+        }
+    }
+
+    /// Mass and impulse scales of row i in this pass: a hard row is softened in the biased
+    /// solve only, rigid in the relax.
+    #[inline]
+    pub(super) fn scales(&self, i: usize, use_bias: bool) -> (Real, Real) {
+        if use_bias && self.flags[i] & HARD != 0 {
+            (self.mass_scale[i], self.impulse_scale[i])
+        } else {
+            (1.0, 0.0)
+        }
+    }
+
+    #[inline]
+    pub(super) fn bounds(&self, i: usize) -> (Real, Real) {
+        let l = self.link[i];
+        if l == NONE {
+            (self.lo[i], self.hi[i])
+        } else {
+            let b = self.mu[i] * self.impulse[l as usize].max(0.0);
+            (-b, b)
+        }
+    }
+
+    pub(super) fn apply(&mut self, i: usize, dp: Real) {
+        let (a, b) = (self.row_a[i], self.row_b[i]);
+        if a != NONE {
+            self.v[a as usize] += self.ma_lin[i] * dp;
+            self.w[a as usize] += self.ma_ang[i] * dp;
+        }
+        if b != NONE {
+            self.v[b as usize] += self.mb_lin[i] * dp;
+            self.w[b as usize] += self.mb_ang[i] * dp;
+        }
+    }
+
+    pub(super) fn warm_start(&mut self) {
+        for i in 0..self.row_global.len() {
+            let p = self.impulse[i];
+            if p != 0.0 {
+                self.apply(i, p);
+            }
+        }
+    }
+
+    /// `J v` and the tracked error of row i; `substep_start` takes the error at the start of
+    /// the substep instead of now.
+    #[inline]
+    pub(super) fn jv_and_error(&self, i: usize, substep_start: bool) -> (Real, Real) {
+        let (dx, dth) = if substep_start {
+            (&self.dx_sub, &self.dtheta_sub)
+        } else {
+            (&self.dx, &self.dtheta)
+        };
+        let (a, b) = (self.row_a[i], self.row_b[i]);
+        let mut jv = 0.0;
+        let mut xi = self.xi0[i];
+        if a != NONE {
+            let a = a as usize;
+            jv += self.ja_lin[i].dot(self.v[a]) + self.ja_ang[i].dot(self.w[a]);
+            xi += self.ja_lin[i].dot(dx[a]) + self.ja_ang[i].dot(dth[a]);
+        }
+        if b != NONE {
+            let b = b as usize;
+            jv += self.jb_lin[i].dot(self.v[b]) + self.jb_ang[i].dot(self.w[b]);
+            xi += self.jb_lin[i].dot(dx[b]) + self.jb_ang[i].dot(dth[b]);
+        }
+        (jv, xi)
+    }
+
+    /// The velocity bias of row i for error `xi` (see the module docs).
+    #[inline]
+    pub(super) fn bias(
+        &self,
+        i: usize,
+        xi: Real,
+        hs: Real,
+        use_bias: bool,
+        max_speed: Real,
+    ) -> Real {
+        let flags = self.flags[i];
+        let unilateral = flags & UNILATERAL != 0;
+        if unilateral && xi > 0.0 {
+            // A gap may be closed within the substep, never more.
+            xi / hs
+        } else if flags & HARD == 0 {
+            // A soft row is a physical spring: its full force, always.
+            self.rate[i] * xi
+        } else if !use_bias {
+            0.0
+        } else if unilateral {
+            (self.rate[i] * xi).max(-max_speed)
+        } else {
+            self.rate[i] * xi
+        }
+    }
+
+    /// One sweep: the equality blocks, then every other row, each in constraint order.
+    pub(super) fn sweep(&mut self, hs: Real, use_bias: bool, max_speed: Real) {
+        for blk in 0..self.eq_start.len() {
+            let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
+            let mut r = [0.0 as Real; MAX_BLOCK];
+            for a in 0..m {
+                let i = self.eq_rows[start + a] as usize;
+                let soft_relax = !use_bias && self.flags[i] & HARD == 0;
+                let (jv, xi) = self.jv_and_error(i, soft_relax);
+                let bias = self.bias(i, xi, hs, use_bias, max_speed);
+                r[a] = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
+            }
+            let mut dp = [0.0 as Real; MAX_BLOCK];
+            for a in 0..m {
+                let kinv = &self.eq_kinv[self.eq_kstart[blk] as usize + a * m..];
+                dp[a] = (0..m).map(|b| kinv[b] * r[b]).sum();
+            }
+            for a in 0..m {
+                let i = self.eq_rows[start + a] as usize;
+                let (ms, is) = self.scales(i, use_bias);
+                let d = ms * dp[a] - is * self.impulse[i];
+                self.impulse[i] += d;
+                self.apply(i, d);
+            }
+        }
+        for i in 0..self.row_global.len() {
+            if self.in_block[i] {
+                continue;
+            }
+            if self.pair_of[i] != NONE {
+                self.solve_pair(self.pair_of[i] as usize, i, hs, use_bias, max_speed);
+                continue;
+            }
+            let soft_relax = !use_bias && self.flags[i] & HARD == 0;
+            let (jv, xi) = self.jv_and_error(i, soft_relax);
+            let bias = self.bias(i, xi, hs, use_bias, max_speed);
+            let e = self.extra[i];
+            let denom = self.diag[i] + e;
+            if denom <= 0.0 {
+                continue;
+            }
+            let (ms, is) = self.scales(i, use_bias);
+            let dp = ms * (self.target[i] - bias - jv - e * self.impulse[i]) / denom
+                - is * self.impulse[i];
+            let (lo, hi) = self.bounds(i);
+            let new = (self.impulse[i] + dp).clamp(lo, hi);
+            let dp = new - self.impulse[i];
+            self.impulse[i] = new;
+            if dp != 0.0 {
+                self.apply(i, dp);
+            }
+        }
+    }
+}
