@@ -32,8 +32,9 @@ pub mod world;
 
 pub use body::{inertia, Body, BodyDef};
 pub use constraint::{
-    BallJoint, Contact, ContactParams, ContactType, CustomConstraint, FrictionModel, Jacobian, Row,
-    RowBody, RowContext, RowWriter, Softness,
+    BallJoint, Contact, ContactParams, ContactType, CustomConstraint, FixedJoint, FrictionModel,
+    Hinge, Jacobian, Limit, LinearJoint, Motor, Prismatic, Row, RowBody, RowContext, RowWriter,
+    SingleLimit, Softness, UniversalJoint,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};

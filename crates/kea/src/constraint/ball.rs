@@ -7,7 +7,7 @@
 //! The λ of the three rows are the world components of the force on body 1 at the anchor.
 //! Both lever arms are taken to the anchors' midpoint, so the force pair has no net moment.
 
-use super::{Jacobian, Row, RowContext, RowWriter};
+use super::{Jacobian, Row, RowBody, RowContext, RowWriter};
 use crate::math::Vec3;
 
 /// A ball-and-socket joint: a point of body 1 held at a point of body 2 (or of the world).
@@ -28,20 +28,7 @@ impl BallJoint {
         let [b1, b2] = &ctx.bodies;
         let a1 = b1.point_to_world(self.local_anchor1);
         let a2 = b2.point_to_world(self.local_anchor2);
-        // Both bodies are pushed at the same point, the anchors' midpoint: the joint's force on
-        // the pair then has no net moment even while the anchors are apart, so the pair's
-        // angular momentum is kept (a first-order change of the Jacobian, of the size of the
-        // gap, that the error term corrects anyway). A joint to the world, or one torn far
-        // apart, keeps its own anchor.
-        let (r1, r2) = (a1 - b1.position, a2 - b2.position);
-        let gap = (a1 - a2).length();
-        let reach = r1.length().max(r2.length());
-        if b2.dynamic && gap <= 0.1 * reach {
-            let mid = 0.5 * (a1 + a2);
-            write_point_rows(mid - b1.position, mid - b2.position, a1 - a2, out);
-        } else {
-            write_point_rows(r1, r2, a1 - a2, out);
-        }
+        write_anchor_rows(b1, b2, a1, a2, out);
     }
 
     /// The joint's anchor on body 1 and on body 2, world frame.
@@ -51,6 +38,24 @@ impl BallJoint {
             ctx.bodies[0].point_to_world(self.local_anchor1),
             ctx.bodies[1].point_to_world(self.local_anchor2),
         )
+    }
+}
+
+/// The three rows of any joint that holds anchor `a1` of body 1 on anchor `a2` of body 2.
+///
+/// Both bodies are pushed at the same point, the anchors' midpoint: the joint's force on the
+/// pair then has no net moment even while the anchors are apart, so the pair's angular momentum
+/// is kept (a first-order change of the Jacobian, of the size of the gap, that the error term
+/// corrects anyway). A joint to the world, or one torn far apart, keeps its own anchors.
+pub fn write_anchor_rows(b1: &RowBody, b2: &RowBody, a1: Vec3, a2: Vec3, out: &mut RowWriter<'_>) {
+    let (r1, r2) = (a1 - b1.position, a2 - b2.position);
+    let gap = (a1 - a2).length();
+    let reach = r1.length().max(r2.length());
+    if b2.dynamic && gap <= 0.1 * reach {
+        let mid = 0.5 * (a1 + a2);
+        write_point_rows(mid - b1.position, mid - b2.position, a1 - a2, out);
+    } else {
+        write_point_rows(r1, r2, a1 - a2, out);
     }
 }
 

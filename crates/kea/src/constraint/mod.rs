@@ -6,11 +6,24 @@
 
 pub mod ball;
 pub mod contact;
+pub mod fixed;
+pub mod hinge;
+pub mod joint;
+pub mod limit;
+pub mod linear;
+pub mod prismatic;
 pub mod row;
+pub mod universal;
 
 pub use ball::BallJoint;
 pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
+pub use fixed::FixedJoint;
+pub use hinge::Hinge;
+pub use limit::{Limit, Motor, SingleLimit};
+pub use linear::LinearJoint;
+pub use prismatic::Prismatic;
 pub use row::{FrictionLink, Jacobian, Row, RowWriter, Softness};
+pub use universal::UniversalJoint;
 
 use crate::math::{Quat, Real, Vec3};
 

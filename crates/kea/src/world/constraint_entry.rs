@@ -1,6 +1,9 @@
 //! How the world stores a constraint: its kind, bodies, enabled flag and last results.
 
-use crate::constraint::{BallJoint, Contact, CustomConstraint, RowContext, RowWriter};
+use crate::constraint::{
+    BallJoint, Contact, CustomConstraint, FixedJoint, Hinge, LinearJoint, Prismatic, RowContext,
+    RowWriter, UniversalJoint,
+};
 use crate::handle::BodyHandle;
 use crate::solver::Reaction;
 
@@ -9,6 +12,11 @@ use crate::solver::Reaction;
 pub(crate) enum ConstraintKind {
     Contact(Contact),
     Ball(BallJoint),
+    Hinge(Hinge),
+    Prismatic(Prismatic),
+    Fixed(FixedJoint),
+    Universal(UniversalJoint),
+    Linear(LinearJoint),
     Custom(Box<dyn CustomConstraint>),
 }
 
@@ -17,6 +25,12 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Contact(_) => "contact",
             ConstraintKind::Ball(_) => "ball joint",
+            ConstraintKind::Hinge(_) => "hinge",
+            ConstraintKind::Prismatic(_) => "prismatic joint",
+            ConstraintKind::Fixed(_) => "fixed joint",
+            ConstraintKind::Universal(_) => "universal joint",
+            ConstraintKind::Linear(j) if j.on_line => "linear2 joint",
+            ConstraintKind::Linear(_) => "linear1 joint",
             ConstraintKind::Custom(c) => c.name(),
         }
     }
@@ -25,7 +39,29 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Contact(c) => c.write_rows(ctx, out),
             ConstraintKind::Ball(j) => j.write_rows(ctx, out),
+            ConstraintKind::Hinge(j) => j.write_rows(ctx, out),
+            ConstraintKind::Prismatic(j) => j.write_rows(ctx, out),
+            ConstraintKind::Fixed(j) => j.write_rows(ctx, out),
+            ConstraintKind::Universal(j) => j.write_rows(ctx, out),
+            ConstraintKind::Linear(j) => j.write_rows(ctx, out),
             ConstraintKind::Custom(c) => c.write_rows(ctx, out),
+        }
+    }
+
+    /// Whether the constraint keeps state that a step must update (a tracked coordinate).
+    pub(crate) fn tracks_state(&self) -> bool {
+        matches!(
+            self,
+            ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
+        )
+    }
+
+    /// Records what a successful step did, at the state after it.
+    pub(crate) fn commit(&mut self, ctx: &RowContext) {
+        match self {
+            ConstraintKind::Hinge(j) => j.commit(ctx),
+            ConstraintKind::Prismatic(j) => j.commit(ctx),
+            _ => {}
         }
     }
 }

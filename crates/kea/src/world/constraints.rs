@@ -2,8 +2,11 @@
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
-use crate::constraint::{BallJoint, Contact, CustomConstraint};
-use crate::error::{check_vec3, KeaError, KeaResult};
+use crate::constraint::{
+    BallJoint, Contact, CustomConstraint, FixedJoint, Hinge, Limit, LinearJoint, Prismatic,
+    RowBody, RowContext, UniversalJoint,
+};
+use crate::error::{check_unit, check_vec3, KeaError, KeaResult};
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::Reaction;
@@ -66,6 +69,154 @@ impl World {
             local_anchor2,
         };
         self.insert_constraint(ConstraintKind::Ball(joint), body1, body2)
+    }
+
+    /// The row-writing view of two bodies at their current poses (for building joint frames).
+    fn pair_context(&self, body1: BodyHandle, body2: Option<BodyHandle>) -> KeaResult<RowContext> {
+        let view = |h: BodyHandle| -> KeaResult<RowBody> {
+            let b = self.bodies.get(h)?;
+            Ok(RowBody::fixed(b.position(), b.orientation()))
+        };
+        Ok(RowContext {
+            bodies: [view(body1)?, body2.map_or(Ok(RowBody::STATIC), view)?],
+            dt: 1.0,
+            epsilon: self.epsilon,
+            gamma: self.gamma,
+        })
+    }
+
+    /// Creates a hinge at a world point about a world unit axis (the guide's `MdtHingeCreate`
+    /// + `SetPosition` + `SetAxis`); its angle starts at 0.
+    pub fn create_hinge(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis = check_unit("axis", axis)?;
+        self.check_pair(body1, body2)?;
+        let joint = Hinge::new(&self.pair_context(body1, body2)?, anchor, axis);
+        self.insert_constraint(ConstraintKind::Hinge(joint), body1, body2)
+    }
+
+    /// Creates a prismatic joint (slider) through a world point along a world unit axis; its
+    /// distance starts at 0.
+    pub fn create_prismatic(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis = check_unit("axis", axis)?;
+        self.check_pair(body1, body2)?;
+        let joint = Prismatic::new(&self.pair_context(body1, body2)?, anchor, axis);
+        self.insert_constraint(ConstraintKind::Prismatic(joint), body1, body2)
+    }
+
+    /// Creates a fixed joint (weld) at a world point, keeping the current relative orientation.
+    pub fn create_fixed_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        self.check_pair(body1, body2)?;
+        let joint = FixedJoint::new(&self.pair_context(body1, body2)?, anchor);
+        self.insert_constraint(ConstraintKind::Fixed(joint), body1, body2)
+    }
+
+    /// Creates a universal joint at a world point with perpendicular world unit axes
+    /// `axis1` (body 1) and `axis2` (body 2).
+    pub fn create_universal_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis1: Vec3,
+        axis2: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis1 = check_unit("axis1", axis1)?;
+        let axis2 = check_unit("axis2", axis2)?;
+        if axis1.dot(axis2).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "axis2",
+                value: format!("{axis2}"),
+                expected: "must be perpendicular to axis1",
+            });
+        }
+        self.check_pair(body1, body2)?;
+        let joint = UniversalJoint::new(&self.pair_context(body1, body2)?, anchor, axis1, axis2);
+        self.insert_constraint(ConstraintKind::Universal(joint), body1, body2)
+    }
+
+    /// Creates a Linear1 joint: the world point `anchor` of body 1 stays on the plane through it
+    /// with world unit `normal`, fixed in body 2.
+    pub fn create_linear1(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        normal: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let normal = check_unit("normal", normal)?;
+        self.check_pair(body1, body2)?;
+        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, normal, false);
+        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+    }
+
+    /// Creates a Linear2 (cylindrical) joint: the world point `anchor` of body 1 stays on the
+    /// line through it with world unit `direction`, fixed in body 2.
+    pub fn create_linear2(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        direction: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let direction = check_unit("direction", direction)?;
+        self.check_pair(body1, body2)?;
+        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, direction, true);
+        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+    }
+
+    /// A hinge, read-only.
+    pub fn hinge(&self, h: ConstraintHandle) -> KeaResult<&Hinge> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Hinge(j) => Ok(j),
+            other => Err(wrong_kind(h, "hinge", other.name())),
+        }
+    }
+
+    /// A hinge's limits and motor, to change.
+    pub fn hinge_limit_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut Limit> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Hinge(j) => Ok(j.limit_mut()),
+            other => Err(wrong_kind(h, "hinge", other.name())),
+        }
+    }
+
+    /// A prismatic joint, read-only.
+    pub fn prismatic(&self, h: ConstraintHandle) -> KeaResult<&Prismatic> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Prismatic(j) => Ok(j),
+            other => Err(wrong_kind(h, "prismatic joint", other.name())),
+        }
+    }
+
+    /// A prismatic joint's limits and motor, to change.
+    pub fn prismatic_limit_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut Limit> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Prismatic(j) => Ok(j.limit_mut()),
+            other => Err(wrong_kind(h, "prismatic joint", other.name())),
+        }
     }
 
     /// Adds a user-written constraint (see [`CustomConstraint`]).

@@ -109,6 +109,7 @@ impl World {
         } else {
             0.0
         };
+        self.commit_joints(dt);
         let time_projection = t_proj.elapsed();
         if auto_disable {
             self.disable_resting_islands(dt);
@@ -292,6 +293,30 @@ impl World {
             }
         }
         first.unwrap_or(0.0)
+    }
+
+    /// Lets joints that track a coordinate (hinge angle, slider distance) record it at the state
+    /// the step reached.
+    fn commit_joints(&mut self, dt: Real) {
+        for k in 0..self.scratch.blocks.len() {
+            let slot = self.scratch.block_constraint[k] as usize;
+            let Some(entry) = self.constraints.at(slot) else {
+                continue;
+            };
+            if !entry.kind.tracks_state() {
+                continue;
+            }
+            let slots = entry.bodies.map(|b| b.map(|h| h.index()));
+            let ctx = RowContext {
+                bodies: [self.row_body(slots[0], dt).0, self.row_body(slots[1], dt).0],
+                dt,
+                epsilon: self.epsilon,
+                gamma: self.gamma,
+            };
+            if let Some(entry) = self.constraints.at_mut(slot) {
+                entry.kind.commit(&ctx);
+            }
+        }
     }
 
     /// Fills λ with each constraint's forces from the previous step (same constraint, same

@@ -1,0 +1,281 @@
+//! Limits and motors on a joint's free coordinate (the guide's `MdtLimit`, `MdtSingleLimit`,
+//! `MdtBclLimit`): a hinge angle or a slider distance.
+//!
+//! Each part is its own row on the coordinate's Jacobian `J` (`J·v = ṗ`), so driving away from a
+//! stop never jumps:
+//!
+//! * **motor**: target velocity `c = ṗ_desired`, force bounds `±F_max`, velocity-only (γ = 0)
+//!   and nearly rigid; desired velocity 0 is a brake (the guide's disc brake);
+//! * **lower stop** `p ≥ lo`: `J`, `xi = p − lo`, `λ ≥ 0`; **upper stop** `p ≤ hi`: `−J`,
+//!   `xi = hi − p`, `λ ≥ 0`. A stop row is written once the coordinate is within one step's
+//!   travel of the stop (speculatively, like a contact, so a fast joint cannot step through it).
+//!
+//! A stop is **hard** when its stiffness is above its damping threshold (the guide's rule): it
+//! is then rigid and bounces with its restitution. At or below the threshold it is **soft**: a
+//! spring of that stiffness and damping ([`crate::Softness::from_spring`]), restitution ignored,
+//! so it settles at `F/k` and oscillates at `√(k/m)` whatever the step.
+
+use super::{Jacobian, Row, RowWriter, Softness};
+use crate::error::{check_finite, check_non_negative, KeaError, KeaResult};
+use crate::math::Real;
+
+/// Softness of motor and hard-stop rows: rigid for any practical purpose, but regular when a
+/// motor and a stop act on the same coordinate.
+const RIGID: Real = 1.0e-10;
+/// Approach speed below which a hard stop does not bounce.
+const BOUNCE_MIN_SPEED: Real = 1.0e-3;
+
+/// One stop of a limit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SingleLimit {
+    /// Position of the stop (rad or m).
+    pub stop: Real,
+    /// Stiffness, N·m/rad or N/m (`INFINITY`: perfectly hard, the default).
+    pub stiffness: Real,
+    /// Damping of a soft stop, N·m·s/rad or N·s/m (≥ 0).
+    pub damping: Real,
+    /// Restitution of a hard stop, in [0, 1] normally (rebound = e · approach speed).
+    pub restitution: Real,
+    /// The guide's damping threshold: a stop stiffer than this is hard (restitution used), one at
+    /// or below it soft (stiffness and damping used). Default `INFINITY`: only an infinitely
+    /// stiff stop is hard.
+    pub damping_threshold: Real,
+}
+
+impl Default for SingleLimit {
+    fn default() -> Self {
+        Self {
+            stop: 0.0,
+            stiffness: Real::INFINITY,
+            damping: 0.0,
+            restitution: 0.0,
+            damping_threshold: Real::INFINITY,
+        }
+    }
+}
+
+impl SingleLimit {
+    /// A hard stop at `stop` with restitution `e`.
+    #[must_use]
+    pub fn hard(stop: Real, restitution: Real) -> Self {
+        Self {
+            stop,
+            restitution,
+            ..Self::default()
+        }
+    }
+    /// A soft stop at `stop`: a spring of stiffness `k` and damping `d`.
+    #[must_use]
+    pub fn soft(stop: Real, k: Real, d: Real) -> Self {
+        Self {
+            stop,
+            stiffness: k,
+            damping: d,
+            ..Self::default()
+        }
+    }
+    /// Whether the stop is hard (stiffness above the damping threshold).
+    #[must_use]
+    pub fn is_hard(&self) -> bool {
+        self.stiffness > self.damping_threshold || self.stiffness == Real::INFINITY
+    }
+    fn validate(&self, which: &'static str) -> KeaResult<()> {
+        let arg = |f: &'static str| match (which, f) {
+            ("lower", "stop") => "lower.stop",
+            ("lower", "stiffness") => "lower.stiffness",
+            ("lower", "damping") => "lower.damping",
+            ("lower", "restitution") => "lower.restitution",
+            ("lower", _) => "lower.damping_threshold",
+            (_, "stop") => "upper.stop",
+            (_, "stiffness") => "upper.stiffness",
+            (_, "damping") => "upper.damping",
+            (_, "restitution") => "upper.restitution",
+            _ => "upper.damping_threshold",
+        };
+        check_finite(arg("stop"), self.stop)?;
+        if self.stiffness.is_nan() || self.stiffness <= 0.0 {
+            return Err(KeaError::OutOfRange {
+                arg: arg("stiffness"),
+                value: format!("{}", self.stiffness),
+                expected: "must be > 0 (INFINITY for a hard stop)",
+            });
+        }
+        check_non_negative(arg("damping"), self.damping)?;
+        check_non_negative(arg("restitution"), self.restitution)?;
+        if self.damping_threshold.is_nan() || self.damping_threshold < 0.0 {
+            return Err(KeaError::OutOfRange {
+                arg: arg("damping_threshold"),
+                value: format!("{}", self.damping_threshold),
+                expected: "must be >= 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A force-limited motor (the guide's limited-force motor).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Motor {
+    /// Desired velocity of the coordinate, rad/s or m/s (0: a brake).
+    pub desired_velocity: Real,
+    /// Largest force or torque the motor may apply, N or N·m (≥ 0).
+    pub max_force: Real,
+}
+
+/// Limits and motor of one coordinate, with the read-outs of the last step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Limit {
+    limited: bool,
+    lower: SingleLimit,
+    upper: SingleLimit,
+    motor: Option<Motor>,
+    position: Real,
+    velocity: Real,
+}
+
+impl Limit {
+    /// Sets both stops and turns the limits on. Errors if `lower.stop > upper.stop` or a field
+    /// is out of range; nothing changes then.
+    pub fn set_limits(&mut self, lower: SingleLimit, upper: SingleLimit) -> KeaResult<()> {
+        lower.validate("lower")?;
+        upper.validate("upper")?;
+        if lower.stop > upper.stop {
+            return Err(KeaError::OutOfRange {
+                arg: "lower.stop",
+                value: format!("{} > upper.stop {}", lower.stop, upper.stop),
+                expected: "lower.stop must be <= upper.stop",
+            });
+        }
+        self.lower = lower;
+        self.upper = upper;
+        self.limited = true;
+        Ok(())
+    }
+    /// Turns the limits off (the stops are kept).
+    pub fn clear_limits(&mut self) {
+        self.limited = false;
+    }
+    /// Sets a force-limited motor (the guide's `MdtLimitSetLimitedForceMotor`).
+    pub fn set_motor(&mut self, desired_velocity: Real, max_force: Real) -> KeaResult<()> {
+        check_finite("desired_velocity", desired_velocity)?;
+        check_non_negative("max_force", max_force)?;
+        self.motor = Some(Motor {
+            desired_velocity,
+            max_force,
+        });
+        Ok(())
+    }
+    /// Turns the motor off.
+    pub fn clear_motor(&mut self) {
+        self.motor = None;
+    }
+    /// Whether the stops are active.
+    #[must_use]
+    pub fn is_limited(&self) -> bool {
+        self.limited
+    }
+    /// The lower stop.
+    #[must_use]
+    pub fn lower(&self) -> &SingleLimit {
+        &self.lower
+    }
+    /// The upper stop.
+    #[must_use]
+    pub fn upper(&self) -> &SingleLimit {
+        &self.upper
+    }
+    /// The motor, if on.
+    #[must_use]
+    pub fn motor(&self) -> Option<Motor> {
+        self.motor
+    }
+    /// The coordinate after the last step (rad or m).
+    #[must_use]
+    pub fn position(&self) -> Real {
+        self.position
+    }
+    /// Its rate after the last step (rad/s or m/s).
+    #[must_use]
+    pub fn velocity(&self) -> Real {
+        self.velocity
+    }
+    /// How far beyond a stop the coordinate is: positive beyond the upper stop, negative beyond
+    /// the lower, 0 between them or with limits off.
+    #[must_use]
+    pub fn overshoot(&self) -> Real {
+        if !self.limited {
+            0.0
+        } else if self.position > self.upper.stop {
+            self.position - self.upper.stop
+        } else if self.position < self.lower.stop {
+            self.position - self.lower.stop
+        } else {
+            0.0
+        }
+    }
+    /// Whether the coordinate is at (or beyond) a stop, within `tolerance`.
+    #[must_use]
+    pub fn is_at_limit(&self, tolerance: Real) -> bool {
+        self.limited
+            && (self.position >= self.upper.stop - tolerance
+                || self.position <= self.lower.stop + tolerance)
+    }
+
+    pub(crate) fn record(&mut self, position: Real, velocity: Real) {
+        self.position = position;
+        self.velocity = velocity;
+    }
+
+    /// Writes the motor and stop rows for coordinate `p` with rate `v` and Jacobian `j`.
+    pub fn write_rows(
+        &self,
+        p: Real,
+        v: Real,
+        j: [Jacobian; 2],
+        dt: Real,
+        out: &mut RowWriter<'_>,
+    ) {
+        if let Some(m) = self.motor {
+            let mut row = Row::new(j[0], j[1])
+                .with_target_velocity(m.desired_velocity)
+                .with_bounds(-m.max_force, m.max_force)
+                .with_gamma(0.0);
+            row.softness = Some(RIGID);
+            out.push(row);
+        }
+        if !self.limited {
+            return;
+        }
+        let neg = |j: Jacobian| Jacobian::new(-j.linear, -j.angular);
+        // Lower stop: the gap p − lo closes at −v; upper: hi − p closes at v.
+        for (stop, gap, closing, jac) in [
+            (&self.lower, p - self.lower.stop, -v, j),
+            (&self.upper, self.upper.stop - p, v, [neg(j[0]), neg(j[1])]),
+        ] {
+            if gap > closing.max(0.0) * dt * 1.5 + 1.0e-6 {
+                continue; // not reachable this step
+            }
+            if !stop.is_hard() && gap > 0.0 {
+                continue; // a spring stop pushes only once compressed
+            }
+            let mut row = Row::new(jac[0], jac[1])
+                .with_error(gap)
+                .with_bounds(0.0, Real::INFINITY);
+            if stop.is_hard() {
+                row.softness = Some(RIGID);
+                if gap > 0.0 {
+                    row.gamma = Some(1.0); // close the gap exactly, no more
+                }
+                if stop.restitution > 0.0 && closing > BOUNCE_MIN_SPEED && closing * dt >= gap {
+                    row.c = stop.restitution * closing;
+                    row.bounce = true;
+                    row.xi = 0.0;
+                    row.gamma = Some(0.0);
+                }
+            } else if let Some(s) = Softness::from_spring(stop.stiffness, stop.damping, dt) {
+                row = row.with_softness(s);
+            }
+            out.push(row);
+        }
+    }
+}
