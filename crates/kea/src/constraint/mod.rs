@@ -7,6 +7,7 @@
 pub mod ball;
 pub mod contact;
 pub mod fixed;
+pub mod fixed_path;
 pub mod hinge;
 pub mod joint;
 pub mod limit;
@@ -18,6 +19,7 @@ pub mod universal;
 pub use ball::BallJoint;
 pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
 pub use fixed::FixedJoint;
+pub use fixed_path::FixedPath;
 pub use hinge::Hinge;
 pub use limit::{Limit, Motor, SingleLimit};
 pub use linear::LinearJoint;

@@ -239,6 +239,20 @@ impl<'a> RowWriter<'a> {
         self.rows.push(row);
         (self.rows.len() - 1 - self.start) as u16
     }
+    /// Sets the target velocities (and, if given, γ) of three consecutive rows of the current
+    /// constraint, starting at its row `first` (used after a shared builder wrote them).
+    pub fn set_targets(&mut self, first: usize, c: [Real; 3], gamma: Option<Real>) {
+        let base = self.start + first;
+        for (k, ck) in c.into_iter().enumerate() {
+            if let Some(r) = self.rows.get_mut(base + k) {
+                r.c = ck;
+                if gamma.is_some() {
+                    r.gamma = gamma;
+                }
+            }
+        }
+    }
+
     /// Number of rows written for the current constraint.
     #[must_use]
     pub fn len(&self) -> usize {

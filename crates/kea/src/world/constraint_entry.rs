@@ -1,10 +1,11 @@
 //! How the world stores a constraint: its kind, bodies, enabled flag and last results.
 
 use crate::constraint::{
-    BallJoint, Contact, CustomConstraint, FixedJoint, Hinge, LinearJoint, Prismatic, RowContext,
-    RowWriter, UniversalJoint,
+    BallJoint, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, LinearJoint, Prismatic,
+    RowContext, RowWriter, UniversalJoint,
 };
 use crate::handle::BodyHandle;
+use crate::math::Real;
 use crate::solver::Reaction;
 
 /// The kinds of constraint a world holds.
@@ -17,6 +18,7 @@ pub(crate) enum ConstraintKind {
     Fixed(FixedJoint),
     Universal(UniversalJoint),
     Linear(LinearJoint),
+    Path(FixedPath),
     Custom(Box<dyn CustomConstraint>),
 }
 
@@ -31,6 +33,10 @@ impl ConstraintKind {
             ConstraintKind::Universal(_) => "universal joint",
             ConstraintKind::Linear(j) if j.on_line => "linear2 joint",
             ConstraintKind::Linear(_) => "linear1 joint",
+            ConstraintKind::Path(j) if j.orientation.is_some() => {
+                "fixed-path-fixed-orientation joint"
+            }
+            ConstraintKind::Path(_) => "fixed-path joint",
             ConstraintKind::Custom(c) => c.name(),
         }
     }
@@ -44,6 +50,7 @@ impl ConstraintKind {
             ConstraintKind::Fixed(j) => j.write_rows(ctx, out),
             ConstraintKind::Universal(j) => j.write_rows(ctx, out),
             ConstraintKind::Linear(j) => j.write_rows(ctx, out),
+            ConstraintKind::Path(j) => j.write_rows(ctx, out),
             ConstraintKind::Custom(c) => c.write_rows(ctx, out),
         }
     }
@@ -76,6 +83,11 @@ pub(crate) struct ConstraintEntry {
     pub(crate) last_rows: Option<(u32, u32)>,
     /// Force and torque on each body in the last step.
     pub(crate) reaction: [Reaction; 2],
+    /// Per-constraint γ, used by its rows that do not set their own.
+    pub(crate) gamma: Option<Real>,
+    /// Breaking thresholds on the reaction force and torque on body 1 (N, N·m).
+    pub(crate) break_force: Option<Real>,
+    pub(crate) break_torque: Option<Real>,
 }
 
 impl ConstraintEntry {
@@ -86,6 +98,9 @@ impl ConstraintEntry {
             enabled: true,
             last_rows: None,
             reaction: [Reaction::default(); 2],
+            gamma: None,
+            break_force: None,
+            break_torque: None,
         }
     }
 }

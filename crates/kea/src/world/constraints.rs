@@ -3,10 +3,10 @@
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
 use crate::constraint::{
-    BallJoint, Contact, CustomConstraint, FixedJoint, Hinge, Limit, LinearJoint, Prismatic,
-    RowBody, RowContext, UniversalJoint,
+    BallJoint, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, Limit, LinearJoint,
+    Prismatic, RowBody, RowContext, UniversalJoint,
 };
-use crate::error::{check_unit, check_vec3, KeaError, KeaResult};
+use crate::error::{check_finite, check_non_negative, check_unit, check_vec3, KeaError, KeaResult};
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::Reaction;
@@ -185,6 +185,114 @@ impl World {
         self.check_pair(body1, body2)?;
         let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, direction, true);
         self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+    }
+
+    /// Overrides γ for this constraint's rows (those that do not set their own), or restores the
+    /// world's with `None`.
+    pub fn set_constraint_gamma(
+        &mut self,
+        h: ConstraintHandle,
+        gamma: Option<Real>,
+    ) -> KeaResult<()> {
+        if let Some(g) = gamma {
+            check_finite("gamma", g)?;
+            if !(0.0..=1.0).contains(&g) {
+                return Err(KeaError::OutOfRange {
+                    arg: "gamma",
+                    value: format!("{g}"),
+                    expected: "must be in [0, 1]",
+                });
+            }
+        }
+        self.constraints.get_mut(h)?.gamma = gamma;
+        Ok(())
+    }
+
+    /// Makes a constraint breakable: when the force (N) or torque (N·m) it applies to body 1
+    /// passes a threshold in a step, it disables itself and the step reports it
+    /// ([`crate::StepStats::broken_joints`], [`World::broken_last_step`]). `None` removes a
+    /// threshold.
+    pub fn set_breakable(
+        &mut self,
+        h: ConstraintHandle,
+        max_force: Option<Real>,
+        max_torque: Option<Real>,
+    ) -> KeaResult<()> {
+        if let Some(f) = max_force {
+            check_non_negative("max_force", f)?;
+        }
+        if let Some(t) = max_torque {
+            check_non_negative("max_torque", t)?;
+        }
+        let e = self.constraints.get_mut(h)?;
+        e.break_force = max_force;
+        e.break_torque = max_torque;
+        Ok(())
+    }
+
+    /// A readable dump of a constraint: kind, bodies, state, parameters, last forces (the
+    /// guide's `Mdt*Log`).
+    pub fn constraint_log(&self, h: ConstraintHandle) -> KeaResult<String> {
+        let e = self.constraints.get(h)?;
+        Ok(format!(
+            "{} {:?}: bodies {:?}, {}, γ override {:?}, breaks at force {:?} / torque {:?}\n  λ last step {:?}\n  reaction on body 1 {:?}, on body 2 {:?}\n  {:#?}",
+            e.kind.name(),
+            h,
+            e.bodies,
+            if e.enabled { "enabled" } else { "disabled" },
+            e.gamma,
+            e.break_force,
+            e.break_torque,
+            self.constraint_lambdas(h)?,
+            e.reaction[0],
+            e.reaction[1],
+            e.kind
+        ))
+    }
+
+    /// Creates a fixed-path joint: the world point `anchor` of body 1 will follow a path set
+    /// with [`World::set_path`] (3 DOF removed); with `fixed_orientation`, the bodies' current
+    /// relative orientation is held too (the guide's fixed-path-fixed-orientation joint, 6 DOF).
+    pub fn create_fixed_path(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        fixed_orientation: bool,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        self.check_pair(body1, body2)?;
+        let joint = FixedPath::new(&self.pair_context(body1, body2)?, anchor, fixed_orientation);
+        self.insert_constraint(ConstraintKind::Path(joint), body1, body2)
+    }
+
+    /// Moves a fixed-path joint's path point to world `position`, moving at world `velocity`
+    /// (the guide's `MdtFixedPathSetPosition`/`SetVelocity`; give the velocity, or the point
+    /// lags a step behind a moving path).
+    pub fn set_path(
+        &mut self,
+        h: ConstraintHandle,
+        position: Vec3,
+        velocity: Vec3,
+    ) -> KeaResult<()> {
+        check_vec3("position", position)?;
+        check_vec3("velocity", velocity)?;
+        let body2 = self.constraints.get(h)?.bodies[1];
+        let (x2, q2) = match body2 {
+            Some(b) => {
+                let b = self.bodies.get(b)?;
+                (b.position(), b.orientation())
+            }
+            None => (Vec3::ZERO, crate::math::Quat::IDENTITY),
+        };
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Path(j) => {
+                j.path_position = q2.inverse() * (position - x2);
+                j.path_velocity = q2.inverse() * velocity;
+                Ok(())
+            }
+            other => Err(wrong_kind(h, "fixed-path joint", other.name())),
+        }
     }
 
     /// A hinge, read-only.

@@ -101,6 +101,8 @@ struct StepScratch {
     island_flag: Vec<Real>,
     /// Sleeping bodies (by slot) that this step wakes, committed when it succeeds.
     wake: Vec<bool>,
+    /// Constraints that broke in the last step.
+    broken: Vec<ConstraintHandle>,
 }
 
 /// A simulated world.
@@ -190,6 +192,7 @@ impl World {
             sleep_sets,
             island_flag: Vec::with_capacity(def.max_bodies),
             wake: Vec::with_capacity(def.max_bodies),
+            broken: Vec::with_capacity(def.max_constraints),
         };
         Ok(Self {
             id,
@@ -399,6 +402,12 @@ impl World {
         check_projection(iterations)?;
         self.projection_iterations = iterations;
         Ok(())
+    }
+
+    /// The breakable constraints that broke (and were disabled) in the last step.
+    #[must_use]
+    pub fn broken_last_step(&self) -> &[ConstraintHandle] {
+        &self.scratch.broken
     }
 
     /// One report per island of the last step: path, bodies, rows, iterations or pivots.

@@ -40,6 +40,9 @@ pub struct StepStats {
     pub time_write_back: Duration,
     /// Time in position projection.
     pub time_projection: Duration,
+    /// Breakable constraints that broke in this step (they are now disabled; see
+    /// [`World::broken_last_step`]).
+    pub broken_joints: u32,
     /// Largest error of a rigid joint row after the velocity step, before projection (0 when no
     /// projection ran).
     pub max_joint_error: Real,
@@ -110,6 +113,7 @@ impl World {
             0.0
         };
         self.commit_joints(dt);
+        let broken_joints = self.break_overloaded();
         let time_projection = t_proj.elapsed();
         if auto_disable {
             self.disable_resting_islands(dt);
@@ -133,6 +137,7 @@ impl World {
             time_write_back: t4 - t3 - time_projection,
             time_projection,
             max_joint_error,
+            broken_joints,
             time_total: t4 - t0,
         })
     }
@@ -236,6 +241,11 @@ impl World {
             let entry = self.constraints.at(slot).expect("occupied");
             let mut writer = RowWriter::new(&mut rows);
             entry.kind.write_rows(&ctx, &mut writer);
+            if let Some(g) = entry.gamma {
+                for r in &mut rows[first..] {
+                    r.gamma.get_or_insert(g);
+                }
+            }
             let count = rows.len() - first;
             if count > 0 {
                 blocks.push(ConstraintBlock {
@@ -293,6 +303,28 @@ impl World {
             }
         }
         first.unwrap_or(0.0)
+    }
+
+    /// Disables every breakable constraint whose reaction on body 1 passed its threshold in
+    /// this step (the guide's animated hand that lets go), and lists them.
+    fn break_overloaded(&mut self) -> u32 {
+        self.scratch.broken.clear();
+        for k in 0..self.scratch.blocks.len() {
+            let slot = self.scratch.block_constraint[k] as usize;
+            let Some(e) = self.constraints.at_mut(slot) else {
+                continue;
+            };
+            let r = e.reaction[0];
+            let over = e.break_force.is_some_and(|f| r.force.length() > f)
+                || e.break_torque.is_some_and(|t| r.torque.length() > t);
+            if over {
+                e.enabled = false;
+                if let Some(h) = self.constraints.handle_at(slot) {
+                    self.scratch.broken.push(h);
+                }
+            }
+        }
+        self.scratch.broken.len() as u32
     }
 
     /// Lets joints that track a coordinate (hinge angle, slider distance) record it at the state

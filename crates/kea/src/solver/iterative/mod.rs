@@ -132,6 +132,9 @@ pub(crate) struct IterativeWorkspace {
     /// substep started from, so a spring stays one implicit-Euler step per substep).
     dx_sub: Vec<Vec3>,
     dtheta_sub: Vec<Vec3>,
+    /// Time since the step began, now and at the start of the current substep.
+    elapsed: Real,
+    elapsed_sub: Real,
     // Rows of the island.
     row_global: Vec<u32>,
     row_a: Vec<u32>,
@@ -320,6 +323,8 @@ impl IterativeWorkspace {
         stats.rows += n as u32;
         stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
 
+        self.elapsed = 0.0;
+        self.elapsed_sub = 0.0;
         for _ in 0..n_sub {
             self.integrate_velocities(bodies, scratch, params, hs);
             self.warm_start();
@@ -377,6 +382,8 @@ impl IterativeWorkspace {
     }
 
     fn integrate_positions(&mut self, bodies: &mut [SolverBody], hs: Real) {
+        self.elapsed_sub = self.elapsed;
+        self.elapsed += hs;
         for (l, &g) in self.body_global.iter().enumerate() {
             let b = &mut bodies[g as usize];
             let v = self.v[l];

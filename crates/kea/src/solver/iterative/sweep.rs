@@ -91,14 +91,16 @@ impl IterativeWorkspace {
     /// the substep instead of now.
     #[inline]
     pub(super) fn jv_and_error(&self, i: usize, substep_start: bool) -> (Real, Real) {
-        let (dx, dth) = if substep_start {
-            (&self.dx_sub, &self.dtheta_sub)
+        let (dx, dth, elapsed) = if substep_start {
+            (&self.dx_sub, &self.dtheta_sub, self.elapsed_sub)
         } else {
-            (&self.dx, &self.dtheta)
+            (&self.dx, &self.dtheta, self.elapsed)
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
         let mut jv = 0.0;
-        let mut xi = self.xi0[i];
+        // The error is measured from a reference that moves at the row's target velocity (a
+        // path, a kinematic body): over one step this is what the exact path's single solve does.
+        let mut xi = self.xi0[i] - self.target[i] * elapsed;
         if a != NONE {
             let a = a as usize;
             jv += self.ja_lin[i].dot(self.v[a]) + self.ja_ang[i].dot(self.w[a]);
