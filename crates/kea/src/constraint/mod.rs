@@ -5,6 +5,7 @@
 //! will use the rows.
 
 pub mod ball;
+pub mod car_wheel;
 pub mod contact;
 pub mod fixed;
 pub mod fixed_path;
@@ -17,6 +18,7 @@ pub mod row;
 pub mod universal;
 
 pub use ball::BallJoint;
+pub use car_wheel::CarWheel;
 pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
 pub use fixed::FixedJoint;
 pub use fixed_path::FixedPath;

@@ -1,8 +1,8 @@
 //! How the world stores a constraint: its kind, bodies, enabled flag and last results.
 
 use crate::constraint::{
-    BallJoint, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, LinearJoint, Prismatic,
-    RowContext, RowWriter, UniversalJoint,
+    BallJoint, CarWheel, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, LinearJoint,
+    Prismatic, RowContext, RowWriter, UniversalJoint,
 };
 use crate::handle::BodyHandle;
 use crate::math::Real;
@@ -19,6 +19,7 @@ pub(crate) enum ConstraintKind {
     Universal(UniversalJoint),
     Linear(LinearJoint),
     Path(FixedPath),
+    Wheel(CarWheel),
     Custom(Box<dyn CustomConstraint>),
 }
 
@@ -37,6 +38,7 @@ impl ConstraintKind {
                 "fixed-path-fixed-orientation joint"
             }
             ConstraintKind::Path(_) => "fixed-path joint",
+            ConstraintKind::Wheel(_) => "car wheel joint",
             ConstraintKind::Custom(c) => c.name(),
         }
     }
@@ -51,6 +53,7 @@ impl ConstraintKind {
             ConstraintKind::Universal(j) => j.write_rows(ctx, out),
             ConstraintKind::Linear(j) => j.write_rows(ctx, out),
             ConstraintKind::Path(j) => j.write_rows(ctx, out),
+            ConstraintKind::Wheel(j) => j.write_rows(ctx, out),
             ConstraintKind::Custom(c) => c.write_rows(ctx, out),
         }
     }
@@ -59,7 +62,7 @@ impl ConstraintKind {
     pub(crate) fn tracks_state(&self) -> bool {
         matches!(
             self,
-            ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
+            ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_) | ConstraintKind::Wheel(_)
         )
     }
 
@@ -68,6 +71,7 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Hinge(j) => j.commit(ctx),
             ConstraintKind::Prismatic(j) => j.commit(ctx),
+            ConstraintKind::Wheel(j) => j.commit(ctx),
             _ => {}
         }
     }

@@ -3,10 +3,12 @@
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
 use crate::constraint::{
-    BallJoint, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, Limit, LinearJoint,
-    Prismatic, RowBody, RowContext, UniversalJoint,
+    BallJoint, CarWheel, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, Limit,
+    LinearJoint, Prismatic, RowBody, RowContext, UniversalJoint,
 };
-use crate::error::{check_finite, check_non_negative, check_unit, check_vec3, KeaError, KeaResult};
+use crate::error::{
+    check_finite, check_non_negative, check_positive, check_unit, check_vec3, KeaError, KeaResult,
+};
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::Reaction;
@@ -292,6 +294,51 @@ impl World {
                 Ok(())
             }
             other => Err(wrong_kind(h, "fixed-path joint", other.name())),
+        }
+    }
+
+    /// Creates a car wheel joint: `chassis` is body 1, `wheel` body 2, attached at the wheel's
+    /// centre, with world unit `steering_axis` (the suspension slides along it) and world unit
+    /// `axle` (⊥), a suspension spring of stiffness `k` (N/m, > 0) and damping `d` (N·s/m,
+    /// ≥ 0). Steering starts locked.
+    pub fn create_car_wheel(
+        &mut self,
+        chassis: BodyHandle,
+        wheel: BodyHandle,
+        steering_axis: Vec3,
+        axle: Vec3,
+        k: Real,
+        d: Real,
+    ) -> KeaResult<ConstraintHandle> {
+        let s = check_unit("steering_axis", steering_axis)?;
+        let u = check_unit("axle", axle)?;
+        if s.dot(u).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "axle",
+                value: format!("{axle}"),
+                expected: "must be perpendicular to steering_axis",
+            });
+        }
+        check_positive("k", k)?;
+        check_non_negative("d", d)?;
+        self.check_pair(chassis, Some(wheel))?;
+        let joint = CarWheel::new(&self.pair_context(chassis, Some(wheel))?, s, u, k, d);
+        self.insert_constraint(ConstraintKind::Wheel(joint), chassis, Some(wheel))
+    }
+
+    /// A car wheel joint, read-only.
+    pub fn car_wheel(&self, h: ConstraintHandle) -> KeaResult<&CarWheel> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Wheel(j) => Ok(j),
+            other => Err(wrong_kind(h, "car wheel joint", other.name())),
+        }
+    }
+
+    /// A car wheel joint, to set its steering lock, limits and motors.
+    pub fn car_wheel_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut CarWheel> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Wheel(j) => Ok(j),
+            other => Err(wrong_kind(h, "car wheel joint", other.name())),
         }
     }
 
