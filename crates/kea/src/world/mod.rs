@@ -7,6 +7,7 @@
 
 mod constraint_entry;
 mod constraints;
+mod joints;
 mod sleep;
 mod step;
 

@@ -1,0 +1,255 @@
+//! The world's joint API: creating each joint of the guide from world-frame anchors and axes
+//! (stored in each body's frame), and reaching their limits and motors.
+
+use super::constraint_entry::ConstraintKind;
+use super::constraints::wrong_kind;
+use super::World;
+use crate::constraint::{
+    CarWheel, FixedJoint, FixedPath, Hinge, Limit, LinearJoint, Prismatic, RowBody, RowContext,
+    UniversalJoint,
+};
+use crate::error::{
+    check_non_negative, check_positive, check_unit, check_vec3, KeaError, KeaResult,
+};
+use crate::handle::{BodyHandle, ConstraintHandle};
+use crate::math::{Real, Vec3};
+
+impl World {
+    /// The row-writing view of two bodies at their current poses (for building joint frames).
+    fn pair_context(&self, body1: BodyHandle, body2: Option<BodyHandle>) -> KeaResult<RowContext> {
+        let view = |h: BodyHandle| -> KeaResult<RowBody> {
+            let b = self.bodies.get(h)?;
+            Ok(RowBody::fixed(b.position(), b.orientation()))
+        };
+        Ok(RowContext {
+            bodies: [view(body1)?, body2.map_or(Ok(RowBody::STATIC), view)?],
+            dt: 1.0,
+            epsilon: self.epsilon,
+            gamma: self.gamma,
+        })
+    }
+
+    /// Creates a hinge at a world point about a world unit axis (the guide's `MdtHingeCreate`
+    /// + `SetPosition` + `SetAxis`); its angle starts at 0.
+    pub fn create_hinge(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis = check_unit("axis", axis)?;
+        self.check_pair(body1, body2)?;
+        let joint = Hinge::new(&self.pair_context(body1, body2)?, anchor, axis);
+        self.insert_constraint(ConstraintKind::Hinge(joint), body1, body2)
+    }
+
+    /// Creates a prismatic joint (slider) through a world point along a world unit axis; its
+    /// distance starts at 0.
+    pub fn create_prismatic(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis = check_unit("axis", axis)?;
+        self.check_pair(body1, body2)?;
+        let joint = Prismatic::new(&self.pair_context(body1, body2)?, anchor, axis);
+        self.insert_constraint(ConstraintKind::Prismatic(joint), body1, body2)
+    }
+
+    /// Creates a fixed joint (weld) at a world point, keeping the current relative orientation.
+    pub fn create_fixed_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        self.check_pair(body1, body2)?;
+        let joint = FixedJoint::new(&self.pair_context(body1, body2)?, anchor);
+        self.insert_constraint(ConstraintKind::Fixed(joint), body1, body2)
+    }
+
+    /// Creates a universal joint at a world point with perpendicular world unit axes
+    /// `axis1` (body 1) and `axis2` (body 2).
+    pub fn create_universal_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        axis1: Vec3,
+        axis2: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let axis1 = check_unit("axis1", axis1)?;
+        let axis2 = check_unit("axis2", axis2)?;
+        if axis1.dot(axis2).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "axis2",
+                value: format!("{axis2}"),
+                expected: "must be perpendicular to axis1",
+            });
+        }
+        self.check_pair(body1, body2)?;
+        let joint = UniversalJoint::new(&self.pair_context(body1, body2)?, anchor, axis1, axis2);
+        self.insert_constraint(ConstraintKind::Universal(joint), body1, body2)
+    }
+
+    /// Creates a Linear1 joint: the world point `anchor` of body 1 stays on the plane through it
+    /// with world unit `normal`, fixed in body 2.
+    pub fn create_linear1(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        normal: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let normal = check_unit("normal", normal)?;
+        self.check_pair(body1, body2)?;
+        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, normal, false);
+        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+    }
+
+    /// Creates a Linear2 (cylindrical) joint: the world point `anchor` of body 1 stays on the
+    /// line through it with world unit `direction`, fixed in body 2.
+    pub fn create_linear2(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        direction: Vec3,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        let direction = check_unit("direction", direction)?;
+        self.check_pair(body1, body2)?;
+        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, direction, true);
+        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+    }
+
+    /// Creates a fixed-path joint: the world point `anchor` of body 1 will follow a path set
+    /// with [`World::set_path`] (3 DOF removed); with `fixed_orientation`, the bodies' current
+    /// relative orientation is held too (the guide's fixed-path-fixed-orientation joint, 6 DOF).
+    pub fn create_fixed_path(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        fixed_orientation: bool,
+    ) -> KeaResult<ConstraintHandle> {
+        check_vec3("anchor", anchor)?;
+        self.check_pair(body1, body2)?;
+        let joint = FixedPath::new(&self.pair_context(body1, body2)?, anchor, fixed_orientation);
+        self.insert_constraint(ConstraintKind::Path(joint), body1, body2)
+    }
+
+    /// Moves a fixed-path joint's path point to world `position`, moving at world `velocity`
+    /// (the guide's `MdtFixedPathSetPosition`/`SetVelocity`; give the velocity, or the point
+    /// lags a step behind a moving path).
+    pub fn set_path(
+        &mut self,
+        h: ConstraintHandle,
+        position: Vec3,
+        velocity: Vec3,
+    ) -> KeaResult<()> {
+        check_vec3("position", position)?;
+        check_vec3("velocity", velocity)?;
+        let body2 = self.constraints.get(h)?.bodies[1];
+        let (x2, q2) = match body2 {
+            Some(b) => {
+                let b = self.bodies.get(b)?;
+                (b.position(), b.orientation())
+            }
+            None => (Vec3::ZERO, crate::math::Quat::IDENTITY),
+        };
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Path(j) => {
+                j.path_position = q2.inverse() * (position - x2);
+                j.path_velocity = q2.inverse() * velocity;
+                Ok(())
+            }
+            other => Err(wrong_kind(h, "fixed-path joint", other.name())),
+        }
+    }
+
+    /// Creates a car wheel joint: `chassis` is body 1, `wheel` body 2, attached at the wheel's
+    /// centre, with world unit `steering_axis` (the suspension slides along it) and world unit
+    /// `axle` (⊥), a suspension spring of stiffness `k` (N/m, > 0) and damping `d` (N·s/m,
+    /// ≥ 0). Steering starts locked.
+    pub fn create_car_wheel(
+        &mut self,
+        chassis: BodyHandle,
+        wheel: BodyHandle,
+        steering_axis: Vec3,
+        axle: Vec3,
+        k: Real,
+        d: Real,
+    ) -> KeaResult<ConstraintHandle> {
+        let s = check_unit("steering_axis", steering_axis)?;
+        let u = check_unit("axle", axle)?;
+        if s.dot(u).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "axle",
+                value: format!("{axle}"),
+                expected: "must be perpendicular to steering_axis",
+            });
+        }
+        check_positive("k", k)?;
+        check_non_negative("d", d)?;
+        self.check_pair(chassis, Some(wheel))?;
+        let joint = CarWheel::new(&self.pair_context(chassis, Some(wheel))?, s, u, k, d);
+        self.insert_constraint(ConstraintKind::Wheel(joint), chassis, Some(wheel))
+    }
+
+    /// A car wheel joint, read-only.
+    pub fn car_wheel(&self, h: ConstraintHandle) -> KeaResult<&CarWheel> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Wheel(j) => Ok(j),
+            other => Err(wrong_kind(h, "car wheel joint", other.name())),
+        }
+    }
+
+    /// A car wheel joint, to set its steering lock, limits and motors.
+    pub fn car_wheel_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut CarWheel> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Wheel(j) => Ok(j),
+            other => Err(wrong_kind(h, "car wheel joint", other.name())),
+        }
+    }
+
+    /// A hinge, read-only.
+    pub fn hinge(&self, h: ConstraintHandle) -> KeaResult<&Hinge> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Hinge(j) => Ok(j),
+            other => Err(wrong_kind(h, "hinge", other.name())),
+        }
+    }
+
+    /// A hinge's limits and motor, to change.
+    pub fn hinge_limit_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut Limit> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Hinge(j) => Ok(j.limit_mut()),
+            other => Err(wrong_kind(h, "hinge", other.name())),
+        }
+    }
+
+    /// A prismatic joint, read-only.
+    pub fn prismatic(&self, h: ConstraintHandle) -> KeaResult<&Prismatic> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Prismatic(j) => Ok(j),
+            other => Err(wrong_kind(h, "prismatic joint", other.name())),
+        }
+    }
+
+    /// A prismatic joint's limits and motor, to change.
+    pub fn prismatic_limit_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut Limit> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Prismatic(j) => Ok(j.limit_mut()),
+            other => Err(wrong_kind(h, "prismatic joint", other.name())),
+        }
+    }
+}
