@@ -18,6 +18,7 @@ impl IterativeWorkspace {
         self.body_global.clear();
         self.v.clear();
         self.w.clear();
+        self.inv_iw.clear();
         self.dx.clear();
         self.dtheta.clear();
         self.dx_sub.clear();
@@ -36,6 +37,7 @@ impl IterativeWorkspace {
                 // Start from the step's velocity: each substep damps and adds forces itself.
                 self.v.push(bodies[g].linear_velocity);
                 self.w.push(bodies[g].angular_velocity);
+                self.inv_iw.push(scratch.inv_inertia_world[g]);
                 self.dx.push(Vec3::ZERO);
                 self.dtheta.push(Vec3::ZERO);
                 self.dx_sub.push(Vec3::ZERO);
@@ -73,6 +75,7 @@ impl IterativeWorkspace {
             mb_lin,
             mb_ang,
             diag,
+            lever,
             xi0,
             target,
             bounce_target,
@@ -196,6 +199,21 @@ impl IterativeWorkspace {
                 self.total.push(0.0);
                 self.in_block.push(false);
                 self.pair_of.push(NONE);
+                let lin = row.jacobian[0]
+                    .linear
+                    .length()
+                    .max(row.jacobian[1].linear.length());
+                let ang = row.jacobian[0]
+                    .angular
+                    .length()
+                    .max(row.jacobian[1].angular.length());
+                self.lever.push(if lin > 0.0 { ang / lin } else { 0.0 });
+            }
+            let lever = self.lever[base as usize..]
+                .iter()
+                .fold(0.0 as Real, |m, &l| m.max(l));
+            for l in &mut self.lever[base as usize..] {
+                *l = lever;
             }
             self.make_block(base as usize, rows, blk);
             self.make_pairs(base as usize, rows);

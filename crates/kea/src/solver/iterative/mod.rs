@@ -126,6 +126,8 @@ pub(crate) struct IterativeWorkspace {
     local_of: Vec<u32>,
     v: Vec<Vec3>,
     w: Vec<Vec3>,
+    /// World inverse inertia of each body at the step's start.
+    inv_iw: Vec<Mat3>,
     dx: Vec<Vec3>,
     dtheta: Vec<Vec3>,
     /// Displacement at the start of the current substep (soft rows relax with the error the
@@ -148,6 +150,8 @@ pub(crate) struct IterativeWorkspace {
     mb_lin: Vec<Vec3>,
     mb_ang: Vec<Vec3>,
     diag: Vec<Real>,
+    /// Longest lever `|J_ang|/|J_lin|` among the rows of the row's constraint.
+    lever: Vec<Real>,
     xi0: Vec<Real>,
     target: Vec<Real>,
     bounce_target: Vec<Real>,
@@ -190,6 +194,7 @@ impl IterativeWorkspace {
         for v in [&mut self.body_global, &mut self.local_of] {
             reserve(v, bodies);
         }
+        reserve(&mut self.inv_iw, bodies);
         for v in [
             &mut self.v,
             &mut self.w,
@@ -222,6 +227,7 @@ impl IterativeWorkspace {
         }
         for v in [
             &mut self.diag,
+            &mut self.lever,
             &mut self.xi0,
             &mut self.target,
             &mut self.bounce_target,
@@ -270,7 +276,7 @@ impl IterativeWorkspace {
                 + self.link.capacity())
                 * 4
             + 8 * self.ja_lin.capacity() * v3
-            + 13 * self.diag.capacity() * r
+            + 14 * self.diag.capacity() * r
             + self.flags.capacity()
             + self.in_block.capacity()
             + (self.eq_start.capacity()
@@ -286,7 +292,7 @@ impl IterativeWorkspace {
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        bodies * (8 + 6 * v3) + rows * (40 + 8 * v3 + (17 + MAX_BLOCK) * r + 2)
+        bodies * (8 + 6 * v3) + rows * (40 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
     }
 
     /// Solves one island and integrates its bodies. `lambda` holds warm-start forces on input.

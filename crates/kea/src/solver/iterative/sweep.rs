@@ -2,7 +2,7 @@
 //! pair, with the soft and hard row rules of the module docs.
 
 use super::{IterativeWorkspace, HARD, MAX_BLOCK, NONE, UNILATERAL};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 impl IterativeWorkspace {
     /// Solves friction pair `p` starting at row `i`.
@@ -66,15 +66,41 @@ impl IterativeWorkspace {
         }
     }
 
+    /// How far each body of row i has moved from the pair's mean since the step began: the
+    /// point where a two-body row pushes moves with the pair's mean, so each lever shifts by the
+    /// body's departure from it (`J_ang → J_ang − δ × J_lin`). Both bodies are then pushed at
+    /// one point all through the step and the pair keeps its angular momentum. A row on one
+    /// body (to the world) has no shift: its point moves with that body.
+    #[inline]
+    fn departures(&self, i: usize) -> (Vec3, Vec3) {
+        let (a, b) = (self.row_a[i], self.row_b[i]);
+        if a == NONE || b == NONE {
+            return (Vec3::ZERO, Vec3::ZERO);
+        }
+        let half = 0.5 * (self.dx[a as usize] - self.dx[b as usize]);
+        let lever = self.lever[i];
+        if half.length_squared() > 0.01 * lever * lever {
+            // Moved more than a tenth of the lever: the linearisation is gone; do not shift.
+            return (Vec3::ZERO, Vec3::ZERO);
+        }
+        (half, -half)
+    }
+
+    /// Applies impulse `dp` of row i (with the shifted levers of [`Self::departures`]).
     pub(super) fn apply(&mut self, i: usize, dp: Real) {
         let (a, b) = (self.row_a[i], self.row_b[i]);
+        let (da, db) = self.departures(i);
         if a != NONE {
-            self.v[a as usize] += self.ma_lin[i] * dp;
-            self.w[a as usize] += self.ma_ang[i] * dp;
+            let a = a as usize;
+            self.v[a] += self.ma_lin[i] * dp;
+            let shift = da.cross(self.ja_lin[i]);
+            self.w[a] += (self.ma_ang[i] - self.inv_iw[a] * shift) * dp;
         }
         if b != NONE {
-            self.v[b as usize] += self.mb_lin[i] * dp;
-            self.w[b as usize] += self.mb_ang[i] * dp;
+            let b = b as usize;
+            self.v[b] += self.mb_lin[i] * dp;
+            let shift = db.cross(self.jb_lin[i]);
+            self.w[b] += (self.mb_ang[i] - self.inv_iw[b] * shift) * dp;
         }
     }
 
@@ -97,18 +123,21 @@ impl IterativeWorkspace {
             (&self.dx, &self.dtheta, self.elapsed)
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
+        let (da, db) = self.departures(i);
         let mut jv = 0.0;
         // The error is measured from a reference that moves at the row's target velocity (a
         // path, a kinematic body): over one step this is what the exact path's single solve does.
         let mut xi = self.xi0[i] - self.target[i] * elapsed;
         if a != NONE {
             let a = a as usize;
-            jv += self.ja_lin[i].dot(self.v[a]) + self.ja_ang[i].dot(self.w[a]);
+            let ang = self.ja_ang[i] - da.cross(self.ja_lin[i]);
+            jv += self.ja_lin[i].dot(self.v[a]) + ang.dot(self.w[a]);
             xi += self.ja_lin[i].dot(dx[a]) + self.ja_ang[i].dot(dth[a]);
         }
         if b != NONE {
             let b = b as usize;
-            jv += self.jb_lin[i].dot(self.v[b]) + self.jb_ang[i].dot(self.w[b]);
+            let ang = self.jb_ang[i] - db.cross(self.jb_lin[i]);
+            jv += self.jb_lin[i].dot(self.v[b]) + ang.dot(self.w[b]);
             xi += self.jb_lin[i].dot(dx[b]) + self.jb_ang[i].dot(dth[b]);
         }
         (jv, xi)
