@@ -19,7 +19,7 @@ pub(crate) enum ConstraintKind {
     Universal(UniversalJoint),
     Linear(LinearJoint),
     Path(FixedPath),
-    Wheel(CarWheel),
+    Wheel(Box<CarWheel>),
     Custom(Box<dyn CustomConstraint>),
 }
 

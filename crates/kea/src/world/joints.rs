@@ -202,7 +202,7 @@ impl World {
         check_non_negative("d", d)?;
         self.check_pair(chassis, Some(wheel))?;
         let joint = CarWheel::new(&self.pair_context(chassis, Some(wheel))?, s, u, k, d);
-        self.insert_constraint(ConstraintKind::Wheel(joint), chassis, Some(wheel))
+        self.insert_constraint(ConstraintKind::Wheel(Box::new(joint)), chassis, Some(wheel))
     }
 
     /// A car wheel joint, read-only.
