@@ -360,3 +360,87 @@ fn hinge_limits_near_and_beyond_pi_hold_while_spinning_fast() {
         }
     }
 }
+
+#[test]
+fn ball_joint_twist_cone_and_segment_limits_hold() {
+    for mode in PATHS {
+        // A bob hanging 1 m below a ball joint; primary axis down, orthogonal axis along x.
+        let setup = |world: &mut World| {
+            let b = body(world, Vec3::new(0.0, -1.0, 0.0));
+            let j = world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+            world.set_ball_limit_axes(j, -Vec3::Y, Vec3::X).unwrap();
+            (b, j)
+        };
+        // Cone: pushed sideways hard, it stops at 0.3 rad.
+        let mut world = world_on(mode, 4, 4);
+        let (b, j) = setup(&mut world);
+        world
+            .ball_limits_mut(j)
+            .unwrap()
+            .cone
+            .set_limits(SingleLimit::hard(-1.0, 0.0), SingleLimit::hard(0.3, 0.0))
+            .unwrap();
+        let mut max_cone: Real = 0.0;
+        for _ in 0..120 {
+            world
+                .body_mut(b)
+                .unwrap()
+                .add_force(Vec3::new(8.0, 0.0, 3.0))
+                .unwrap();
+            world.step(1.0 / 60.0).unwrap();
+            max_cone = max_cone.max(world.ball_limits_mut(j).unwrap().cone.position());
+        }
+        let p = world.body(b).unwrap().position();
+        let com_angle = p.normalize().dot(-Vec3::Y).clamp(-1.0, 1.0).acos();
+        eprintln!("{mode:?}: cone limit 0.3 rad, largest cone angle {max_cone} (centre of mass at {com_angle})");
+        assert!(
+            max_cone < 0.3 + 5e-3 && max_cone > 0.29,
+            "{mode:?}: cone {max_cone}"
+        );
+        // Twist: a torque about the hanging axis stops at 0.5 rad.
+        let mut world = world_on(mode, 4, 4);
+        let (b, j) = setup(&mut world);
+        world
+            .ball_limits_mut(j)
+            .unwrap()
+            .twist
+            .set_limits(SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(0.5, 0.0))
+            .unwrap();
+        for _ in 0..120 {
+            world
+                .body_mut(b)
+                .unwrap()
+                .add_torque(Vec3::new(0.0, 2.0, 0.0))
+                .unwrap();
+            world.step(1.0 / 60.0).unwrap();
+        }
+        let twist = world.ball_limits_mut(j).unwrap().twist.position();
+        eprintln!("{mode:?}: twist limit 0.5 rad, twist {twist}");
+        assert!((twist.abs() - 0.5).abs() < 5e-3, "{mode:?}: twist {twist}");
+        // Segment: swung towards +z (longitude 90° from x), it stops at longitude 0.4 rad.
+        let mut world = world_on(mode, 4, 4);
+        let (b, j) = setup(&mut world);
+        world
+            .ball_limits_mut(j)
+            .unwrap()
+            .segment
+            .set_limits(SingleLimit::hard(-0.4, 0.0), SingleLimit::hard(0.4, 0.0))
+            .unwrap();
+        world
+            .body_mut(b)
+            .unwrap()
+            .set_position(Vec3::new(0.3, -0.954, 0.0))
+            .unwrap();
+        for _ in 0..120 {
+            world
+                .body_mut(b)
+                .unwrap()
+                .add_force(Vec3::new(0.0, 0.0, 20.0))
+                .unwrap();
+            world.step(1.0 / 60.0).unwrap();
+        }
+        let seg = world.ball_limits_mut(j).unwrap().segment.position();
+        eprintln!("{mode:?}: segment limit 0.4 rad, segment {seg}");
+        assert!(seg.abs() < 0.4 + 1e-2, "{mode:?}: segment {seg}");
+    }
+}

@@ -7,8 +7,8 @@
 //! The λ of the three rows are the world components of the force on body 1 at the anchor.
 //! Both lever arms are taken to the anchors' midpoint, so the force pair has no net moment.
 
-use super::{Jacobian, Row, RowBody, RowContext, RowWriter};
-use crate::math::Vec3;
+use super::{Jacobian, Limit, Row, RowBody, RowContext, RowWriter};
+use crate::math::{Quat, Real, Vec3, PI};
 
 /// A ball-and-socket joint: a point of body 1 held at a point of body 2 (or of the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -17,18 +17,132 @@ pub struct BallJoint {
     pub local_anchor1: Vec3,
     /// Anchor in body 2's frame (a world point when body 2 is the world).
     pub local_anchor2: Vec3,
+    /// Optional twist, cone and segment limits (the guide's `MdtBSJointSetLimit`).
+    pub limits: Option<BallLimits>,
+}
+
+/// The optional angular limits of a ball joint (the guide's ρ twist, θ cone, φ segment), about
+/// a primary axis fixed in each body (the axes coincide when the limits are set) and an
+/// orthogonal axis of body 2 that zeroes the segment angle.
+///
+/// * **cone** θ = angle between the primary axes; `θ̇ = (ω₁ − ω₂)·(m × n)/sin θ`;
+/// * **segment** φ = longitude of body 1's primary axis about body 2's, from the orthogonal axis
+///   `o`: with `x = o·n`, `y = (m × o)·n`, `φ = atan2(y, x)` and
+///   `φ̇ = (ω₁ − ω₂)·(x (n × (m × o)) − y (n × o))/(x² + y²)`;
+/// * **twist** ρ = rotation of body 1 about its primary axis relative to body 2 (swing-twist
+///   split of the relative rotation since the limits were set); `ρ̇ ≈ (ω₁ − ω₂)·m`, exact for a
+///   twist about an aligned axis.
+///
+/// Each coordinate has a [`Limit`]: stops (hard or soft) and, if wanted, a motor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BallLimits {
+    /// Primary axis, body 1's frame.
+    pub primary1: Vec3,
+    /// Primary axis, body 2's frame.
+    pub primary2: Vec3,
+    /// Orthogonal axis (⊥ primary), body 2's frame: where the segment angle is zero.
+    pub orthogonal2: Vec3,
+    /// Relative orientation `q₂⁻¹ q₁` when the limits were set (zero twist).
+    pub reference: Quat,
+    /// Twist (ρ) limit and motor.
+    pub twist: Limit,
+    /// Cone (θ) limit; only its upper stop matters (θ ≥ 0).
+    pub cone: Limit,
+    /// Segment (φ) limit and motor.
+    pub segment: Limit,
+}
+
+impl BallLimits {
+    /// Limits about world unit `primary` with world unit `orthogonal` (⊥), for bodies at the
+    /// given states; every limit starts off.
+    #[must_use]
+    pub fn new(ctx: &RowContext, primary: Vec3, orthogonal: Vec3) -> Self {
+        let [b1, b2] = &ctx.bodies;
+        Self {
+            primary1: b1.orientation.inverse() * primary,
+            primary2: b2.orientation.inverse() * primary,
+            orthogonal2: b2.orientation.inverse() * orthogonal,
+            reference: b2.orientation.inverse() * b1.orientation,
+            twist: Limit::default(),
+            cone: Limit::default(),
+            segment: Limit::default(),
+        }
+    }
+
+    /// (coordinate, rate, Jacobian) for twist, cone and segment at a state.
+    fn coordinates(&self, b1: &RowBody, b2: &RowBody) -> [(Real, Real, [Jacobian; 2]); 3] {
+        let n = b1.vector_to_world(self.primary1);
+        let m = b2.vector_to_world(self.primary2);
+        let o = b2.vector_to_world(self.orthogonal2);
+        let jac = |g: Vec3| [Jacobian::new(Vec3::ZERO, g), Jacobian::new(Vec3::ZERO, -g)];
+        let rel = b1.angular_velocity - b2.angular_velocity;
+        // Twist: the relative rotation since the reference, split about body 2's primary axis.
+        let q = self.reference.inverse() * (b2.orientation.inverse() * b1.orientation);
+        let v = Vec3::new(q.x, q.y, q.z);
+        let twist = 2.0 * v.dot(self.primary2).atan2(q.w);
+        let twist = if twist > PI {
+            twist - 2.0 * PI
+        } else if twist < -PI {
+            twist + 2.0 * PI
+        } else {
+            twist
+        };
+        // Cone.
+        let axis = m.cross(n);
+        let sin = axis.length();
+        let cone = sin.atan2(n.dot(m));
+        let k = if sin > 1.0e-6 { axis / sin } else { Vec3::ZERO };
+        // Segment.
+        let p = m.cross(o);
+        let (x, y) = (o.dot(n), p.dot(n));
+        let r2 = x * x + y * y;
+        let g = if r2 > 1.0e-12 {
+            (n.cross(p) * x - n.cross(o) * y) / r2
+        } else {
+            Vec3::ZERO
+        };
+        [
+            (twist, rel.dot(m), jac(m)),
+            (cone, rel.dot(k), jac(k)),
+            (y.atan2(x), rel.dot(g), jac(g)),
+        ]
+    }
+
+    fn write_rows(&self, b1: &RowBody, b2: &RowBody, dt: Real, out: &mut RowWriter<'_>) {
+        let [(t, tv, tj), (c, cv, cj), (s, sv, sj)] = self.coordinates(b1, b2);
+        self.twist.write_rows(t, tv, tj, dt, out);
+        if cj[0].angular != Vec3::ZERO {
+            self.cone.write_rows(c, cv, cj, dt, out);
+        }
+        if sj[0].angular != Vec3::ZERO {
+            self.segment.write_rows(s, sv, sj, dt, out);
+        }
+    }
+
+    pub(crate) fn commit(&mut self, b1: &RowBody, b2: &RowBody) {
+        let [(t, tv, _), (c, cv, _), (s, sv, _)] = self.coordinates(b1, b2);
+        self.twist.record(t, tv);
+        self.cone.record(c, cv);
+        self.segment.record(s, sv);
+    }
 }
 
 impl BallJoint {
-    /// Number of rows the joint writes.
-    pub const ROWS: usize = 3;
-
     /// Writes the three rows for the current body states.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
         let a1 = b1.point_to_world(self.local_anchor1);
         let a2 = b2.point_to_world(self.local_anchor2);
         write_anchor_rows(b1, b2, a1, a2, out);
+        if let Some(l) = &self.limits {
+            l.write_rows(b1, b2, ctx.dt, out);
+        }
+    }
+
+    pub(crate) fn commit(&mut self, ctx: &RowContext) {
+        if let Some(l) = &mut self.limits {
+            l.commit(&ctx.bodies[0], &ctx.bodies[1]);
+        }
     }
 
     /// The joint's anchor on body 1 and on body 2, world frame.

@@ -17,7 +17,7 @@ pub mod prismatic;
 pub mod row;
 pub mod universal;
 
-pub use ball::BallJoint;
+pub use ball::{BallJoint, BallLimits};
 pub use car_wheel::CarWheel;
 pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
 pub use fixed::FixedJoint;

@@ -63,7 +63,7 @@ impl ConstraintKind {
         matches!(
             self,
             ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_) | ConstraintKind::Wheel(_)
-        )
+        ) || matches!(self, ConstraintKind::Ball(j) if j.limits.is_some())
     }
 
     /// Records what a successful step did, at the state after it.
@@ -71,6 +71,7 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Hinge(j) => j.commit(ctx),
             ConstraintKind::Prismatic(j) => j.commit(ctx),
+            ConstraintKind::Ball(j) => j.commit(ctx),
             ConstraintKind::Wheel(j) => j.commit(ctx),
             _ => {}
         }

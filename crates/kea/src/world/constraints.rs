@@ -64,6 +64,7 @@ impl World {
         let joint = BallJoint {
             local_anchor1,
             local_anchor2,
+            limits: None,
         };
         self.insert_constraint(ConstraintKind::Ball(joint), body1, body2)
     }

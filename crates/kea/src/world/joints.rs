@@ -4,6 +4,7 @@
 use super::constraint_entry::ConstraintKind;
 use super::constraints::wrong_kind;
 use super::World;
+use crate::constraint::ball::BallLimits;
 use crate::constraint::{
     CarWheel, FixedJoint, FixedPath, Hinge, Limit, LinearJoint, Prismatic, RowBody, RowContext,
     UniversalJoint,
@@ -218,6 +219,46 @@ impl World {
         match &mut self.constraints.get_mut(h)?.kind {
             ConstraintKind::Wheel(j) => Ok(j),
             other => Err(wrong_kind(h, "car wheel joint", other.name())),
+        }
+    }
+
+    /// Sets up the ball joint's twist, cone and segment limits about world unit `primary` with
+    /// world unit `orthogonal` (⊥) for the bodies' current poses (all limits start off; set them
+    /// through [`World::ball_limits_mut`]).
+    pub fn set_ball_limit_axes(
+        &mut self,
+        h: ConstraintHandle,
+        primary: Vec3,
+        orthogonal: Vec3,
+    ) -> KeaResult<()> {
+        let primary = check_unit("primary", primary)?;
+        let orthogonal = check_unit("orthogonal", orthogonal)?;
+        if primary.dot(orthogonal).abs() > 1.0e-3 {
+            return Err(KeaError::OutOfRange {
+                arg: "orthogonal",
+                value: format!("{orthogonal}"),
+                expected: "must be perpendicular to primary",
+            });
+        }
+        let [b1, b2] = self.constraint_bodies(h)?;
+        let ctx = self.pair_context(b1.expect("constraints have a first body"), b2)?;
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Ball(j) => {
+                j.limits = Some(BallLimits::new(&ctx, primary, orthogonal));
+                Ok(())
+            }
+            other => Err(wrong_kind(h, "ball joint", other.name())),
+        }
+    }
+
+    /// A ball joint's angular limits, to set (after [`World::set_ball_limit_axes`]).
+    pub fn ball_limits_mut(&mut self, h: ConstraintHandle) -> KeaResult<&mut BallLimits> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Ball(j) => j.limits.as_mut().ok_or(KeaError::InvalidState {
+                operation: "ball_limits_mut",
+                reason: "the joint has no limit axes; call set_ball_limit_axes first",
+            }),
+            other => Err(wrong_kind(h, "ball joint", other.name())),
         }
     }
 
