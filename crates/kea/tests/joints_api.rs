@@ -240,3 +240,19 @@ fn bad_joint_input_is_named_and_changes_nothing() {
     let e = world.hinge_limit_mut(ball).unwrap_err().to_string();
     assert!(e.contains("hinge") && e.contains("ball joint"), "{e}");
 }
+
+#[test]
+fn reset_restores_the_guide_defaults() {
+    let mut world = World::with_capacity(4, 4).unwrap();
+    let b = world.create_body(&BodyDef { position: Vec3::new(0.0, -1.0, 0.0), ..Default::default() }).unwrap();
+    let h = world.create_hinge(b, None, Vec3::new(0.0, -0.5, 0.0), Vec3::X).unwrap();
+    world.hinge_limit_mut(h).unwrap().set_motor(1.0, 1.0).unwrap();
+    world.set_constraint_gamma(h, Some(0.5)).unwrap();
+    world.reset_constraint(h).unwrap();
+    let hinge = world.hinge(h).unwrap();
+    assert!(hinge.limit().motor().is_none() && !hinge.limit().is_limited());
+    // Default position: the world origin; default axis: +y.
+    assert!((hinge.local_anchor2 - Vec3::ZERO).length() < 1e-6);
+    assert!((hinge.local_axis2 - Vec3::Y).length() < 1e-6);
+    assert!(world.constraint_log(h).unwrap().contains("γ override None"));
+}

@@ -262,6 +262,56 @@ impl World {
         }
     }
 
+    /// Resets a constraint to the guide's default table (`Mdt*Reset`), for its bodies' current
+    /// poses: position at the world origin; hinge, prismatic and linear directions along +y;
+    /// universal axes +x and +y; car wheel steering +y, axle +x; path at rest; relative
+    /// orientations as they are now; limits and motors off; contacts to position 0, normal +y,
+    /// no penetration, default parameters. Its γ override and breaking thresholds are cleared.
+    /// Custom constraints have no table: an error, nothing changed.
+    pub fn reset_constraint(&mut self, h: ConstraintHandle) -> KeaResult<()> {
+        let [b1, b2] = self.constraint_bodies(h)?;
+        let b1 = b1.expect("constraints have a first body");
+        let ctx = self.pair_context(b1, b2)?;
+        let o = Vec3::ZERO;
+        let entry = self.constraints.get_mut(h)?;
+        let kind = match &entry.kind {
+            ConstraintKind::Contact(_) => ConstraintKind::Contact(crate::constraint::Contact::default()),
+            ConstraintKind::Ball(_) => ConstraintKind::Ball(crate::constraint::BallJoint {
+                local_anchor1: ctx.bodies[0].orientation.inverse() * (o - ctx.bodies[0].position),
+                local_anchor2: ctx.bodies[1].orientation.inverse() * (o - ctx.bodies[1].position),
+                limits: None,
+            }),
+            ConstraintKind::Hinge(_) => ConstraintKind::Hinge(Hinge::new(&ctx, o, Vec3::Y)),
+            ConstraintKind::Prismatic(_) => ConstraintKind::Prismatic(Prismatic::new(&ctx, o, Vec3::Y)),
+            ConstraintKind::Fixed(_) => ConstraintKind::Fixed(FixedJoint::new(&ctx, o)),
+            ConstraintKind::Universal(_) => {
+                ConstraintKind::Universal(UniversalJoint::new(&ctx, o, Vec3::X, Vec3::Y))
+            }
+            ConstraintKind::Linear(j) => ConstraintKind::Linear(LinearJoint::new(&ctx, o, Vec3::Y, j.on_line)),
+            ConstraintKind::Path(j) => {
+                ConstraintKind::Path(FixedPath::new(&ctx, o, j.orientation.is_some()))
+            }
+            ConstraintKind::Wheel(w) => ConstraintKind::Wheel(Box::new(CarWheel::new(
+                &ctx,
+                Vec3::Y,
+                Vec3::X,
+                w.suspension_stiffness,
+                w.suspension_damping,
+            ))),
+            ConstraintKind::Custom(_) => {
+                return Err(KeaError::InvalidState {
+                    operation: "reset_constraint",
+                    reason: "a custom constraint has no default table",
+                })
+            }
+        };
+        entry.kind = kind;
+        entry.gamma = None;
+        entry.break_force = None;
+        entry.break_torque = None;
+        Ok(())
+    }
+
     /// A hinge, read-only.
     pub fn hinge(&self, h: ConstraintHandle) -> KeaResult<&Hinge> {
         match &self.constraints.get(h)?.kind {
