@@ -444,3 +444,114 @@ fn ball_joint_twist_cone_and_segment_limits_hold() {
         assert!(seg.abs() < 0.4 + 1e-2, "{mode:?}: segment {seg}");
     }
 }
+
+#[test]
+fn prismatic_hard_stop_rebounds_and_a_motor_leaves_it_without_a_jump() {
+    // VALIDATION #14.
+    for mode in PATHS {
+        let mut world = world_on(mode, 4, 4);
+        world.set_gravity(Vec3::ZERO).unwrap();
+        let b = body(&mut world, Vec3::ZERO);
+        let s = world
+            .create_prismatic(b, None, Vec3::ZERO, Vec3::X)
+            .unwrap();
+        world
+            .prismatic_limit_mut(s)
+            .unwrap()
+            .set_limits(SingleLimit::hard(-0.2, 0.6), SingleLimit::hard(0.2, 0.6))
+            .unwrap();
+        world
+            .body_mut(b)
+            .unwrap()
+            .set_linear_velocity(Vec3::new(2.0, 0.0, 0.0))
+            .unwrap();
+        let mut rebound = None;
+        for _ in 0..60 {
+            world.step(1.0 / 240.0).unwrap();
+            let v = world.body(b).unwrap().linear_velocity().x;
+            if v < 0.0 && rebound.is_none() {
+                rebound = Some(v);
+            }
+        }
+        let v = rebound.expect("no rebound");
+        assert!((v + 1.2).abs() < 0.02 * 1.2, "{mode:?}: rebound {v}");
+        // Resting on the lower stop, a motor drives away: its first step is at most h·F/m.
+        let mut world = world_on(mode, 4, 4);
+        world.set_gravity(Vec3::ZERO).unwrap();
+        let b = body(&mut world, Vec3::ZERO);
+        let s = world
+            .create_prismatic(b, None, Vec3::ZERO, Vec3::X)
+            .unwrap();
+        world
+            .prismatic_limit_mut(s)
+            .unwrap()
+            .set_limits(SingleLimit::hard(0.0, 0.0), SingleLimit::hard(1.0, 0.0))
+            .unwrap();
+        for _ in 0..10 {
+            world
+                .body_mut(b)
+                .unwrap()
+                .add_force(Vec3::new(-5.0, 0.0, 0.0))
+                .unwrap();
+            world.step(1.0 / 60.0).unwrap();
+        }
+        world
+            .prismatic_limit_mut(s)
+            .unwrap()
+            .set_motor(3.0, 4.0)
+            .unwrap();
+        world.step(1.0 / 60.0).unwrap();
+        let v = world.body(b).unwrap().linear_velocity().x;
+        assert!(
+            v > 0.0 && v <= 4.0 / 60.0 + 1e-5,
+            "{mode:?}: first step away at {v} m/s"
+        );
+    }
+}
+
+#[test]
+fn physical_pendulum_on_a_hinge_has_the_rod_period() {
+    // VALIDATION #6: a rod of length L hinged at one end, small swing: T = 2π√(2L/(3g)).
+    let l: Real = 1.0;
+    for mode in PATHS {
+        let mut world = world_on(mode, 4, 4);
+        let theta: Real = 0.05;
+        let rod = world
+            .create_body(&BodyDef {
+                position: Vec3::new(0.5 * l * theta.sin(), -0.5 * l * theta.cos(), 0.0),
+                orientation: kea::Quat::from_rotation_z(theta),
+                inertia: inertia::solid_box(1.0, Vec3::new(0.01, 0.5 * l, 0.01)).unwrap(),
+                ..Default::default()
+            })
+            .unwrap();
+        let h = world.create_hinge(rod, None, Vec3::ZERO, Vec3::Z).unwrap();
+        // The hinge angle is 0 where it was created (θ from the vertical): the rod hangs
+        // vertical at angle −θ.
+        let mut crossings = Vec::new();
+        let mut prev = world.hinge(h).unwrap().angle() + theta;
+        let mut max_tilt: Real = 0.0;
+        for n in 0..1200 {
+            world.step(1.0 / 60.0).unwrap();
+            let a = world.hinge(h).unwrap().angle() + theta;
+            if prev > 0.0 && a <= 0.0 {
+                crossings.push((n as Real + prev / (prev - a)) / 60.0);
+            }
+            prev = a;
+            let axis = world.body(rod).unwrap().orientation() * Vec3::Z;
+            max_tilt = max_tilt.max(axis.cross(Vec3::Z).length());
+        }
+        let periods: Vec<Real> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
+        let period = periods.iter().sum::<Real>() / periods.len() as Real;
+        // Exact for this box: I_pivot = m(L²/3 + w²/12) → T = 2π√(I_pivot/(m g L/2)).
+        let i_pivot = (l * l / 3.0 + 0.02 * 0.02 / 12.0) as Real;
+        let expected = 2.0 * PI_REAL * (i_pivot / (9.81 * 0.5 * l)).sqrt();
+        eprintln!(
+            "{mode:?}: rod pendulum T = {period} s, expected {expected} s; tilt {max_tilt:e}"
+        );
+        assert!(
+            (period - expected).abs() < 5e-3 * expected,
+            "{mode:?}: period {period}"
+        );
+        assert!(max_tilt < 1e-3, "{mode:?}: off-axis tilt {max_tilt}");
+    }
+}

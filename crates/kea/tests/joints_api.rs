@@ -244,9 +244,20 @@ fn bad_joint_input_is_named_and_changes_nothing() {
 #[test]
 fn reset_restores_the_guide_defaults() {
     let mut world = World::with_capacity(4, 4).unwrap();
-    let b = world.create_body(&BodyDef { position: Vec3::new(0.0, -1.0, 0.0), ..Default::default() }).unwrap();
-    let h = world.create_hinge(b, None, Vec3::new(0.0, -0.5, 0.0), Vec3::X).unwrap();
-    world.hinge_limit_mut(h).unwrap().set_motor(1.0, 1.0).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            position: Vec3::new(0.0, -1.0, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    let h = world
+        .create_hinge(b, None, Vec3::new(0.0, -0.5, 0.0), Vec3::X)
+        .unwrap();
+    world
+        .hinge_limit_mut(h)
+        .unwrap()
+        .set_motor(1.0, 1.0)
+        .unwrap();
     world.set_constraint_gamma(h, Some(0.5)).unwrap();
     world.reset_constraint(h).unwrap();
     let hinge = world.hinge(h).unwrap();

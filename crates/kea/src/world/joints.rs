@@ -275,19 +275,25 @@ impl World {
         let o = Vec3::ZERO;
         let entry = self.constraints.get_mut(h)?;
         let kind = match &entry.kind {
-            ConstraintKind::Contact(_) => ConstraintKind::Contact(crate::constraint::Contact::default()),
+            ConstraintKind::Contact(_) => {
+                ConstraintKind::Contact(crate::constraint::Contact::default())
+            }
             ConstraintKind::Ball(_) => ConstraintKind::Ball(crate::constraint::BallJoint {
                 local_anchor1: ctx.bodies[0].orientation.inverse() * (o - ctx.bodies[0].position),
                 local_anchor2: ctx.bodies[1].orientation.inverse() * (o - ctx.bodies[1].position),
                 limits: None,
             }),
             ConstraintKind::Hinge(_) => ConstraintKind::Hinge(Hinge::new(&ctx, o, Vec3::Y)),
-            ConstraintKind::Prismatic(_) => ConstraintKind::Prismatic(Prismatic::new(&ctx, o, Vec3::Y)),
+            ConstraintKind::Prismatic(_) => {
+                ConstraintKind::Prismatic(Prismatic::new(&ctx, o, Vec3::Y))
+            }
             ConstraintKind::Fixed(_) => ConstraintKind::Fixed(FixedJoint::new(&ctx, o)),
             ConstraintKind::Universal(_) => {
                 ConstraintKind::Universal(UniversalJoint::new(&ctx, o, Vec3::X, Vec3::Y))
             }
-            ConstraintKind::Linear(j) => ConstraintKind::Linear(LinearJoint::new(&ctx, o, Vec3::Y, j.on_line)),
+            ConstraintKind::Linear(j) => {
+                ConstraintKind::Linear(LinearJoint::new(&ctx, o, Vec3::Y, j.on_line))
+            }
             ConstraintKind::Path(j) => {
                 ConstraintKind::Path(FixedPath::new(&ctx, o, j.orientation.is_some()))
             }

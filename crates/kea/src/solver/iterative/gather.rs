@@ -147,13 +147,6 @@ impl IterativeWorkspace {
                     flags |= HARD;
                     ((1.0 - (1.0 - gamma).powf(1.0 / n_sub)) / hs, 0.0)
                 };
-                let (ms, is) = if flags & HARD != 0 {
-                    hard_softening(rate, hs)
-                } else {
-                    (1.0, 0.0)
-                };
-                self.mass_scale.push(ms);
-                self.impulse_scale.push(is);
                 if row.bounce {
                     flags |= BOUNCE;
                 }
@@ -161,6 +154,16 @@ impl IterativeWorkspace {
                 {
                     flags |= UNILATERAL;
                 }
+                // Only rows that can only push (contacts, stops) are softened: Gauss-Seidel on a
+                // stiff stack needs it, while joints converge without and keep their geometry
+                // (softened, a hinged rod swung 1% slow).
+                let (ms, is) = if flags & HARD != 0 && flags & UNILATERAL != 0 {
+                    hard_softening(rate, hs)
+                } else {
+                    (1.0, 0.0)
+                };
+                self.mass_scale.push(ms);
+                self.impulse_scale.push(is);
                 self.row_global.push(g);
                 self.row_a.push(local[0]);
                 self.row_b.push(local[1]);
