@@ -267,3 +267,23 @@ fn reset_restores_the_guide_defaults() {
     assert!((hinge.local_axis2 - Vec3::Y).length() < 1e-6);
     assert!(world.constraint_log(h).unwrap().contains("γ override None"));
 }
+
+#[test]
+fn a_weld_holds_a_settable_relative_orientation() {
+    let mut world = World::with_capacity(4, 4).unwrap();
+    world.set_gravity(Vec3::ZERO).unwrap();
+    let b = world.create_body(&BodyDef::default()).unwrap();
+    let j = world.create_fixed_joint(b, None, Vec3::ZERO).unwrap();
+    let target = kea::Quat::from_rotation_y(0.3);
+    world.set_relative_orientation(j, target).unwrap();
+    for _ in 0..120 {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    let q = world.body(b).unwrap().orientation();
+    assert!(q.dot(target).abs() > 1.0 - 1e-5, "{q} vs {target}");
+    assert_eq!(world.fixed_joint(j).unwrap().relative_orientation, target);
+    let e = world
+        .set_relative_orientation(j, kea::Quat::from_xyzw(0.0, 0.0, 0.0, 0.0))
+        .unwrap_err();
+    assert!(e.to_string().contains('q'));
+}

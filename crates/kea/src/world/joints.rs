@@ -318,6 +318,60 @@ impl World {
         Ok(())
     }
 
+    /// A fixed joint (weld), read-only.
+    pub fn fixed_joint(&self, h: ConstraintHandle) -> KeaResult<&FixedJoint> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Fixed(j) => Ok(j),
+            other => Err(wrong_kind(h, "fixed joint", other.name())),
+        }
+    }
+
+    /// Sets the relative orientation `q₂⁻¹ q₁` a fixed joint or a fixed-path-fixed-orientation
+    /// joint holds (the guide's `MdtFPFOJointSetQuaternion`); `q` must be a unit quaternion.
+    pub fn set_relative_orientation(
+        &mut self,
+        h: ConstraintHandle,
+        q: crate::math::Quat,
+    ) -> KeaResult<()> {
+        let q = crate::error::check_quat("q", q)?;
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Fixed(j) => j.relative_orientation = q,
+            ConstraintKind::Path(j) if j.orientation.is_some() => j.orientation = Some(q),
+            other => {
+                return Err(wrong_kind(
+                    h,
+                    "fixed or fixed-orientation joint",
+                    other.name(),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    /// A fixed-path joint, read-only.
+    pub fn fixed_path(&self, h: ConstraintHandle) -> KeaResult<&FixedPath> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Path(j) => Ok(j),
+            other => Err(wrong_kind(h, "fixed-path joint", other.name())),
+        }
+    }
+
+    /// A universal joint, read-only.
+    pub fn universal_joint(&self, h: ConstraintHandle) -> KeaResult<&UniversalJoint> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Universal(j) => Ok(j),
+            other => Err(wrong_kind(h, "universal joint", other.name())),
+        }
+    }
+
+    /// A Linear1 or Linear2 joint, read-only.
+    pub fn linear_joint(&self, h: ConstraintHandle) -> KeaResult<&LinearJoint> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Linear(j) => Ok(j),
+            other => Err(wrong_kind(h, "linear joint", other.name())),
+        }
+    }
+
     /// A hinge, read-only.
     pub fn hinge(&self, h: ConstraintHandle) -> KeaResult<&Hinge> {
         match &self.constraints.get(h)?.kind {
