@@ -191,7 +191,26 @@ fn bad_joint_input_is_named_and_changes_nothing() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("anchor") && e.contains("NaN"), "{e}");
-    assert_eq!(world.constraint_count(), count);
+    let w = world.create_body(&BodyDef::default()).unwrap();
+    let e = world
+        .create_car_wheel(a, w, Vec3::Y, Vec3::Y, 100.0, 1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("axle") && e.contains("perpendicular"), "{e}");
+    let e = world
+        .create_car_wheel(a, w, Vec3::Y, Vec3::X, 0.0, 1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`k`") && e.contains('0'), "{e}");
+    let e = world
+        .create_car_wheel(a, w, Vec3::Y, Vec3::X, 100.0, -1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`d`") && e.contains("-1"), "{e}");
+    let ball2 = world.create_ball_joint(a, None, Vec3::ZERO).unwrap();
+    let e = world.set_ball_limit_axes(ball2, Vec3::Y, Vec3::Y);
+    assert!(e.unwrap_err().to_string().contains("orthogonal"));
+    assert_eq!(world.constraint_count(), count + 1); // only the ball joint was created
     let h = world.create_hinge(a, None, Vec3::ZERO, Vec3::Y).unwrap();
     let limit = world.hinge_limit_mut(h).unwrap();
     let e = limit
