@@ -12,7 +12,9 @@ use crate::solver::Reaction;
 #[derive(Debug)]
 pub(crate) enum ConstraintKind {
     Contact(Contact),
-    Ball(BallJoint),
+    // Boxed: with limits a ball joint is several times larger than a contact,
+    // and contacts are by far the most numerous entries.
+    Ball(Box<BallJoint>),
     Hinge(Hinge),
     Prismatic(Prismatic),
     Fixed(FixedJoint),

@@ -66,7 +66,7 @@ impl World {
             local_anchor2,
             limits: None,
         };
-        self.insert_constraint(ConstraintKind::Ball(joint), body1, body2)
+        self.insert_constraint(ConstraintKind::Ball(Box::new(joint)), body1, body2)
     }
 
     /// Overrides γ for this constraint's rows (those that do not set their own), or restores the

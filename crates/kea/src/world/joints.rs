@@ -278,11 +278,15 @@ impl World {
             ConstraintKind::Contact(_) => {
                 ConstraintKind::Contact(crate::constraint::Contact::default())
             }
-            ConstraintKind::Ball(_) => ConstraintKind::Ball(crate::constraint::BallJoint {
-                local_anchor1: ctx.bodies[0].orientation.inverse() * (o - ctx.bodies[0].position),
-                local_anchor2: ctx.bodies[1].orientation.inverse() * (o - ctx.bodies[1].position),
-                limits: None,
-            }),
+            ConstraintKind::Ball(_) => {
+                ConstraintKind::Ball(Box::new(crate::constraint::BallJoint {
+                    local_anchor1: ctx.bodies[0].orientation.inverse()
+                        * (o - ctx.bodies[0].position),
+                    local_anchor2: ctx.bodies[1].orientation.inverse()
+                        * (o - ctx.bodies[1].position),
+                    limits: None,
+                }))
+            }
             ConstraintKind::Hinge(_) => ConstraintKind::Hinge(Hinge::new(&ctx, o, Vec3::Y)),
             ConstraintKind::Prismatic(_) => {
                 ConstraintKind::Prismatic(Prismatic::new(&ctx, o, Vec3::Y))
