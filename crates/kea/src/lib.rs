@@ -33,8 +33,8 @@ pub mod world;
 pub use body::{inertia, Body, BodyDef};
 pub use constraint::{
     BallJoint, Contact, ContactParams, ContactType, CustomConstraint, FixedJoint, FrictionModel,
-    Hinge, Jacobian, Limit, LinearJoint, Motor, Prismatic, Row, RowBody, RowContext, RowWriter,
-    SingleLimit, Softness, UniversalJoint,
+    Hinge, Jacobian, Limit, Linear1, Linear2, Motor, Prismatic, Row, RowBody, RowContext,
+    RowWriter, SingleLimit, Softness, UniversalJoint,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};

@@ -111,8 +111,11 @@ fn prismatic_fixed_universal_and_linear_joints_remove_their_dof() {
         world.set_gravity(Vec3::ZERO).unwrap();
         let b = body(&mut world, Vec3::new(0.0, 0.3, 0.0));
         let j = world.create_linear1(b, None, Vec3::ZERO, Vec3::Y).unwrap();
-        let _ = j;
         let local = Vec3::new(0.0, -0.3, 0.0);
+        let stored = *world.linear1_joint(j).unwrap();
+        assert!(stored.local_anchor1.abs_diff_eq(local, 1e-6));
+        assert!(stored.local_normal2.abs_diff_eq(Vec3::Y, 1e-6));
+        assert!(world.linear2_joint(j).is_err());
         let mut moved: Real = 0.0;
         let worst = shake(&mut world, b, |w| {
             let p = w.body(b).unwrap().point_to_world(local);
@@ -127,12 +130,19 @@ fn prismatic_fixed_universal_and_linear_joints_remove_their_dof() {
         let mut world = world_on(mode, 4, 4);
         world.set_gravity(Vec3::ZERO).unwrap();
         let b = body(&mut world, Vec3::new(0.0, 0.3, 0.0));
-        world.create_linear2(b, None, Vec3::ZERO, Vec3::X).unwrap();
+        let j = world.create_linear2(b, None, Vec3::ZERO, Vec3::X).unwrap();
+        let direction = world.linear2_joint(j).unwrap().local_direction2;
+        assert!(direction.abs_diff_eq(Vec3::X, 1e-6));
+        let mut slid: Real = 0.0;
         let worst = shake(&mut world, b, |w| {
             let p = w.body(b).unwrap().point_to_world(local);
+            slid = slid.max(p.x.abs());
             p.y.abs().max(p.z.abs())
         });
-        assert!(worst < 1e-3, "{mode:?}: linear2 {worst}");
+        assert!(
+            worst < 1e-3 && slid > 0.01,
+            "{mode:?}: linear2 {worst} {slid}"
+        );
         // Universal: anchor held, the two axes stay perpendicular.
         let mut world = world_on(mode, 4, 4);
         world.set_gravity(Vec3::ZERO).unwrap();

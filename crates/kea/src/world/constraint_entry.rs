@@ -1,7 +1,7 @@
 //! How the world stores a constraint: its kind, bodies, enabled flag and last results.
 
 use crate::constraint::{
-    BallJoint, CarWheel, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, LinearJoint,
+    BallJoint, CarWheel, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, Linear1, Linear2,
     Prismatic, RowContext, RowWriter, UniversalJoint,
 };
 use crate::handle::BodyHandle;
@@ -19,7 +19,8 @@ pub(crate) enum ConstraintKind {
     Prismatic(Prismatic),
     Fixed(FixedJoint),
     Universal(UniversalJoint),
-    Linear(LinearJoint),
+    Linear1(Linear1),
+    Linear2(Linear2),
     Path(FixedPath),
     Wheel(Box<CarWheel>),
     Custom(Box<dyn CustomConstraint>),
@@ -34,8 +35,8 @@ impl ConstraintKind {
             ConstraintKind::Prismatic(_) => "prismatic joint",
             ConstraintKind::Fixed(_) => "fixed joint",
             ConstraintKind::Universal(_) => "universal joint",
-            ConstraintKind::Linear(j) if j.on_line => "linear2 joint",
-            ConstraintKind::Linear(_) => "linear1 joint",
+            ConstraintKind::Linear1(_) => "linear1 joint",
+            ConstraintKind::Linear2(_) => "linear2 joint",
             ConstraintKind::Path(j) if j.orientation.is_some() => {
                 "fixed-path-fixed-orientation joint"
             }
@@ -53,7 +54,8 @@ impl ConstraintKind {
             ConstraintKind::Prismatic(j) => j.write_rows(ctx, out),
             ConstraintKind::Fixed(j) => j.write_rows(ctx, out),
             ConstraintKind::Universal(j) => j.write_rows(ctx, out),
-            ConstraintKind::Linear(j) => j.write_rows(ctx, out),
+            ConstraintKind::Linear1(j) => j.write_rows(ctx, out),
+            ConstraintKind::Linear2(j) => j.write_rows(ctx, out),
             ConstraintKind::Path(j) => j.write_rows(ctx, out),
             ConstraintKind::Wheel(j) => j.write_rows(ctx, out),
             ConstraintKind::Custom(c) => c.write_rows(ctx, out),

@@ -6,8 +6,8 @@ use super::constraints::wrong_kind;
 use super::World;
 use crate::constraint::ball::BallLimits;
 use crate::constraint::{
-    CarWheel, FixedJoint, FixedPath, Hinge, Limit, LinearJoint, Prismatic, RowBody, RowContext,
-    UniversalJoint,
+    CarWheel, FixedJoint, FixedPath, Hinge, Limit, Linear1, Linear2, Prismatic, RowBody,
+    RowContext, UniversalJoint,
 };
 use crate::error::{
     check_non_negative, check_positive, check_unit, check_vec3, KeaError, KeaResult,
@@ -112,8 +112,8 @@ impl World {
         check_vec3("anchor", anchor)?;
         let normal = check_unit("normal", normal)?;
         self.check_pair(body1, body2)?;
-        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, normal, false);
-        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+        let joint = Linear1::new(&self.pair_context(body1, body2)?, anchor, normal);
+        self.insert_constraint(ConstraintKind::Linear1(joint), body1, body2)
     }
 
     /// Creates a Linear2 (cylindrical) joint: the world point `anchor` of body 1 stays on the
@@ -128,8 +128,8 @@ impl World {
         check_vec3("anchor", anchor)?;
         let direction = check_unit("direction", direction)?;
         self.check_pair(body1, body2)?;
-        let joint = LinearJoint::new(&self.pair_context(body1, body2)?, anchor, direction, true);
-        self.insert_constraint(ConstraintKind::Linear(joint), body1, body2)
+        let joint = Linear2::new(&self.pair_context(body1, body2)?, anchor, direction);
+        self.insert_constraint(ConstraintKind::Linear2(joint), body1, body2)
     }
 
     /// Creates a fixed-path joint: the world point `anchor` of body 1 will follow a path set
@@ -295,9 +295,8 @@ impl World {
             ConstraintKind::Universal(_) => {
                 ConstraintKind::Universal(UniversalJoint::new(&ctx, o, Vec3::X, Vec3::Y))
             }
-            ConstraintKind::Linear(j) => {
-                ConstraintKind::Linear(LinearJoint::new(&ctx, o, Vec3::Y, j.on_line))
-            }
+            ConstraintKind::Linear1(_) => ConstraintKind::Linear1(Linear1::new(&ctx, o, Vec3::Y)),
+            ConstraintKind::Linear2(_) => ConstraintKind::Linear2(Linear2::new(&ctx, o, Vec3::Y)),
             ConstraintKind::Path(j) => {
                 ConstraintKind::Path(FixedPath::new(&ctx, o, j.orientation.is_some()))
             }
@@ -368,11 +367,19 @@ impl World {
         }
     }
 
-    /// A Linear1 or Linear2 joint, read-only.
-    pub fn linear_joint(&self, h: ConstraintHandle) -> KeaResult<&LinearJoint> {
+    /// A Linear1 joint, read-only.
+    pub fn linear1_joint(&self, h: ConstraintHandle) -> KeaResult<&Linear1> {
         match &self.constraints.get(h)?.kind {
-            ConstraintKind::Linear(j) => Ok(j),
-            other => Err(wrong_kind(h, "linear joint", other.name())),
+            ConstraintKind::Linear1(j) => Ok(j),
+            other => Err(wrong_kind(h, "linear1 joint", other.name())),
+        }
+    }
+
+    /// A Linear2 joint, read-only.
+    pub fn linear2_joint(&self, h: ConstraintHandle) -> KeaResult<&Linear2> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Linear2(j) => Ok(j),
+            other => Err(wrong_kind(h, "linear2 joint", other.name())),
         }
     }
 
