@@ -215,6 +215,12 @@ impl World {
         self.constraints.len()
     }
 
+    /// The most constraints (contacts included) this world can hold, fixed at creation.
+    #[must_use]
+    pub fn constraint_capacity(&self) -> usize {
+        self.constraints.capacity()
+    }
+
     /// The force and torque the constraint applied to body 1 and body 2 in the last step
     /// (zero before its first step or while disabled).
     pub fn constraint_reaction(&self, h: ConstraintHandle) -> KeaResult<[Reaction; 2]> {

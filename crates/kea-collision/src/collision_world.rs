@@ -1,0 +1,542 @@
+//! The bridge between geometry and dynamics (the guide's Dynamics Toolkit Bridge): colliders
+//! attached to Kea bodies, and the step that turns their contact manifolds into the world's
+//! contacts.
+
+use crate::broad_phase::{Entry, SweepAndPrune};
+use crate::error::{check_finite, CollisionError, CollisionResult};
+use crate::material::{MaterialId, MaterialTable};
+use crate::parry::math::Pose;
+use crate::parry::query::{
+    ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
+};
+use crate::reduce::reduce;
+use crate::shape::Shape;
+use kea::{BodyHandle, ConstraintHandle, Contact, Quat, Real, StepStats, Vec3, World};
+use std::collections::BTreeMap;
+
+/// A collider's handle: generational, like Kea's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ColliderHandle {
+    index: u32,
+    generation: u32,
+}
+
+/// What to attach: a shape on a body (or on the static world), placed in the body's frame.
+#[derive(Debug, Clone)]
+pub struct ColliderDef {
+    /// The body it moves with; `None` for static geometry.
+    pub body: Option<BodyHandle>,
+    /// The geometry.
+    pub shape: Shape,
+    /// Where the shape's origin sits in the body's frame (the body's position is its centre
+    /// of mass), or in the world for static geometry.
+    pub offset: Vec3,
+    /// The shape's orientation in the body's frame.
+    pub rotation: Quat,
+    /// Its material, an id of the world's [`MaterialTable`].
+    pub material: MaterialId,
+    /// Collision groups this collider belongs to (bits).
+    pub groups: u32,
+    /// Groups it collides with (bits). Two colliders meet only if each one's groups intersect
+    /// the other's mask.
+    pub mask: u32,
+}
+
+impl ColliderDef {
+    /// A collider of `shape` on `body` (or static), at the body's centre, material 0, in every
+    /// group and colliding with every group.
+    #[must_use]
+    pub fn new(body: Option<BodyHandle>, shape: Shape) -> Self {
+        Self {
+            body,
+            shape,
+            offset: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            material: 0,
+            groups: 1,
+            mask: u32::MAX,
+        }
+    }
+}
+
+/// How many contact points a pair of shapes keeps (the guide's contact strategy: one point is
+/// enough to bounce, three or four to rest).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactStrategy {
+    /// Most points per manifold, 1 to 8; 4 by default.
+    pub max_points: usize,
+}
+
+impl Default for ContactStrategy {
+    fn default() -> Self {
+        Self { max_points: 4 }
+    }
+}
+
+/// One contact point of a pair, remembered across steps by its features so that its Kea
+/// contact (and the solvers' warm start) persists.
+#[derive(Debug, Clone, Copy)]
+struct PairContact {
+    key: (u32, u32, u32, u32),
+    handle: ConstraintHandle,
+    seen: bool,
+}
+
+#[derive(Default)]
+struct PairState {
+    manifolds: Vec<ContactManifold<(), ()>>,
+    workspace: Option<ContactManifoldsWorkspace>,
+    contacts: Vec<PairContact>,
+    seen: bool,
+}
+
+struct Collider {
+    def: ColliderDef,
+    /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
+    reach: Real,
+}
+
+struct Slot {
+    generation: u32,
+    collider: Option<Collider>,
+}
+
+/// A contact the narrow phase wants this step.
+struct Wanted {
+    pair: (u32, u32),
+    key: (u32, u32, u32, u32),
+    bodies: (BodyHandle, Option<BodyHandle>),
+    contact: Contact,
+}
+
+/// Colliders, materials, and the contacts they generate in a [`World`].
+pub struct CollisionWorld {
+    slots: Vec<Slot>,
+    free: Vec<u32>,
+    /// The material table that gives each pair's contact parameters.
+    pub materials: MaterialTable,
+    /// Contact points kept per manifold.
+    pub strategy: ContactStrategy,
+    /// Distance below which separated shapes already get (speculative) contacts, m. The swept
+    /// motion of the step is added to it, so fast bodies do not tunnel.
+    pub margin: Real,
+    pairs: BTreeMap<(u32, u32), PairState>,
+    sap: SweepAndPrune,
+    candidates: Vec<(u32, u32)>,
+    wanted: Vec<Wanted>,
+    points: Vec<(Vec3, Real)>,
+    keep: Vec<usize>,
+}
+
+impl Default for CollisionWorld {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl CollisionWorld {
+    /// An empty collision world with material 0 only, 4 points per manifold and a 1 cm margin.
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            slots: Vec::new(),
+            free: Vec::new(),
+            materials: MaterialTable::new(),
+            strategy: ContactStrategy::default(),
+            margin: 0.01,
+            pairs: BTreeMap::new(),
+            sap: SweepAndPrune::default(),
+            candidates: Vec::new(),
+            wanted: Vec::new(),
+            points: Vec::new(),
+            keep: Vec::new(),
+        }
+    }
+
+    /// Attaches a collider. The body must exist in `world`, the material in the table, and the
+    /// placement must be finite with a unit rotation.
+    pub fn add_collider(
+        &mut self,
+        world: &World,
+        def: ColliderDef,
+    ) -> CollisionResult<ColliderHandle> {
+        if let Some(b) = def.body {
+            world.body(b)?;
+        }
+        self.materials.check(def.material)?;
+        crate::error::check_vec3("offset", def.offset)?;
+        let len = def.rotation.length();
+        if !def.rotation.is_finite() || (len - 1.0).abs() > 1.0e-3 {
+            return Err(kea::KeaError::NotUnit {
+                arg: "rotation",
+                value: format!("{}", def.rotation),
+                length: len as f64,
+            }
+            .into());
+        }
+        let local = Pose::from_parts(def.offset, def.rotation.normalize());
+        let sphere = def.shared_shape().compute_bounding_sphere(&local);
+        let reach = sphere.center().length() + sphere.radius();
+        let collider = Collider { def, reach };
+        let index = match self.free.pop() {
+            Some(i) => {
+                self.slots[i as usize].collider = Some(collider);
+                i
+            }
+            None => {
+                self.slots.push(Slot {
+                    generation: 0,
+                    collider: Some(collider),
+                });
+                (self.slots.len() - 1) as u32
+            }
+        };
+        Ok(ColliderHandle {
+            index,
+            generation: self.slots[index as usize].generation,
+        })
+    }
+
+    /// Removes a collider and destroys the contacts it had in `world`.
+    pub fn remove_collider(&mut self, world: &mut World, h: ColliderHandle) -> CollisionResult<()> {
+        self.get(h)?;
+        let slot = &mut self.slots[h.index as usize];
+        slot.collider = None;
+        slot.generation = slot.generation.wrapping_add(1);
+        self.free.push(h.index);
+        let gone: Vec<(u32, u32)> = self
+            .pairs
+            .keys()
+            .filter(|k| k.0 == h.index || k.1 == h.index)
+            .copied()
+            .collect();
+        for k in gone {
+            if let Some(state) = self.pairs.remove(&k) {
+                for c in state.contacts {
+                    let _ = world.destroy_constraint(c.handle); // already gone with its body is fine
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A collider's definition.
+    pub fn collider(&self, h: ColliderHandle) -> CollisionResult<&ColliderDef> {
+        self.get(h).map(|c| &c.def)
+    }
+
+    /// Number of colliders.
+    #[must_use]
+    pub fn collider_count(&self) -> usize {
+        self.slots.iter().filter(|s| s.collider.is_some()).count()
+    }
+
+    /// The Kea contacts currently generated between two colliders.
+    pub fn contacts_between(
+        &self,
+        a: ColliderHandle,
+        b: ColliderHandle,
+    ) -> CollisionResult<Vec<ConstraintHandle>> {
+        self.get(a)?;
+        self.get(b)?;
+        let key = (a.index.min(b.index), a.index.max(b.index));
+        Ok(self
+            .pairs
+            .get(&key)
+            .map(|p| p.contacts.iter().map(|c| c.handle).collect())
+            .unwrap_or_default())
+    }
+
+    /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
+    pub fn step(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
+        self.update_contacts(world, dt)?;
+        Ok(world.step(dt)?)
+    }
+
+    /// Finds the colliding pairs and creates, updates or destroys the world's contacts so they
+    /// match this step's contact manifolds. `dt` is the coming step, used to widen the search by
+    /// each body's motion (speculative contacts). On error nothing in `world` has changed.
+    pub fn update_contacts(&mut self, world: &mut World, dt: Real) -> CollisionResult<()> {
+        check_finite("dt", dt)?;
+        self.drop_colliders_of_destroyed_bodies(world);
+        self.broad_phase(world, dt);
+        self.narrow_phase(world, dt);
+        self.apply(world)
+    }
+
+    fn get(&self, h: ColliderHandle) -> CollisionResult<&Collider> {
+        self.slots
+            .get(h.index as usize)
+            .filter(|s| s.generation == h.generation)
+            .and_then(|s| s.collider.as_ref())
+            .ok_or(CollisionError::StaleCollider {
+                index: h.index,
+                generation: h.generation,
+            })
+    }
+
+    fn drop_colliders_of_destroyed_bodies(&mut self, world: &World) {
+        for slot in &mut self.slots {
+            if let Some(c) = &slot.collider {
+                if c.def.body.is_some_and(|b| world.body(b).is_err()) {
+                    slot.collider = None;
+                    slot.generation = slot.generation.wrapping_add(1);
+                }
+            }
+        }
+        self.free.clear();
+        self.free.extend(
+            (0..self.slots.len() as u32)
+                .rev()
+                .filter(|&i| self.slots[i as usize].collider.is_none()),
+        );
+    }
+
+    fn broad_phase(&mut self, world: &World, dt: Real) {
+        let margin = self.margin;
+        let entries = self.slots.iter().enumerate().filter_map(|(i, s)| {
+            let c = s.collider.as_ref()?;
+            let pose = collider_pose(world, &c.def);
+            let aabb = c.def.shared_shape().compute_aabb(&pose);
+            let (mut min, mut max) = (
+                aabb.mins - Vec3::splat(margin),
+                aabb.maxs + Vec3::splat(margin),
+            );
+            if let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) {
+                let sweep = body.linear_velocity() * dt;
+                min += sweep.min(Vec3::ZERO);
+                max += sweep.max(Vec3::ZERO);
+                let turn = Vec3::splat(body.angular_velocity().length() * dt * c.reach);
+                min -= turn;
+                max += turn;
+            }
+            Some(Entry {
+                slot: i as u32,
+                min,
+                max,
+            })
+        });
+        self.sap.pairs(entries, &mut self.candidates);
+    }
+
+    fn narrow_phase(&mut self, world: &World, dt: Real) {
+        let dispatcher = DefaultQueryDispatcher;
+        self.wanted.clear();
+        for state in self.pairs.values_mut() {
+            state.seen = false;
+        }
+        for &(ia, ib) in &self.candidates {
+            let (Some(a), Some(b)) = (
+                &self.slots[ia as usize].collider,
+                &self.slots[ib as usize].collider,
+            ) else {
+                continue;
+            };
+            if !should_collide(world, &a.def, &b.def) {
+                continue;
+            }
+            let state = self.pairs.entry((ia, ib)).or_default();
+            state.seen = true;
+            if pair_is_resting(world, &a.def, &b.def) {
+                // Asleep: keep its contacts as they are.
+                for c in &mut state.contacts {
+                    c.seen = true;
+                }
+                continue;
+            }
+            let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
+            let prediction = self.margin
+                + dt * (motion(world, &a.def, a.reach) + motion(world, &b.def, b.reach));
+            let pos_ab = pose_a.inv_mul(&pose_b);
+            if dispatcher
+                .contact_manifolds(
+                    &pos_ab,
+                    a.def.shared_shape().as_ref(),
+                    b.def.shared_shape().as_ref(),
+                    prediction,
+                    &mut state.manifolds,
+                    &mut state.workspace,
+                )
+                .is_err()
+            {
+                continue; // a pair parry cannot collide (two meshes, say) gets no contacts
+            }
+            // Body 1 of a Kea contact must be a body; the normal points from body 2 to body 1.
+            let (body1, body2, flip) = match (a.def.body, b.def.body) {
+                (Some(x), y) => (x, y, false),
+                (None, Some(y)) => (y, None, true),
+                (None, None) => continue,
+            };
+            let Ok(params) = self.materials.params(a.def.material, b.def.material) else {
+                continue;
+            };
+            for manifold in &state.manifolds {
+                let sub_a = manifold.subshape_pos1().map_or(pose_a, |p| pose_a * *p);
+                let sub_b = manifold.subshape_pos2().map_or(pose_b, |p| pose_b * *p);
+                let n_ab = sub_a.rotation * manifold.local_n1;
+                self.points.clear();
+                for p in &manifold.points {
+                    let wa = sub_a.transform_point(p.local_p1);
+                    let wb = sub_b.transform_point(p.local_p2);
+                    self.points.push(((wa + wb) * 0.5, -p.dist));
+                }
+                reduce(
+                    &self.points,
+                    self.strategy.max_points.clamp(1, 8),
+                    &mut self.keep,
+                );
+                for &k in &self.keep {
+                    let (position, depth) = self.points[k];
+                    let normal = if flip { n_ab } else { -n_ab };
+                    let Ok(mut contact) = Contact::new(position, normal, depth) else {
+                        continue;
+                    };
+                    if contact.set_params(params).is_err() {
+                        continue;
+                    }
+                    let tp = &manifold.points[k];
+                    self.wanted.push(Wanted {
+                        pair: (ia, ib),
+                        key: (manifold.subshape1, manifold.subshape2, tp.fid1.0, tp.fid2.0),
+                        bodies: (body1, body2),
+                        contact,
+                    });
+                }
+            }
+        }
+    }
+
+    /// Writes the wanted contacts into the world, after checking that they fit.
+    fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
+        // Count the contacts to create and to destroy, to refuse before changing anything.
+        let mut creations = 0;
+        for w in &self.wanted {
+            let state = &self.pairs[&w.pair];
+            if !state
+                .contacts
+                .iter()
+                .any(|c| c.key == w.key && world.contact(c.handle).is_ok())
+            {
+                creations += 1;
+            }
+        }
+        let kept: usize = self
+            .pairs
+            .values()
+            .flat_map(|s| s.contacts.iter())
+            .filter(|c| world.contact(c.handle).is_ok())
+            .count();
+        let after = world.constraint_count() + creations;
+        let freed = kept.saturating_sub(self.wanted.len() - creations);
+        if after.saturating_sub(freed) > world.constraint_capacity() {
+            return Err(kea::KeaError::CapacityExceeded {
+                what: "constraints (contacts from collision)",
+                capacity: world.constraint_capacity(),
+            }
+            .into());
+        }
+        for state in self.pairs.values_mut() {
+            for c in &mut state.contacts {
+                c.seen = c.seen && !state.seen; // resting pairs keep theirs; others re-mark
+            }
+        }
+        // Destroy first, so capacity is free for the new ones.
+        let wanted = std::mem::take(&mut self.wanted);
+        for w in &wanted {
+            let state = self
+                .pairs
+                .get_mut(&w.pair)
+                .expect("pair recorded in narrow phase");
+            if let Some(c) = state.contacts.iter_mut().find(|c| c.key == w.key) {
+                c.seen = true;
+            }
+        }
+        for state in self.pairs.values_mut() {
+            state.contacts.retain(|c| {
+                let keep = c.seen && world.contact(c.handle).is_ok();
+                if !keep {
+                    let _ = world.destroy_constraint(c.handle);
+                }
+                keep
+            });
+        }
+        for w in &wanted {
+            let state = self
+                .pairs
+                .get_mut(&w.pair)
+                .expect("pair recorded in narrow phase");
+            match state.contacts.iter_mut().find(|c| c.key == w.key) {
+                Some(c) => {
+                    let target = world.contact_mut(c.handle)?;
+                    target.set_position(w.contact.position())?;
+                    target.set_normal(w.contact.normal())?;
+                    target.set_penetration(w.contact.penetration())?;
+                    target.set_params(*w.contact.params())?;
+                    c.seen = false;
+                }
+                None => {
+                    let handle = world.create_contact(w.bodies.0, w.bodies.1, w.contact)?;
+                    state.contacts.push(PairContact {
+                        key: w.key,
+                        handle,
+                        seen: false,
+                    });
+                }
+            }
+        }
+        self.wanted = wanted;
+        self.pairs.retain(|_, s| {
+            let keep = s.seen;
+            if !keep {
+                for c in &s.contacts {
+                    let _ = world.destroy_constraint(c.handle);
+                }
+            }
+            keep
+        });
+        Ok(())
+    }
+}
+
+impl ColliderDef {
+    fn shared_shape(&self) -> &crate::parry::shape::SharedShape {
+        &self.shape.shared
+    }
+}
+
+/// The collider's pose in the world: its body's pose times its offset.
+fn collider_pose(world: &World, def: &ColliderDef) -> Pose {
+    let (p, q) = match def.body.and_then(|b| world.body(b).ok()) {
+        Some(body) => (body.position(), body.orientation()),
+        None => (Vec3::ZERO, Quat::IDENTITY),
+    };
+    Pose::from_parts(p + q * def.offset, q * def.rotation)
+}
+
+/// An upper bound of how fast any point of the collider moves, m/s.
+fn motion(world: &World, def: &ColliderDef, reach: Real) -> Real {
+    def.body.and_then(|b| world.body(b).ok()).map_or(0.0, |b| {
+        b.linear_velocity().length() + b.angular_velocity().length() * reach
+    })
+}
+
+fn should_collide(world: &World, a: &ColliderDef, b: &ColliderDef) -> bool {
+    if a.body == b.body {
+        return false; // the same body, or both static
+    }
+    if a.groups & b.mask == 0 || b.groups & a.mask == 0 {
+        return false;
+    }
+    let _ = world;
+    true
+}
+
+/// Whether neither collider can move this step (static, disabled or asleep).
+fn pair_is_resting(world: &World, a: &ColliderDef, b: &ColliderDef) -> bool {
+    let still = |d: &ColliderDef| {
+        d.body
+            .and_then(|h| world.body(h).ok())
+            .is_none_or(|b| !b.is_enabled() || b.is_sleeping())
+    };
+    still(a) && still(b)
+}

@@ -1,0 +1,40 @@
+//! Kea's collision layer (the guide's Collision Toolkit and its Dynamics Toolkit Bridge).
+//!
+//! Shapes are [`parry3d`] geometry (`parry3d-f64` with the `f64` feature) attached to Kea bodies
+//! with a local offset. Each [`CollisionWorld::step`] finds the overlapping pairs (sweep and prune
+//! on the x axis), builds parry contact manifolds for them, and keeps the world's contacts in step
+//! with those manifolds: a contact point that persists keeps its Kea constraint handle, so both
+//! solvers warm-start it; a point that disappears has its contact destroyed.
+//!
+//! The dynamics crate stays usable without this one: everything here goes through `kea::World`'s
+//! public contact API.
+//!
+//! Precision: enable `kea-collision/f64` (which enables `kea/f64`) for double precision; enabling
+//! `kea/f64` alone is a compile error here, because the geometry must match the dynamics.
+
+#![warn(missing_docs)]
+
+mod broad_phase;
+mod collision_world;
+mod error;
+mod material;
+mod reduce;
+mod shape;
+
+pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy};
+pub use error::{CollisionError, CollisionResult};
+pub use material::{MaterialId, MaterialTable, Surface};
+pub use shape::{MassProperties, Shape};
+
+/// The parry crate matching Kea's precision.
+#[cfg(not(feature = "f64"))]
+pub use parry3d as parry;
+/// The parry crate matching Kea's precision.
+#[cfg(feature = "f64")]
+pub use parry3d_f64 as parry;
+
+// The geometry and the dynamics must use the same real type.
+const _: () = assert!(
+    std::mem::size_of::<kea::Real>() == std::mem::size_of::<parry::math::Real>(),
+    "kea is built with `f64` but kea-collision is not: enable `kea-collision/f64` instead of `kea/f64`"
+);
