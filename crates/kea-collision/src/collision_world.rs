@@ -125,6 +125,7 @@ pub struct CollisionWorld {
     candidates: Vec<(u32, u32)>,
     wanted: Vec<Wanted>,
     points: Vec<(Vec3, Real)>,
+    point_features: Vec<(u32, u32)>,
     keep: Vec<usize>,
 }
 
@@ -149,6 +150,7 @@ impl CollisionWorld {
             candidates: Vec::new(),
             wanted: Vec::new(),
             points: Vec::new(),
+            point_features: Vec::new(),
             keep: Vec::new(),
         }
     }
@@ -375,10 +377,12 @@ impl CollisionWorld {
                 let sub_b = manifold.subshape_pos2().map_or(pose_b, |p| pose_b * *p);
                 let n_ab = sub_a.rotation * manifold.local_n1;
                 self.points.clear();
-                for p in &manifold.points {
+                self.point_features.clear();
+                for p in manifold.points.iter().filter(|p| p.dist <= prediction) {
                     let wa = sub_a.transform_point(p.local_p1);
                     let wb = sub_b.transform_point(p.local_p2);
                     self.points.push(((wa + wb) * 0.5, -p.dist));
+                    self.point_features.push((p.fid1.0, p.fid2.0));
                 }
                 reduce(
                     &self.points,
@@ -394,10 +398,10 @@ impl CollisionWorld {
                     if contact.set_params(params).is_err() {
                         continue;
                     }
-                    let tp = &manifold.points[k];
+                    let (f1, f2) = self.point_features[k];
                     self.wanted.push(Wanted {
                         pair: (ia, ib),
-                        key: (manifold.subshape1, manifold.subshape2, tp.fid1.0, tp.fid2.0),
+                        key: (manifold.subshape1, manifold.subshape2, f1, f2),
                         bodies: (body1, body2),
                         contact,
                     });
