@@ -99,7 +99,7 @@ impl Shape {
             CollisionError::DegenerateShape("the convex hull of these points failed".into())
         })?;
         let volume = shared.mass_properties(1.0).mass();
-        if !(volume > Real::EPSILON * 100.0) {
+        if volume.is_nan() || volume <= Real::EPSILON * 100.0 {
             return Err(CollisionError::DegenerateShape(format!(
                 "the convex hull is flat (volume {volume})"
             )));
