@@ -4,6 +4,7 @@
 
 use crate::broad_phase::{Entry, SweepAndPrune};
 use crate::error::{check_finite, CollisionError, CollisionResult};
+use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
 use crate::parry::math::Pose;
 use crate::parry::query::{
@@ -76,18 +77,29 @@ impl Default for ContactStrategy {
 /// One contact point of a pair, remembered across steps by its features so that its Kea
 /// contact (and the solvers' warm start) persists.
 #[derive(Debug, Clone, Copy)]
-struct PairContact {
-    key: (u32, u32, u32, u32),
-    handle: ConstraintHandle,
-    seen: bool,
+pub(crate) struct PairContact {
+    pub key: (u32, u32, u32, u32),
+    pub handle: ConstraintHandle,
+    pub seen: bool,
 }
 
+/// What the collision world remembers of a pair of colliders whose bounds overlap.
 #[derive(Default)]
-struct PairState {
+pub(crate) struct PairState {
     manifolds: Vec<ContactManifold<(), ()>>,
     workspace: Option<ContactManifoldsWorkspace>,
-    contacts: Vec<PairContact>,
-    seen: bool,
+    pub contacts: Vec<PairContact>,
+    /// Among this step's candidate pairs (bounds overlap and the filter lets it collide).
+    pub seen: bool,
+    /// Neither side can move: its contacts are kept as they are.
+    pub resting: bool,
+    /// Touching last step, and this step.
+    pub touching: bool,
+    pub touching_now: bool,
+    /// Impulse on the first collider's side over the last step, N·s.
+    pub impulse: Vec3,
+    /// The first collider's body is body 2 of the pair's contacts.
+    pub flipped: bool,
 }
 
 struct Collider {
@@ -96,22 +108,30 @@ struct Collider {
     reach: Real,
 }
 
-struct Slot {
+pub(crate) struct Slot {
     generation: u32,
     collider: Option<Collider>,
 }
 
+/// The handle of the collider in slot `i`.
+pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
+    ColliderHandle {
+        index: i,
+        generation: slots[i as usize].generation,
+    }
+}
+
 /// A contact the narrow phase wants this step.
-struct Wanted {
-    pair: (u32, u32),
-    key: (u32, u32, u32, u32),
-    bodies: (BodyHandle, Option<BodyHandle>),
-    contact: Contact,
+pub(crate) struct Wanted {
+    pub pair: (u32, u32),
+    pub key: (u32, u32, u32, u32),
+    pub bodies: (BodyHandle, Option<BodyHandle>),
+    pub contact: Contact,
 }
 
 /// Colliders, materials, and the contacts they generate in a [`World`].
 pub struct CollisionWorld {
-    slots: Vec<Slot>,
+    pub(crate) slots: Vec<Slot>,
     free: Vec<u32>,
     /// The material table that gives each pair's contact parameters.
     pub materials: MaterialTable,
@@ -120,10 +140,19 @@ pub struct CollisionWorld {
     /// Distance below which separated shapes already get (speculative) contacts, m. The swept
     /// motion of the step is added to it, so fast bodies do not tunnel.
     pub margin: Real,
-    pairs: BTreeMap<(u32, u32), PairState>,
+    /// How close to overlap a contact point must be for its pair to count as touching in the
+    /// events, m (1 mm by default).
+    pub touch_distance: Real,
+    pub(crate) pairs: BTreeMap<(u32, u32), PairState>,
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
-    wanted: Vec<Wanted>,
+    pub(crate) wanted: Vec<Wanted>,
+    pub(crate) events: Vec<ContactEvent>,
+    pub(crate) pending_events: Vec<ContactEvent>,
+    /// Body pairs joined by an enabled joint, sorted; rebuilt each update.
+    jointed: Vec<(BodyHandle, BodyHandle)>,
+    /// Joints whose bodies may still collide.
+    colliding_joints: Vec<ConstraintHandle>,
     points: Vec<(Vec3, Real)>,
     point_features: Vec<(u32, u32)>,
     keep: Vec<usize>,
@@ -145,6 +174,11 @@ impl CollisionWorld {
             materials: MaterialTable::new(),
             strategy: ContactStrategy::default(),
             margin: 0.01,
+            touch_distance: 1.0e-3,
+            events: Vec::new(),
+            pending_events: Vec::new(),
+            jointed: Vec::new(),
+            colliding_joints: Vec::new(),
             pairs: BTreeMap::new(),
             sap: SweepAndPrune::default(),
             candidates: Vec::new(),
@@ -202,10 +236,6 @@ impl CollisionWorld {
     /// Removes a collider and destroys the contacts it had in `world`.
     pub fn remove_collider(&mut self, world: &mut World, h: ColliderHandle) -> CollisionResult<()> {
         self.get(h)?;
-        let slot = &mut self.slots[h.index as usize];
-        slot.collider = None;
-        slot.generation = slot.generation.wrapping_add(1);
-        self.free.push(h.index);
         let gone: Vec<(u32, u32)> = self
             .pairs
             .keys()
@@ -213,11 +243,62 @@ impl CollisionWorld {
             .copied()
             .collect();
         for k in gone {
-            if let Some(state) = self.pairs.remove(&k) {
-                for c in state.contacts {
-                    let _ = world.destroy_constraint(c.handle); // already gone with its body is fine
-                }
+            let Some(state) = self.pairs.remove(&k) else {
+                continue;
+            };
+            for c in &state.contacts {
+                let _ = world.destroy_constraint(c.handle); // already gone with its body is fine
             }
+            if state.touching {
+                let colliders = [handle_of(&self.slots, k.0), handle_of(&self.slots, k.1)];
+                self.pending_events.push(ContactEvent {
+                    kind: ContactEventKind::Ended,
+                    colliders,
+                });
+            }
+        }
+        let slot = &mut self.slots[h.index as usize];
+        slot.collider = None;
+        slot.generation = slot.generation.wrapping_add(1);
+        self.free.push(h.index);
+        Ok(())
+    }
+
+    /// The contact events of the last update (began, persisted, ended), in pair order.
+    #[must_use]
+    pub fn events(&self) -> &[ContactEvent] {
+        &self.events
+    }
+
+    /// The total contact impulse on collider `a`'s body from collider `b` over the last step,
+    /// N·s (zero if they did not touch).
+    pub fn pair_impulse(&self, a: ColliderHandle, b: ColliderHandle) -> CollisionResult<Vec3> {
+        self.get(a)?;
+        self.get(b)?;
+        let key = (a.index.min(b.index), a.index.max(b.index));
+        let on_first = self.pairs.get(&key).map_or(Vec3::ZERO, |p| p.impulse);
+        Ok(if a.index <= b.index {
+            on_first
+        } else {
+            -on_first
+        })
+    }
+
+    /// Lets (or stops) the two bodies of a joint collide with each other. By default bodies
+    /// joined by an enabled joint do not collide.
+    pub fn set_joint_collisions(
+        &mut self,
+        world: &World,
+        joint: ConstraintHandle,
+        collide: bool,
+    ) -> CollisionResult<()> {
+        world.constraint_bodies(joint)?;
+        match (self.colliding_joints.binary_search(&joint), collide) {
+            (Err(i), true) => self.colliding_joints.insert(i, joint),
+            (Ok(i), false) => {
+                self.colliding_joints.remove(i);
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -252,7 +333,21 @@ impl CollisionWorld {
     /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
     pub fn step(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
         self.update_contacts(world, dt)?;
-        Ok(world.step(dt)?)
+        let stats = world.step(dt)?;
+        for state in self.pairs.values_mut() {
+            let force: Vec3 = state
+                .contacts
+                .iter()
+                .filter_map(|c| world.contact_force(c.handle).ok())
+                .sum();
+            // Contact forces act on the contacts' body 1: the first collider's, unless flipped.
+            state.impulse = if state.flipped {
+                -force * dt
+            } else {
+                force * dt
+            };
+        }
+        Ok(stats)
     }
 
     /// Finds the colliding pairs and creates, updates or destroys the world's contacts so they
@@ -261,6 +356,7 @@ impl CollisionWorld {
     pub fn update_contacts(&mut self, world: &mut World, dt: Real) -> CollisionResult<()> {
         check_finite("dt", dt)?;
         self.drop_colliders_of_destroyed_bodies(world);
+        self.collect_jointed_pairs(world);
         self.broad_phase(world, dt);
         self.narrow_phase(world, dt);
         self.apply(world)
@@ -292,6 +388,19 @@ impl CollisionWorld {
                 .rev()
                 .filter(|&i| self.slots[i as usize].collider.is_none()),
         );
+    }
+
+    /// Body pairs joined by an enabled joint that has not been allowed to collide.
+    fn collect_jointed_pairs(&mut self, world: &World) {
+        self.jointed.clear();
+        for (joint, [a, b]) in world.enabled_joints() {
+            if let (Some(a), Some(b)) = (a, b) {
+                if self.colliding_joints.binary_search(&joint).is_err() {
+                    self.jointed.push((a.min(b), a.max(b)));
+                }
+            }
+        }
+        self.jointed.sort_unstable();
     }
 
     fn broad_phase(&mut self, world: &World, dt: Real) {
@@ -334,17 +443,14 @@ impl CollisionWorld {
             ) else {
                 continue;
             };
-            if !should_collide(world, &a.def, &b.def) {
+            if !should_collide(&self.jointed, &a.def, &b.def) {
                 continue;
             }
             let state = self.pairs.entry((ia, ib)).or_default();
             state.seen = true;
-            if pair_is_resting(world, &a.def, &b.def) {
-                // Asleep: keep its contacts as they are.
-                for c in &mut state.contacts {
-                    c.seen = true;
-                }
-                continue;
+            state.resting = pair_is_resting(world, &a.def, &b.def);
+            if state.resting {
+                continue; // asleep or static: its contacts stay as they are
             }
             let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
             let prediction = self.margin
@@ -369,6 +475,7 @@ impl CollisionWorld {
                 (None, Some(y)) => (y, None, true),
                 (None, None) => continue,
             };
+            state.flipped = flip;
             let Ok(params) = self.materials.params(a.def.material, b.def.material) else {
                 continue;
             };
@@ -409,97 +516,6 @@ impl CollisionWorld {
             }
         }
     }
-
-    /// Writes the wanted contacts into the world, after checking that they fit.
-    fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
-        // Count the contacts to create and to destroy, to refuse before changing anything.
-        let mut creations = 0;
-        for w in &self.wanted {
-            let state = &self.pairs[&w.pair];
-            if !state
-                .contacts
-                .iter()
-                .any(|c| c.key == w.key && world.contact(c.handle).is_ok())
-            {
-                creations += 1;
-            }
-        }
-        let kept: usize = self
-            .pairs
-            .values()
-            .flat_map(|s| s.contacts.iter())
-            .filter(|c| world.contact(c.handle).is_ok())
-            .count();
-        let after = world.constraint_count() + creations;
-        let freed = kept.saturating_sub(self.wanted.len() - creations);
-        if after.saturating_sub(freed) > world.constraint_capacity() {
-            return Err(kea::KeaError::CapacityExceeded {
-                what: "constraints (contacts from collision)",
-                capacity: world.constraint_capacity(),
-            }
-            .into());
-        }
-        for state in self.pairs.values_mut() {
-            for c in &mut state.contacts {
-                c.seen = c.seen && !state.seen; // resting pairs keep theirs; others re-mark
-            }
-        }
-        // Destroy first, so capacity is free for the new ones.
-        let wanted = std::mem::take(&mut self.wanted);
-        for w in &wanted {
-            let state = self
-                .pairs
-                .get_mut(&w.pair)
-                .expect("pair recorded in narrow phase");
-            if let Some(c) = state.contacts.iter_mut().find(|c| c.key == w.key) {
-                c.seen = true;
-            }
-        }
-        for state in self.pairs.values_mut() {
-            state.contacts.retain(|c| {
-                let keep = c.seen && world.contact(c.handle).is_ok();
-                if !keep {
-                    let _ = world.destroy_constraint(c.handle);
-                }
-                keep
-            });
-        }
-        for w in &wanted {
-            let state = self
-                .pairs
-                .get_mut(&w.pair)
-                .expect("pair recorded in narrow phase");
-            match state.contacts.iter_mut().find(|c| c.key == w.key) {
-                Some(c) => {
-                    let target = world.contact_mut(c.handle)?;
-                    target.set_position(w.contact.position())?;
-                    target.set_normal(w.contact.normal())?;
-                    target.set_penetration(w.contact.penetration())?;
-                    target.set_params(*w.contact.params())?;
-                    c.seen = false;
-                }
-                None => {
-                    let handle = world.create_contact(w.bodies.0, w.bodies.1, w.contact)?;
-                    state.contacts.push(PairContact {
-                        key: w.key,
-                        handle,
-                        seen: false,
-                    });
-                }
-            }
-        }
-        self.wanted = wanted;
-        self.pairs.retain(|_, s| {
-            let keep = s.seen;
-            if !keep {
-                for c in &s.contacts {
-                    let _ = world.destroy_constraint(c.handle);
-                }
-            }
-            keep
-        });
-        Ok(())
-    }
 }
 
 impl ColliderDef {
@@ -524,15 +540,15 @@ fn motion(world: &World, def: &ColliderDef, reach: Real) -> Real {
     })
 }
 
-fn should_collide(world: &World, a: &ColliderDef, b: &ColliderDef) -> bool {
-    if a.body == b.body {
-        return false; // the same body, or both static
-    }
-    if a.groups & b.mask == 0 || b.groups & a.mask == 0 {
+/// The filter: not the same body (or both static), groups and masks agree, and not joined.
+fn should_collide(jointed: &[(BodyHandle, BodyHandle)], a: &ColliderDef, b: &ColliderDef) -> bool {
+    if a.body == b.body || a.groups & b.mask == 0 || b.groups & a.mask == 0 {
         return false;
     }
-    let _ = world;
-    true
+    match (a.body, b.body) {
+        (Some(x), Some(y)) => jointed.binary_search(&(x.min(y), x.max(y))).is_err(),
+        _ => true,
+    }
 }
 
 /// Whether neither collider can move this step (static, disabled or asleep).

@@ -17,12 +17,15 @@
 mod broad_phase;
 mod collision_world;
 mod error;
+mod events;
 mod material;
 mod reduce;
 mod shape;
+mod sync;
 
 pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy};
 pub use error::{CollisionError, CollisionResult};
+pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, Surface};
 pub use shape::{MassProperties, Shape};
 

@@ -15,7 +15,10 @@ fn a_pyramid_of_210_boxes_stands_for_20_seconds() {
     .unwrap();
     let mut collision = CollisionWorld::new();
     collision
-        .add_collider(&world, ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()))
+        .add_collider(
+            &world,
+            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
+        )
         .unwrap();
     let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
     let mp = cube.mass_properties(1.0).unwrap();
@@ -33,7 +36,9 @@ fn a_pyramid_of_210_boxes_stands_for_20_seconds() {
                     ..Default::default()
                 })
                 .unwrap();
-            collision.add_collider(&world, ColliderDef::new(Some(b), cube.clone())).unwrap();
+            collision
+                .add_collider(&world, ColliderDef::new(Some(b), cube.clone()))
+                .unwrap();
             boxes.push((b, Vec3::new(x, y, 0.0)));
         }
     }

@@ -215,6 +215,17 @@ impl World {
         self.constraints.len()
     }
 
+    /// Every enabled joint (any constraint that is not a contact) with its two bodies, in handle
+    /// order. Collision layers use it to keep jointed bodies from colliding.
+    pub fn enabled_joints(
+        &self,
+    ) -> impl Iterator<Item = (ConstraintHandle, [Option<BodyHandle>; 2])> + '_ {
+        self.constraints
+            .iter()
+            .filter(|(_, e)| e.enabled && !matches!(e.kind, ConstraintKind::Contact(_)))
+            .map(|(h, e)| (h, e.bodies))
+    }
+
     /// The most constraints (contacts included) this world can hold, fixed at creation.
     #[must_use]
     pub fn constraint_capacity(&self) -> usize {
