@@ -1,0 +1,157 @@
+//! Filtering (groups and masks, jointed bodies) and contact events.
+
+use kea::{BodyDef, Real, Vec3, World};
+use kea_collision::{ColliderDef, CollisionWorld, ContactEventKind, Shape};
+
+const DT: Real = 1.0 / 60.0;
+
+fn ball(world: &mut World, position: Vec3) -> kea::BodyHandle {
+    let s = Shape::sphere(0.5).unwrap().mass_properties(1000.0).unwrap();
+    world
+        .create_body(&BodyDef {
+            mass: s.mass,
+            inertia: s.inertia,
+            position,
+            ..Default::default()
+        })
+        .unwrap()
+}
+
+#[test]
+fn groups_masks_and_joints_filter_pairs() {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.set_gravity(Vec3::ZERO).unwrap();
+    let mut collision = CollisionWorld::new();
+    let s = Shape::sphere(0.5).unwrap();
+    let a = ball(&mut world, Vec3::ZERO);
+    let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
+    let mut da = ColliderDef::new(Some(a), s.clone());
+    da.groups = 0b01;
+    da.mask = 0b01;
+    let mut db = ColliderDef::new(Some(b), s.clone());
+    db.groups = 0b10;
+    let ca = collision.add_collider(&world, da).unwrap();
+    let cb = collision.add_collider(&world, db).unwrap();
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert!(
+        collision.contacts_between(ca, cb).unwrap().is_empty(),
+        "a's mask excludes b"
+    );
+    assert_eq!(world.constraint_count(), 0);
+
+    // Same groups, but joined by a ball joint: still no contacts, until allowed.
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.set_gravity(Vec3::ZERO).unwrap();
+    let mut collision = CollisionWorld::new();
+    let a = ball(&mut world, Vec3::ZERO);
+    let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
+    let ca = collision
+        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
+        .unwrap();
+    let cb = collision
+        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
+        .unwrap();
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert_eq!(
+        collision.contacts_between(ca, cb).unwrap().len(),
+        1,
+        "unjoined: they collide"
+    );
+    let joint = world
+        .create_ball_joint(a, Some(b), Vec3::new(0.45, 0.0, 0.0))
+        .unwrap();
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert!(
+        collision.contacts_between(ca, cb).unwrap().is_empty(),
+        "joined: no contacts"
+    );
+    assert_eq!(world.constraint_count(), 1, "only the joint is left");
+    collision.set_joint_collisions(&world, joint, true).unwrap();
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert_eq!(
+        collision.contacts_between(ca, cb).unwrap().len(),
+        1,
+        "allowed to collide"
+    );
+    collision
+        .set_joint_collisions(&world, joint, false)
+        .unwrap();
+    world.set_constraint_enabled(joint, false).unwrap();
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert_eq!(
+        collision.contacts_between(ca, cb).unwrap().len(),
+        1,
+        "a disabled joint lets go"
+    );
+}
+
+#[test]
+fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    let mut collision = CollisionWorld::new();
+    let ground = collision
+        .add_collider(
+            &world,
+            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
+        )
+        .unwrap();
+    let b = ball(&mut world, Vec3::new(0.0, 1.0, 0.0));
+    let cb = collision
+        .add_collider(
+            &world,
+            ColliderDef::new(Some(b), Shape::sphere(0.5).unwrap()),
+        )
+        .unwrap();
+    let (mut began, mut ended, mut persisted) = (0, 0, 0);
+    let mut count = |collision: &CollisionWorld| {
+        for e in collision.events() {
+            assert_eq!(e.colliders, [ground, cb]);
+            match e.kind {
+                ContactEventKind::Began => began += 1,
+                ContactEventKind::Persisted => persisted += 1,
+                ContactEventKind::Ended => ended += 1,
+            }
+        }
+    };
+    // Fall 0.5 m onto the ground and rest there for 2 s.
+    for _ in 0..150 {
+        collision.step(&mut world, DT).unwrap();
+        count(&collision);
+    }
+    let weight = world.body(b).unwrap().mass() * 9.81;
+    let impulse = collision.pair_impulse(cb, ground).unwrap();
+    eprintln!(
+        "resting ball: impulse {impulse} N·s per step, weight·dt {}",
+        weight * DT
+    );
+    assert!(
+        (impulse.y - weight * DT).abs() < 1e-3 * weight * DT,
+        "impulse {impulse}"
+    );
+    assert!((collision.pair_impulse(ground, cb).unwrap() + impulse).length() < 1e-6 * weight);
+    // Lift it away: the pair ends once.
+    world
+        .body_mut(b)
+        .unwrap()
+        .set_position(Vec3::new(0.0, 5.0, 0.0))
+        .unwrap();
+    for _ in 0..10 {
+        collision.step(&mut world, DT).unwrap();
+        count(&collision);
+    }
+    assert_eq!((began, ended), (1, 1), "persisted {persisted}");
+    assert!(persisted > 100);
+    // Removing a touching collider ends its pair too.
+    world
+        .body_mut(b)
+        .unwrap()
+        .set_position(Vec3::new(0.0, 0.5, 0.0))
+        .unwrap();
+    collision.step(&mut world, DT).unwrap();
+    assert_eq!(collision.events()[0].kind, ContactEventKind::Began);
+    collision.remove_collider(&mut world, cb).unwrap();
+    assert_eq!(world.constraint_count(), 0, "its contacts went with it");
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert_eq!(collision.events().len(), 1);
+    assert_eq!(collision.events()[0].kind, ContactEventKind::Ended);
+}
