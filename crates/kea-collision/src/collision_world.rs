@@ -102,15 +102,15 @@ pub(crate) struct PairState {
     pub flipped: bool,
 }
 
-struct Collider {
-    def: ColliderDef,
+pub(crate) struct Collider {
+    pub(crate) def: ColliderDef,
     /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
     reach: Real,
 }
 
 pub(crate) struct Slot {
     generation: u32,
-    collider: Option<Collider>,
+    pub(crate) collider: Option<Collider>,
 }
 
 /// The handle of the collider in slot `i`.
@@ -525,7 +525,7 @@ impl ColliderDef {
 }
 
 /// The collider's pose in the world: its body's pose times its offset.
-fn collider_pose(world: &World, def: &ColliderDef) -> Pose {
+pub(crate) fn collider_pose(world: &World, def: &ColliderDef) -> Pose {
     let (p, q) = match def.body.and_then(|b| world.body(b).ok()) {
         Some(body) => (body.position(), body.orientation()),
         None => (Vec3::ZERO, Quat::IDENTITY),

@@ -70,3 +70,17 @@ pub(crate) fn check_vec3(arg: &'static str, v: kea::Vec3) -> CollisionResult<()>
         .into())
     }
 }
+
+/// Checks that a quaternion is finite and of unit length (within 1e-3), and normalises it.
+pub(crate) fn check_unit_quat(arg: &'static str, q: kea::Quat) -> CollisionResult<kea::Quat> {
+    let len = q.length();
+    if !q.is_finite() || (len - 1.0).abs() > 1.0e-3 {
+        return Err(kea::KeaError::NotUnit {
+            arg,
+            value: format!("{q}"),
+            length: len as f64,
+        }
+        .into());
+    }
+    Ok(q.normalize())
+}

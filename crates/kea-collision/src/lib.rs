@@ -19,6 +19,7 @@ mod collision_world;
 mod error;
 mod events;
 mod material;
+mod query;
 mod reduce;
 mod shape;
 mod sync;
@@ -27,6 +28,7 @@ pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactSt
 pub use error::{CollisionError, CollisionResult};
 pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, Surface};
+pub use query::{PointHit, QueryFilter, RayHit, ShapeHit};
 pub use shape::{MassProperties, Shape};
 
 /// The parry crate matching Kea's precision.

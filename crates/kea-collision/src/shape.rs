@@ -177,7 +177,7 @@ impl Shape {
         let mut list = Vec::with_capacity(parts.len());
         for (i, (offset, rotation, part)) in parts.iter().enumerate() {
             check_vec3("parts.offset", *offset)?;
-            let rotation = kea_unit_quat("parts.rotation", *rotation)?;
+            let rotation = crate::error::check_unit_quat("parts.rotation", *rotation)?;
             if !part.shared.is_convex() {
                 return Err(CollisionError::DegenerateShape(format!(
                     "compound part {i} is a {}, but parts must be convex",
@@ -253,7 +253,7 @@ impl MassProperties {
         let mut total: Option<crate::parry::mass_properties::MassProperties> = None;
         for (offset, rotation, shape) in parts {
             check_vec3("offset", *offset)?;
-            let rotation = kea_unit_quat("rotation", *rotation)?;
+            let rotation = crate::error::check_unit_quat("rotation", *rotation)?;
             if !shape.has_volume() {
                 return Err(CollisionError::DegenerateShape(format!(
                     "a {} has no volume, so no mass",
@@ -280,17 +280,4 @@ impl MassProperties {
 
 fn kea_finite(arg: &'static str, v: Real) -> CollisionResult<()> {
     crate::error::check_finite(arg, v)
-}
-
-fn kea_unit_quat(arg: &'static str, q: Quat) -> CollisionResult<Quat> {
-    let len = q.length();
-    if !q.is_finite() || (len - 1.0).abs() > 1.0e-3 {
-        return Err(kea::KeaError::NotUnit {
-            arg,
-            value: format!("{q}"),
-            length: len as f64,
-        }
-        .into());
-    }
-    Ok(q.normalize())
 }

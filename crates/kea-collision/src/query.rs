@@ -1,0 +1,279 @@
+//! Scene queries: ray casts (closest, any, all), shape casts, overlap tests and point
+//! projection, each with a [`QueryFilter`]. Each query tests the colliders whose bounds it can
+//! reach, in slot order, so equal inputs give equal answers.
+
+use crate::collision_world::{
+    collider_pose, handle_of, ColliderDef, ColliderHandle, CollisionWorld,
+};
+use crate::error::{check_finite, check_unit_quat, check_vec3, CollisionResult};
+use crate::parry::math::Pose;
+use crate::parry::query::{self, Ray, RayCast, ShapeCastOptions};
+use crate::shape::Shape;
+use kea::{BodyHandle, Quat, Real, Vec3, World};
+
+/// Which colliders a query sees: those whose groups meet `mask` and, if set, not on `exclude`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct QueryFilter {
+    /// Groups (bits) the query sees.
+    pub mask: u32,
+    /// A body whose colliders are skipped (say, the character casting the ray).
+    pub exclude: Option<BodyHandle>,
+}
+
+impl Default for QueryFilter {
+    /// Sees everything.
+    fn default() -> Self {
+        Self {
+            mask: u32::MAX,
+            exclude: None,
+        }
+    }
+}
+
+impl QueryFilter {
+    fn accepts(&self, def: &ColliderDef) -> bool {
+        def.groups & self.mask != 0 && (self.exclude.is_none() || def.body != self.exclude)
+    }
+}
+
+/// Where a ray met a collider.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayHit {
+    /// The collider hit.
+    pub collider: ColliderHandle,
+    /// Distance along the ray, in units of the direction's length.
+    pub distance: Real,
+    /// The hit point, world frame.
+    pub point: Vec3,
+    /// The surface normal there, world frame.
+    pub normal: Vec3,
+}
+
+/// Where a moving shape first touches a collider.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapeHit {
+    /// The collider touched.
+    pub collider: ColliderHandle,
+    /// Time of impact, in units of the cast's velocity (the fraction of `velocity` travelled).
+    pub time: Real,
+    /// The first touching point on the collider, world frame.
+    pub point: Vec3,
+    /// The collider's outward normal there, world frame.
+    pub normal: Vec3,
+}
+
+/// The nearest surface point of a collider to a query point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointHit {
+    /// The collider.
+    pub collider: ColliderHandle,
+    /// The nearest point on its surface (the query point itself when inside and solid).
+    pub point: Vec3,
+    /// Whether the query point is inside the collider.
+    pub inside: bool,
+    /// Distance from the query point to `point`.
+    pub distance: Real,
+}
+
+impl CollisionWorld {
+    /// Every collider a filter accepts, with its world pose.
+    fn visible<'a>(
+        &'a self,
+        world: &'a World,
+        filter: QueryFilter,
+    ) -> impl Iterator<Item = (ColliderHandle, &'a ColliderDef, Pose)> + 'a {
+        self.slots.iter().enumerate().filter_map(move |(i, s)| {
+            let def = &s.collider.as_ref()?.def;
+            if def.body.is_some_and(|b| world.body(b).is_err()) || !filter.accepts(def) {
+                return None;
+            }
+            Some((
+                handle_of(&self.slots, i as u32),
+                def,
+                collider_pose(world, def),
+            ))
+        })
+    }
+
+    /// Every hit of the ray `origin + t·direction`, `0 ≤ t ≤ max_distance`, one per collider,
+    /// nearest first. Solid shapes: a ray starting inside one hits it at `t = 0`.
+    pub fn cast_ray_all(
+        &self,
+        world: &World,
+        origin: Vec3,
+        direction: Vec3,
+        max_distance: Real,
+        filter: QueryFilter,
+    ) -> CollisionResult<Vec<RayHit>> {
+        check_vec3("origin", origin)?;
+        check_vec3("direction", direction)?;
+        check_finite("max_distance", max_distance)?;
+        if direction.length_squared() == 0.0 {
+            return Err(kea::KeaError::NotUnit {
+                arg: "direction",
+                value: format!("{direction}"),
+                length: 0.0,
+            }
+            .into());
+        }
+        let ray = Ray::new(origin, direction);
+        let mut hits: Vec<RayHit> = self
+            .visible(world, filter)
+            .filter_map(|(collider, def, pose)| {
+                let shape = def.shape.shared.as_ref();
+                let aabb = shape.compute_aabb(&pose);
+                aabb.cast_local_ray(&ray, max_distance, true)?;
+                let hit = shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true)?;
+                Some(RayHit {
+                    collider,
+                    distance: hit.time_of_impact,
+                    point: ray.point_at(hit.time_of_impact),
+                    normal: hit.normal,
+                })
+            })
+            .collect();
+        hits.sort_by(|a, b| {
+            a.distance
+                .total_cmp(&b.distance)
+                .then(a.collider.cmp(&b.collider))
+        });
+        Ok(hits)
+    }
+
+    /// The nearest hit of the ray, if any.
+    pub fn cast_ray(
+        &self,
+        world: &World,
+        origin: Vec3,
+        direction: Vec3,
+        max_distance: Real,
+        filter: QueryFilter,
+    ) -> CollisionResult<Option<RayHit>> {
+        Ok(self
+            .cast_ray_all(world, origin, direction, max_distance, filter)?
+            .into_iter()
+            .next())
+    }
+
+    /// Whether the ray hits anything (stops at the first collider found).
+    pub fn cast_ray_any(
+        &self,
+        world: &World,
+        origin: Vec3,
+        direction: Vec3,
+        max_distance: Real,
+        filter: QueryFilter,
+    ) -> CollisionResult<bool> {
+        check_vec3("origin", origin)?;
+        check_vec3("direction", direction)?;
+        check_finite("max_distance", max_distance)?;
+        let ray = Ray::new(origin, direction);
+        Ok(self.visible(world, filter).any(|(_, def, pose)| {
+            def.shape
+                .shared
+                .as_ref()
+                .cast_ray(&pose, &ray, max_distance, true)
+                .is_some()
+        }))
+    }
+
+    /// Sweeps `shape` from `position`/`rotation` along `velocity` for `0 ≤ t ≤ max_time` and
+    /// returns the first collider it touches.
+    pub fn cast_shape(
+        &self,
+        world: &World,
+        shape: &Shape,
+        position: Vec3,
+        rotation: Quat,
+        velocity: Vec3,
+        max_time: Real,
+        filter: QueryFilter,
+    ) -> CollisionResult<Option<ShapeHit>> {
+        check_vec3("position", position)?;
+        check_vec3("velocity", velocity)?;
+        check_finite("max_time", max_time)?;
+        let rotation = check_unit_quat("rotation", rotation)?;
+        let pose = Pose::from_parts(position, rotation);
+        let mut best: Option<ShapeHit> = None;
+        for (collider, def, other) in self.visible(world, filter) {
+            let options = ShapeCastOptions::with_max_time_of_impact(max_time);
+            let Ok(Some(hit)) = query::cast_shapes(
+                &pose,
+                velocity,
+                shape.shared.as_ref(),
+                &other,
+                Vec3::ZERO,
+                def.shape.shared.as_ref(),
+                options,
+            ) else {
+                continue;
+            };
+            if best.is_none_or(|b| hit.time_of_impact < b.time) {
+                best = Some(ShapeHit {
+                    collider,
+                    time: hit.time_of_impact,
+                    point: other.transform_point(hit.witness2),
+                    normal: other.rotation * hit.normal2,
+                });
+            }
+        }
+        Ok(best)
+    }
+
+    /// Every collider that overlaps `shape` placed at `position`/`rotation`, in slot order.
+    pub fn overlaps(
+        &self,
+        world: &World,
+        shape: &Shape,
+        position: Vec3,
+        rotation: Quat,
+        filter: QueryFilter,
+    ) -> CollisionResult<Vec<ColliderHandle>> {
+        check_vec3("position", position)?;
+        let rotation = check_unit_quat("rotation", rotation)?;
+        let pose = Pose::from_parts(position, rotation);
+        Ok(self
+            .visible(world, filter)
+            .filter(|(_, def, other)| {
+                query::intersection_test(
+                    &pose,
+                    shape.shared.as_ref(),
+                    other,
+                    def.shape.shared.as_ref(),
+                )
+                .is_ok_and(|i| i.intersecting)
+            })
+            .map(|(h, _, _)| h)
+            .collect())
+    }
+
+    /// The collider surface nearest to `point` (within `max_distance`).
+    pub fn project_point(
+        &self,
+        world: &World,
+        point: Vec3,
+        max_distance: Real,
+        filter: QueryFilter,
+    ) -> CollisionResult<Option<PointHit>> {
+        check_vec3("point", point)?;
+        check_finite("max_distance", max_distance)?;
+        let mut best: Option<PointHit> = None;
+        for (collider, def, pose) in self.visible(world, filter) {
+            let p = def.shape.shared.as_ref().project_point(&pose, point, true);
+            let distance = if p.is_inside {
+                0.0
+            } else {
+                (p.point - point).length()
+            };
+            if distance <= max_distance && best.is_none_or(|b| distance < b.distance) {
+                best = Some(PointHit {
+                    collider,
+                    point: p.point,
+                    inside: p.is_inside,
+                    distance,
+                });
+            }
+        }
+        Ok(best)
+    }
+}
