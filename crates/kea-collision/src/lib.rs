@@ -28,7 +28,7 @@ pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactSt
 pub use error::{CollisionError, CollisionResult};
 pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, Surface};
-pub use query::{PointHit, QueryFilter, RayHit, ShapeHit};
+pub use query::{PointHit, QueryFilter, RayHit, ShapeCast, ShapeHit};
 pub use shape::{MassProperties, Shape};
 
 /// The parry crate matching Kea's precision.

@@ -49,6 +49,21 @@ pub struct RayHit {
     pub normal: Vec3,
 }
 
+/// A shape swept from a pose along `velocity` for `0 ≤ t ≤ max_time`.
+#[derive(Debug, Clone)]
+pub struct ShapeCast {
+    /// The moving shape.
+    pub shape: Shape,
+    /// Its start position, world frame.
+    pub position: Vec3,
+    /// Its orientation (kept through the sweep).
+    pub rotation: Quat,
+    /// Its velocity, m per unit time.
+    pub velocity: Vec3,
+    /// How far in time to sweep.
+    pub max_time: Real,
+}
+
 /// Where a moving shape first touches a collider.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShapeHit {
@@ -177,22 +192,25 @@ impl CollisionWorld {
         }))
     }
 
-    /// Sweeps `shape` from `position`/`rotation` along `velocity` for `0 ≤ t ≤ max_time` and
-    /// returns the first collider it touches.
+    /// Sweeps a shape along a straight path and returns the first collider it touches.
     pub fn cast_shape(
         &self,
         world: &World,
-        shape: &Shape,
-        position: Vec3,
-        rotation: Quat,
-        velocity: Vec3,
-        max_time: Real,
+        cast: &ShapeCast,
         filter: QueryFilter,
     ) -> CollisionResult<Option<ShapeHit>> {
+        let ShapeCast {
+            shape,
+            position,
+            rotation,
+            velocity,
+            max_time,
+        } = cast;
+        let (position, velocity, max_time) = (*position, *velocity, *max_time);
         check_vec3("position", position)?;
         check_vec3("velocity", velocity)?;
         check_finite("max_time", max_time)?;
-        let rotation = check_unit_quat("rotation", rotation)?;
+        let rotation = check_unit_quat("rotation", *rotation)?;
         let pose = Pose::from_parts(position, rotation);
         let mut best: Option<ShapeHit> = None;
         for (collider, def, other) in self.visible(world, filter) {

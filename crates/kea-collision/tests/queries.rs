@@ -2,7 +2,17 @@
 //! overlaps and point projection, with filters.
 
 use kea::{BodyDef, Quat, Real, Vec3, World};
-use kea_collision::{ColliderDef, CollisionWorld, QueryFilter, Shape};
+use kea_collision::{ColliderDef, CollisionWorld, QueryFilter, Shape, ShapeCast};
+
+fn sweep(shape: &Shape, position: Vec3, velocity: Vec3) -> ShapeCast {
+    ShapeCast {
+        shape: shape.clone(),
+        position,
+        rotation: Quat::IDENTITY,
+        velocity,
+        max_time: 10.0,
+    }
+}
 
 #[test]
 fn rays_hit_what_they_should_in_order() {
@@ -164,11 +174,7 @@ fn shape_casts_overlaps_and_point_projection() {
     let hit = collision
         .cast_shape(
             &world,
-            &ball,
-            Vec3::new(0.0, 5.0, 0.0),
-            Quat::IDENTITY,
-            -Vec3::Y,
-            10.0,
+            &sweep(&ball, Vec3::new(0.0, 5.0, 0.0), -Vec3::Y),
             all,
         )
         .unwrap()
@@ -180,11 +186,7 @@ fn shape_casts_overlaps_and_point_projection() {
     let hit = collision
         .cast_shape(
             &world,
-            &ball,
-            Vec3::new(0.0, 0.5, 0.0),
-            Quat::IDENTITY,
-            Vec3::X,
-            10.0,
+            &sweep(&ball, Vec3::new(0.0, 0.5, 0.0), Vec3::X),
             all,
         )
         .unwrap()
