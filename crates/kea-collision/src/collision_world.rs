@@ -206,7 +206,7 @@ impl CollisionWorld {
             return Err(kea::KeaError::NotUnit {
                 arg: "rotation",
                 value: format!("{}", def.rotation),
-                length: len as f64,
+                length: kea::math::wide(len),
             }
             .into());
         }

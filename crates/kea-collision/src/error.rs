@@ -78,7 +78,7 @@ pub(crate) fn check_unit_quat(arg: &'static str, q: kea::Quat) -> CollisionResul
         return Err(kea::KeaError::NotUnit {
             arg,
             value: format!("{q}"),
-            length: len as f64,
+            length: kea::math::wide(len),
         }
         .into());
     }

@@ -48,7 +48,7 @@ impl Shape {
             .ok_or_else(|| kea::KeaError::NotUnit {
                 arg: "normal",
                 value: format!("{normal}"),
-                length: normal.length() as f64,
+                length: kea::math::wide(normal.length()),
             })?;
         Ok(Self {
             shared: SharedShape::halfspace(n),

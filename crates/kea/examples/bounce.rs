@@ -1,7 +1,7 @@
 //! The guide's bounce.c: a ball dropped on a plane with restitution 0.6 and 2D friction. The
 //! contact is made by hand each step, as the tutorial does, and destroyed the next.
 //!
-//! Run: `cargo run --release --example bounce`
+//! Run: `cargo run --release -p kea --example bounce`
 
 use kea::{
     inertia, BodyDef, Contact, ContactParams, ContactType, FrictionModel, Real, Vec3, World,
