@@ -4,7 +4,7 @@
 
 use crate::error::{check_positive, check_vec3, CollisionError, CollisionResult};
 use crate::parry::math::Pose;
-use crate::parry::shape::{SharedShape, TypedShape};
+use crate::parry::shape::{HeightFieldFlags, SharedShape, TriMesh, TriMeshFlags, TypedShape};
 use crate::parry::utils::Array2;
 use kea::{Mat3, Quat, Real, Vec3};
 
@@ -135,8 +135,17 @@ impl Shape {
                 )));
             }
         }
-        let shared = SharedShape::trimesh(vertices, indices)
-            .map_err(|e| CollisionError::DegenerateShape(format!("triangle mesh: {e}")))?;
+        // Half-edge topology refuses non-manifold meshes (an edge shared by three triangles, a
+        // triangle listed twice); fixed internal edges keep contacts sliding across triangle
+        // seams from getting the seam's normal instead of the surface's.
+        let flags = TriMeshFlags::HALF_EDGE_TOPOLOGY | TriMeshFlags::FIX_INTERNAL_EDGES;
+        let bad = |e: &dyn std::fmt::Display| {
+            CollisionError::DegenerateShape(format!("triangle mesh: {e}"))
+        };
+        let mut mesh = TriMesh::new(vertices, indices).map_err(|e| bad(&e))?;
+        // (parry's `with_flags` drops a topology error; `set_flags` reports it.)
+        mesh.set_flags(flags).map_err(|e| bad(&e))?;
+        let shared = SharedShape::new(mesh);
         Ok(Self { shared })
     }
 
@@ -161,8 +170,10 @@ impl Shape {
                 data.push(row[c]);
             }
         }
+        let grid = Array2::new(rows, cols, data);
+        let flags = HeightFieldFlags::FIX_INTERNAL_EDGES;
         Ok(Self {
-            shared: SharedShape::heightfield(Array2::new(rows, cols, data), size),
+            shared: SharedShape::heightfield_with_flags(grid, size, flags),
         })
     }
 

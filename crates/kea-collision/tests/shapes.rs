@@ -139,6 +139,12 @@ fn degenerate_shapes_are_refused_by_name() {
         Shape::trimesh(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]]).unwrap_err(),
         "zero area",
     );
+    // Three triangles on one edge: not a manifold.
+    let fan = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, -Vec3::Y];
+    degenerate(
+        Shape::trimesh(fan, vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]]).unwrap_err(),
+        "triangle mesh",
+    );
     degenerate(
         Shape::heightfield(&[vec![0.0, 1.0]], Vec3::ONE).unwrap_err(),
         "2×2",
