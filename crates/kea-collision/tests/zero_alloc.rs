@@ -1,0 +1,134 @@
+//! Once a scene has warmed up, a collision step (broad phase, narrow phase, contact sync and the
+//! world's step) whose pair set does not change performs zero heap allocations.
+//!
+//! Known exceptions, inside parry 0.31's manifold generators: a half-space (`Shape::plane`)
+//! against a convex shape, and pairs that go through its polygonal-feature-map path (capsule,
+//! cylinder, cone or convex hull against a polyhedron), rebuild their point list each step: one
+//! allocation per such pair per step. This scene therefore uses boxes and spheres on a box
+//! ground; `plane_pairs_allocate_once_per_step` pins one exception down so that a parry upgrade
+//! that removes it is noticed.
+
+use kea::{BodyDef, Quat, Vec3, World, WorldDef};
+use kea_collision::{ColliderDef, CollisionWorld, Shape};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct CountingAllocator;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+#[test]
+fn a_warm_collision_step_allocates_nothing() {
+    let mut world = World::new(WorldDef {
+        max_bodies: 16,
+        max_constraints: 256,
+        ..Default::default()
+    })
+    .unwrap();
+    let mut collision = CollisionWorld::new();
+    let mut ground = ColliderDef::new(None, Shape::cuboid(Vec3::new(10.0, 0.5, 10.0)).unwrap());
+    ground.offset = Vec3::new(0.0, -0.5, 0.0);
+    collision.add_collider(&world, ground).unwrap();
+    let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
+    let ball = Shape::sphere(0.4).unwrap();
+    // A stack of two boxes and a ball, on a box ground: face and point manifolds.
+    let scene: [(Shape, Vec3, Quat); 3] = [
+        (cube.clone(), Vec3::new(0.0, 0.5, 0.0), Quat::IDENTITY),
+        (cube, Vec3::new(0.1, 1.5, 0.0), Quat::IDENTITY),
+        (ball, Vec3::new(2.0, 0.4, 0.0), Quat::IDENTITY),
+    ];
+    for (shape, position, orientation) in scene {
+        let mp = shape.mass_properties(500.0).unwrap();
+        let b = world
+            .create_body(&BodyDef {
+                mass: mp.mass,
+                inertia: mp.inertia,
+                position,
+                orientation,
+                ..Default::default()
+            })
+            .unwrap();
+        collision
+            .add_collider(&world, ColliderDef::new(Some(b), shape))
+            .unwrap();
+    }
+    for _ in 0..120 {
+        collision.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let contacts = world.constraint_count();
+    ALLOCATIONS.store(0, Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    for _ in 0..120 {
+        collision.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    COUNTING.with(|c| c.set(false));
+    let n = ALLOCATIONS.load(Ordering::Relaxed);
+    eprintln!("{contacts} contacts; allocations over 120 warm steps: {n}");
+    assert_eq!(
+        world.constraint_count(),
+        contacts,
+        "the scene should be at rest"
+    );
+    assert_eq!(n, 0, "a warm collision step allocated");
+}
+
+#[test]
+fn plane_pairs_allocate_once_per_step() {
+    let mut world = World::with_capacity(4, 64).unwrap();
+    let mut collision = CollisionWorld::new();
+    collision
+        .add_collider(
+            &world,
+            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
+        )
+        .unwrap();
+    let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            position: Vec3::new(0.0, 0.5, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    collision
+        .add_collider(&world, ColliderDef::new(Some(b), cube))
+        .unwrap();
+    for _ in 0..60 {
+        collision.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    ALLOCATIONS.store(0, Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    for _ in 0..60 {
+        collision.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    COUNTING.with(|c| c.set(false));
+    let n = ALLOCATIONS.load(Ordering::Relaxed);
+    eprintln!("box on a plane: allocations over 60 warm steps: {n}");
+    assert_eq!(
+        n, 60,
+        "parry's half-space manifold: one allocation per step"
+    );
+}
