@@ -284,6 +284,27 @@ impl CollisionWorld {
         })
     }
 
+    /// The total contact impulse on `body` from `other` (`None`: the static world) over the
+    /// last step, summed over all their colliders' pairs, N·s.
+    #[must_use]
+    pub fn body_pair_impulse(&self, body: BodyHandle, other: Option<BodyHandle>) -> Vec3 {
+        let mut total = Vec3::ZERO;
+        for (&(ia, ib), state) in &self.pairs {
+            let (Some(a), Some(b)) = (
+                &self.slots[ia as usize].collider,
+                &self.slots[ib as usize].collider,
+            ) else {
+                continue;
+            };
+            if a.def.body == Some(body) && b.def.body == other {
+                total += state.impulse;
+            } else if b.def.body == Some(body) && a.def.body == other {
+                total -= state.impulse;
+            }
+        }
+        total
+    }
+
     /// Lets (or stops) the two bodies of a joint collide with each other. By default bodies
     /// joined by an enabled joint do not collide.
     pub fn set_joint_collisions(
