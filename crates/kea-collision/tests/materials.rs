@@ -155,7 +155,7 @@ fn restitution_is_the_larger_of_the_pair_and_sleeping_pairs_are_left_alone() {
         "the ball should be asleep"
     );
     let before: Vec<_> = world.contacts_between(b, None).collect();
-    let kept = world.contact(before[0]).unwrap().clone();
+    let kept = *world.contact(before[0]).unwrap();
     collision.step(&mut world, DT).unwrap();
     let after: Vec<_> = world.contacts_between(b, None).collect();
     assert_eq!(before, after);
