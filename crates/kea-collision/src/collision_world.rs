@@ -6,11 +6,9 @@ use crate::broad_phase::{Entry, SweepAndPrune};
 use crate::error::{check_finite, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
+use crate::narrow_phase::ManifoldScratch;
 use crate::parry::math::Pose;
-use crate::parry::query::{
-    ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher,
-};
-use crate::reduce::reduce;
+use crate::parry::query::{ContactManifold, ContactManifoldsWorkspace};
 use crate::shape::Shape;
 use kea::{BodyHandle, ConstraintHandle, Contact, Quat, Real, StepStats, Vec3, World};
 use std::collections::BTreeMap;
@@ -86,8 +84,8 @@ pub(crate) struct PairContact {
 /// What the collision world remembers of a pair of colliders whose bounds overlap.
 #[derive(Default)]
 pub(crate) struct PairState {
-    manifolds: Vec<ContactManifold<(), ()>>,
-    workspace: Option<ContactManifoldsWorkspace>,
+    pub manifolds: Vec<ContactManifold<(), ()>>,
+    pub workspace: Option<ContactManifoldsWorkspace>,
     pub contacts: Vec<PairContact>,
     /// Among this step's candidate pairs (bounds overlap and the filter lets it collide).
     pub seen: bool,
@@ -105,7 +103,7 @@ pub(crate) struct PairState {
 pub(crate) struct Collider {
     pub(crate) def: ColliderDef,
     /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
-    reach: Real,
+    pub(crate) reach: Real,
 }
 
 pub(crate) struct Slot {
@@ -145,17 +143,15 @@ pub struct CollisionWorld {
     pub touch_distance: Real,
     pub(crate) pairs: BTreeMap<(u32, u32), PairState>,
     sap: SweepAndPrune,
-    candidates: Vec<(u32, u32)>,
+    pub(crate) candidates: Vec<(u32, u32)>,
     pub(crate) wanted: Vec<Wanted>,
     pub(crate) events: Vec<ContactEvent>,
     pub(crate) pending_events: Vec<ContactEvent>,
     /// Body pairs joined by an enabled joint, sorted; rebuilt each update.
-    jointed: Vec<(BodyHandle, BodyHandle)>,
+    pub(crate) jointed: Vec<(BodyHandle, BodyHandle)>,
     /// Joints whose bodies may still collide.
     colliding_joints: Vec<ConstraintHandle>,
-    points: Vec<(Vec3, Real)>,
-    point_features: Vec<(u32, u32)>,
-    keep: Vec<usize>,
+    pub(crate) scratch: ManifoldScratch,
 }
 
 impl Default for CollisionWorld {
@@ -183,9 +179,7 @@ impl CollisionWorld {
             sap: SweepAndPrune::default(),
             candidates: Vec::new(),
             wanted: Vec::new(),
-            points: Vec::new(),
-            point_features: Vec::new(),
-            keep: Vec::new(),
+            scratch: ManifoldScratch::default(),
         }
     }
 
@@ -450,97 +444,10 @@ impl CollisionWorld {
         });
         self.sap.pairs(entries, &mut self.candidates);
     }
-
-    fn narrow_phase(&mut self, world: &World, dt: Real) {
-        let dispatcher = DefaultQueryDispatcher;
-        self.wanted.clear();
-        for state in self.pairs.values_mut() {
-            state.seen = false;
-        }
-        for &(ia, ib) in &self.candidates {
-            let (Some(a), Some(b)) = (
-                &self.slots[ia as usize].collider,
-                &self.slots[ib as usize].collider,
-            ) else {
-                continue;
-            };
-            if !should_collide(&self.jointed, &a.def, &b.def) {
-                continue;
-            }
-            let state = self.pairs.entry((ia, ib)).or_default();
-            state.seen = true;
-            state.resting = pair_is_resting(world, &a.def, &b.def);
-            if state.resting {
-                continue; // asleep or static: its contacts stay as they are
-            }
-            let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
-            let prediction = self.margin
-                + dt * (motion(world, &a.def, a.reach) + motion(world, &b.def, b.reach));
-            let pos_ab = pose_a.inv_mul(&pose_b);
-            if dispatcher
-                .contact_manifolds(
-                    &pos_ab,
-                    a.def.shared_shape().as_ref(),
-                    b.def.shared_shape().as_ref(),
-                    prediction,
-                    &mut state.manifolds,
-                    &mut state.workspace,
-                )
-                .is_err()
-            {
-                continue; // a pair parry cannot collide (two meshes, say) gets no contacts
-            }
-            // Body 1 of a Kea contact must be a body; the normal points from body 2 to body 1.
-            let (body1, body2, flip) = match (a.def.body, b.def.body) {
-                (Some(x), y) => (x, y, false),
-                (None, Some(y)) => (y, None, true),
-                (None, None) => continue,
-            };
-            state.flipped = flip;
-            let Ok(params) = self.materials.params(a.def.material, b.def.material) else {
-                continue;
-            };
-            for manifold in &state.manifolds {
-                let sub_a = manifold.subshape_pos1().map_or(pose_a, |p| pose_a * *p);
-                let sub_b = manifold.subshape_pos2().map_or(pose_b, |p| pose_b * *p);
-                let n_ab = sub_a.rotation * manifold.local_n1;
-                self.points.clear();
-                self.point_features.clear();
-                for p in manifold.points.iter().filter(|p| p.dist <= prediction) {
-                    let wa = sub_a.transform_point(p.local_p1);
-                    let wb = sub_b.transform_point(p.local_p2);
-                    self.points.push(((wa + wb) * 0.5, -p.dist));
-                    self.point_features.push((p.fid1.0, p.fid2.0));
-                }
-                reduce(
-                    &self.points,
-                    self.strategy.max_points.clamp(1, 8),
-                    &mut self.keep,
-                );
-                for &k in &self.keep {
-                    let (position, depth) = self.points[k];
-                    let normal = if flip { n_ab } else { -n_ab };
-                    let Ok(mut contact) = Contact::new(position, normal, depth) else {
-                        continue;
-                    };
-                    if contact.set_params(params).is_err() {
-                        continue;
-                    }
-                    let (f1, f2) = self.point_features[k];
-                    self.wanted.push(Wanted {
-                        pair: (ia, ib),
-                        key: (manifold.subshape1, manifold.subshape2, f1, f2),
-                        bodies: (body1, body2),
-                        contact,
-                    });
-                }
-            }
-        }
-    }
 }
 
 impl ColliderDef {
-    fn shared_shape(&self) -> &crate::parry::shape::SharedShape {
+    pub(crate) fn shared_shape(&self) -> &crate::parry::shape::SharedShape {
         &self.shape.shared
     }
 }
@@ -552,32 +459,4 @@ pub(crate) fn collider_pose(world: &World, def: &ColliderDef) -> Pose {
         None => (Vec3::ZERO, Quat::IDENTITY),
     };
     Pose::from_parts(p + q * def.offset, q * def.rotation)
-}
-
-/// An upper bound of how fast any point of the collider moves, m/s.
-fn motion(world: &World, def: &ColliderDef, reach: Real) -> Real {
-    def.body.and_then(|b| world.body(b).ok()).map_or(0.0, |b| {
-        b.linear_velocity().length() + b.angular_velocity().length() * reach
-    })
-}
-
-/// The filter: not the same body (or both static), groups and masks agree, and not joined.
-fn should_collide(jointed: &[(BodyHandle, BodyHandle)], a: &ColliderDef, b: &ColliderDef) -> bool {
-    if a.body == b.body || a.groups & b.mask == 0 || b.groups & a.mask == 0 {
-        return false;
-    }
-    match (a.body, b.body) {
-        (Some(x), Some(y)) => jointed.binary_search(&(x.min(y), x.max(y))).is_err(),
-        _ => true,
-    }
-}
-
-/// Whether neither collider can move this step (static, disabled or asleep).
-fn pair_is_resting(world: &World, a: &ColliderDef, b: &ColliderDef) -> bool {
-    let still = |d: &ColliderDef| {
-        d.body
-            .and_then(|h| world.body(h).ok())
-            .is_none_or(|b| !b.is_enabled() || b.is_sleeping())
-    };
-    still(a) && still(b)
 }

@@ -28,6 +28,7 @@ mod collision_world;
 mod error;
 mod events;
 mod material;
+mod narrow_phase;
 mod query;
 mod reduce;
 mod shape;
