@@ -1,8 +1,9 @@
 //! Scene queries: rays (closest, any, all, through a mesh without holes), shape casts,
 //! overlaps and point projection, with filters.
 
+use kea::BodyHandle;
 use kea::{BodyDef, Quat, Real, Vec3, World};
-use kea_collision::{ColliderDef, CollisionWorld, QueryFilter, Shape, ShapeCast};
+use kea_collision::{ColliderDef, ColliderHandle, CollisionWorld, QueryFilter, Shape, ShapeCast};
 
 fn sweep(shape: &Shape, position: Vec3, velocity: Vec3) -> ShapeCast {
     ShapeCast {
@@ -14,28 +15,36 @@ fn sweep(shape: &Shape, position: Vec3, velocity: Vec3) -> ShapeCast {
     }
 }
 
-#[test]
-fn rays_hit_what_they_should_in_order() {
+/// A world with a ground plane and a unit box resting on it at `x`: (world, collision, the box's
+/// body, the ground's collider, the box's collider).
+fn ground_and_unit_box(
+    x: Real,
+) -> (
+    World,
+    CollisionWorld,
+    BodyHandle,
+    ColliderHandle,
+    ColliderHandle,
+) {
     let mut world = World::with_capacity(8, 64).unwrap();
     let mut collision = CollisionWorld::new();
-    let ground = collision
-        .add_collider(
-            &world,
-            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
-        )
-        .unwrap();
+    let plane = ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap());
+    let ground = collision.add_collider(&world, plane).unwrap();
+    let position = Vec3::new(x, 0.5, 0.0);
     let b = world
         .create_body(&BodyDef {
-            position: Vec3::new(0.0, 0.5, 0.0),
+            position,
             ..Default::default()
         })
         .unwrap();
-    let cube = collision
-        .add_collider(
-            &world,
-            ColliderDef::new(Some(b), Shape::cuboid(Vec3::splat(0.5)).unwrap()),
-        )
-        .unwrap();
+    let cube = ColliderDef::new(Some(b), Shape::cuboid(Vec3::splat(0.5)).unwrap());
+    let cube = collision.add_collider(&world, cube).unwrap();
+    (world, collision, b, ground, cube)
+}
+
+#[test]
+fn rays_hit_what_they_should_in_order() {
+    let (world, collision, b, ground, cube) = ground_and_unit_box(0.0);
     let all = QueryFilter::default();
     let down = -Vec3::Y;
     let origin = Vec3::new(0.1, 10.0, 0.2);
@@ -148,26 +157,7 @@ fn rays_pass_no_holes_in_a_mesh() {
 
 #[test]
 fn shape_casts_overlaps_and_point_projection() {
-    let mut world = World::with_capacity(8, 64).unwrap();
-    let mut collision = CollisionWorld::new();
-    let ground = collision
-        .add_collider(
-            &world,
-            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
-        )
-        .unwrap();
-    let b = world
-        .create_body(&BodyDef {
-            position: Vec3::new(3.0, 0.5, 0.0),
-            ..Default::default()
-        })
-        .unwrap();
-    let cube = collision
-        .add_collider(
-            &world,
-            ColliderDef::new(Some(b), Shape::cuboid(Vec3::splat(0.5)).unwrap()),
-        )
-        .unwrap();
+    let (world, collision, _, ground, cube) = ground_and_unit_box(3.0);
     let ball = Shape::sphere(0.25).unwrap();
     let all = QueryFilter::default();
     // A ball dropped from y = 5 at 1 m/s reaches the ground at t = 4.75 ...
