@@ -45,6 +45,32 @@ impl Default for Surface {
     }
 }
 
+impl Surface {
+    /// Checks every field, naming the first bad one. (Checking the combined parameters of a
+    /// surface with itself would not do: √(μ·μ) hides a negative μ.)
+    pub fn validate(&self) -> CollisionResult<()> {
+        let fields = [
+            ("friction", self.friction),
+            ("restitution", self.restitution),
+            ("restitution_threshold", self.restitution_threshold),
+            ("slip", self.slip),
+            ("adhesion", self.adhesion),
+            ("softness", self.softness.unwrap_or(0.0)),
+        ];
+        for (arg, value) in fields {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(kea::KeaError::OutOfRange {
+                    arg,
+                    value: format!("{value}"),
+                    expected: "must be finite and ≥ 0",
+                }
+                .into());
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Materials and their pair table.
 #[derive(Debug, Clone)]
 pub struct MaterialTable {
@@ -71,7 +97,7 @@ impl MaterialTable {
 
     /// Adds a material and returns its id.
     pub fn add(&mut self, surface: Surface) -> CollisionResult<MaterialId> {
-        surface_params(&surface, &surface).validate()?;
+        surface.validate()?;
         self.surfaces.push(surface);
         Ok((self.surfaces.len() - 1) as MaterialId)
     }
@@ -79,7 +105,7 @@ impl MaterialTable {
     /// Replaces a material's surface.
     pub fn set_surface(&mut self, id: MaterialId, surface: Surface) -> CollisionResult<()> {
         self.check(id)?;
-        surface_params(&surface, &surface).validate()?;
+        surface.validate()?;
         self.surfaces[id as usize] = surface;
         Ok(())
     }

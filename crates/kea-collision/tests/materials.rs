@@ -82,6 +82,10 @@ fn friction_combines_by_geometric_mean_and_pair_entries_override() {
     let expected = 4.0 * 50.0 / mass;
     eprintln!("box friction 4 × 50 N on {mass} kg: deceleration {a}, expected {expected}");
     assert!((a - expected).abs() < 0.02 * expected, "a = {a}");
+    // A negative μ is refused by name (it must not hide behind √(μ·μ)).
+    let bad = Surface { friction: -1.0, ..Default::default() };
+    let e = collision.materials.add(bad).unwrap_err();
+    assert!(e.to_string().contains("friction"), "{e}");
     // Unknown ids are refused by name.
     let e = collision.materials.params(ice, 99).unwrap_err();
     assert!(e.to_string().contains("99"), "{e}");
