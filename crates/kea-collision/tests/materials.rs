@@ -83,7 +83,10 @@ fn friction_combines_by_geometric_mean_and_pair_entries_override() {
     eprintln!("box friction 4 × 50 N on {mass} kg: deceleration {a}, expected {expected}");
     assert!((a - expected).abs() < 0.02 * expected, "a = {a}");
     // A negative μ is refused by name (it must not hide behind √(μ·μ)).
-    let bad = Surface { friction: -1.0, ..Default::default() };
+    let bad = Surface {
+        friction: -1.0,
+        ..Default::default()
+    };
     let e = collision.materials.add(bad).unwrap_err();
     assert!(e.to_string().contains("friction"), "{e}");
     // Unknown ids are refused by name.

@@ -1,0 +1,119 @@
+//! What a run did, added up step by step, and printed at the end.
+
+use kea::{Real, StepStats};
+use kea_scene::BuiltScene;
+use std::time::Duration;
+
+/// Totals over a run.
+pub struct Summary {
+    start_energy: Real,
+    wall: Duration,
+    collect: Duration,
+    gather: Duration,
+    solve_exact: Duration,
+    solve_iterative: Duration,
+    integrate: Duration,
+    warnings: u32,
+    broken: u32,
+    last: Option<StepStats>,
+    started: std::time::Instant,
+}
+
+/// Kinetic plus gravitational potential energy of every body, J.
+pub fn energy(built: &BuiltScene) -> Real {
+    let g = built.world.gravity();
+    built
+        .world
+        .bodies()
+        .map(|(_, b)| b.kinetic_energy() - b.mass() * g.dot(b.position()))
+        .sum()
+}
+
+fn ms(d: Duration, steps: u32) -> f64 {
+    d.as_secs_f64() * 1000.0 / f64::from(steps)
+}
+
+impl Summary {
+    /// Starts counting, with the scene's energy now.
+    pub fn new(built: &BuiltScene) -> Self {
+        Self {
+            start_energy: energy(built),
+            wall: Duration::ZERO,
+            collect: Duration::ZERO,
+            gather: Duration::ZERO,
+            solve_exact: Duration::ZERO,
+            solve_iterative: Duration::ZERO,
+            integrate: Duration::ZERO,
+            warnings: 0,
+            broken: 0,
+            last: None,
+            started: std::time::Instant::now(),
+        }
+    }
+
+    /// Adds one step's statistics.
+    pub fn add(&mut self, s: &StepStats) {
+        self.collect += s.time_collect;
+        self.gather += s.time_gather;
+        self.solve_exact += s.solver.time_solve_exact;
+        self.solve_iterative += s.solver.time_solve_iterative;
+        self.integrate += s.solver.time_integrate;
+        self.warnings += u32::from(!s.solver.is_clean());
+        self.broken += s.broken_joints;
+        self.last = Some(s.clone());
+        self.wall = self.started.elapsed();
+    }
+
+    /// Prints the human summary of `kea run`.
+    pub fn print(&self, name: &str, built: &BuiltScene, steps: u32, dt: Real) {
+        let seconds = self.wall.as_secs_f64();
+        let last = self.last.clone().unwrap_or_default();
+        println!(
+            "{name}: {steps} steps of {dt} s ({:.2} s simulated)",
+            f64::from(steps) * kea::math::wide(dt)
+        );
+        println!(
+            "  speed      {:.0} steps/s, {:.3} ms/step (collision and dynamics)",
+            f64::from(steps) / seconds.max(1e-9),
+            seconds * 1000.0 / f64::from(steps)
+        );
+        println!(
+            "  dynamics   collect {:.3}, rows {:.3}, exact {:.3}, iterative {:.3}, integrate {:.3} ms/step",
+            ms(self.collect, steps),
+            ms(self.gather, steps),
+            ms(self.solve_exact, steps),
+            ms(self.solve_iterative, steps),
+            ms(self.integrate, steps)
+        );
+        println!(
+            "  bodies     {} awake, {} asleep; {} constraints, {} rows in the last step",
+            last.bodies, last.sleeping_bodies, last.constraints, last.rows
+        );
+        println!(
+            "  energy     {:.3} J at the start, {:.3} J at the end",
+            self.start_energy,
+            energy(built)
+        );
+        println!(
+            "  solver     {} steps with warnings, {} joints broken, largest joint error {:.2e} m",
+            self.warnings, self.broken, last.max_joint_error
+        );
+    }
+
+    /// One `key=value` line for `kea bench`.
+    pub fn bench_line(&self, name: &str, built: &BuiltScene, steps: u32) -> String {
+        let last = self.last.clone().unwrap_or_default();
+        format!(
+            "scene={name} steps={steps} bodies={} constraints={} ms_per_step={:.4} collect_ms={:.4} rows_ms={:.4} exact_ms={:.4} iterative_ms={:.4} integrate_ms={:.4} warnings={}",
+            built.bodies.len(),
+            last.constraints,
+            self.wall.as_secs_f64() * 1000.0 / f64::from(steps),
+            ms(self.collect, steps),
+            ms(self.gather, steps),
+            ms(self.solve_exact, steps),
+            ms(self.solve_iterative, steps),
+            ms(self.integrate, steps),
+            self.warnings
+        )
+    }
+}

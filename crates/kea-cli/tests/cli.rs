@@ -1,0 +1,114 @@
+//! The `kea` command: output and exit codes.
+
+use std::process::Command;
+
+fn kea(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_kea"))
+        .args(args)
+        .output()
+        .expect("kea runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scene(name: &str) -> String {
+    format!("{}/../../scenes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn run_prints_a_summary_and_writes_trajectories() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("drop.csv");
+    let json = dir.join("drop.json");
+    let (code, out, err) = kea(&[
+        "run",
+        &scene("drop.json"),
+        "--steps",
+        "30",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for word in ["30 steps", "steps/s", "awake", "energy", "warnings"] {
+        assert!(out.contains(word), "missing {word:?} in {out}");
+    }
+    let csv = std::fs::read_to_string(csv).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 31, "header + the start + 30 steps");
+    assert!(csv.starts_with("t,body,x,y,z"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    assert_eq!(json.as_array().unwrap().len(), 31);
+    // The box falls: its last height is below its first.
+    let y = |row: &serde_json::Value| row["position"][1].as_f64().unwrap();
+    assert!(y(&json[30]) < y(&json[0]));
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn run_without_a_scene_uses_the_embedded_pyramid() {
+    let (code, out, err) = kea(&["run", "--steps", "5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("embedded pyramid") && out.contains("210 awake"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bench_prints_one_machine_readable_line_per_scene() {
+    let (code, out, err) = kea(&[
+        "bench",
+        &scene("drop.json"),
+        &scene("chain.json"),
+        "--steps",
+        "20",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    for line in lines {
+        assert!(
+            line.starts_with("scene=") && line.contains(" ms_per_step="),
+            "{line}"
+        );
+        let ms: f64 = line
+            .split(' ')
+            .find_map(|kv| kv.strip_prefix("ms_per_step="))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(ms > 0.0);
+    }
+}
+
+#[test]
+fn failures_exit_non_zero_with_a_message_and_write_nothing() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\"version\": 1,\n \"bodies\": [{\"name\": \"a\", \"mass\": -1, \"position\": [0,0,0]}]}",
+    )
+    .unwrap();
+    let csv = dir.join("out.csv");
+    let (code, _, err) = kea(&["run", bad.to_str().unwrap(), "--csv", csv.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("bodies[0].mass"), "{err}");
+    assert!(!csv.exists(), "nothing is written on failure");
+    let (code, _, err) = kea(&["run", "/no/such/scene.json"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("/no/such/scene.json"), "{err}");
+    let (code, _, err) = kea(&["run", &scene("drop.json"), "--steps", "0"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--steps"), "{err}");
+    let (code, _, _) = kea(&["frobnicate"]);
+    assert_eq!(code, 2, "clap's usage error");
+    std::fs::remove_dir_all(dir).ok();
+}
