@@ -60,14 +60,14 @@ impl Summary {
         self.integrate += s.solver.time_integrate;
         self.warnings += u32::from(!s.solver.is_clean());
         self.broken += s.broken_joints;
-        self.last = Some(s.clone());
+        self.last = Some(*s);
         self.wall = self.started.elapsed();
     }
 
     /// Prints the human summary of `kea run`.
     pub fn print(&self, name: &str, built: &BuiltScene, steps: u32, dt: Real) {
         let seconds = self.wall.as_secs_f64();
-        let last = self.last.clone().unwrap_or_default();
+        let last = self.last.unwrap_or_default();
         println!(
             "{name}: {steps} steps of {dt} s ({:.2} s simulated)",
             f64::from(steps) * kea::math::wide(dt)
@@ -102,7 +102,7 @@ impl Summary {
 
     /// One `key=value` line for `kea bench`.
     pub fn bench_line(&self, name: &str, built: &BuiltScene, steps: u32) -> String {
-        let last = self.last.clone().unwrap_or_default();
+        let last = self.last.unwrap_or_default();
         format!(
             "scene={name} steps={steps} bodies={} constraints={} ms_per_step={:.4} collect_ms={:.4} rows_ms={:.4} exact_ms={:.4} iterative_ms={:.4} integrate_ms={:.4} warnings={}",
             built.bodies.len(),
