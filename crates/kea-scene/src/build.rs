@@ -238,6 +238,7 @@ fn group_size(g: &GroupSpec) -> usize {
     match g {
         GroupSpec::Pyramid { base, .. } => (*base as usize) * (*base as usize + 1) / 2,
         GroupSpec::Chain { links, .. } => *links as usize,
+        GroupSpec::Grid { counts, .. } => counts.iter().map(|&c| c as usize).product(),
     }
 }
 
@@ -282,6 +283,34 @@ fn add_group(
                     add_body(built, &spec, &[], place)?;
                     made += 1;
                 }
+            }
+        }
+        GroupSpec::Grid {
+            ref shape,
+            counts,
+            spacing,
+            density,
+            origin,
+        } => {
+            let (nx, ny) = (counts[0] as usize, counts[1] as usize);
+            for i in 0..nx * ny * counts[2] as usize {
+                let cell = [i % nx, (i / nx) % ny, i / (nx * ny)];
+                let spec = BodySpec {
+                    name: named("grid", i),
+                    shapes: vec![ColliderSpec {
+                        shape: shape.clone(),
+                        offset: [0.0; 3],
+                        material: None,
+                    }],
+                    density: Some(density),
+                    mass: None,
+                    position: std::array::from_fn(|k| origin[k] + cell[k] as Real * spacing[k]),
+                    orientation: None,
+                    velocity: [0.0; 3],
+                    angular_velocity: [0.0; 3],
+                    damping: [0.0; 2],
+                };
+                add_body(built, &spec, &[], place)?;
             }
         }
         GroupSpec::Chain {

@@ -277,6 +277,19 @@ pub enum GroupSpec {
         /// Centre of the bottom row's base.
         origin: V3,
     },
+    /// Copies of one shape on a regular 3D grid (a ball pit, a wall of bricks).
+    Grid {
+        /// The shape of every body.
+        shape: ShapeSpec,
+        /// Bodies along x, y and z.
+        counts: [u32; 3],
+        /// Distance between neighbours along x, y and z, m.
+        spacing: V3,
+        /// Density, kg/m³.
+        density: Real,
+        /// Centre of the first body.
+        origin: V3,
+    },
     /// A chain of spheres joined by ball joints, hanging from `origin` (fixed to the world) along −y.
     Chain {
         /// Links.
