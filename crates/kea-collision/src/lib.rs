@@ -33,6 +33,7 @@ mod query;
 mod reduce;
 mod shape;
 mod sync;
+mod tessellate;
 
 pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy};
 pub use error::{CollisionError, CollisionResult};
@@ -40,6 +41,7 @@ pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, Surface};
 pub use query::{PointHit, QueryFilter, RayHit, ShapeCast, ShapeHit};
 pub use shape::{MassProperties, Shape};
+pub use tessellate::PLANE_HALF_SIZE;
 
 /// The parry crate matching Kea's precision.
 #[cfg(not(feature = "f64"))]
