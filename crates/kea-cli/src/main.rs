@@ -4,6 +4,8 @@
 //!   embedded pyramid when no file is given), shows a progress bar on long runs, and ends with a
 //!   summary: steps per second, time per stage, bodies awake and asleep, energy, solver warnings.
 //! - `kea bench SCENE… [--steps N] [--dt H]` prints one machine-readable line per scene.
+//! - `kea render SCENE --out FILE.png [--steps N] [--width W] [--height H]` steps the scene and
+//!   writes its last frame, drawn on the CPU (no GPU, no display).
 //!
 //! Exit code 0 on success; 1 with a message on stderr for a bad scene or a failed step, and
 //! nothing is written then.
@@ -46,6 +48,26 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Step a scene and write its last frame as a PNG, drawn on the CPU.
+    Render {
+        /// The scene file (JSON).
+        scene: PathBuf,
+        /// The PNG to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Steps to take before drawing.
+        #[arg(long, default_value_t = 0)]
+        steps: u32,
+        /// Step size, s.
+        #[arg(long, default_value_t = 1.0 / 60.0)]
+        dt: Real,
+        /// Image width, pixels.
+        #[arg(long, default_value_t = 800)]
+        width: u32,
+        /// Image height, pixels.
+        #[arg(long, default_value_t = 600)]
+        height: u32,
+    },
     /// Step scenes headless and print ms per step and per stage, one line per scene.
     Bench {
         /// Scene files.
@@ -70,6 +92,14 @@ fn main() -> ExitCode {
             json,
         } => run(scene.as_deref(), steps, dt, csv.as_deref(), json.as_deref()),
         Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
+        Command::Render {
+            scene,
+            out,
+            steps,
+            dt,
+            width,
+            height,
+        } => render(&scene, &out, steps, dt, (width, height)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -159,5 +189,44 @@ fn bench(paths: &[PathBuf], steps: u32, dt: Real) -> Result<(), String> {
         }
         println!("{}", summary.bench_line(&name, &built, steps));
     }
+    Ok(())
+}
+
+fn render(
+    path: &std::path::Path,
+    out: &std::path::Path,
+    steps: u32,
+    dt: Real,
+    (width, height): (u32, u32),
+) -> Result<(), String> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(format!(
+            "--dt must be a positive number of seconds, got {dt}"
+        ));
+    }
+    if out.extension().is_none_or(|e| e != "png") {
+        return Err(format!(
+            "--out {}: only .png is written so far",
+            out.display()
+        ));
+    }
+    if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
+        return Err(format!(
+            "--width and --height must be 1 to 8192, got {width}×{height}"
+        ));
+    }
+    let (name, mut built) = load(Some(path))?;
+    for n in 1..=steps {
+        built
+            .step(dt)
+            .map_err(|e| format!("{name}: step {n}: {e}"))?;
+    }
+    let camera = kea_render::Camera::framing(&built.world);
+    let image = kea_render::render(&built.world, &built.collision, &camera, width, height);
+    image.write_png(out)?;
+    println!(
+        "{name}: wrote {} ({width}×{height}) after {steps} steps",
+        out.display()
+    );
     Ok(())
 }

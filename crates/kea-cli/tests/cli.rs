@@ -112,3 +112,31 @@ fn failures_exit_non_zero_with_a_message_and_write_nothing() {
     assert_eq!(code, 2, "clap's usage error");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn render_writes_a_png_of_the_scene() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("drop.png");
+    let (code, out, err) = kea(&[
+        "render",
+        &scene("drop.json"),
+        "--out",
+        png.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("64×48"), "{out}");
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "a PNG file");
+    // Width and height sit in the IHDR chunk, big-endian, right after the signature.
+    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 64);
+    assert_eq!(u32::from_be_bytes(bytes[20..24].try_into().unwrap()), 48);
+    let (code, _, err) = kea(&["render", &scene("drop.json"), "--out", "frame.gif"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("only .png"), "{err}");
+    std::fs::remove_dir_all(dir).ok();
+}
