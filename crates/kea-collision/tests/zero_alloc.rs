@@ -12,28 +12,39 @@ use kea::{BodyDef, Quat, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct CountingAllocator;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 thread_local! {
+    // Both the flag and the count are per thread: the two tests here run in parallel.
     static COUNTING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count_one() {
+    if COUNTING.with(Cell::get) {
+        ALLOCATIONS.with(|n| n.set(n.get() + 1));
+    }
+}
+
+/// Runs `f` and returns how many allocations this thread made inside it.
+fn allocations_in(f: impl FnOnce()) -> usize {
+    ALLOCATIONS.with(|n| n.set(0));
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.with(Cell::get)
 }
 
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.with(|c| c.get()) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
+        count_one();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if COUNTING.with(|c| c.get()) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
+        count_one();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -80,13 +91,11 @@ fn a_warm_collision_step_allocates_nothing() {
         collision.step(&mut world, 1.0 / 60.0).unwrap();
     }
     let contacts = world.constraint_count();
-    ALLOCATIONS.store(0, Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    for _ in 0..120 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
-    }
-    COUNTING.with(|c| c.set(false));
-    let n = ALLOCATIONS.load(Ordering::Relaxed);
+    let n = allocations_in(|| {
+        for _ in 0..120 {
+            collision.step(&mut world, 1.0 / 60.0).unwrap();
+        }
+    });
     eprintln!("{contacts} contacts; allocations over 120 warm steps: {n}");
     assert_eq!(
         world.constraint_count(),
@@ -119,13 +128,11 @@ fn plane_pairs_allocate_once_per_step() {
     for _ in 0..60 {
         collision.step(&mut world, 1.0 / 60.0).unwrap();
     }
-    ALLOCATIONS.store(0, Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    for _ in 0..60 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
-    }
-    COUNTING.with(|c| c.set(false));
-    let n = ALLOCATIONS.load(Ordering::Relaxed);
+    let n = allocations_in(|| {
+        for _ in 0..60 {
+            collision.step(&mut world, 1.0 / 60.0).unwrap();
+        }
+    });
     eprintln!("box on a plane: allocations over 60 warm steps: {n}");
     assert_eq!(
         n, 60,
