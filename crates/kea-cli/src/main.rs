@@ -4,8 +4,9 @@
 //!   embedded pyramid when no file is given), shows a progress bar on long runs, and ends with a
 //!   summary: steps per second, time per stage, bodies awake and asleep, energy, solver warnings.
 //! - `kea bench SCENE… [--steps N] [--dt H]` prints one machine-readable line per scene.
-//! - `kea render SCENE --out FILE.png [--steps N] [--width W] [--height H]` steps the scene and
-//!   writes its last frame, drawn on the CPU (no GPU, no display).
+//! - `kea render SCENE --out FILE.png|FILE.gif [--steps N] [--frames F --every K] [--width W]
+//!   [--height H]` draws the scene on the CPU (no GPU, no display): the frame after `--steps`,
+//!   or an animation of `--frames` frames, one every `--every` steps.
 //!
 //! Exit code 0 on success; 1 with a message on stderr for a bad scene or a failed step, and
 //! nothing is written then.
@@ -52,9 +53,15 @@ enum Command {
     Render {
         /// The scene file (JSON).
         scene: PathBuf,
-        /// The PNG to write.
+        /// The file to write: `.png` (the last frame) or `.gif` (an animation).
         #[arg(long)]
         out: PathBuf,
+        /// For a GIF: frames to draw, one every `--every` steps after the first `--steps`.
+        #[arg(long, default_value_t = 60)]
+        frames: u32,
+        /// For a GIF: steps between frames.
+        #[arg(long, default_value_t = 2)]
+        every: u32,
         /// Steps to take before drawing.
         #[arg(long, default_value_t = 0)]
         steps: u32,
@@ -99,7 +106,9 @@ fn main() -> ExitCode {
             dt,
             width,
             height,
-        } => render(&scene, &out, steps, dt, (width, height)),
+            frames,
+            every,
+        } => render(&scene, &out, steps, dt, (width, height), (frames, every)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -198,35 +207,63 @@ fn render(
     steps: u32,
     dt: Real,
     (width, height): (u32, u32),
+    (frames, every): (u32, u32),
 ) -> Result<(), String> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(format!(
             "--dt must be a positive number of seconds, got {dt}"
         ));
     }
-    if out.extension().is_none_or(|e| e != "png") {
-        return Err(format!(
-            "--out {}: only .png is written so far",
-            out.display()
-        ));
-    }
+    let gif = match out.extension().and_then(|e| e.to_str()) {
+        Some("png") => false,
+        Some("gif") => true,
+        _ => return Err(format!("--out {}: write a .png or a .gif", out.display())),
+    };
     if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
         return Err(format!(
             "--width and --height must be 1 to 8192, got {width}×{height}"
         ));
     }
-    let (name, mut built) = load(Some(path))?;
-    for n in 1..=steps {
-        built
-            .step(dt)
-            .map_err(|e| format!("{name}: step {n}: {e}"))?;
+    if gif && (frames == 0 || every == 0) {
+        return Err("--frames and --every must be at least 1".into());
     }
+    let (name, mut built) = load(Some(path))?;
+    let step = |built: &mut BuiltScene, n: u32| -> Result<(), String> {
+        for k in 1..=n {
+            built
+                .step(dt)
+                .map_err(|e| format!("{name}: step {k}: {e}"))?;
+        }
+        Ok(())
+    };
+    step(&mut built, steps)?;
     let camera = kea_render::Camera::framing(&built.world);
-    let image = kea_render::render(&built.world, &built.collision, &camera, width, height);
-    image.write_png(out)?;
-    println!(
-        "{name}: wrote {} ({width}×{height}) after {steps} steps",
-        out.display()
-    );
+    let draw = |built: &BuiltScene| {
+        kea_render::render(&built.world, &built.collision, &camera, width, height)
+    };
+    if gif {
+        let mut images = Vec::with_capacity(frames as usize);
+        for f in 0..frames {
+            if f > 0 {
+                step(&mut built, every)?;
+            }
+            images.push(draw(&built));
+        }
+        // Play at the simulation's own speed (GIF delays are in hundredths of a second).
+        let delay = (f64::from(every) * kea::math::wide(dt) * 100.0)
+            .round()
+            .clamp(2.0, 65535.0) as u16;
+        kea_render::write_gif(&images, delay, out)?;
+        println!(
+            "wrote {} ({width}×{height}, {frames} frames)",
+            out.display()
+        );
+    } else {
+        draw(&built).write_png(out)?;
+        println!(
+            "wrote {} ({width}×{height}) after {steps} steps",
+            out.display()
+        );
+    }
     Ok(())
 }

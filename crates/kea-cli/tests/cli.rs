@@ -135,8 +135,42 @@ fn render_writes_a_png_of_the_scene() {
     // Width and height sit in the IHDR chunk, big-endian, right after the signature.
     assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 64);
     assert_eq!(u32::from_be_bytes(bytes[20..24].try_into().unwrap()), 48);
-    let (code, _, err) = kea(&["render", &scene("drop.json"), "--out", "frame.gif"]);
+    let (code, _, err) = kea(&["render", &scene("drop.json"), "--out", "frame.bmp"]);
     assert_eq!(code, 1);
-    assert!(err.contains("only .png"), "{err}");
+    assert!(err.contains(".png or a .gif"), "{err}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn render_writes_an_animated_gif() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-gif-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let gif = dir.join("drop.gif");
+    let (code, out, err) = kea(&[
+        "render",
+        &scene("drop.json"),
+        "--out",
+        gif.to_str().unwrap(),
+        "--frames",
+        "5",
+        "--every",
+        "6",
+        "--width",
+        "40",
+        "--height",
+        "30",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("5 frames"), "{out}");
+    let bytes = std::fs::read(&gif).unwrap();
+    assert_eq!(&bytes[..6], b"GIF89a");
+    assert_eq!(u16::from_le_bytes([bytes[6], bytes[7]]), 40);
+    assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 30);
+    // One image descriptor (0x2C after a graphic control block) per frame.
+    let frames = bytes
+        .windows(2)
+        .filter(|w| w[0] == 0x00 && w[1] == 0x2C)
+        .count();
+    assert!(frames >= 5, "found {frames} image descriptors");
     std::fs::remove_dir_all(dir).ok();
 }

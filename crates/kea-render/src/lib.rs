@@ -36,7 +36,7 @@ impl Camera {
         }
         let centre = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(2.0);
-        let direction = Vec3::new(0.45, 0.35, 1.0).normalize();
+        let direction = Vec3::new(0.45, 0.8, 1.0).normalize();
         Self {
             eye: centre + direction * radius * 2.6,
             target: centre,
@@ -88,6 +88,33 @@ impl Image {
         let bytes: Vec<u8> = self.pixels.iter().flatten().copied().collect();
         writer.write_image_data(&bytes).map_err(|e| e.to_string())
     }
+}
+
+/// Writes frames as an animated GIF (each frame quantised to 256 colours), `delay_cs`
+/// hundredths of a second apart, looping forever. All frames must have the size of the first.
+pub fn write_gif(frames: &[Image], delay_cs: u16, path: &std::path::Path) -> Result<(), String> {
+    let first = frames.first().ok_or("no frames to write")?;
+    let (w, h) = (first.width, first.height);
+    let (gw, gh) = (
+        u16::try_from(w).map_err(|_| "GIF width over 65535")?,
+        u16::try_from(h).map_err(|_| "GIF height over 65535")?,
+    );
+    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut encoder =
+        gif::Encoder::new(std::io::BufWriter::new(file), gw, gh, &[]).map_err(|e| e.to_string())?;
+    encoder
+        .set_repeat(gif::Repeat::Infinite)
+        .map_err(|e| e.to_string())?;
+    for image in frames {
+        if (image.width, image.height) != (w, h) {
+            return Err("every GIF frame must have the same size".into());
+        }
+        let rgb: Vec<u8> = image.pixels.iter().flatten().copied().collect();
+        let mut frame = gif::Frame::from_rgb_speed(gw, gh, &rgb, 10);
+        frame.delay = delay_cs;
+        encoder.write_frame(&frame).map_err(|e| e.to_string())?;
+    }
+    Ok(())
 }
 
 /// Draws every collider of `collision` as `world` places it, seen from `camera`.
