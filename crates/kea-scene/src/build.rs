@@ -242,6 +242,25 @@ fn group_size(g: &GroupSpec) -> usize {
     }
 }
 
+/// A body of one shape at its centre, at rest: what groups are made of.
+fn one_shape_body(name: String, shape: ShapeSpec, density: Real, position: V3) -> BodySpec {
+    BodySpec {
+        name,
+        shapes: vec![ColliderSpec {
+            shape,
+            offset: [0.0; 3],
+            material: None,
+        }],
+        density: Some(density),
+        mass: None,
+        position,
+        orientation: None,
+        velocity: [0.0; 3],
+        angular_velocity: [0.0; 3],
+        damping: [0.0; 2],
+    }
+}
+
 fn add_group(
     built: &mut BuiltScene,
     g: &GroupSpec,
@@ -263,23 +282,11 @@ fn add_group(
                 for i in 0..n {
                     let x = origin[0] + (i as Real - (n as Real - 1.0) * 0.5) * edge;
                     let y = origin[1] + half_extent + layer as Real * edge;
-                    let spec = BodySpec {
-                        name: named("pyramid", made),
-                        shapes: vec![ColliderSpec {
-                            shape: ShapeSpec::Box {
-                                half_extents: [half_extent; 3],
-                            },
-                            offset: [0.0; 3],
-                            material: None,
-                        }],
-                        density: Some(density),
-                        mass: None,
-                        position: [x, y, origin[2]],
-                        orientation: None,
-                        velocity: [0.0; 3],
-                        angular_velocity: [0.0; 3],
-                        damping: [0.0; 2],
+                    let cube = ShapeSpec::Box {
+                        half_extents: [half_extent; 3],
                     };
+                    let position = [x, y, origin[2]];
+                    let spec = one_shape_body(named("pyramid", made), cube, density, position);
                     add_body(built, &spec, &[], place)?;
                     made += 1;
                 }
@@ -295,21 +302,12 @@ fn add_group(
             let (nx, ny) = (counts[0] as usize, counts[1] as usize);
             for i in 0..nx * ny * counts[2] as usize {
                 let cell = [i % nx, (i / nx) % ny, i / (nx * ny)];
-                let spec = BodySpec {
-                    name: named("grid", i),
-                    shapes: vec![ColliderSpec {
-                        shape: shape.clone(),
-                        offset: [0.0; 3],
-                        material: None,
-                    }],
-                    density: Some(density),
-                    mass: None,
-                    position: std::array::from_fn(|k| origin[k] + cell[k] as Real * spacing[k]),
-                    orientation: None,
-                    velocity: [0.0; 3],
-                    angular_velocity: [0.0; 3],
-                    damping: [0.0; 2],
-                };
+                let spec = one_shape_body(
+                    named("grid", i),
+                    shape.clone(),
+                    density,
+                    std::array::from_fn(|k| origin[k] + cell[k] as Real * spacing[k]),
+                );
                 add_body(built, &spec, &[], place)?;
             }
         }
@@ -327,21 +325,12 @@ fn add_group(
                     origin[1] - spacing * (i as Real + 0.5),
                     origin[2],
                 ];
-                let spec = BodySpec {
-                    name: named("chain", i),
-                    shapes: vec![ColliderSpec {
-                        shape: ShapeSpec::Sphere { radius },
-                        offset: [0.0; 3],
-                        material: None,
-                    }],
-                    density: Some(density),
-                    mass: None,
-                    position: centre,
-                    orientation: None,
-                    velocity: [0.0; 3],
-                    angular_velocity: [0.0; 3],
-                    damping: [0.0; 2],
-                };
+                let spec = one_shape_body(
+                    named("chain", i),
+                    ShapeSpec::Sphere { radius },
+                    density,
+                    centre,
+                );
                 add_body(built, &spec, &[], place)?;
                 let h = built.bodies.last().expect("just added").1;
                 let anchor = Vec3::new(centre[0], centre[1] + 0.5 * spacing, centre[2]);
