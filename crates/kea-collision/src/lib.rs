@@ -10,7 +10,7 @@
 //! exclusion of jointed bodies, began/persisted/ended [`ContactEvent`]s and pair impulses, and
 //! ray, shape-cast, overlap and point queries.
 //!
-//! Memory: once warm, a step allocates nothing for boxes, spheres and compounds of them; parry
+//! Memory: once warm, a step allocates nothing for boxes and spheres (the tested case); parry
 //! 0.31's manifold generators for a plane against a convex shape, and for its polygonal-feature
 //! path (capsule, cylinder, cone or hull against a polyhedron), allocate once per such pair per
 //! step (pinned by `tests/zero_alloc.rs`).
