@@ -95,8 +95,11 @@ impl Summary {
             energy(built)
         );
         println!(
-            "  solver     {} steps with warnings, {} joints broken, largest joint error {:.2e} m",
-            self.warnings, self.broken, last.max_joint_error
+            "  solver     {} steps with warnings, {} joints broken, largest joint error {:.2e} m, deepest contact {:.2e} m",
+            self.warnings,
+            self.broken,
+            last.max_joint_error,
+            built.collision.deepest_penetration(&built.world)
         );
     }
 

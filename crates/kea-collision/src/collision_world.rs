@@ -299,6 +299,18 @@ impl CollisionWorld {
         total
     }
 
+    /// The deepest penetration among the contacts this collision world made, m (0 if none
+    /// overlap): the contact constraints' largest error.
+    #[must_use]
+    pub fn deepest_penetration(&self, world: &World) -> Real {
+        self.pairs
+            .values()
+            .flat_map(|p| p.contacts.iter())
+            .filter_map(|c| world.contact(c.handle).ok())
+            .map(Contact::penetration)
+            .fold(0.0, Real::max)
+    }
+
     /// Lets (or stops) the two bodies of a joint collide with each other. By default bodies
     /// joined by an enabled joint do not collide.
     pub fn set_joint_collisions(
