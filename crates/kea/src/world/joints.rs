@@ -30,6 +30,19 @@ impl World {
         })
     }
 
+    /// Checks both bodies, builds the joint from their current poses, and inserts it: the shared
+    /// tail of every `create_*` joint function.
+    fn insert_joint(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        make: impl FnOnce(&RowContext) -> ConstraintKind,
+    ) -> KeaResult<ConstraintHandle> {
+        self.check_pair(body1, body2)?;
+        let kind = make(&self.pair_context(body1, body2)?);
+        self.insert_constraint(kind, body1, body2)
+    }
+
     /// Creates a hinge at a world point about a world unit axis (the guide's `MdtHingeCreate`
     /// + `SetPosition` + `SetAxis`); its angle starts at 0.
     pub fn create_hinge(
@@ -41,9 +54,9 @@ impl World {
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
         let axis = check_unit("axis", axis)?;
-        self.check_pair(body1, body2)?;
-        let joint = Hinge::new(&self.pair_context(body1, body2)?, anchor, axis);
-        self.insert_constraint(ConstraintKind::Hinge(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Hinge(Hinge::new(ctx, anchor, axis))
+        })
     }
 
     /// Creates a prismatic joint (slider) through a world point along a world unit axis; its
@@ -57,9 +70,9 @@ impl World {
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
         let axis = check_unit("axis", axis)?;
-        self.check_pair(body1, body2)?;
-        let joint = Prismatic::new(&self.pair_context(body1, body2)?, anchor, axis);
-        self.insert_constraint(ConstraintKind::Prismatic(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Prismatic(Prismatic::new(ctx, anchor, axis))
+        })
     }
 
     /// Creates a fixed joint (weld) at a world point, keeping the current relative orientation.
@@ -70,9 +83,9 @@ impl World {
         anchor: Vec3,
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
-        self.check_pair(body1, body2)?;
-        let joint = FixedJoint::new(&self.pair_context(body1, body2)?, anchor);
-        self.insert_constraint(ConstraintKind::Fixed(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Fixed(FixedJoint::new(ctx, anchor))
+        })
     }
 
     /// Creates a universal joint at a world point with perpendicular world unit axes
@@ -95,9 +108,9 @@ impl World {
                 expected: "must be perpendicular to axis1",
             });
         }
-        self.check_pair(body1, body2)?;
-        let joint = UniversalJoint::new(&self.pair_context(body1, body2)?, anchor, axis1, axis2);
-        self.insert_constraint(ConstraintKind::Universal(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Universal(UniversalJoint::new(ctx, anchor, axis1, axis2))
+        })
     }
 
     /// Creates a Linear1 joint: the world point `anchor` of body 1 stays on the plane through it
@@ -111,9 +124,9 @@ impl World {
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
         let normal = check_unit("normal", normal)?;
-        self.check_pair(body1, body2)?;
-        let joint = Linear1::new(&self.pair_context(body1, body2)?, anchor, normal);
-        self.insert_constraint(ConstraintKind::Linear1(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Linear1(Linear1::new(ctx, anchor, normal))
+        })
     }
 
     /// Creates a Linear2 (cylindrical) joint: the world point `anchor` of body 1 stays on the
@@ -127,9 +140,9 @@ impl World {
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
         let direction = check_unit("direction", direction)?;
-        self.check_pair(body1, body2)?;
-        let joint = Linear2::new(&self.pair_context(body1, body2)?, anchor, direction);
-        self.insert_constraint(ConstraintKind::Linear2(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Linear2(Linear2::new(ctx, anchor, direction))
+        })
     }
 
     /// Creates a fixed-path joint: the world point `anchor` of body 1 will follow a path set
@@ -143,9 +156,9 @@ impl World {
         fixed_orientation: bool,
     ) -> KeaResult<ConstraintHandle> {
         check_vec3("anchor", anchor)?;
-        self.check_pair(body1, body2)?;
-        let joint = FixedPath::new(&self.pair_context(body1, body2)?, anchor, fixed_orientation);
-        self.insert_constraint(ConstraintKind::Path(joint), body1, body2)
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Path(FixedPath::new(ctx, anchor, fixed_orientation))
+        })
     }
 
     /// Moves a fixed-path joint's path point to world `position`, moving at world `velocity`
@@ -201,9 +214,9 @@ impl World {
         }
         check_positive("k", k)?;
         check_non_negative("d", d)?;
-        self.check_pair(chassis, Some(wheel))?;
-        let joint = CarWheel::new(&self.pair_context(chassis, Some(wheel))?, s, u, k, d);
-        self.insert_constraint(ConstraintKind::Wheel(Box::new(joint)), chassis, Some(wheel))
+        self.insert_joint(chassis, Some(wheel), |ctx| {
+            ConstraintKind::Wheel(Box::new(CarWheel::new(ctx, s, u, k, d)))
+        })
     }
 
     /// A car wheel joint, read-only.
