@@ -101,13 +101,7 @@ impl World {
         check_vec3("anchor", anchor)?;
         let axis1 = check_unit("axis1", axis1)?;
         let axis2 = check_unit("axis2", axis2)?;
-        if axis1.dot(axis2).abs() > 1.0e-3 {
-            return Err(KeaError::OutOfRange {
-                arg: "axis2",
-                value: format!("{axis2}"),
-                expected: "must be perpendicular to axis1",
-            });
-        }
+        check_perpendicular("axis2", axis2, axis1, "must be perpendicular to axis1")?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Universal(UniversalJoint::new(ctx, anchor, axis1, axis2))
         })
@@ -205,13 +199,7 @@ impl World {
     ) -> KeaResult<ConstraintHandle> {
         let s = check_unit("steering_axis", steering_axis)?;
         let u = check_unit("axle", axle)?;
-        if s.dot(u).abs() > 1.0e-3 {
-            return Err(KeaError::OutOfRange {
-                arg: "axle",
-                value: format!("{axle}"),
-                expected: "must be perpendicular to steering_axis",
-            });
-        }
+        check_perpendicular("axle", u, s, "must be perpendicular to steering_axis")?;
         check_positive("k", k)?;
         check_non_negative("d", d)?;
         self.insert_joint(chassis, Some(wheel), |ctx| {
@@ -246,13 +234,12 @@ impl World {
     ) -> KeaResult<()> {
         let primary = check_unit("primary", primary)?;
         let orthogonal = check_unit("orthogonal", orthogonal)?;
-        if primary.dot(orthogonal).abs() > 1.0e-3 {
-            return Err(KeaError::OutOfRange {
-                arg: "orthogonal",
-                value: format!("{orthogonal}"),
-                expected: "must be perpendicular to primary",
-            });
-        }
+        check_perpendicular(
+            "orthogonal",
+            orthogonal,
+            primary,
+            "must be perpendicular to primary",
+        )?;
         let [b1, b2] = self.constraint_bodies(h)?;
         let ctx = self.pair_context(b1.expect("constraints have a first body"), b2)?;
         match &mut self.constraints.get_mut(h)?.kind {
@@ -427,4 +414,22 @@ impl World {
             other => Err(wrong_kind(h, "prismatic joint", other.name())),
         }
     }
+}
+
+/// Checks that the unit vector `v` (argument `arg`) is perpendicular, within 1e-3, to `w`;
+/// `expected` names `w` in the error.
+fn check_perpendicular(
+    arg: &'static str,
+    v: Vec3,
+    w: Vec3,
+    expected: &'static str,
+) -> KeaResult<()> {
+    if v.dot(w).abs() > 1.0e-3 {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: format!("{v}"),
+            expected,
+        });
+    }
+    Ok(())
 }
