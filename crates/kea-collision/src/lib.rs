@@ -38,7 +38,7 @@ mod tessellate;
 pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy};
 pub use error::{CollisionError, CollisionResult};
 pub use events::{ContactEvent, ContactEventKind};
-pub use material::{MaterialId, MaterialTable, Surface};
+pub use material::{MaterialId, MaterialTable, PairContact, Surface};
 pub use query::{PointHit, QueryFilter, RayHit, ShapeCast, ShapeHit};
 pub use shape::{MassProperties, Shape};
 pub use tessellate::PLANE_HALF_SIZE;

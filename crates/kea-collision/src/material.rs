@@ -9,7 +9,7 @@
 //! - slip: the sum; adhesion: the smaller (both surfaces must be sticky).
 
 use crate::error::{CollisionError, CollisionResult};
-use kea::{ContactParams, ContactType, FrictionModel, Real};
+use kea::{ContactParams, ContactType, FrictionModel, Real, Vec3};
 
 /// Index of a material in a [`MaterialTable`]. Material 0 always exists.
 pub type MaterialId = u32;
@@ -76,7 +76,27 @@ impl Surface {
 pub struct MaterialTable {
     surfaces: Vec<Surface>,
     /// Explicit pair entries, keyed by (smaller id, larger id), sorted for binary search.
-    pairs: Vec<((MaterialId, MaterialId), ContactParams)>,
+    pairs: Vec<((MaterialId, MaterialId), PairEntry)>,
+}
+
+/// One explicit pair entry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PairEntry {
+    params: ContactParams,
+    /// A fixed world friction direction, oriented for the pair's smaller id as body 1.
+    direction: Option<Vec3>,
+}
+
+/// What contacts between two materials get: their parameters and, for a conveyor pair, the
+/// world direction of their primary friction direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairContact {
+    /// The contact parameters, with `slide` oriented for the contact's body 1.
+    pub params: ContactParams,
+    /// A fixed world direction for the primary friction direction (`None`: the collision layer
+    /// picks one). The contact uses its projection on the tangent plane, or its own choice when
+    /// the direction is within about 0.6° of the normal.
+    pub friction_direction: Option<Vec3>,
 }
 
 impl Default for MaterialTable {
@@ -120,13 +140,69 @@ impl MaterialTable {
     ) -> CollisionResult<()> {
         self.check(a)?;
         self.check(b)?;
+        self.set_pair_with_direction(a, b, params, None)
+    }
+
+    /// Sets a pair entry with a fixed world primary friction direction, for conveyor belts:
+    /// `params.slide[0]` is then the speed of material `a`'s surface relative to material `b`'s
+    /// along `direction` (unit), and `slide[1]` along `normal × direction`, where the normal
+    /// points from `b` to `a`. Without a direction this is [`MaterialTable::set_pair`], whose
+    /// slide runs along directions the collision layer picks.
+    pub fn set_pair_with_direction(
+        &mut self,
+        a: MaterialId,
+        b: MaterialId,
+        params: ContactParams,
+        direction: Option<Vec3>,
+    ) -> CollisionResult<()> {
+        self.check(a)?;
+        self.check(b)?;
         params.validate()?;
+        if let Some(d) = direction {
+            if !(d.is_finite() && (d.length() - 1.0).abs() < 1.0e-3) {
+                return Err(kea::KeaError::NotUnit {
+                    arg: "direction",
+                    value: format!("{d}"),
+                    length: kea::math::wide(d.length()),
+                }
+                .into());
+            }
+        }
         let key = (a.min(b), a.max(b));
+        // Stored for the smaller id as body 1.
+        let (params, direction) = match direction {
+            Some(d) if a > b => reverse(params, d),
+            _ => (params, direction),
+        };
+        let entry = PairEntry { params, direction };
         match self.pairs.binary_search_by_key(&key, |e| e.0) {
-            Ok(i) => self.pairs[i].1 = params,
-            Err(i) => self.pairs.insert(i, (key, params)),
+            Ok(i) => self.pairs[i].1 = entry,
+            Err(i) => self.pairs.insert(i, (key, entry)),
         }
         Ok(())
+    }
+
+    /// What a contact whose body 1 has material `body1` and body 2 material `body2` gets: the
+    /// pair's parameters and fixed friction direction, oriented for that order.
+    pub fn pair_contact(
+        &self,
+        body1: MaterialId,
+        body2: MaterialId,
+    ) -> CollisionResult<PairContact> {
+        let params = self.params(body1, body2)?;
+        let key = (body1.min(body2), body1.max(body2));
+        let direction = match self.pairs.binary_search_by_key(&key, |e| e.0) {
+            Ok(i) => self.pairs[i].1.direction,
+            Err(_) => None,
+        };
+        let (params, friction_direction) = match direction {
+            Some(d) if body1 > body2 => reverse(params, d),
+            _ => (params, direction),
+        };
+        Ok(PairContact {
+            params,
+            friction_direction,
+        })
     }
 
     /// The contact parameters for a pair of materials.
@@ -135,7 +211,7 @@ impl MaterialTable {
         self.check(b)?;
         let key = (a.min(b), a.max(b));
         Ok(match self.pairs.binary_search_by_key(&key, |e| e.0) {
-            Ok(i) => self.pairs[i].1,
+            Ok(i) => self.pairs[i].1.params,
             Err(_) => surface_params(&self.surfaces[a as usize], &self.surfaces[b as usize]),
         })
     }
@@ -148,6 +224,14 @@ impl MaterialTable {
             Err(CollisionError::UnknownMaterial(id))
         }
     }
+}
+
+/// The same conveyor seen with the bodies swapped: `slide[0]` is body 1's speed relative to
+/// body 2 along `t₁` and `slide[1]` along `n × t₁`. Swapping the bodies reverses the normal and
+/// the relative velocity; taking `t₁ = −d` keeps `slide[0]` and `n × t₁`, so `slide[1]` flips.
+fn reverse(mut params: ContactParams, d: Vec3) -> (ContactParams, Option<Vec3>) {
+    params.slide[1] = -params.slide[1];
+    (params, Some(-d))
 }
 
 /// The combine rules of the module documentation.

@@ -14,6 +14,8 @@ struct PairFrame {
     /// The first collider is static, so it is body 2 and the normal keeps parry's direction.
     flip: bool,
     params: ContactParams,
+    /// A fixed world primary friction direction (conveyor pairs).
+    direction: Option<Vec3>,
     poses: (Pose, Pose),
     prediction: Real,
 }
@@ -61,6 +63,13 @@ impl ManifoldScratch {
             };
             if contact.set_params(frame.params).is_err() {
                 continue;
+            }
+            if let Some(d) = frame.direction {
+                // Its projection on the tangent plane; none when it is (nearly) the normal.
+                let t = d - normal * d.dot(normal);
+                if t.length() > 1.0e-2 {
+                    let _ = contact.set_direction(Some(t.normalize()));
+                }
             }
             let (f1, f2) = self.features[k];
             wanted.push(Wanted {
@@ -120,14 +129,20 @@ impl CollisionWorld {
                 (None, None) => continue,
             };
             state.flipped = flip;
-            let Ok(params) = self.materials.params(a.def.material, b.def.material) else {
+            let (m1, m2) = if flip {
+                (b.def.material, a.def.material)
+            } else {
+                (a.def.material, b.def.material)
+            };
+            let Ok(pair) = self.materials.pair_contact(m1, m2) else {
                 continue;
             };
             let frame = PairFrame {
                 pair: (ia, ib),
                 bodies: (body1, body2),
                 flip,
-                params,
+                params: pair.params,
+                direction: pair.friction_direction,
                 poses: (pose_a, pose_b),
                 prediction,
             };

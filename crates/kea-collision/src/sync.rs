@@ -52,6 +52,7 @@ impl CollisionWorld {
                     target.set_normal(w.contact.normal())?;
                     target.set_penetration(w.contact.penetration())?;
                     target.set_params(*w.contact.params())?;
+                    target.set_direction(w.contact.direction())?;
                 }
                 None => {
                     let handle = world.create_contact(w.bodies.0, w.bodies.1, w.contact)?;

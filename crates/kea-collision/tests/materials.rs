@@ -168,3 +168,64 @@ fn restitution_is_the_larger_of_the_pair_and_sleeping_pairs_are_left_alone() {
     assert_eq!(before, after);
     assert_eq!(*world.contact(after[0]).unwrap(), kept);
 }
+
+/// A 0.5 m box dropped at rest on a static belt whose pair entry slides at 1 m/s along the
+/// world direction `direction` (given for the pair in the order `box_first`); returns the box's
+/// velocity after `seconds` and the time at which its speed first reached 0.99 m/s.
+fn ride_belt(direction: Vec3, box_first: bool, slide: Real, seconds: Real) -> (Vec3, Real) {
+    let mut world = World::with_capacity(4, 64).unwrap();
+    let mut collision = CollisionWorld::new();
+    let belt = collision.materials.add(Surface::default()).unwrap();
+    let params = ContactParams {
+        slide: [slide, 0.0],
+        ..Default::default()
+    };
+    let (a, b) = if box_first { (0, belt) } else { (belt, 0) };
+    collision
+        .materials
+        .set_pair_with_direction(a, b, params, Some(direction))
+        .unwrap();
+    let mut g = ColliderDef::new(None, Shape::cuboid(Vec3::new(5.0, 0.1, 1.0)).unwrap());
+    g.offset = Vec3::new(0.0, -0.1, 0.0);
+    g.material = belt;
+    collision.add_collider(&world, g).unwrap();
+    let cube = Shape::cuboid(Vec3::splat(0.25)).unwrap();
+    let mp = cube.mass_properties(1000.0).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            mass: mp.mass,
+            inertia: mp.inertia,
+            position: Vec3::new(-3.0, 0.25, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    collision
+        .add_collider(&world, ColliderDef::new(Some(b), cube))
+        .unwrap();
+    let mut reached = Real::INFINITY;
+    let steps = (seconds / DT).round() as usize;
+    for i in 0..steps {
+        collision.step(&mut world, DT).unwrap();
+        let v = world.body(b).unwrap().linear_velocity();
+        if reached.is_infinite() && v.length() > 0.99 {
+            reached = (i + 1) as Real * DT;
+        }
+    }
+    (world.body(b).unwrap().linear_velocity(), reached)
+}
+
+#[test]
+fn a_conveyor_pair_carries_a_box_along_its_world_direction() {
+    // μ = 0.5 drags the box at μg until it moves with the belt: 1 m/s after 1/(μg) ≈ 0.20 s.
+    let expected_time = 1.0 / (0.5 * G);
+    for (direction, box_first, slide) in [
+        (Vec3::X, true, 1.0),
+        (Vec3::X, false, -1.0), // the belt's surface moves at −1 m/s under the box
+        (Vec3::new(0.6, 0.0, 0.8), true, 1.0),
+    ] {
+        let (v, t) = ride_belt(direction, box_first, slide, 1.0);
+        eprintln!("belt along {direction} (box first: {box_first}): v = {v}, reached at {t:.3} s");
+        assert!((v - direction).length() < 0.03, "v = {v}");
+        assert!((t - expected_time).abs() < 0.05, "reached at {t}");
+    }
+}
