@@ -8,6 +8,8 @@
 //!   [--height H]` draws the scene on the CPU (no GPU, no display): the frame after `--steps`,
 //!   or an animation of `--frames` frames, one every `--every` steps.
 //!
+//! - `kea view [SCENE] [--dt H] [--report] [--frames N]` opens the Viewer (a window).
+//!
 //! Exit code 0 on success; 1 with a message on stderr for a bad scene or a failed step, and
 //! nothing is written then.
 
@@ -75,6 +77,29 @@ enum Command {
         #[arg(long, default_value_t = 600)]
         height: u32,
     },
+    /// Open the Viewer: a window to watch, poke and measure a scene (F1 lists the keys).
+    View {
+        /// The scene file (JSON); the embedded pyramid if absent.
+        scene: Option<PathBuf>,
+        /// Fixed step size, s.
+        #[arg(long, default_value_t = 1.0 / 60.0)]
+        dt: Real,
+        /// Window width, pixels.
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        /// Window height, pixels.
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Where the screenshot key (P) writes.
+        #[arg(long, default_value = "kea-screenshot.png")]
+        screenshot: PathBuf,
+        /// Print a line on stdout for every action (`paused step=12`), for scripts and tests.
+        #[arg(long)]
+        report: bool,
+        /// Close after this many frames.
+        #[arg(long)]
+        frames: Option<u64>,
+    },
     /// Step scenes headless and print ms per step and per stage, one line per scene.
     Bench {
         /// Scene files.
@@ -99,6 +124,29 @@ fn main() -> ExitCode {
             json,
         } => run(scene.as_deref(), steps, dt, csv.as_deref(), json.as_deref()),
         Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
+        Command::View {
+            scene,
+            dt,
+            width,
+            height,
+            screenshot,
+            report,
+            frames,
+        } => view(
+            scene.as_deref(),
+            kea_viewer::ViewerOptions {
+                title: format!(
+                    "Kea Viewer: {}",
+                    scene.as_deref().map_or("pyramid".into(), |p| p.display().to_string())
+                ),
+                width,
+                height,
+                dt,
+                screenshot,
+                report,
+                frames,
+            },
+        ),
         Command::Render {
             scene,
             out,
@@ -119,8 +167,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// Loads and builds a scene file (or the embedded default), naming the file in any error.
-fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> {
+/// Reads a scene file (or the embedded default), naming the file in any error.
+fn load_scene(path: Option<&std::path::Path>) -> Result<(String, Scene), String> {
     let (name, text) = match path {
         Some(p) => {
             let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
@@ -129,8 +177,31 @@ fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> 
         None => ("(embedded pyramid)".to_string(), DEFAULT_SCENE.to_string()),
     };
     let scene = Scene::from_json(&text).map_err(|e| format!("{name}: {e}"))?;
+    Ok((name, scene))
+}
+
+/// Loads and builds a scene file (or the embedded default), naming the file in any error.
+fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> {
+    let (name, scene) = load_scene(path)?;
     let built = build(&scene).map_err(|e| format!("{name}: {e}"))?;
     Ok((name, built))
+}
+
+fn view(
+    path: Option<&std::path::Path>,
+    options: kea_viewer::ViewerOptions,
+) -> Result<(), String> {
+    let (name, scene) = load_scene(path)?;
+    let has_display = ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|d| !d.is_empty()));
+    if !has_display {
+        return Err(
+            "kea view needs a display and DISPLAY is not set (kea render draws frames without one)"
+                .into(),
+        );
+    }
+    kea_viewer::run(scene, options).map_err(|e| format!("{name}: {e}"))
 }
 
 fn check_run(steps: u32, dt: Real) -> Result<(), String> {

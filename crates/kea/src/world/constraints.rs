@@ -248,6 +248,16 @@ impl World {
         })
     }
 
+    /// Every enabled contact with its two bodies, in handle order (viewers draw them).
+    pub fn contacts(
+        &self,
+    ) -> impl Iterator<Item = (ConstraintHandle, &Contact, [Option<BodyHandle>; 2])> + '_ {
+        self.constraints.iter().filter_map(|(h, e)| match &e.kind {
+            ConstraintKind::Contact(c) if e.enabled => Some((h, c, e.bodies)),
+            _ => None,
+        })
+    }
+
     /// A contact, read-only.
     pub fn contact(&self, h: ConstraintHandle) -> KeaResult<&Contact> {
         match &self.constraints.get(h)?.kind {

@@ -1,0 +1,336 @@
+//! The simulation behind the window: the scene, fixed-dt stepping with interpolation, reset,
+//! shooting balls, dragging bodies and driving cars. No drawing and no window here, so it is
+//! tested like any other code.
+
+use crate::convert::{to_f64, to_real};
+use kea::{BodyDef, BodyHandle, ConstraintHandle, Quat, Real, StepStats, Vec3};
+use kea_collision::{ColliderDef, QueryFilter, Shape};
+use kea_scene::{build, BuiltScene, Scene};
+use std::collections::HashMap;
+use std::time::{Duration, Instant};
+
+/// Room for bodies the user adds (shot balls) beyond the scene's own, when the scene lets the
+/// capacity follow its size.
+pub const SHOT_ROOM: usize = 200;
+/// Radius of a shot ball, m.
+pub const SHOT_RADIUS: Real = 0.15;
+/// Speed of a shot ball, m/s.
+pub const SHOT_SPEED: Real = 15.0;
+/// Density of a shot ball, kg/m³ (a heavy ball, as in the guide's bounce tutorial).
+pub const SHOT_DENSITY: Real = 2000.0;
+/// Most steps taken for one drawn frame: a slow frame slows the scene down rather than letting
+/// the backlog grow without end.
+pub const MAX_STEPS_PER_FRAME: u32 = 8;
+/// Wheel speed a full throttle asks for, rad/s, and the torque the motor may use, N·m.
+pub const DRIVE: (Real, Real) = (25.0, 400.0);
+/// Steering angle a full turn asks for, rad, and the steering motor's torque, N·m.
+pub const STEER: (Real, Real) = (0.5, 800.0);
+
+/// A body held by the mouse through a temporary fixed-path joint.
+struct Drag {
+    joint: ConstraintHandle,
+    /// The held point, world frame, where the mouse ray meets the drag plane.
+    point: Vec3,
+}
+
+/// Timings of the last step, for the overlay.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Timings {
+    /// The world's own report (bodies, rows, solver stages).
+    pub stats: StepStats,
+    /// Collision detection and contact updates.
+    pub collision: Duration,
+    /// The whole step, collision included.
+    pub total: Duration,
+}
+
+/// A running scene.
+pub struct App {
+    spec: Scene,
+    /// The scene being simulated.
+    pub scene: BuiltScene,
+    dt: Real,
+    /// Stepping stopped (single steps still work).
+    pub paused: bool,
+    accumulator: f64,
+    previous: HashMap<BodyHandle, (Vec3, Quat)>,
+    /// What the last step took.
+    pub timings: Timings,
+    drag: Option<Drag>,
+    wheels: Vec<ConstraintHandle>,
+    /// The last problem a user action ran into (a full world, a failed step), for the overlay.
+    pub message: Option<String>,
+}
+
+impl App {
+    /// Builds `spec`, with room for shot balls, stepping by `dt`.
+    pub fn new(spec: Scene, dt: Real) -> Result<Self, String> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(format!("dt must be finite and > 0, got {dt}"));
+        }
+        let scene = build_with_room(&spec)?;
+        let mut app = Self {
+            spec,
+            scene,
+            dt,
+            paused: false,
+            accumulator: 0.0,
+            previous: HashMap::new(),
+            timings: Timings::default(),
+            drag: None,
+            wheels: Vec::new(),
+            message: None,
+        };
+        app.after_build();
+        Ok(app)
+    }
+
+    /// The fixed step, s.
+    #[must_use]
+    pub fn dt(&self) -> Real {
+        self.dt
+    }
+
+    /// Steps taken since the scene was (re)built.
+    #[must_use]
+    pub fn step_count(&self) -> u64 {
+        self.scene.world.step_count()
+    }
+
+    /// Rebuilds the scene as it was loaded (the guide's Enter key).
+    pub fn reset(&mut self) {
+        match build_with_room(&self.spec) {
+            Ok(scene) => {
+                self.scene = scene;
+                self.drag = None;
+                self.accumulator = 0.0;
+                self.message = None;
+                self.after_build();
+            }
+            Err(e) => self.message = Some(e),
+        }
+    }
+
+    fn after_build(&mut self) {
+        self.snapshot();
+        let world = &self.scene.world;
+        self.wheels = world
+            .enabled_joints()
+            .map(|(h, _)| h)
+            .filter(|h| world.car_wheel(*h).is_ok())
+            .collect();
+        // Steerable wheels are those the scene left unlocked; the others keep their lock.
+        self.timings = Timings::default();
+    }
+
+    /// Car-wheel joints, which the throttle and steering keys drive.
+    #[must_use]
+    pub fn wheels(&self) -> &[ConstraintHandle] {
+        &self.wheels
+    }
+
+    /// Advances by `frame_seconds` of real time in fixed steps (none while paused); returns the
+    /// steps taken. What is left over is kept for the next frame and for interpolation.
+    pub fn advance(&mut self, frame_seconds: f64) -> u32 {
+        if self.paused {
+            return 0;
+        }
+        self.accumulator += frame_seconds.clamp(0.0, 0.25);
+        let mut steps = 0;
+        let dt = to_f64(self.dt);
+        while self.accumulator >= dt && steps < MAX_STEPS_PER_FRAME {
+            self.accumulator -= dt;
+            if !self.step_once() {
+                break;
+            }
+            steps += 1;
+        }
+        if steps == MAX_STEPS_PER_FRAME {
+            self.accumulator = self.accumulator.min(dt);
+        }
+        steps
+    }
+
+    /// Takes one step now (the single-step key); false if the step failed (the scene then
+    /// pauses and the message says why).
+    pub fn step_once(&mut self) -> bool {
+        self.snapshot();
+        if let Some(d) = &self.drag {
+            let _ = self.scene.world.set_path(d.joint, d.point, Vec3::ZERO);
+        }
+        let start = Instant::now();
+        match self.scene.step(self.dt) {
+            Ok(stats) => {
+                let total = start.elapsed();
+                self.timings = Timings {
+                    stats,
+                    collision: total.saturating_sub(stats.time_total),
+                    total,
+                };
+                true
+            }
+            Err(e) => {
+                self.paused = true;
+                self.message = Some(format!("step failed: {e}"));
+                false
+            }
+        }
+    }
+
+    /// How far drawing is between the last two steps, 0..1.
+    #[must_use]
+    pub fn alpha(&self) -> Real {
+        if self.paused {
+            return 1.0;
+        }
+        to_real(self.accumulator / to_f64(self.dt)).clamp(0.0, 1.0)
+    }
+
+    fn snapshot(&mut self) {
+        for (h, b) in self.scene.world.bodies() {
+            self.previous.insert(h, (b.position(), b.orientation()));
+        }
+    }
+
+    /// A body's pose for drawing: between its pose before and after the last step.
+    #[must_use]
+    pub fn body_pose(&self, h: BodyHandle) -> Option<(Vec3, Quat)> {
+        let b = self.scene.world.body(h).ok()?;
+        let now = (b.position(), b.orientation());
+        let Some(before) = self.previous.get(&h) else {
+            return Some(now);
+        };
+        let a = self.alpha();
+        Some((before.0.lerp(now.0, a), before.1.slerp(now.1, a)))
+    }
+
+    /// Fires a ball from `origin` along `direction` (the guide's bounce tutorial's `shoot`).
+    pub fn shoot(&mut self, origin: Vec3, direction: Vec3) {
+        if let Err(e) = self.try_shoot(origin, direction) {
+            self.message = Some(format!("cannot shoot: {e}"));
+        }
+    }
+
+    fn try_shoot(&mut self, origin: Vec3, direction: Vec3) -> Result<(), String> {
+        let shape = Shape::sphere(SHOT_RADIUS).map_err(|e| e.to_string())?;
+        let mass = shape.mass_properties(SHOT_DENSITY).map_err(|e| e.to_string())?;
+        let def = BodyDef {
+            mass: mass.mass,
+            inertia: mass.inertia,
+            position: origin,
+            linear_velocity: direction.normalize_or_zero() * SHOT_SPEED,
+            ..BodyDef::default()
+        };
+        let world = &mut self.scene.world;
+        let body = world.create_body(&def).map_err(|e| e.to_string())?;
+        let collider = ColliderDef::new(Some(body), shape);
+        if let Err(e) = self.scene.collision.add_collider(world, collider) {
+            let _ = world.destroy_body(body);
+            return Err(e.to_string());
+        }
+        self.previous.insert(body, (origin, Quat::IDENTITY));
+        Ok(())
+    }
+
+    /// Grabs the body under the ray from `origin` along `direction`, holding it at the hit
+    /// point with a fixed-path joint; false if the ray hits no body.
+    pub fn begin_drag(&mut self, origin: Vec3, direction: Vec3) -> bool {
+        self.end_drag();
+        let hit = self.scene.collision.cast_ray(
+            &self.scene.world,
+            origin,
+            direction,
+            1.0e4,
+            QueryFilter::default(),
+        );
+        let Ok(Some(hit)) = hit else { return false };
+        let Ok(def) = self.scene.collision.collider(hit.collider) else {
+            return false;
+        };
+        let Some(body) = def.body else { return false };
+        let world = &mut self.scene.world;
+        let _ = world.wake_body(body);
+        match world.create_fixed_path(body, None, hit.point, false) {
+            Ok(joint) => {
+                self.drag = Some(Drag {
+                    joint,
+                    point: hit.point,
+                });
+                true
+            }
+            Err(e) => {
+                self.message = Some(format!("cannot grab: {e}"));
+                false
+            }
+        }
+    }
+
+    /// The held point, if a body is held.
+    #[must_use]
+    pub fn drag_point(&self) -> Option<Vec3> {
+        self.drag.as_ref().map(|d| d.point)
+    }
+
+    /// Moves the held point to where the ray meets the plane through the held point facing
+    /// `view_direction`.
+    pub fn drag_to(&mut self, origin: Vec3, direction: Vec3, view_direction: Vec3) {
+        let Some(d) = &mut self.drag else { return };
+        let denominator = direction.dot(view_direction);
+        if denominator.abs() < 1.0e-6 {
+            return;
+        }
+        let t = (d.point - origin).dot(view_direction) / denominator;
+        if t > 0.0 {
+            d.point = origin + direction * t;
+        }
+    }
+
+    /// Lets go of the held body.
+    pub fn end_drag(&mut self) {
+        if let Some(d) = self.drag.take() {
+            let _ = self.scene.world.destroy_constraint(d.joint);
+        }
+    }
+
+    /// Drives every car wheel: `throttle` and `steer` in −1..1 (keys give −1, 0 or 1). Wheels
+    /// whose steering the scene locked are not steered.
+    pub fn drive(&mut self, throttle: Real, steer: Real) {
+        let world = &mut self.scene.world;
+        for &h in &self.wheels {
+            let Ok(wheel) = world.car_wheel_mut(h) else {
+                continue;
+            };
+            let drive = if throttle == 0.0 {
+                wheel.drive_mut().set_motor(0.0, DRIVE.1 * 0.25) // engine braking
+            } else {
+                wheel.drive_mut().set_motor(throttle * DRIVE.0, DRIVE.1)
+            };
+            if !wheel.steering_locked {
+                let target = steer * STEER.0;
+                let speed = 6.0 * (target - wheel.steering_angle());
+                let _ = wheel.steering_limit_mut().set_motor(speed, STEER.1);
+            }
+            if let Err(e) = drive {
+                self.message = Some(format!("cannot drive: {e}"));
+            }
+            if let Ok([Some(b1), b2]) = world.constraint_bodies(h) {
+                let _ = world.wake_body(b1);
+                if let Some(b2) = b2 {
+                    let _ = world.wake_body(b2);
+                }
+            }
+        }
+    }
+}
+
+/// Builds `spec`; when its world sizes itself (`max_bodies` 0), leaves room for
+/// [`SHOT_ROOM`] more bodies.
+fn build_with_room(spec: &Scene) -> Result<BuiltScene, String> {
+    if spec.world.max_bodies != 0 {
+        return build(spec).map_err(|e| e.to_string());
+    }
+    let needed = build(spec).map_err(|e| e.to_string())?.bodies.len();
+    let mut roomy = spec.clone();
+    roomy.world.max_bodies = needed + SHOT_ROOM;
+    build(&roomy).map_err(|e| e.to_string())
+}

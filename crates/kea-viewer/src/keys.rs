@@ -1,0 +1,72 @@
+//! Every key the Viewer answers, in one table that both the input handling and the F1 help
+//! read, so the help can never miss a key.
+
+use macroquad::input::KeyCode;
+
+/// What a key press does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Show or hide the help.
+    Help,
+    /// Pause or resume stepping.
+    Pause,
+    /// Take one step (and stay paused).
+    Step,
+    /// Rebuild the scene as loaded.
+    Reset,
+    /// Fire a ball from the camera.
+    Shoot,
+    /// Draw contact points and normals.
+    Contacts,
+    /// Draw joint frames.
+    Joints,
+    /// Colour bodies by island.
+    Islands,
+    /// Grey out sleeping bodies.
+    Sleeping,
+    /// Show or hide the statistics overlay.
+    Overlay,
+    /// Write a screenshot.
+    Screenshot,
+    /// Close the Viewer.
+    Quit,
+}
+
+/// A key press and what it does.
+pub struct Binding {
+    /// The key.
+    pub key: KeyCode,
+    /// How the help names it.
+    pub label: &'static str,
+    /// What it does.
+    pub action: Action,
+    /// The help's description.
+    pub help: &'static str,
+}
+
+/// The key presses, in help order.
+#[rustfmt::skip]
+pub const BINDINGS: &[Binding] = &[
+    Binding { key: KeyCode::F1, label: "F1", action: Action::Help, help: "show / hide this help" },
+    Binding { key: KeyCode::Space, label: "Space", action: Action::Pause, help: "pause / resume" },
+    Binding { key: KeyCode::S, label: "S", action: Action::Step, help: "single step (pauses)" },
+    Binding { key: KeyCode::Enter, label: "Enter", action: Action::Reset, help: "reset the scene" },
+    Binding { key: KeyCode::B, label: "B", action: Action::Shoot, help: "shoot a ball from the camera" },
+    Binding { key: KeyCode::C, label: "C", action: Action::Contacts, help: "draw contacts" },
+    Binding { key: KeyCode::J, label: "J", action: Action::Joints, help: "draw joint frames" },
+    Binding { key: KeyCode::I, label: "I", action: Action::Islands, help: "colour by island" },
+    Binding { key: KeyCode::Z, label: "Z", action: Action::Sleeping, help: "grey out sleeping bodies" },
+    Binding { key: KeyCode::O, label: "O", action: Action::Overlay, help: "statistics overlay" },
+    Binding { key: KeyCode::P, label: "P", action: Action::Screenshot, help: "screenshot (PNG)" },
+    Binding { key: KeyCode::Escape, label: "Esc", action: Action::Quit, help: "quit" },
+];
+
+/// Help lines for the mouse and the held keys.
+pub const HELD: &[(&str, &str)] = &[
+    ("left drag on a body", "pull it (a temporary fixed-path joint)"),
+    ("left / right drag", "orbit the camera"),
+    ("middle drag, Shift+drag", "pan"),
+    ("wheel", "zoom"),
+    ("Up / Down", "car: throttle / reverse"),
+    ("Left / Right", "car: steer"),
+];
