@@ -137,7 +137,9 @@ fn main() -> ExitCode {
             kea_viewer::ViewerOptions {
                 title: format!(
                     "Kea Viewer: {}",
-                    scene.as_deref().map_or("pyramid".into(), |p| p.display().to_string())
+                    scene
+                        .as_deref()
+                        .map_or("pyramid".into(), |p| p.display().to_string())
                 ),
                 width,
                 height,
@@ -187,10 +189,7 @@ fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> 
     Ok((name, built))
 }
 
-fn view(
-    path: Option<&std::path::Path>,
-    options: kea_viewer::ViewerOptions,
-) -> Result<(), String> {
+fn view(path: Option<&std::path::Path>, options: kea_viewer::ViewerOptions) -> Result<(), String> {
     let (name, scene) = load_scene(path)?;
     let has_display = ["DISPLAY", "WAYLAND_DISPLAY"]
         .iter()

@@ -26,11 +26,23 @@ pub const DRIVE: (Real, Real) = (25.0, 400.0);
 /// Steering angle a full turn asks for, rad, and the steering motor's torque, N·m.
 pub const STEER: (Real, Real) = (0.5, 800.0);
 
+/// Fastest the held point follows the mouse, m/s: a far jump of the mouse becomes a quick
+/// pull, not an impulse that flings the body.
+pub const DRAG_SPEED: Real = 8.0;
+/// Damping rate of a held body, 1/s: a held body comes to rest under the pointer instead of
+/// swinging about the held point for ever.
+pub const DRAG_DAMPING: Real = 4.0;
+
 /// A body held by the mouse through a temporary fixed-path joint.
 struct Drag {
     joint: ConstraintHandle,
-    /// The held point, world frame, where the mouse ray meets the drag plane.
-    point: Vec3,
+    body: BodyHandle,
+    /// Where the mouse ray meets the drag plane, world frame.
+    target: Vec3,
+    /// The joint's path point, which follows the target at up to [`DRAG_SPEED`].
+    held: Vec3,
+    /// The body's own linear and angular damping, restored when it is let go.
+    damping: (Real, Real),
 }
 
 /// Timings of the last step, for the overlay.
@@ -155,8 +167,11 @@ impl App {
     /// pauses and the message says why).
     pub fn step_once(&mut self) -> bool {
         self.snapshot();
-        if let Some(d) = &self.drag {
-            let _ = self.scene.world.set_path(d.joint, d.point, Vec3::ZERO);
+        if let Some(d) = &mut self.drag {
+            let reach = d.target - d.held;
+            let moved = reach.clamp_length_max(DRAG_SPEED * self.dt);
+            d.held += moved;
+            let _ = self.scene.world.set_path(d.joint, d.held, moved / self.dt);
         }
         let start = Instant::now();
         match self.scene.step(self.dt) {
@@ -213,7 +228,9 @@ impl App {
 
     fn try_shoot(&mut self, origin: Vec3, direction: Vec3) -> Result<(), String> {
         let shape = Shape::sphere(SHOT_RADIUS).map_err(|e| e.to_string())?;
-        let mass = shape.mass_properties(SHOT_DENSITY).map_err(|e| e.to_string())?;
+        let mass = shape
+            .mass_properties(SHOT_DENSITY)
+            .map_err(|e| e.to_string())?;
         let def = BodyDef {
             mass: mass.mass,
             inertia: mass.inertia,
@@ -252,9 +269,13 @@ impl App {
         let _ = world.wake_body(body);
         match world.create_fixed_path(body, None, hit.point, false) {
             Ok(joint) => {
+                let damping = hold_damping(world, body);
                 self.drag = Some(Drag {
                     joint,
-                    point: hit.point,
+                    body,
+                    target: hit.point,
+                    held: hit.point,
+                    damping,
                 });
                 true
             }
@@ -268,7 +289,7 @@ impl App {
     /// The held point, if a body is held.
     #[must_use]
     pub fn drag_point(&self) -> Option<Vec3> {
-        self.drag.as_ref().map(|d| d.point)
+        self.drag.as_ref().map(|d| d.target)
     }
 
     /// Moves the held point to where the ray meets the plane through the held point facing
@@ -279,16 +300,21 @@ impl App {
         if denominator.abs() < 1.0e-6 {
             return;
         }
-        let t = (d.point - origin).dot(view_direction) / denominator;
+        let t = (d.target - origin).dot(view_direction) / denominator;
         if t > 0.0 {
-            d.point = origin + direction * t;
+            d.target = origin + direction * t;
         }
     }
 
     /// Lets go of the held body.
     pub fn end_drag(&mut self) {
         if let Some(d) = self.drag.take() {
-            let _ = self.scene.world.destroy_constraint(d.joint);
+            let world = &mut self.scene.world;
+            let _ = world.destroy_constraint(d.joint);
+            if let Ok(b) = world.body_mut(d.body) {
+                let _ = b.set_linear_damping(d.damping.0);
+                let _ = b.set_angular_damping(d.damping.1);
+            }
         }
     }
 
@@ -321,6 +347,20 @@ impl App {
             }
         }
     }
+}
+
+/// Damps a body about to be held (mass and inertia times [`DRAG_DAMPING`]) and returns its
+/// own damping, to restore on release.
+fn hold_damping(world: &mut kea::World, body: BodyHandle) -> (Real, Real) {
+    let Ok(b) = world.body_mut(body) else {
+        return (0.0, 0.0);
+    };
+    let own = (b.linear_damping(), b.angular_damping());
+    let inertia = b.inertia();
+    let largest = inertia.x_axis.x.max(inertia.y_axis.y).max(inertia.z_axis.z);
+    let _ = b.set_linear_damping(own.0 + DRAG_DAMPING * b.mass());
+    let _ = b.set_angular_damping(own.1 + DRAG_DAMPING * largest);
+    own
 }
 
 /// Builds `spec`; when its world sizes itself (`max_bodies` 0), leaves room for

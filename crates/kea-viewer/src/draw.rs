@@ -105,12 +105,7 @@ impl Painter {
         flush(&mut self.batch);
     }
 
-    fn colour_of(
-        &self,
-        app: &App,
-        body: Option<BodyHandle>,
-        toggles: Toggles,
-    ) -> [u8; 3] {
+    fn colour_of(&self, app: &App, body: Option<BodyHandle>, toggles: Toggles) -> [u8; 3] {
         let Some(b) = body else { return STATIC_COLOUR };
         if toggles.sleeping && app.scene.world.body(b).is_ok_and(|b| b.is_sleeping()) {
             return [90, 90, 110];
@@ -125,7 +120,10 @@ impl Painter {
 }
 
 fn push_triangle(batch: &mut Option<Mesh>, tri: [Vec3; 3], colour: [u8; 3]) {
-    if batch.as_ref().is_some_and(|m| m.vertices.len() + 3 > BATCH_VERTICES) {
+    if batch
+        .as_ref()
+        .is_some_and(|m| m.vertices.len() + 3 > BATCH_VERTICES)
+    {
         flush(batch);
     }
     let Some(mesh) = batch else { return };

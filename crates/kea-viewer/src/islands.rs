@@ -87,7 +87,9 @@ mod tests {
             world.create_body(&def).unwrap()
         };
         let (a, b, c) = (body(0.0), body(1.0), body(5.0));
-        world.create_ball_joint(a, Some(b), Vec3::new(0.5, 0.0, 0.0)).unwrap();
+        world
+            .create_ball_joint(a, Some(b), Vec3::new(0.5, 0.0, 0.0))
+            .unwrap();
         let mut islands = Islands::default();
         islands.rebuild(&world);
         assert_eq!(islands.island_of(a), islands.island_of(b));

@@ -63,7 +63,10 @@ pub const BINDINGS: &[Binding] = &[
 
 /// Help lines for the mouse and the held keys.
 pub const HELD: &[(&str, &str)] = &[
-    ("left drag on a body", "pull it (a temporary fixed-path joint)"),
+    (
+        "left drag on a body",
+        "pull it (a temporary fixed-path joint)",
+    ),
     ("left / right drag", "orbit the camera"),
     ("middle drag, Shift+drag", "pan"),
     ("wheel", "zoom"),

@@ -65,7 +65,11 @@ pub fn draw_stats(app: &App) {
 #[must_use]
 pub fn help_lines() -> Vec<String> {
     let mut lines = vec!["Kea Viewer keys".to_string()];
-    lines.extend(BINDINGS.iter().map(|b| format!("{:<8} {}", b.label, b.help)));
+    lines.extend(
+        BINDINGS
+            .iter()
+            .map(|b| format!("{:<8} {}", b.label, b.help)),
+    );
     lines.extend(HELD.iter().map(|(k, h)| format!("{k}: {h}")));
     lines
 }

@@ -7,7 +7,6 @@ use crate::keys::{Action, BINDINGS};
 use crate::orbit::OrbitCamera;
 use crate::overlay::{draw_help, draw_stats};
 use crate::ViewerOptions;
-use macroquad::Window;
 use kea::{Real, Vec3};
 use kea_render::SKY;
 use macroquad::camera::{set_camera, set_default_camera, Camera3D};
@@ -17,9 +16,8 @@ use macroquad::input::{
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
 };
 use macroquad::texture::get_screen_data;
-use macroquad::window::{
-    clear_background, next_frame, screen_height, screen_width,
-};
+use macroquad::window::{clear_background, next_frame, screen_height, screen_width};
+use macroquad::Window;
 
 /// Opens the window and runs until it closes.
 pub fn open(app: App, options: ViewerOptions) {
@@ -120,7 +118,8 @@ impl Session {
         let left = is_mouse_button_down(MouseButton::Left);
         if self.dragging && left {
             let ray = self.mouse_ray();
-            self.app.drag_to(self.camera.eye(), ray, self.camera.forward());
+            self.app
+                .drag_to(self.camera.eye(), ray, self.camera.forward());
         } else if is_mouse_button_down(MouseButton::Middle)
             || (shift && (left || is_mouse_button_down(MouseButton::Right)))
         {
@@ -228,8 +227,7 @@ async fn run_loop(app: App, options: ViewerOptions) {
         }
         s.handle_mouse();
         s.handle_car_keys();
-        s.app
-            .advance(f64::from(macroquad::time::get_frame_time()));
+        s.app.advance(f64::from(macroquad::time::get_frame_time()));
         s.draw();
         if screenshot {
             s.screenshot();

@@ -1,0 +1,187 @@
+//! The Viewer under Xvfb: it opens, draws, takes a screenshot and answers the pause, single-step
+//! and reset keys, driven by real X key events from xdotool.
+//!
+//! Needs `Xvfb` and `xdotool` (Debian: xvfb, xdotool, libgl1-mesa-dri). Without them the test
+//! says it is skipped, unless `KEA_REQUIRE_DISPLAY_TEST=1` (CI sets it), which makes their
+//! absence a failure.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{channel, Receiver};
+use std::time::{Duration, Instant};
+
+/// Kills the child processes however the test ends.
+struct Reap(Vec<Child>);
+
+impl Drop for Reap {
+    fn drop(&mut self) {
+        for c in &mut self.0 {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+fn have(program: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {program}")])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Starts Xvfb on the first free display from :90.
+fn start_xvfb() -> (Child, String) {
+    for n in 90..140 {
+        if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
+            continue;
+        }
+        let display = format!(":{n}");
+        let mut child = Command::new("Xvfb")
+            .args([&display, "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb starts");
+        std::thread::sleep(Duration::from_millis(700));
+        if child.try_wait().expect("Xvfb status").is_none() {
+            return (child, display);
+        }
+    }
+    panic!("no free X display between :90 and :139");
+}
+
+/// The next line that starts with `prefix`, within `timeout`.
+fn expect_line(lines: &Receiver<String>, prefix: &str, timeout: Duration) -> String {
+    let deadline = Instant::now() + timeout;
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match lines.recv_timeout(left) {
+            Ok(line) if line.starts_with(prefix) => return line,
+            Ok(_) => continue,
+            Err(e) => panic!("no line starting {prefix:?} within {timeout:?}: {e}"),
+        }
+    }
+}
+
+fn step_of(line: &str) -> u64 {
+    line.rsplit("step=").next().unwrap().trim().parse().unwrap()
+}
+
+fn xdotool(display: &str, args: &[&str]) -> String {
+    let out = Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .output()
+        .expect("xdotool runs");
+    assert!(out.status.success(), "xdotool {args:?}: {out:?}");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).expect("screenshot exists"));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).expect("a frame");
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+#[test]
+fn the_viewer_draws_and_answers_pause_step_and_reset_keys() {
+    let required = std::env::var("KEA_REQUIRE_DISPLAY_TEST").is_ok_and(|v| v == "1");
+    if !(have("Xvfb") && have("xdotool")) {
+        assert!(
+            !required,
+            "KEA_REQUIRE_DISPLAY_TEST=1 but Xvfb or xdotool is missing"
+        );
+        eprintln!(
+            "skipped: Xvfb and xdotool are needed (apt install xvfb xdotool libgl1-mesa-dri)"
+        );
+        return;
+    }
+    let (xvfb, display) = start_xvfb();
+    let mut reap = Reap(vec![xvfb]);
+    let shot: PathBuf = std::env::temp_dir().join(format!("kea-view-{}.png", std::process::id()));
+    let _ = std::fs::remove_file(&shot);
+    let scene = format!("{}/../../scenes/pyramid.json", env!("CARGO_MANIFEST_DIR"));
+    let mut viewer = Command::new(env!("CARGO_BIN_EXE_kea"))
+        .args([
+            "view", &scene, "--report", "--width", "640", "--height", "480",
+        ])
+        .arg("--screenshot")
+        .arg(&shot)
+        .env("DISPLAY", &display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("kea view starts");
+    let stdout = viewer.stdout.take().unwrap();
+    reap.0.push(viewer);
+    let (tx, lines) = channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let long = Duration::from_secs(60);
+    expect_line(&lines, "ready", long);
+    let window = xdotool(&display, &["search", "--sync", "--name", "Kea Viewer"]);
+    let window = window
+        .lines()
+        .next()
+        .expect("the Viewer's window")
+        .to_string();
+    xdotool(&display, &["windowfocus", "--sync", &window]);
+
+    xdotool(&display, &["key", "space"]);
+    let paused = step_of(&expect_line(&lines, "paused", long));
+    std::thread::sleep(Duration::from_millis(500)); // paused: no steps may happen meanwhile
+    xdotool(&display, &["key", "s"]);
+    let stepped = step_of(&expect_line(&lines, "stepped", long));
+    assert_eq!(
+        stepped,
+        paused + 1,
+        "one step after the pause, none while paused"
+    );
+
+    xdotool(&display, &["key", "p"]);
+    expect_line(&lines, "screenshot /", long);
+    let (w, h, rgb) = read_png(&shot);
+    assert_eq!((w, h), (640, 480));
+    let pixel = |x: u32, y: u32| {
+        let i = ((y * w + x) * 3) as usize;
+        [rgb[i], rgb[i + 1], rgb[i + 2]]
+    };
+    let sky = kea_render::SKY;
+    let near = |a: [u8; 3], b: [u8; 3]| a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 3);
+    // The camera frames the pyramid: the centre is a box, the top-right corner is sky.
+    assert!(near(pixel(w - 3, 2), sky), "corner {:?}", pixel(w - 3, 2));
+    assert!(!near(pixel(w / 2, h / 2), sky), "centre is sky");
+    let not_sky = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| !near(pixel(x, y), sky))
+        .count();
+    assert!(
+        not_sky > (w * h / 10) as usize,
+        "only {not_sky} pixels drawn"
+    );
+
+    xdotool(&display, &["key", "Return"]);
+    assert_eq!(step_of(&expect_line(&lines, "reset", long)), 0);
+    xdotool(&display, &["key", "Escape"]);
+    expect_line(&lines, "quit", long);
+    let viewer = &mut reap.0[1];
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(s) = viewer.try_wait().unwrap() {
+            break s;
+        }
+        assert!(Instant::now() < deadline, "the Viewer did not close");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    assert!(status.success(), "{status}");
+    let _ = std::fs::remove_file(&shot);
+}
