@@ -8,11 +8,14 @@
 //!   [--height H]` draws the scene on the CPU (no GPU, no display): the frame after `--steps`,
 //!   or an animation of `--frames` frames, one every `--every` steps.
 //!
+//! - `kea plot SCENE --out FILE.png [--steps N] [--dt H]` plots energy, momentum and
+//!   constraint error against time.
 //! - `kea view [SCENE] [--dt H] [--report] [--frames N]` opens the Viewer (a window).
 //!
 //! Exit code 0 on success; 1 with a message on stderr for a bad scene or a failed step, and
 //! nothing is written then.
 
+mod plot;
 mod record;
 mod summary;
 
@@ -77,6 +80,26 @@ enum Command {
         #[arg(long, default_value_t = 600)]
         height: u32,
     },
+    /// Step a scene and plot energy, momentum and constraint error against time (PNG).
+    Plot {
+        /// The scene file (JSON).
+        scene: PathBuf,
+        /// The PNG to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Steps to take.
+        #[arg(long, default_value_t = 600)]
+        steps: u32,
+        /// Step size, s.
+        #[arg(long, default_value_t = 1.0 / 60.0)]
+        dt: Real,
+        /// Image width, pixels.
+        #[arg(long, default_value_t = 900)]
+        width: u32,
+        /// Image height, pixels.
+        #[arg(long, default_value_t = 900)]
+        height: u32,
+    },
     /// Open the Viewer: a window to watch, poke and measure a scene (F1 lists the keys).
     View {
         /// The scene file (JSON); the embedded pyramid if absent.
@@ -124,6 +147,14 @@ fn main() -> ExitCode {
             json,
         } => run(scene.as_deref(), steps, dt, csv.as_deref(), json.as_deref()),
         Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
+        Command::Plot {
+            scene,
+            out,
+            steps,
+            dt,
+            width,
+            height,
+        } => plot_scene(&scene, &out, steps, dt, (width, height)),
         Command::View {
             scene,
             dt,
@@ -187,6 +218,52 @@ fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> 
     let (name, scene) = load_scene(path)?;
     let built = build(&scene).map_err(|e| format!("{name}: {e}"))?;
     Ok((name, built))
+}
+
+fn check_size(width: u32, height: u32) -> Result<(), String> {
+    if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
+        return Err(format!(
+            "--width and --height must be 1 to 8192, got {width}×{height}"
+        ));
+    }
+    Ok(())
+}
+
+fn plot_scene(
+    path: &std::path::Path,
+    out: &std::path::Path,
+    steps: u32,
+    dt: Real,
+    size: (u32, u32),
+) -> Result<(), String> {
+    check_run(steps, dt)?;
+    check_size(size.0, size.1)?;
+    if out.extension().and_then(|e| e.to_str()) != Some("png") {
+        return Err(format!("--out {}: write a .png", out.display()));
+    }
+    let (name, mut built) = load(Some(path))?;
+    let mut record = plot::Record::new();
+    record.capture(0.0, &built, 0.0);
+    for n in 1..=steps {
+        built
+            .step(dt)
+            .map_err(|e| format!("{name}: step {n}: {e}"))?;
+        let joint_error = built.world.joint_error();
+        record.capture(n as Real * dt, &built, joint_error);
+    }
+    let labelled = plot::draw(&record, out, size)?;
+    println!(
+        "wrote {} ({}×{}, {steps} steps){}",
+        out.display(),
+        size.0,
+        size.1,
+        if labelled {
+            ""
+        } else {
+            " without labels: no font found (set KEA_FONT to a .ttf)"
+        }
+    );
+    Ok(())
 }
 
 fn view(path: Option<&std::path::Path>, options: kea_viewer::ViewerOptions) -> Result<(), String> {
@@ -289,11 +366,7 @@ fn render(
         Some("gif") => true,
         _ => return Err(format!("--out {}: write a .png or a .gif", out.display())),
     };
-    if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
-        return Err(format!(
-            "--width and --height must be 1 to 8192, got {width}×{height}"
-        ));
-    }
+    check_size(width, height)?;
     if gif && (frames == 0 || every == 0) {
         return Err("--frames and --every must be at least 1".into());
     }

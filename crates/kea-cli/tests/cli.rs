@@ -174,3 +174,46 @@ fn render_writes_an_animated_gif() {
     assert!(frames >= 5, "found {frames} image descriptors");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn plot_draws_energy_momentum_and_error_curves() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("pendulum.png");
+    let (code, out, err) = kea(&[
+        "plot",
+        &scene("pendulum.json"),
+        "--out",
+        png.to_str().unwrap(),
+        "--steps",
+        "120",
+        "--width",
+        "400",
+        "--height",
+        "600",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("400×600"), "{out}");
+    let decoder = png::Decoder::new(std::fs::File::open(&png).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (400, 600));
+    // The two curve colours appear: the lines were drawn, not only the axes.
+    let pixels: Vec<&[u8]> = buf[..info.buffer_size()].chunks(3).collect();
+    for colour in [[200u8, 60, 40], [40, 90, 200]] {
+        let n = pixels.iter().filter(|p| **p == colour).count();
+        assert!(n > 100, "{colour:?}: {n} pixels");
+    }
+    let bad = dir.join("plot.gif");
+    let (code, _, err) = kea(&[
+        "plot",
+        &scene("pendulum.json"),
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains(".png"), "{err}");
+    assert!(!bad.exists(), "nothing written on error");
+    std::fs::remove_dir_all(dir).ok();
+}

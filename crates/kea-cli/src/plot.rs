@@ -1,0 +1,180 @@
+//! `kea plot`: energy, momentum and constraint error against time, drawn with plotters into a
+//! PNG. Text needs a font: the first of a few common system fonts (or `KEA_FONT`); without
+//! one the charts are drawn without labels and a note says so.
+
+use crate::summary::energy;
+use kea::math::wide;
+use kea::{Real, Vec3};
+use kea_scene::BuiltScene;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::path::Path;
+
+/// Fonts tried, in order, after `KEA_FONT`.
+const FONTS: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/Library/Fonts/Arial.ttf",
+    "C:\\Windows\\Fonts\\arial.ttf",
+];
+
+/// One quantity over time.
+pub struct Series {
+    /// Legend text.
+    pub name: &'static str,
+    /// (time s, value) per step.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The recorded quantities: energy, momentum and constraint error.
+pub struct Record {
+    /// Panel titles with their series.
+    pub panels: Vec<(&'static str, Vec<Series>)>,
+}
+
+fn momentum(built: &BuiltScene) -> (Vec3, Vec3) {
+    let mut p = Vec3::ZERO;
+    let mut l = Vec3::ZERO;
+    for (_, b) in built.world.bodies() {
+        let pb = b.linear_velocity() * b.mass();
+        p += pb;
+        l += b.position().cross(pb) + b.angular_momentum();
+    }
+    (p, l)
+}
+
+impl Record {
+    /// An empty record.
+    pub fn new() -> Self {
+        let series = |names: &[&'static str]| {
+            names
+                .iter()
+                .map(|&name| Series {
+                    name,
+                    points: Vec::new(),
+                })
+                .collect()
+        };
+        Self {
+            panels: vec![
+                ("Energy (J)", series(&["kinetic + potential", "kinetic"])),
+                (
+                    "Momentum",
+                    series(&["|p| (N·s)", "|L| about the origin (N·m·s)"]),
+                ),
+                (
+                    "Constraint error (m)",
+                    series(&["largest joint error", "deepest contact"]),
+                ),
+            ],
+        }
+    }
+
+    /// Records the scene at time `t`, with its largest joint error (`World::joint_error`).
+    pub fn capture(&mut self, t: Real, built: &BuiltScene, joint_error: Real) {
+        let (p, l) = momentum(built);
+        let kinetic: Real = built.world.bodies().map(|(_, b)| b.kinetic_energy()).sum();
+        let values = [
+            [energy(built), kinetic],
+            [p.length(), l.length()],
+            [
+                joint_error,
+                built.collision.deepest_penetration(&built.world),
+            ],
+        ];
+        for ((_, series), row) in self.panels.iter_mut().zip(values) {
+            for (s, v) in series.iter_mut().zip(row) {
+                s.points.push((wide(t), wide(v)));
+            }
+        }
+    }
+}
+
+/// Registers the first font found as "sans-serif"; false if none was found.
+fn load_font() -> bool {
+    let env = std::env::var("KEA_FONT").ok();
+    for path in env.iter().map(String::as_str).chain(FONTS.iter().copied()) {
+        if let Ok(bytes) = std::fs::read(path) {
+            // plotters keeps fonts for the life of the program.
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+fn range(series: &[Series]) -> (f64, f64) {
+    let values = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+    (lo - pad, hi + pad)
+}
+
+const COLOURS: [RGBColor; 2] = [RGBColor(200, 60, 40), RGBColor(40, 90, 200)];
+
+/// Draws the record into a PNG of `width` × `height`; returns whether it has labels.
+pub fn draw(record: &Record, out: &Path, (width, height): (u32, u32)) -> Result<bool, String> {
+    let labelled = load_font();
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", out.display());
+    let root = BitMapBackend::new(out, (width, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let panels = root.split_evenly((record.panels.len(), 1));
+    let t_end = record.panels[0].1[0]
+        .points
+        .last()
+        .map_or(1.0, |p| p.0)
+        .max(1e-6);
+    for (area, (title, series)) in panels.iter().zip(&record.panels) {
+        let (lo, hi) = range(series);
+        let mut builder = ChartBuilder::on(area);
+        builder.margin(12);
+        if labelled {
+            builder
+                .caption(*title, ("sans-serif", 18))
+                .x_label_area_size(28)
+                .y_label_area_size(70);
+        }
+        let mut chart = builder
+            .build_cartesian_2d(0.0..t_end, lo..hi)
+            .map_err(|e| err(&e))?;
+        let mut mesh = chart.configure_mesh();
+        if labelled {
+            mesh.x_desc("time (s)");
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw().map_err(|e| err(&e))?;
+        for (s, colour) in series.iter().zip(COLOURS) {
+            let drawn = chart
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    colour.stroke_width(2),
+                ))
+                .map_err(|e| err(&e))?;
+            if labelled {
+                drawn.label(s.name).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            }
+        }
+        if labelled {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| err(&e))?;
+        }
+    }
+    root.present().map_err(|e| err(&e))?;
+    Ok(labelled)
+}
