@@ -98,7 +98,7 @@ fn the_viewer_draws_and_answers_pause_step_and_reset_keys() {
             "KEA_REQUIRE_DISPLAY_TEST=1 but Xvfb or xdotool is missing"
         );
         eprintln!(
-            "skipped: Xvfb and xdotool are needed (apt install xvfb xdotool libgl1-mesa-dri)"
+            "skipped: Xvfb and xdotool are needed (apt install xvfb xdotool libgl1 libgl1-mesa-dri libx11-6 libxi6)"
         );
         return;
     }

@@ -17,7 +17,7 @@ fn drop_app() -> App {
 #[test]
 fn frames_take_whole_fixed_steps_and_keep_the_rest_for_interpolation() {
     let mut app = drop_app();
-    let dt = f64::from(app.dt());
+    let dt = kea::math::wide(app.dt());
     assert_eq!(app.advance(2.5 * dt), 2);
     assert!((app.alpha() - 0.5).abs() < 1e-3, "{}", app.alpha());
     assert_eq!(app.advance(0.75 * dt), 1);
@@ -38,7 +38,7 @@ fn the_drawn_pose_lies_between_the_last_two_steps() {
         .set_linear_velocity(Vec3::new(0.0, -3.0, 0.0))
         .unwrap();
     let before = app.scene.world.body(body).unwrap().position();
-    assert_eq!(app.advance(1.5 * f64::from(app.dt())), 1);
+    assert_eq!(app.advance(1.5 * kea::math::wide(app.dt())), 1);
     let after = app.scene.world.body(body).unwrap().position();
     let (drawn, _) = app.body_pose(body).unwrap();
     let expected = before.lerp(after, app.alpha());
