@@ -1,9 +1,16 @@
 //! Headless frames: a small CPU rasterizer (z-buffer, Lambert shading from one directional
-//! light, two-sided faces) that draws every collider of a scene into an RGB image and writes PNG.
+//! light, shadows of the bodies from a shadow map, two-sided faces) that draws every collider of
+//! a scene into an RGB image and writes PNG.
 //! It needs no GPU and no display, and the same input always gives the same pixels, so tests
 //! can check pixels at known places.
 
 #![warn(missing_docs)]
+
+mod raster;
+mod shadow;
+
+use raster::{draw_triangle, Projector, Surface};
+use shadow::ShadowMap;
 
 use kea::{Real, Vec3, World};
 use kea_collision::CollisionWorld;
@@ -117,7 +124,14 @@ pub fn write_gif(frames: &[Image], delay_cs: u16, path: &std::path::Path) -> Res
     Ok(())
 }
 
-/// Draws every collider of `collision` as `world` places it, seen from `camera`.
+/// The direction towards the light (unit): high, from the right and the front.
+#[must_use]
+pub fn light_direction() -> Vec3 {
+    Vec3::new(0.4, 1.0, 0.3).normalize()
+}
+
+/// Draws every collider of `collision` as `world` places it, seen from `camera`, with the
+/// bodies' shadows.
 #[must_use]
 pub fn render(
     world: &World,
@@ -134,7 +148,37 @@ pub fn render(
     };
     let mut depth = vec![Real::INFINITY; (w * h) as usize];
     let projector = Projector::new(camera, w, h);
-    let light = Vec3::new(0.4, 1.0, 0.3).normalize();
+    let light = light_direction();
+    let triangles = world_triangles(world, collision);
+    let occluders = triangles.iter().filter(|t| t.dynamic).map(|t| t.corners);
+    let shadow = ShadowMap::build(light, occluders);
+    for t in &triangles {
+        let [a, b, c] = t.corners;
+        let mut normal = (b - a).cross(c - a).normalize_or_zero();
+        if normal.dot(camera.eye - a) < 0.0 {
+            normal = -normal; // two-sided: light the face the camera sees
+        }
+        let surface = Surface {
+            colour: t.colour,
+            lambert: normal.dot(light).max(0.0),
+        };
+        draw_triangle(
+            &mut image, &mut depth, &projector, t.corners, surface, &shadow,
+        );
+    }
+    image
+}
+
+/// One triangle in world coordinates with its base colour.
+struct WorldTriangle {
+    corners: [Vec3; 3],
+    colour: [u8; 3],
+    dynamic: bool,
+}
+
+/// Every collider's triangles, placed in the world; bodies coloured by collider order.
+fn world_triangles(world: &World, collision: &CollisionWorld) -> Vec<WorldTriangle> {
+    let mut out = Vec::new();
     let mut dynamic_index = 0;
     for (handle, def) in collision.colliders() {
         let Ok((position, rotation)) = collision.collider_pose(world, handle) else {
@@ -147,104 +191,12 @@ pub fn render(
             STATIC_COLOUR
         };
         let (vertices, triangles) = def.shape.triangles();
-        let world_vertices: Vec<Vec3> = vertices.iter().map(|v| position + rotation * *v).collect();
-        for t in &triangles {
-            let [a, b, c] = t.map(|k| world_vertices[k as usize]);
-            let mut normal = (b - a).cross(c - a).normalize_or_zero();
-            if normal.dot(camera.eye - a) < 0.0 {
-                normal = -normal; // two-sided: light the face the camera sees
-            }
-            let shade = 0.3 + 0.7 * normal.dot(light).max(0.0);
-            let lit = colour.map(|ch| (Real::from(ch) * shade).min(255.0) as u8);
-            draw_triangle(&mut image, &mut depth, &projector, [a, b, c], lit);
-        }
+        let placed: Vec<Vec3> = vertices.iter().map(|v| position + rotation * *v).collect();
+        out.extend(triangles.iter().map(|t| WorldTriangle {
+            corners: t.map(|k| placed[k as usize]),
+            colour,
+            dynamic: def.body.is_some(),
+        }));
     }
-    image
-}
-
-/// World to screen: pixel x and y (row 0 at the top) and the distance along the view direction.
-struct Projector {
-    eye: Vec3,
-    right: Vec3,
-    up: Vec3,
-    forward: Vec3,
-    focal: Real,
-    half: (Real, Real),
-}
-
-impl Projector {
-    fn new(camera: &Camera, width: u32, height: u32) -> Self {
-        let forward = (camera.target - camera.eye).normalize_or_zero();
-        let right = forward.cross(camera.up).normalize_or_zero();
-        let up = right.cross(forward);
-        let half = (width as Real * 0.5, height as Real * 0.5);
-        // Pixels per unit of (lateral offset / distance), from the vertical field of view.
-        let focal = half.1 / (camera.fov_y * 0.5).tan();
-        Self {
-            eye: camera.eye,
-            right,
-            up,
-            forward,
-            focal,
-            half,
-        }
-    }
-
-    /// `None` behind (or almost at) the eye.
-    fn project(&self, p: Vec3) -> Option<Vec3> {
-        let d = p - self.eye;
-        let distance = d.dot(self.forward);
-        if distance <= 0.05 {
-            return None;
-        }
-        let x = self.half.0 + self.focal * d.dot(self.right) / distance;
-        let y = self.half.1 - self.focal * d.dot(self.up) / distance;
-        Some(Vec3::new(x, y, distance))
-    }
-}
-
-/// Rasterizes one world-space triangle with a depth test; triangles reaching behind the eye are
-/// skipped (scenes are framed so that nothing sits on the camera).
-fn draw_triangle(
-    image: &mut Image,
-    depth: &mut [Real],
-    projector: &Projector,
-    tri: [Vec3; 3],
-    colour: [u8; 3],
-) {
-    let (w, h) = (image.width as Real, image.height as Real);
-    let mut screen = [Vec3::ZERO; 3];
-    for (s, p) in screen.iter_mut().zip(tri) {
-        match projector.project(p) {
-            Some(q) => *s = q,
-            None => return,
-        }
-    }
-    let [p0, p1, p2] = screen;
-    let area = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-    if area.abs() < 1e-12 {
-        return;
-    }
-    let min_x = p0.x.min(p1.x).min(p2.x).floor().max(0.0) as u32;
-    let max_x = p0.x.max(p1.x).max(p2.x).ceil().min(w - 1.0).max(0.0) as u32;
-    let min_y = p0.y.min(p1.y).min(p2.y).floor().max(0.0) as u32;
-    let max_y = p0.y.max(p1.y).max(p2.y).ceil().min(h - 1.0).max(0.0) as u32;
-    for y in min_y..=max_y {
-        for x in min_x..=max_x {
-            let (px, py) = (x as Real + 0.5, y as Real + 0.5);
-            let w0 = ((p1.x - px) * (p2.y - py) - (p1.y - py) * (p2.x - px)) / area;
-            let w1 = ((p2.x - px) * (p0.y - py) - (p2.y - py) * (p0.x - px)) / area;
-            let w2 = 1.0 - w0 - w1;
-            if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
-                continue;
-            }
-            // Distance is affine in 1/z across the screen (perspective-correct depth).
-            let z = 1.0 / (w0 / p0.z + w1 / p1.z + w2 / p2.z);
-            let i = (y * image.width + x) as usize;
-            if z < depth[i] {
-                depth[i] = z;
-                image.pixels[i] = colour;
-            }
-        }
-    }
+    out
 }
