@@ -310,6 +310,7 @@ fn run(
             .step(dt)
             .map_err(|e| format!("{name}: step {n}: {e}"))?;
         summary.add(&stats);
+        summary.measure_joints(&mut built);
         recorder.capture(n as Real * dt, &built);
         if let Some(bar) = &bar {
             bar.inc(1);
