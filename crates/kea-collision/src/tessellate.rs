@@ -16,20 +16,40 @@ impl Shape {
     /// a square of side `2 × PLANE_HALF_SIZE` through the origin, in 16 × 16 cells.
     #[must_use]
     pub fn triangles(&self) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        self.triangles_with_segments(16)
+    }
+
+    /// [`Shape::triangles`] with curved shapes cut into `segments` around (at least 4), for
+    /// viewers that draw many bodies at once.
+    #[must_use]
+    pub fn triangles_with_segments(&self, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
-        append(&self.shared, &Pose::IDENTITY, &mut vertices, &mut indices);
+        let n = segments.max(4);
+        append(
+            &self.shared,
+            &Pose::IDENTITY,
+            n,
+            &mut vertices,
+            &mut indices,
+        );
         (vertices, indices)
     }
 }
 
-fn append(shape: &SharedShape, pose: &Pose, vertices: &mut Vec<Vec3>, indices: &mut Vec<[u32; 3]>) {
+fn append(
+    shape: &SharedShape,
+    pose: &Pose,
+    n: u32,
+    vertices: &mut Vec<Vec3>,
+    indices: &mut Vec<[u32; 3]>,
+) {
     let (v, i): (Vec<Vec3>, Vec<[u32; 3]>) = match shape.as_typed_shape() {
-        TypedShape::Ball(s) => s.to_trimesh(16, 16),
+        TypedShape::Ball(s) => s.to_trimesh(n, n),
         TypedShape::Cuboid(s) => s.to_trimesh(),
-        TypedShape::Capsule(s) => s.to_trimesh(16, 8),
-        TypedShape::Cylinder(s) => s.to_trimesh(16),
-        TypedShape::Cone(s) => s.to_trimesh(16),
+        TypedShape::Capsule(s) => s.to_trimesh(n, n / 2),
+        TypedShape::Cylinder(s) => s.to_trimesh(n),
+        TypedShape::Cone(s) => s.to_trimesh(n),
         TypedShape::ConvexPolyhedron(s) => s.to_trimesh(),
         TypedShape::TriMesh(s) => (s.vertices().to_vec(), s.indices().to_vec()),
         TypedShape::HeightField(s) => s.to_trimesh(),
@@ -64,7 +84,7 @@ fn append(shape: &SharedShape, pose: &Pose, vertices: &mut Vec<Vec3>, indices: &
         }
         TypedShape::Compound(c) => {
             for (part_pose, part) in c.shapes() {
-                append(part, &(*pose * *part_pose), vertices, indices);
+                append(part, &(*pose * *part_pose), n, vertices, indices);
             }
             return;
         }

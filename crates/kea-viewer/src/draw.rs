@@ -68,13 +68,19 @@ impl Painter {
         self.meshes.clear();
     }
 
-    /// Draws every collider of the scene, from `eye`, at the interpolated poses.
-    pub fn draw_scene(&mut self, app: &App, eye: Vec3, toggles: Toggles) {
+    /// Draws every collider of the scene, from `eye`, at the interpolated poses; returns the
+    /// number of triangles drawn.
+    pub fn draw_scene(&mut self, app: &App, eye: Vec3, toggles: Toggles) -> usize {
+        let mut count = 0;
         if toggles.islands {
             self.islands.rebuild(&app.scene.world);
         }
         let light = Vec3::new(0.4, 1.0, 0.3).normalize();
         let collision = &app.scene.collision;
+        // Fewer segments on curved shapes when there are many bodies: a thousand balls at 16
+        // segments is half a million triangles a frame.
+        let bodies = collision.collider_count().max(1) as Real;
+        let segments = (16.0 * (150.0 / bodies).sqrt()).clamp(6.0, 16.0) as u32;
         for (handle, def) in collision.colliders() {
             let (position, rotation) = match def.body {
                 Some(b) => match app.body_pose(b) {
@@ -85,12 +91,13 @@ impl Painter {
             };
             let colour = self.colour_of(app, def.body, toggles);
             let mesh = self.meshes.entry(handle).or_insert_with(|| {
-                let (vertices, triangles) = def.shape.triangles();
+                let (vertices, triangles) = def.shape.triangles_with_segments(segments);
                 LocalMesh {
                     vertices,
                     triangles,
                 }
             });
+            count += mesh.triangles.len();
             for t in &mesh.triangles {
                 let [a, b, c] = t.map(|k| position + rotation * mesh.vertices[k as usize]);
                 let mut normal = (b - a).cross(c - a).normalize_or_zero();
@@ -103,6 +110,7 @@ impl Painter {
             }
         }
         flush(&mut self.batch);
+        count
     }
 
     fn colour_of(&self, app: &App, body: Option<BodyHandle>, toggles: Toggles) -> [u8; 3] {

@@ -8,6 +8,19 @@ use macroquad::text::draw_text;
 use macroquad::time::get_fps;
 use std::fmt::Write as _;
 
+/// Where the last frame's time went.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameTimes {
+    /// Steps taken for the frame.
+    pub steps: u32,
+    /// Time in those steps.
+    pub stepping: std::time::Duration,
+    /// Time building and submitting the triangles and overlays.
+    pub drawing: std::time::Duration,
+    /// Triangles drawn.
+    pub triangles: usize,
+}
+
 const LINE: f32 = 18.0;
 const SIZE: f32 = 18.0;
 
@@ -17,7 +30,7 @@ fn ms(d: std::time::Duration) -> f64 {
 
 /// The statistics lines: frame rate, step time per stage, bodies, contacts and rows.
 #[must_use]
-pub fn stats_lines(app: &App) -> Vec<String> {
+pub fn stats_lines(app: &App, frame: &FrameTimes) -> Vec<String> {
     let t = &app.timings;
     let s = &t.stats;
     let world = &app.scene.world;
@@ -29,6 +42,13 @@ pub fn stats_lines(app: &App) -> Vec<String> {
         get_fps(),
         app.step_count(),
         app.dt()
+    ));
+    lines.push(format!(
+        "frame: {} steps {:.1} ms, drawing {:.1} ms ({} triangles)",
+        frame.steps,
+        ms(frame.stepping),
+        ms(frame.drawing),
+        frame.triangles
     ));
     lines.push(format!(
         "step {:.2} ms: collision {:.2}, rows {:.2}, islands {:.2}, exact {:.2}, iterative {:.2}, projection {:.2}",
@@ -56,8 +76,8 @@ pub fn stats_lines(app: &App) -> Vec<String> {
 }
 
 /// Draws the statistics in the top-left corner.
-pub fn draw_stats(app: &App) {
-    let lines = stats_lines(app);
+pub fn draw_stats(app: &App, frame: &FrameTimes) {
+    let lines = stats_lines(app, frame);
     draw_block(&lines, 8.0, 8.0);
 }
 
@@ -76,7 +96,7 @@ pub fn help_lines() -> Vec<String> {
 
 /// Draws the help under the statistics.
 pub fn draw_help() {
-    draw_block(&help_lines(), 8.0, 130.0);
+    draw_block(&help_lines(), 8.0, 150.0);
 }
 
 fn draw_block(lines: &[String], x: f32, y: f32) {

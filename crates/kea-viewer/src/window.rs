@@ -5,7 +5,7 @@ use crate::convert::{to_f64, to_mq, to_real};
 use crate::draw::{draw_contacts, draw_drag, draw_joints, Painter, Toggles};
 use crate::keys::{Action, BINDINGS};
 use crate::orbit::OrbitCamera;
-use crate::overlay::{draw_help, draw_stats};
+use crate::overlay::{draw_help, draw_stats, FrameTimes};
 use crate::ViewerOptions;
 use kea::{Real, Vec3};
 use kea_render::SKY;
@@ -48,6 +48,7 @@ struct Session {
     last_mouse: (f32, f32),
     quit: bool,
     frame: u64,
+    times: FrameTimes,
 }
 
 impl Session {
@@ -156,7 +157,7 @@ impl Session {
             fovy: to_f64(self.camera.fov_y) as f32,
             ..Default::default()
         });
-        self.painter.draw_scene(&self.app, eye, self.toggles);
+        self.times.triangles = self.painter.draw_scene(&self.app, eye, self.toggles);
         if self.toggles.contacts {
             draw_contacts(&self.app);
         }
@@ -166,7 +167,7 @@ impl Session {
         draw_drag(&self.app);
         set_default_camera();
         if self.overlay {
-            draw_stats(&self.app);
+            draw_stats(&self.app, &self.times);
         }
         if self.help {
             draw_help();
@@ -201,6 +202,11 @@ fn write_screenshot(path: &std::path::Path) -> Result<(), String> {
     .write_png(path)
 }
 
+/// An exponential average over about ten frames, so the overlay's figures can be read.
+fn smooth(average: std::time::Duration, now: std::time::Duration) -> std::time::Duration {
+    average.mul_f64(0.9) + now.mul_f64(0.1)
+}
+
 async fn run_loop(app: App, options: ViewerOptions) {
     let camera = OrbitCamera::framing(&app.scene.world);
     let mut s = Session {
@@ -215,6 +221,7 @@ async fn run_loop(app: App, options: ViewerOptions) {
         last_mouse: mouse_position(),
         quit: false,
         frame: 0,
+        times: FrameTimes::default(),
     };
     s.say("ready");
     while !s.quit {
@@ -227,8 +234,12 @@ async fn run_loop(app: App, options: ViewerOptions) {
         }
         s.handle_mouse();
         s.handle_car_keys();
-        s.app.advance(f64::from(macroquad::time::get_frame_time()));
+        let start = std::time::Instant::now();
+        s.times.steps = s.app.advance(f64::from(macroquad::time::get_frame_time()));
+        let stepped = std::time::Instant::now();
+        s.times.stepping = smooth(s.times.stepping, stepped - start);
         s.draw();
+        s.times.drawing = smooth(s.times.drawing, stepped.elapsed());
         if screenshot {
             s.screenshot();
         }
