@@ -26,7 +26,26 @@ fn demo_scenes() -> Vec<(String, String)> {
 #[test]
 fn every_demo_scene_loads_runs_and_saves_back_to_the_same_file() {
     let scenes = demo_scenes();
-    assert!(scenes.len() >= 5, "found {} scenes", scenes.len());
+    for name in [
+        "animated_hand",
+        "ball_pit",
+        "bounce",
+        "car",
+        "chain",
+        "conveyor",
+        "drop",
+        "hinge",
+        "newtons_cradle",
+        "pendulum",
+        "pyramid",
+        "ragdoll",
+    ] {
+        let file = format!("/{name}.json");
+        assert!(
+            scenes.iter().any(|(p, _)| p.ends_with(&file)),
+            "scenes/{name}.json is missing"
+        );
+    }
     for (path, text) in scenes {
         let scene = Scene::from_json(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
         assert_eq!(
@@ -161,12 +180,12 @@ const MALFORMED: &[(&str, &str, &[&str])] = &[
     (
         "joint on one body twice",
         r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "fixed", "body1": "a", "body2": "a", "anchor": [0,0,0]}]}"#,
-        &["joints[0]"],
+        &["joints[0].body2", "twice"],
     ),
     (
         "zero hinge axis",
         r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "hinge", "body1": "a", "anchor": [0,0,0], "axis": [0,0,0]}]}"#,
-        &["joints[0]", "axis"],
+        &["joints[0].axis", "axis"],
     ),
     (
         "limits reversed",
@@ -183,11 +202,106 @@ const MALFORMED: &[(&str, &str, &[&str])] = &[
         r#"{"version": 1, "materials": [{"name": "ice", "friction": -1}]}"#,
         &["materials[0]", "friction"],
     ),
+    (
+        "unknown material in a pair",
+        r#"{"version": 1, "material_pairs": [{"a": "default", "b": "ice", "friction": 0.1}]}"#,
+        &["material_pairs[0].b", "no material named \"ice\""],
+    ),
+    (
+        "zero slide direction",
+        r#"{"version": 1, "materials": [{"name": "belt"}], "material_pairs": [{"a": "default", "b": "belt", "slide": [1, 0], "slide_direction": [0, 0, 0]}]}"#,
+        &["material_pairs[0].slide_direction", "non-zero"],
+    ),
+    (
+        "negative pair friction",
+        r#"{"version": 1, "material_pairs": [{"a": "default", "b": "default", "friction": -0.5}]}"#,
+        &["material_pairs[0].friction", "-0.5"],
+    ),
+    (
+        "car wheel with a zero axle",
+        r#"{"version": 1, "bodies": [{"name": "c", "mass": 1, "position": [0,0,0]}, {"name": "w", "mass": 1, "position": [1,0,0]}], "joints": [{"type": "car_wheel", "body1": "c", "body2": "w", "steering_axis": [0,1,0], "axle": [0,0,0], "suspension": [1000, 10]}]}"#,
+        &["joints[0].axle"],
+    ),
+    (
+        "car wheel without a wheel",
+        r#"{"version": 1, "bodies": [{"name": "c", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "car_wheel", "body1": "c", "steering_axis": [0,1,0], "axle": [0,0,1], "suspension": [1000, 10]}]}"#,
+        &["joints[0].body2", "wheel"],
+    ),
+    (
+        "car wheel with zero suspension stiffness",
+        r#"{"version": 1, "bodies": [{"name": "c", "mass": 1, "position": [0,0,0]}, {"name": "w", "mass": 1, "position": [1,0,0]}], "joints": [{"type": "car_wheel", "body1": "c", "body2": "w", "steering_axis": [0,1,0], "axle": [0,0,1], "suspension": [0, 10]}]}"#,
+        &["joints[0].suspension"],
+    ),
+    (
+        "steering limits on a locked wheel",
+        r#"{"version": 1, "bodies": [{"name": "c", "mass": 1, "position": [0,0,0]}, {"name": "w", "mass": 1, "position": [1,0,0]}], "joints": [{"type": "car_wheel", "body1": "c", "body2": "w", "steering_axis": [0,1,0], "axle": [0,0,1], "suspension": [1000, 10], "steering_limits": [-0.5, 0.5]}]}"#,
+        &["joints[0].steerable"],
+    ),
+    (
+        "path keyframes not increasing in t",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "fixed_path", "body1": "a", "anchor": [0,0,0], "path": [[0, 0,0,0], [1, 1,0,0], [1, 2,0,0]]}]}"#,
+        &["joints[0].path[2]", "increase"],
+    ),
+    (
+        "path keyframe of three numbers",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "fixed_path", "body1": "a", "anchor": [0,0,0], "path": [[0, 0, 0]]}]}"#,
+        &["invalid length 3"],
+    ),
+    (
+        "negative break force",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "ball", "body1": "a", "anchor": [0,0,0], "break_force": -5}]}"#,
+        &["joints[0].break_force", "-5"],
+    ),
+    (
+        "two joints of one name",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "ball", "name": "j", "body1": "a", "anchor": [0,0,0]}, {"type": "ball", "name": "j", "body1": "a", "anchor": [1,0,0]}]}"#,
+        &["joints[1].name", "already exists"],
+    ),
+    (
+        "misspelt joint field",
+        r#"{"version": 1, "joints": [{"type": "hinge", "body1": "a", "anchor": [0,0,0], "axis": [0,1,0], "limit": [0, 1]}]}"#,
+        &["unknown field `limit`"],
+    ),
+    (
+        "universal axes not perpendicular",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "universal", "body1": "a", "anchor": [0,0,0], "axis1": [1,0,0], "axis2": [1,0,0]}]}"#,
+        &["joints[0].axis2", "perpendicular"],
+    ),
+    (
+        "negative cone",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,-1,0]}], "joints": [{"type": "ball", "body1": "a", "anchor": [0,0,0], "cone": -0.5}]}"#,
+        &["joints[0].cone", "-0.5"],
+    ),
+    (
+        "soft limit with negative stiffness",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0]}], "joints": [{"type": "prismatic", "body1": "a", "anchor": [0,0,0], "axis": [1,0,0], "limits": {"lower": -1, "upper": 1, "stiffness": -10}}]}"#,
+        &["joints[0].limits", "stiffness"],
+    ),
+    (
+        "negative sleep threshold",
+        r#"{"version": 1, "world": {"sleep": true, "sleep_thresholds": {"velocity": -1}}}"#,
+        &["world.sleep_thresholds", "velocity_threshold"],
+    ),
+    (
+        "inertia not positive definite",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0], "inertia": [1, -1, 1]}]}"#,
+        &["bodies[0].inertia"],
+    ),
+    (
+        "zero fast-spin axis",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0], "fast_spin_axis": [0,0,0]}]}"#,
+        &["bodies[0].fast_spin_axis"],
+    ),
+    (
+        "ragdoll of scale zero",
+        r#"{"version": 1, "groups": [{"ragdoll": {"origin": [0,1,0], "scale": 0}}]}"#,
+        &["groups[0].ragdoll.scale"],
+    ),
 ];
 
 #[test]
 fn malformed_scenes_are_refused_with_where_and_what() {
-    assert!(MALFORMED.len() >= 15);
+    assert!(MALFORMED.len() >= 35);
     for (case, text, words) in MALFORMED {
         let e: SceneError = match Scene::from_json(text) {
             Err(e) => e,
