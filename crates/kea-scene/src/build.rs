@@ -64,9 +64,24 @@ impl BuiltScene {
     }
 }
 
+/// Most bodies a scene may have, groups expanded (a typo in a group's counts must not try to
+/// allocate the whole memory).
+const MAX_BODIES: usize = 1 << 20;
+/// Most island rows to reserve exact-solver memory for (its memory grows as rows²).
+const MAX_ISLAND_ROWS: usize = 4096;
+
 /// Builds `scene` into a new world.
 pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
-    let body_count = scene.bodies.len() + scene.groups.iter().map(group_size).sum::<usize>();
+    let mut body_count = scene.bodies.len();
+    for (i, g) in scene.groups.iter().enumerate() {
+        body_count = body_count.saturating_add(group_size(g));
+        if body_count > MAX_BODIES {
+            return Err(SceneError::at(
+                format!("groups[{i}]"),
+                format!("the scene would have more than {MAX_BODIES} bodies"),
+            ));
+        }
+    }
     let world =
         World::new(world_def(&scene.world, body_count)?).map_err(|e| SceneError::at("world", e))?;
     let mut built = BuiltScene {
@@ -108,8 +123,24 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
     let max_constraints = if w.max_constraints > 0 {
         w.max_constraints
     } else {
-        (16 * body_count).max(256)
+        body_count.saturating_mul(16).max(256)
     };
+    for (field, value, most) in [
+        ("max_bodies", w.max_bodies, MAX_BODIES),
+        ("max_constraints", w.max_constraints, 16 * MAX_BODIES),
+        (
+            "max_island_rows",
+            w.max_island_rows.unwrap_or(0),
+            MAX_ISLAND_ROWS,
+        ),
+    ] {
+        if value > most {
+            return Err(SceneError::at(
+                format!("world.{field}"),
+                format!("must be at most {most}, got {value}"),
+            ));
+        }
+    }
     let defaults = WorldDef::default();
     let s = w.sleep_thresholds.clone().unwrap_or_default();
     let dem = DemSettings {

@@ -11,9 +11,11 @@ use kea::{BodyHandle, Quat, Real, Vec3};
 /// How many bodies a group expands into.
 pub(crate) fn group_size(g: &GroupSpec) -> usize {
     match g {
-        GroupSpec::Pyramid { base, .. } => (*base as usize) * (*base as usize + 1) / 2,
+        GroupSpec::Pyramid { base, .. } => (*base as usize).saturating_mul(*base as usize + 1) / 2,
         GroupSpec::Chain { links, .. } => *links as usize,
-        GroupSpec::Grid { counts, .. } => counts.iter().map(|&c| c as usize).product(),
+        GroupSpec::Grid { counts, .. } => counts
+            .iter()
+            .fold(1_usize, |n, &c| n.saturating_mul(c as usize)),
         GroupSpec::Ragdoll { .. } => RAGDOLL_PARTS.len(),
     }
 }

@@ -293,6 +293,11 @@ const MALFORMED: &[(&str, &str, &[&str])] = &[
         &["bodies[0].fast_spin_axis"],
     ),
     (
+        "a grid too big to build",
+        r#"{"version": 1, "groups": [{"grid": {"shape": {"sphere": {"radius": 0.1}}, "counts": [4000000000, 4000000000, 4000000000], "spacing": [1,1,1], "density": 1000, "origin": [0,0,0]}}]}"#,
+        &["groups[0]", "more than"],
+    ),
+    (
         "ragdoll of scale zero",
         r#"{"version": 1, "groups": [{"ragdoll": {"origin": [0,1,0], "scale": 0}}]}"#,
         &["groups[0].ragdoll.scale"],
