@@ -7,6 +7,10 @@
 //! - restitution: the larger (a bouncy ball bounces on a dull floor); threshold: the larger;
 //! - softness: the sum (two springs in series add their compliances); `None` if both are rigid;
 //! - slip: the sum; adhesion: the smaller (both surfaces must be sticky).
+//!
+//! A pair entry may also fix the world direction of its contacts' first friction direction
+//! ([`MaterialTable::set_pair_with_direction`]), so that its `slide` moves things along it: a
+//! conveyor belt.
 
 use crate::error::{CollisionError, CollisionResult};
 use kea::{ContactParams, ContactType, FrictionModel, Real, Vec3};

@@ -29,13 +29,16 @@ pub(crate) struct ManifoldScratch {
 }
 
 impl ManifoldScratch {
-    /// Reduces one manifold to at most `max_points` and appends its contacts to `wanted`.
+    /// Reduces one manifold to at most `max_points` and appends its contacts to `wanted`,
+    /// skipping a key that the pair's contacts from `wanted[pair_start..]` already have (parry
+    /// can report the same features in two manifolds of a height field; one contact per key).
     fn push_contacts(
         &mut self,
         manifold: &ContactManifold<(), ()>,
         frame: &PairFrame,
         max_points: usize,
         wanted: &mut Vec<Wanted>,
+        pair_start: usize,
     ) {
         let (pose_a, pose_b) = frame.poses;
         let sub_a = manifold.subshape_pos1().map_or(pose_a, |p| pose_a * *p);
@@ -72,9 +75,13 @@ impl ManifoldScratch {
                 }
             }
             let (f1, f2) = self.features[k];
+            let key = (manifold.subshape1, manifold.subshape2, f1, f2);
+            if wanted[pair_start..].iter().any(|w| w.key == key) {
+                continue;
+            }
             wanted.push(Wanted {
                 pair: frame.pair,
-                key: (manifold.subshape1, manifold.subshape2, f1, f2),
+                key,
                 bodies: frame.bodies,
                 contact,
             });
@@ -146,12 +153,14 @@ impl CollisionWorld {
                 poses: (pose_a, pose_b),
                 prediction,
             };
+            let pair_start = self.wanted.len();
             for manifold in &state.manifolds {
                 self.scratch.push_contacts(
                     manifold,
                     &frame,
                     self.strategy.max_points,
                     &mut self.wanted,
+                    pair_start,
                 );
             }
         }

@@ -110,3 +110,47 @@ fn every_shape_on_every_ground_gets_the_right_normal_and_depth() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// A wheel (a cylinder on its side) rolling over a height field's ramp: parry can report the
+/// same features in two of the field's manifolds, and each key must give one contact (this
+/// used to underflow the capacity check).
+#[test]
+fn a_wheel_rolls_over_a_height_field_ramp() {
+    let mut world = World::with_capacity(4, 256).unwrap();
+    let mut collision = CollisionWorld::new();
+    let heights: Vec<Vec<Real>> = (0..11)
+        .map(|_| {
+            (0..11)
+                .map(|c| ((c as Real - 5.0) * 0.2).max(0.0))
+                .collect()
+        })
+        .collect();
+    let field = Shape::heightfield(&heights, Vec3::new(20.0, 1.0, 20.0)).unwrap();
+    collision
+        .add_collider(&world, ColliderDef::new(None, field))
+        .unwrap();
+    let wheel = Shape::cylinder(0.15, 0.4).unwrap();
+    let mp = wheel.mass_properties(500.0).unwrap();
+    let b = world
+        .create_body(&BodyDef {
+            mass: mp.mass,
+            inertia: mp.inertia,
+            position: Vec3::new(-2.0, 0.45, 0.0),
+            orientation: Quat::from_rotation_x(kea::PI_REAL / 2.0),
+            linear_velocity: Vec3::new(4.0, 0.0, 0.0),
+            angular_velocity: Vec3::new(0.0, 0.0, -10.0),
+            ..Default::default()
+        })
+        .unwrap();
+    collision
+        .add_collider(&world, ColliderDef::new(Some(b), wheel))
+        .unwrap();
+    for _ in 0..120 {
+        collision.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let p = world.body(b).unwrap().position();
+    assert!(
+        p.is_finite() && p.x > 0.5 && p.y > 0.3,
+        "rolled up the ramp: {p}"
+    );
+}

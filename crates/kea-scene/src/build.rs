@@ -1,30 +1,54 @@
-//! Building a scene: materials, static geometry, bodies with mass from their shapes, groups and
-//! joints, every reference checked and every error placed.
+//! Building a scene: world parameters, materials and their pairs, static geometry, bodies with
+//! mass from their shapes, groups and joints, every reference checked and every error placed.
 
 use crate::error::SceneError;
 use crate::format::{
-    BodySpec, ColliderSpec, GroupSpec, JointSpec, Scene, ShapeSpec, SolverSpec, V3,
+    BodySpec, ColliderSpec, InertiaSpec, MaterialPairSpec, Scene, ShapeSpec, SolverSpec, WorldSpec,
+    V3,
 };
+use crate::groups::{add_group, group_size};
+use crate::joints::{add_joint, PathDriver};
 use kea::{
-    BodyDef, BodyHandle, DemMode, DemSettings, Quat, Real, Routing, SolverMode, StepStats, Vec3,
-    World, WorldDef,
+    BodyDef, BodyHandle, ConstraintHandle, ContactType, DemMode, DemSettings, FrictionModel,
+    IterativeParams, Mat3, Quat, Real, Routing, SolverMode, StepStats, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, MassProperties, Shape, Surface};
 
-/// A built scene: the world, its collision layer, and the bodies by name.
+/// A built scene: the world, its collision layer, and the bodies and joints by name.
 pub struct BuiltScene {
     /// The dynamics.
     pub world: World,
     /// The geometry and contacts.
     pub collision: CollisionWorld,
-    /// Every body with its name, in scene order (groups name theirs `pyramid0.12`, `chain1.3`).
+    /// Every body with its name, in scene order (groups name theirs `pyramid0.12`, `chain1.3`,
+    /// `ragdoll2.torso`).
     pub bodies: Vec<(String, BodyHandle)>,
+    /// Every joint with its name: group joints first (`chain1.3`, `ragdoll2.left_knee`), then
+    /// the scene's joints (unnamed ones are `joint<index>`).
+    pub joints: Vec<(String, ConstraintHandle)>,
+    /// Fixed-path joints with keyframed paths, driven before each step.
+    pub(crate) paths: Vec<PathDriver>,
+    /// Scene time, s: the sum of the steps taken.
+    pub(crate) time: Real,
 }
 
 impl BuiltScene {
-    /// Steps the scene by `dt` (contacts from geometry, then the world's step).
+    /// Steps the scene by `dt`: moves keyframed paths to where they are at the end of the step,
+    /// then contacts from geometry, then the world's step.
     pub fn step(&mut self, dt: Real) -> Result<StepStats, kea_collision::CollisionError> {
-        self.collision.step(&mut self.world, dt)
+        for p in &self.paths {
+            let (position, velocity) = p.sample(self.time, dt);
+            self.world.set_path(p.joint, position, velocity)?;
+        }
+        let stats = self.collision.step(&mut self.world, dt)?;
+        self.time += dt;
+        Ok(stats)
+    }
+
+    /// Scene time, s: the sum of the steps taken since the scene was built.
+    #[must_use]
+    pub fn time(&self) -> Real {
+        self.time
     }
 
     /// The body of that name.
@@ -32,74 +56,43 @@ impl BuiltScene {
     pub fn body(&self, name: &str) -> Option<BodyHandle> {
         self.bodies.iter().find(|(n, _)| n == name).map(|(_, h)| *h)
     }
+
+    /// The joint of that name.
+    #[must_use]
+    pub fn joint(&self, name: &str) -> Option<ConstraintHandle> {
+        self.joints.iter().find(|(n, _)| n == name).map(|(_, h)| *h)
+    }
 }
+
+/// Most bodies a scene may have, groups expanded (a typo in a group's counts must not try to
+/// allocate the whole memory).
+const MAX_BODIES: usize = 1 << 20;
+/// Most island rows to reserve exact-solver memory for (its memory grows as rows²).
+const MAX_ISLAND_ROWS: usize = 4096;
 
 /// Builds `scene` into a new world.
 pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
-    let body_count = scene.bodies.len() + scene.groups.iter().map(group_size).sum::<usize>();
-    let w = &scene.world;
-    let max_bodies = if w.max_bodies > 0 {
-        w.max_bodies
-    } else {
-        body_count.max(1)
-    };
-    let max_constraints = if w.max_constraints > 0 {
-        w.max_constraints
-    } else {
-        (16 * body_count).max(256)
-    };
-    let def = WorldDef {
-        max_bodies,
-        max_constraints,
-        gravity: v3(w.gravity),
-        epsilon: w.epsilon,
-        gamma: w.gamma,
-        dem: DemSettings {
-            mode: if w.sleep {
-                DemMode::PartitionAutoDisable
-            } else {
-                DemMode::default()
-            },
-            ..Default::default()
-        },
-        routing: Routing {
-            mode: match w.solver {
-                SolverSpec::Hybrid => SolverMode::Hybrid,
-                SolverSpec::Exact => SolverMode::Exact,
-                SolverSpec::Iterative => SolverMode::Iterative,
-            },
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let world = World::new(def).map_err(|e| SceneError::at("world", e))?;
+    let mut body_count = scene.bodies.len();
+    for (i, g) in scene.groups.iter().enumerate() {
+        body_count = body_count.saturating_add(group_size(g));
+        if body_count > MAX_BODIES {
+            return Err(SceneError::at(
+                format!("groups[{i}]"),
+                format!("the scene would have more than {MAX_BODIES} bodies"),
+            ));
+        }
+    }
+    let world =
+        World::new(world_def(&scene.world, body_count)?).map_err(|e| SceneError::at("world", e))?;
     let mut built = BuiltScene {
         world,
         collision: CollisionWorld::new(),
         bodies: Vec::new(),
+        joints: Vec::new(),
+        paths: Vec::new(),
+        time: 0.0,
     };
-    let mut materials = vec!["default".to_string()];
-    for (i, m) in scene.materials.iter().enumerate() {
-        let place = format!("materials[{i}]");
-        if materials.contains(&m.name) {
-            return Err(SceneError::at(
-                place,
-                format!("material \"{}\" is defined twice", m.name),
-            ));
-        }
-        let surface = Surface {
-            friction: m.friction,
-            restitution: m.restitution,
-            restitution_threshold: m.restitution_threshold,
-            ..Default::default()
-        };
-        built
-            .collision
-            .materials
-            .add(surface)
-            .map_err(|e| SceneError::at(place, e))?;
-        materials.push(m.name.clone());
-    }
+    let materials = add_materials(&mut built.collision, scene)?;
     for (i, c) in scene.statics.iter().enumerate() {
         let place = format!("static[{i}]");
         let def = collider(c, None, &materials, &place)?;
@@ -115,15 +108,196 @@ pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
         add_group(&mut built, g, i, &format!("groups[{i}]"))?;
     }
     for (i, j) in scene.joints.iter().enumerate() {
-        add_joint(&mut built, j, &format!("joints[{i}]"))?;
+        add_joint(&mut built, j, i, &format!("joints[{i}]"))?;
     }
     Ok(built)
 }
 
-fn v3(v: V3) -> Vec3 {
+/// The world's definition, capacities sized for `body_count` bodies where not given.
+fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
+    let max_bodies = if w.max_bodies > 0 {
+        w.max_bodies
+    } else {
+        body_count.max(1)
+    };
+    let max_constraints = if w.max_constraints > 0 {
+        w.max_constraints
+    } else {
+        body_count.saturating_mul(16).max(256)
+    };
+    for (field, value, most) in [
+        ("max_bodies", w.max_bodies, MAX_BODIES),
+        ("max_constraints", w.max_constraints, 16 * MAX_BODIES),
+        (
+            "max_island_rows",
+            w.max_island_rows.unwrap_or(0),
+            MAX_ISLAND_ROWS,
+        ),
+    ] {
+        if value > most {
+            return Err(SceneError::at(
+                format!("world.{field}"),
+                format!("must be at most {most}, got {value}"),
+            ));
+        }
+    }
+    let defaults = WorldDef::default();
+    let s = w.sleep_thresholds.clone().unwrap_or_default();
+    let dem = DemSettings {
+        mode: if w.sleep {
+            DemMode::PartitionAutoDisable
+        } else {
+            DemMode::default()
+        },
+        velocity_threshold: s.velocity,
+        angular_velocity_threshold: s.angular_velocity,
+        acceleration_threshold: s.acceleration,
+        angular_acceleration_threshold: s.angular_acceleration,
+        alive_window: s.time,
+        force_threshold: s.force,
+        torque_threshold: s.torque,
+    };
+    dem.validate()
+        .map_err(|e| SceneError::at("world.sleep_thresholds", e))?;
+    let r = w.routing.clone().unwrap_or_default();
+    let it = w.iterative.clone().unwrap_or_default();
+    Ok(WorldDef {
+        max_bodies,
+        max_constraints,
+        max_island_rows: w.max_island_rows.unwrap_or(defaults.max_island_rows),
+        gravity: v3(w.gravity),
+        epsilon: w.epsilon,
+        gamma: w.gamma,
+        max_lcp_iterations: w.max_lcp_iterations.unwrap_or(defaults.max_lcp_iterations),
+        max_friction_passes: w
+            .max_friction_passes
+            .unwrap_or(defaults.max_friction_passes),
+        dem,
+        routing: Routing {
+            mode: match w.solver {
+                SolverSpec::Hybrid => SolverMode::Hybrid,
+                SolverSpec::Exact => SolverMode::Exact,
+                SolverSpec::Iterative => SolverMode::Iterative,
+            },
+            max_exact_rows: r.max_exact_rows,
+            max_exact_bodies: r.max_exact_bodies,
+            hysteresis: r.hysteresis,
+        },
+        iterative: IterativeParams {
+            substeps: it.substeps,
+            iterations: it.iterations,
+            relax_iterations: it.relax_iterations,
+            max_correction_speed: it.max_correction_speed,
+        },
+        projection_iterations: w.projection_iterations,
+    })
+}
+
+/// Adds the named materials and the pair table; returns the names by id.
+fn add_materials(collision: &mut CollisionWorld, scene: &Scene) -> Result<Vec<String>, SceneError> {
+    let mut materials = vec!["default".to_string()];
+    for (i, m) in scene.materials.iter().enumerate() {
+        let place = format!("materials[{i}]");
+        if materials.contains(&m.name) {
+            return Err(SceneError::at(
+                place,
+                format!("material \"{}\" is defined twice", m.name),
+            ));
+        }
+        let surface = Surface {
+            friction: m.friction,
+            restitution: m.restitution,
+            restitution_threshold: m.restitution_threshold,
+            softness: m.softness,
+            slip: m.slip,
+            adhesion: m.adhesion,
+        };
+        collision
+            .materials
+            .add(surface)
+            .map_err(|e| SceneError::at(place, e))?;
+        materials.push(m.name.clone());
+    }
+    for (i, p) in scene.material_pairs.iter().enumerate() {
+        add_pair(collision, p, &materials, &format!("material_pairs[{i}]"))?;
+    }
+    Ok(materials)
+}
+
+/// The id of the material `name`, or an error placed at `place`.
+fn material_id(materials: &[String], name: &str, place: String) -> Result<u32, SceneError> {
+    materials
+        .iter()
+        .position(|m| m == name)
+        .map(|i| i as u32)
+        .ok_or_else(|| SceneError::at(place, format!("no material named \"{name}\"")))
+}
+
+/// Sets one pair-table entry: the combine rules' parameters with the fields given replaced.
+fn add_pair(
+    collision: &mut CollisionWorld,
+    p: &MaterialPairSpec,
+    materials: &[String],
+    place: &str,
+) -> Result<(), SceneError> {
+    let a = material_id(materials, &p.a, format!("{place}.a"))?;
+    let b = material_id(materials, &p.b, format!("{place}.b"))?;
+    let at = |field: &str| {
+        let place = format!("{place}.{field}");
+        move |e: kea_collision::CollisionError| SceneError::at(place, e)
+    };
+    let mut params = collision.materials.params(a, b).map_err(at(""))?;
+    if let Some(mu) = p.friction {
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(SceneError::at(
+                format!("{place}.friction"),
+                format!("must be finite and ≥ 0, got {mu}"),
+            ));
+        }
+        params.friction = [FrictionModel::Coulomb { mu }; 2];
+        params.contact_type = if mu > 0.0 {
+            ContactType::Friction2D
+        } else {
+            ContactType::Frictionless
+        };
+    }
+    params.restitution = p.restitution.unwrap_or(params.restitution);
+    params.restitution_threshold = p
+        .restitution_threshold
+        .unwrap_or(params.restitution_threshold);
+    params.softness = p.softness.or(params.softness);
+    params.slip = p.slip.unwrap_or(params.slip);
+    params.max_adhesive_force = p.adhesion.unwrap_or(params.max_adhesive_force);
+    params.slide = p.slide.unwrap_or(params.slide);
+    let direction = match p.slide_direction {
+        Some(d) => Some(unit(d, &format!("{place}.slide_direction"))?),
+        None => None,
+    };
+    collision
+        .materials
+        .set_pair_with_direction(a, b, params, direction)
+        .map_err(|e| SceneError::at(place, e))
+}
+
+/// `v` normalised, or an error at `place` if it is zero or not finite.
+pub(crate) fn unit(v: V3, place: &str) -> Result<Vec3, SceneError> {
+    let w = v3(v);
+    let len = w.length();
+    if !(w.is_finite() && len > 1.0e-6) {
+        return Err(SceneError::at(
+            place,
+            format!("must be a non-zero direction, got {v:?}"),
+        ));
+    }
+    Ok(w / len)
+}
+
+/// A scene vector as a kea vector.
+pub(crate) fn v3(v: V3) -> Vec3 {
     Vec3::new(v[0], v[1], v[2])
 }
 
+/// The collision shape of a spec, errors placed at `place.shape`.
 fn shape(spec: &ShapeSpec, place: &str) -> Result<Shape, SceneError> {
     let place = format!("{place}.shape");
     let shape = match spec {
@@ -150,6 +324,7 @@ fn shape(spec: &ShapeSpec, place: &str) -> Result<Shape, SceneError> {
     shape.map_err(|e| SceneError::at(place, e))
 }
 
+/// A collider definition on `body` (none: static), its material looked up by name.
 fn collider(
     spec: &ColliderSpec,
     body: Option<BodyHandle>,
@@ -159,18 +334,13 @@ fn collider(
     let mut def = ColliderDef::new(body, shape(&spec.shape, place)?);
     def.offset = v3(spec.offset);
     if let Some(name) = &spec.material {
-        let id = materials.iter().position(|m| m == name).ok_or_else(|| {
-            SceneError::at(
-                format!("{place}.material"),
-                format!("no material named \"{name}\""),
-            )
-        })?;
-        def.material = id as u32;
+        def.material = material_id(materials, name, format!("{place}.material"))?;
     }
     Ok(def)
 }
 
-fn add_body(
+/// Adds a body with its colliders under a name not yet taken.
+pub(crate) fn add_body(
     built: &mut BuiltScene,
     spec: &BodySpec,
     materials: &[String],
@@ -182,13 +352,54 @@ fn add_body(
             format!("a body named \"{}\" already exists", spec.name),
         ));
     }
+    let (mass, inertia) = mass_properties(spec, place)?;
+    let q = spec.orientation.unwrap_or([0.0, 0.0, 0.0, 1.0]);
+    let def = BodyDef {
+        mass,
+        inertia,
+        position: v3(spec.position),
+        orientation: Quat::from_xyzw(q[0], q[1], q[2], q[3]),
+        linear_velocity: v3(spec.velocity),
+        angular_velocity: v3(spec.angular_velocity),
+        linear_damping: spec.damping[0],
+        angular_damping: spec.damping[1],
+        fast_spin_axis: match spec.fast_spin_axis {
+            Some(a) => Some(unit(a, &format!("{place}.fast_spin_axis"))?),
+            None => None,
+        },
+        enabled: spec.enabled,
+        prefer_exact: spec.prefer_exact,
+        ..Default::default()
+    };
+    let h = built.world.create_body(&def).map_err(|e| {
+        let field = match &e {
+            kea::KeaError::BadInertia { .. } => ".inertia",
+            kea::KeaError::NotUnit { .. } => ".orientation",
+            _ => "",
+        };
+        SceneError::at(format!("{place}{field}"), e)
+    })?;
+    for (k, c) in spec.shapes.iter().enumerate() {
+        let shape_place = format!("{place}.shapes[{k}]");
+        let def = collider(c, Some(h), materials, &shape_place)?;
+        built
+            .collision
+            .add_collider(&built.world, def)
+            .map_err(|e| SceneError::at(shape_place, e))?;
+    }
+    built.bodies.push((spec.name.clone(), h));
+    Ok(())
+}
+
+/// Mass and inertia: from the shapes at the density, then the mass and inertia given.
+fn mass_properties(spec: &BodySpec, place: &str) -> Result<(Real, Mat3), SceneError> {
     let mut shapes = Vec::with_capacity(spec.shapes.len());
     for (k, c) in spec.shapes.iter().enumerate() {
         let shape_place = format!("{place}.shapes[{k}]");
         shapes.push((v3(c.offset), Quat::IDENTITY, shape(&c.shape, &shape_place)?));
     }
     let density = spec.density.unwrap_or(1000.0);
-    let (mut mass, mut inertia) = (1.0, kea::Mat3::IDENTITY);
+    let (mut mass, mut inertia) = (1.0, Mat3::IDENTITY);
     if !shapes.is_empty() {
         let mp = MassProperties::of_shapes(&shapes, density)
             .map_err(|e| SceneError::at(format!("{place}.shapes"), e))?;
@@ -206,199 +417,13 @@ fn add_body(
     } else if shapes.is_empty() {
         return Err(SceneError::at(place, "a body needs shapes or a mass"));
     }
-    let q = spec.orientation.unwrap_or([0.0, 0.0, 0.0, 1.0]);
-    let def = BodyDef {
-        mass,
-        inertia,
-        position: v3(spec.position),
-        orientation: Quat::from_xyzw(q[0], q[1], q[2], q[3]),
-        linear_velocity: v3(spec.velocity),
-        angular_velocity: v3(spec.angular_velocity),
-        linear_damping: spec.damping[0],
-        angular_damping: spec.damping[1],
-        ..Default::default()
-    };
-    let h = built
-        .world
-        .create_body(&def)
-        .map_err(|e| SceneError::at(place, e))?;
-    for (k, c) in spec.shapes.iter().enumerate() {
-        let shape_place = format!("{place}.shapes[{k}]");
-        let def = collider(c, Some(h), materials, &shape_place)?;
-        built
-            .collision
-            .add_collider(&built.world, def)
-            .map_err(|e| SceneError::at(shape_place, e))?;
+    match &spec.inertia {
+        Some(InertiaSpec::Diagonal(d)) => inertia = Mat3::from_diagonal(v3(*d)),
+        Some(InertiaSpec::Full(rows)) => {
+            // glam matrices are built from columns; a symmetric matrix reads the same.
+            inertia = Mat3::from_cols(v3(rows[0]), v3(rows[1]), v3(rows[2])).transpose();
+        }
+        None => {}
     }
-    built.bodies.push((spec.name.clone(), h));
-    Ok(())
-}
-
-fn group_size(g: &GroupSpec) -> usize {
-    match g {
-        GroupSpec::Pyramid { base, .. } => (*base as usize) * (*base as usize + 1) / 2,
-        GroupSpec::Chain { links, .. } => *links as usize,
-        GroupSpec::Grid { counts, .. } => counts.iter().map(|&c| c as usize).product(),
-    }
-}
-
-/// A body of one shape at its centre, at rest: what groups are made of.
-fn one_shape_body(name: String, shape: ShapeSpec, density: Real, position: V3) -> BodySpec {
-    BodySpec {
-        name,
-        shapes: vec![ColliderSpec {
-            shape,
-            offset: [0.0; 3],
-            material: None,
-        }],
-        density: Some(density),
-        mass: None,
-        position,
-        orientation: None,
-        velocity: [0.0; 3],
-        angular_velocity: [0.0; 3],
-        damping: [0.0; 2],
-    }
-}
-
-fn add_group(
-    built: &mut BuiltScene,
-    g: &GroupSpec,
-    index: usize,
-    place: &str,
-) -> Result<(), SceneError> {
-    let named = |kind: &str, i: usize| format!("{kind}{index}.{i}");
-    let mut made = 0;
-    match *g {
-        GroupSpec::Pyramid {
-            base,
-            half_extent,
-            density,
-            origin,
-        } => {
-            let edge = 2.0 * half_extent;
-            for layer in 0..base {
-                let n = base - layer;
-                for i in 0..n {
-                    let x = origin[0] + (i as Real - (n as Real - 1.0) * 0.5) * edge;
-                    let y = origin[1] + half_extent + layer as Real * edge;
-                    let cube = ShapeSpec::Box {
-                        half_extents: [half_extent; 3],
-                    };
-                    let position = [x, y, origin[2]];
-                    let spec = one_shape_body(named("pyramid", made), cube, density, position);
-                    add_body(built, &spec, &[], place)?;
-                    made += 1;
-                }
-            }
-        }
-        GroupSpec::Grid {
-            ref shape,
-            counts,
-            spacing,
-            density,
-            origin,
-        } => {
-            let (nx, ny) = (counts[0] as usize, counts[1] as usize);
-            for i in 0..nx * ny * counts[2] as usize {
-                let cell = [i % nx, (i / nx) % ny, i / (nx * ny)];
-                let spec = one_shape_body(
-                    named("grid", i),
-                    shape.clone(),
-                    density,
-                    std::array::from_fn(|k| origin[k] + cell[k] as Real * spacing[k]),
-                );
-                add_body(built, &spec, &[], place)?;
-            }
-        }
-        GroupSpec::Chain {
-            links,
-            spacing,
-            radius,
-            density,
-            origin,
-        } => {
-            let mut previous: Option<BodyHandle> = None;
-            for i in 0..links as usize {
-                let centre = [
-                    origin[0],
-                    origin[1] - spacing * (i as Real + 0.5),
-                    origin[2],
-                ];
-                let spec = one_shape_body(
-                    named("chain", i),
-                    ShapeSpec::Sphere { radius },
-                    density,
-                    centre,
-                );
-                add_body(built, &spec, &[], place)?;
-                let h = built.bodies.last().expect("just added").1;
-                let anchor = Vec3::new(centre[0], centre[1] + 0.5 * spacing, centre[2]);
-                built
-                    .world
-                    .create_ball_joint(h, previous, anchor)
-                    .map_err(|e| SceneError::at(place, e))?;
-                previous = Some(h);
-            }
-        }
-    }
-    Ok(())
-}
-
-fn add_joint(built: &mut BuiltScene, j: &JointSpec, place: &str) -> Result<(), SceneError> {
-    let (body1, body2) = match j {
-        JointSpec::Ball { body1, body2, .. }
-        | JointSpec::Hinge { body1, body2, .. }
-        | JointSpec::Prismatic { body1, body2, .. }
-        | JointSpec::Fixed { body1, body2, .. } => (body1, body2),
-    };
-    let find = |field: &str, name: &str| {
-        built.body(name).ok_or_else(|| {
-            SceneError::at(
-                format!("{place}.{field}"),
-                format!("no body named \"{name}\""),
-            )
-        })
-    };
-    let b1 = find("body1", body1)?;
-    let b2 = body2.as_deref().map(|n| find("body2", n)).transpose()?;
-    let w = &mut built.world;
-    let at = |e: kea::KeaError| SceneError::at(place, e);
-    match j {
-        JointSpec::Ball { anchor, .. } => {
-            w.create_ball_joint(b1, b2, v3(*anchor)).map_err(at)?;
-        }
-        JointSpec::Hinge {
-            anchor,
-            axis,
-            limits,
-            motor,
-            ..
-        } => {
-            let h = w.create_hinge(b1, b2, v3(*anchor), v3(*axis)).map_err(at)?;
-            let limit = w.hinge_limit_mut(h).map_err(at)?;
-            if let Some([lo, hi]) = limits {
-                let (lower, upper) = (
-                    kea::SingleLimit::hard(*lo, 0.0),
-                    kea::SingleLimit::hard(*hi, 0.0),
-                );
-                limit
-                    .set_limits(lower, upper)
-                    .map_err(|e| SceneError::at(format!("{place}.limits"), e))?;
-            }
-            if let Some([speed, torque]) = motor {
-                limit
-                    .set_motor(*speed, *torque)
-                    .map_err(|e| SceneError::at(format!("{place}.motor"), e))?;
-            }
-        }
-        JointSpec::Prismatic { anchor, axis, .. } => {
-            w.create_prismatic(b1, b2, v3(*anchor), v3(*axis))
-                .map_err(at)?;
-        }
-        JointSpec::Fixed { anchor, .. } => {
-            w.create_fixed_joint(b1, b2, v3(*anchor)).map_err(at)?;
-        }
-    }
-    Ok(())
+    Ok((mass, inertia))
 }

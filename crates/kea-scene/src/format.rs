@@ -1,6 +1,7 @@
 //! The scene format, version 1: plain data that serde reads from and writes to JSON. Every field
 //! that has a default may be left out; unknown fields are errors (a typo must not pass silently).
 
+use crate::joint_format::{GroupSpec, JointSpec};
 use kea::Real;
 use serde::{Deserialize, Serialize};
 
@@ -22,6 +23,9 @@ pub struct Scene {
     /// Named materials; material 0 (`"default"`) always exists.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub materials: Vec<MaterialSpec>,
+    /// Contact parameters of pairs of materials, overriding the combine rules.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub material_pairs: Vec<MaterialPairSpec>,
     /// Static geometry.
     #[serde(default, rename = "static", skip_serializing_if = "Vec::is_empty")]
     pub statics: Vec<ColliderSpec>,
@@ -54,6 +58,111 @@ pub struct WorldSpec {
     pub max_bodies: usize,
     /// Most constraints, contacts included (0: 16 per body, at least 256).
     pub max_constraints: usize,
+    /// When a body counts as resting, for `sleep` (default: kea's thresholds).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sleep_thresholds: Option<SleepSpec>,
+    /// Position-projection passes after each exact step, 0 to 16 (default 0).
+    #[serde(skip_serializing_if = "is_zero_u32")]
+    pub projection_iterations: u32,
+    /// Pivoting iteration cap per LCP (default: kea's, 100).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_lcp_iterations: Option<u32>,
+    /// Coulomb re-solve cap per island (default: kea's, 16).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_friction_passes: Option<u32>,
+    /// Rows of the largest island to reserve exact-solver memory for (default: kea's, 256).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_island_rows: Option<usize>,
+    /// Which islands the hybrid solver sends to the exact path (default: kea's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub routing: Option<RoutingSpec>,
+    /// Settings of the iterative path (default: kea's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub iterative: Option<IterativeSpec>,
+}
+
+/// When a body counts as resting (`kea::DemSettings`); an island rests once all its bodies have.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SleepSpec {
+    /// Speed below which a body may rest, m/s.
+    pub velocity: Real,
+    /// Spin below which a body may rest, rad/s.
+    pub angular_velocity: Real,
+    /// Acceleration below which a body may rest, m/s².
+    pub acceleration: Real,
+    /// Angular acceleration below which a body may rest, rad/s².
+    pub angular_acceleration: Real,
+    /// Time an island must have rested before it sleeps, s.
+    pub time: Real,
+    /// Applied force that wakes a sleeping body, N.
+    pub force: Real,
+    /// Applied torque that wakes a sleeping body, N·m.
+    pub torque: Real,
+}
+
+impl Default for SleepSpec {
+    fn default() -> Self {
+        let d = kea::DemSettings::default();
+        Self {
+            velocity: d.velocity_threshold,
+            angular_velocity: d.angular_velocity_threshold,
+            acceleration: d.acceleration_threshold,
+            angular_acceleration: d.angular_acceleration_threshold,
+            time: d.alive_window,
+            force: d.force_threshold,
+            torque: d.torque_threshold,
+        }
+    }
+}
+
+/// Hybrid routing thresholds (`kea::Routing`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RoutingSpec {
+    /// Largest island, in rows, solved exactly.
+    pub max_exact_rows: u32,
+    /// Largest island, in bodies, solved exactly.
+    pub max_exact_bodies: u32,
+    /// An iterative island goes back to exact below this fraction of the limits, in (0, 1].
+    pub hysteresis: Real,
+}
+
+impl Default for RoutingSpec {
+    fn default() -> Self {
+        let d = kea::Routing::default();
+        Self {
+            max_exact_rows: d.max_exact_rows,
+            max_exact_bodies: d.max_exact_bodies,
+            hysteresis: d.hysteresis,
+        }
+    }
+}
+
+/// Settings of the iterative path (`kea::IterativeParams`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IterativeSpec {
+    /// Substeps per step (≥ 1).
+    pub substeps: u32,
+    /// Sweeps per substep with error correction (≥ 1).
+    pub iterations: u32,
+    /// Sweeps per substep without it.
+    pub relax_iterations: u32,
+    /// Fastest penetration correction, m/s (> 0).
+    pub max_correction_speed: Real,
+}
+
+impl Default for IterativeSpec {
+    fn default() -> Self {
+        let d = kea::IterativeParams::default();
+        Self {
+            substeps: d.substeps,
+            iterations: d.iterations,
+            relax_iterations: d.relax_iterations,
+            max_correction_speed: d.max_correction_speed,
+        }
+    }
 }
 
 impl Default for WorldSpec {
@@ -66,6 +175,13 @@ impl Default for WorldSpec {
             sleep: false,
             max_bodies: 0,
             max_constraints: 0,
+            sleep_thresholds: None,
+            projection_iterations: 0,
+            max_lcp_iterations: None,
+            max_friction_passes: None,
+            max_island_rows: None,
+            routing: None,
+            iterative: None,
         }
     }
 }
@@ -98,6 +214,53 @@ pub struct MaterialSpec {
     /// Slowest approach that bounces, m/s (default 0.1).
     #[serde(default = "tenth")]
     pub restitution_threshold: Real,
+    /// Contact softness ε (default: the world's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub softness: Option<Real>,
+    /// Slip, m/s per N (default 0).
+    #[serde(default, skip_serializing_if = "is_zero1")]
+    pub slip: Real,
+    /// Largest adhesive force, N (default 0).
+    #[serde(default, skip_serializing_if = "is_zero1")]
+    pub adhesion: Real,
+}
+
+/// The contact parameters of one pair of materials; a field left out takes the value the
+/// combine rules give the pair.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialPairSpec {
+    /// First material's name.
+    pub a: String,
+    /// Second material's name (may equal `a`).
+    pub b: String,
+    /// Coulomb μ (0: frictionless).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<Real>,
+    /// Restitution.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<Real>,
+    /// Slowest approach that bounces, m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution_threshold: Option<Real>,
+    /// Contact softness ε.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub softness: Option<Real>,
+    /// Slip along the two friction directions, m/s per N.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slip: Option<[Real; 2]>,
+    /// Largest adhesive force, N.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adhesion: Option<Real>,
+    /// Conveyor speed of `a`'s surface relative to `b`'s along the two friction directions,
+    /// m/s (default none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slide: Option<[Real; 2]>,
+    /// A fixed world direction for the first friction direction, so that `slide[0]` runs along
+    /// it (a conveyor belt); `slide[1]` then runs along `normal × direction`, the normal
+    /// pointing from `b` to `a`. Need not be unit; must not be zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slide_direction: Option<V3>,
 }
 
 fn half() -> Real {
@@ -204,110 +367,51 @@ pub struct BodySpec {
     /// Linear and angular velocity damping.
     #[serde(default, skip_serializing_if = "is_zero2")]
     pub damping: [Real; 2],
+    /// Inertia about the centre of mass in the body frame, kg·m², instead of the shapes': the
+    /// diagonal `[ixx, iyy, izz]` or a full symmetric matrix `[[…], […], […]]` (rows).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<InertiaSpec>,
+    /// A fast-spin axis in the body frame (a wheel's axle): rotation about it is integrated as
+    /// its own exact rotation. Need not be unit; must not be zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fast_spin_axis: Option<V3>,
+    /// Whether the body moves (default true). A disabled body stays where it is and acts as
+    /// fixed for joints and contacts (the guide's `MdtBodyDisable`).
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub enabled: bool,
+    /// Solve this body's island exactly whatever its size, in hybrid mode (vehicles, ragdolls).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub prefer_exact: bool,
 }
 
-/// A joint between `body1` and `body2` (absent: the world), anchors and axes in world frame.
+/// An explicit inertia tensor.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum JointSpec {
-    /// Ball and socket.
-    Ball {
-        /// First body's name.
-        body1: String,
-        /// Second body's name, or none for the world.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        body2: Option<String>,
-        /// Anchor, world frame.
-        anchor: V3,
-    },
-    /// Hinge, with an optional motor.
-    Hinge {
-        /// First body's name.
-        body1: String,
-        /// Second body's name, or none for the world.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        body2: Option<String>,
-        /// Anchor, world frame.
-        anchor: V3,
-        /// Axis, world frame.
-        axis: V3,
-        /// Limits `[lower, upper]`, rad (hard stops).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        limits: Option<[Real; 2]>,
-        /// Motor `[desired speed, maximum torque]`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        motor: Option<[Real; 2]>,
-    },
-    /// Prismatic (slider).
-    Prismatic {
-        /// First body's name.
-        body1: String,
-        /// Second body's name, or none for the world.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        body2: Option<String>,
-        /// Anchor, world frame.
-        anchor: V3,
-        /// Axis, world frame.
-        axis: V3,
-    },
-    /// Weld.
-    Fixed {
-        /// First body's name.
-        body1: String,
-        /// Second body's name, or none for the world.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        body2: Option<String>,
-        /// Anchor, world frame.
-        anchor: V3,
-    },
+#[serde(untagged)]
+pub enum InertiaSpec {
+    /// The principal moments `[ixx, iyy, izz]` along the body axes.
+    Diagonal(V3),
+    /// The full symmetric matrix, row by row.
+    Full([V3; 3]),
 }
 
-/// A repeated structure, tagged by kind.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum GroupSpec {
-    /// A pyramid of cubes in the x–y plane, standing on y = `origin.y`.
-    Pyramid {
-        /// Cubes in the bottom row.
-        base: u32,
-        /// Half the cube's edge, m.
-        half_extent: Real,
-        /// Density, kg/m³.
-        density: Real,
-        /// Centre of the bottom row's base.
-        origin: V3,
-    },
-    /// Copies of one shape on a regular 3D grid (a ball pit, a wall of bricks).
-    Grid {
-        /// The shape of every body.
-        shape: ShapeSpec,
-        /// Bodies along x, y and z.
-        counts: [u32; 3],
-        /// Distance between neighbours along x, y and z, m.
-        spacing: V3,
-        /// Density, kg/m³.
-        density: Real,
-        /// Centre of the first body.
-        origin: V3,
-    },
-    /// A chain of spheres joined by ball joints, hanging from `origin` (fixed to the world) along −y.
-    Chain {
-        /// Links.
-        links: u32,
-        /// Distance between link centres, m.
-        spacing: Real,
-        /// Link radius, m.
-        radius: Real,
-        /// Density, kg/m³.
-        density: Real,
-        /// The top anchor.
-        origin: V3,
-    },
-}
-
-fn is_zero(v: &V3) -> bool {
+pub(crate) fn is_zero(v: &V3) -> bool {
     *v == [0.0; 3]
 }
 fn is_zero2(v: &[Real; 2]) -> bool {
     *v == [0.0; 2]
+}
+fn is_zero1(v: &Real) -> bool {
+    *v == 0.0
+}
+fn is_zero_u32(v: &u32) -> bool {
+    *v == 0
+}
+pub(crate) fn is_false(v: &bool) -> bool {
+    !*v
+}
+fn is_true(v: &bool) -> bool {
+    *v
+}
+fn yes() -> bool {
+    true
 }

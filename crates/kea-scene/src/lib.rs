@@ -1,6 +1,6 @@
 //! Kea scene files: a documented, versioned JSON format (`docs/scene-format.md`) that describes a
-//! whole world — parameters, materials, static geometry, bodies with their shapes, joints, and
-//! repeated structures — and builds it into a `kea::World` with a `kea_collision::CollisionWorld`.
+//! whole world — parameters, materials and their pairs, static geometry, bodies with their
+//! shapes, every joint type of the guide with limits and motors, and repeated structures — and builds it into a `kea::World` with a `kea_collision::CollisionWorld`.
 //!
 //! ```
 //! let text = r#"{ "version": 1,
@@ -15,15 +15,20 @@
 #![warn(missing_docs)]
 
 mod build;
+mod car_wheel;
 mod error;
 mod format;
+mod groups;
+mod joint_format;
+mod joints;
 
 pub use build::{build, BuiltScene};
 pub use error::SceneError;
 pub use format::{
-    BodySpec, ColliderSpec, GroupSpec, JointSpec, MaterialSpec, Scene, ShapeSpec, SolverSpec,
-    WorldSpec, V3, VERSION,
+    BodySpec, ColliderSpec, InertiaSpec, IterativeSpec, MaterialPairSpec, MaterialSpec,
+    RoutingSpec, Scene, ShapeSpec, SleepSpec, SolverSpec, WorldSpec, V3, VERSION,
 };
+pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
 
 impl Scene {
     /// Reads a scene from JSON text. Errors carry the line and column and what was expected.

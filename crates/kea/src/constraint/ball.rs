@@ -30,8 +30,8 @@ pub struct BallJoint {
 ///   `o`: with `x = o·n`, `y = (m × o)·n`, `φ = atan2(y, x)` and
 ///   `φ̇ = (ω₁ − ω₂)·(x (n × (m × o)) − y (n × o))/(x² + y²)`;
 /// * **twist** ρ = rotation of body 1 about its primary axis relative to body 2 (swing-twist
-///   split of the relative rotation since the limits were set); `ρ̇ ≈ (ω₁ − ω₂)·m`, exact for a
-///   twist about an aligned axis.
+///   split of the relative rotation since the limits were set, about body 1's axis);
+///   `ρ̇ ≈ (ω₁ − ω₂)·n`, exact for a twist about an aligned axis.
 ///
 /// Each coordinate has a [`Limit`]: stops (hard or soft) and, if wanted, a motor.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,10 +76,11 @@ impl BallLimits {
         let o = b2.vector_to_world(self.orthogonal2);
         let jac = |g: Vec3| [Jacobian::new(Vec3::ZERO, g), Jacobian::new(Vec3::ZERO, -g)];
         let rel = b1.angular_velocity - b2.angular_velocity;
-        // Twist: the relative rotation since the reference, split about body 2's primary axis.
+        // Twist: the relative rotation since the reference, split about the primary axis.
         let q = self.reference.inverse() * (b2.orientation.inverse() * b1.orientation);
         let v = Vec3::new(q.x, q.y, q.z);
-        let twist = 2.0 * v.dot(self.primary2).atan2(q.w);
+        // q = rot(primary1, ρ) for a pure twist: it is expressed in body 1's frame.
+        let twist = 2.0 * v.dot(self.primary1).atan2(q.w);
         let twist = if twist > PI {
             twist - 2.0 * PI
         } else if twist < -PI {
@@ -102,7 +103,7 @@ impl BallLimits {
             Vec3::ZERO
         };
         [
-            (twist, rel.dot(m), jac(m)),
+            (twist, rel.dot(n), jac(n)),
             (cone, rel.dot(k), jac(k)),
             (y.atan2(x), rel.dot(g), jac(g)),
         ]
