@@ -36,9 +36,23 @@ pub fn write_orientation_rows(b1: &RowBody, b2: &RowBody, q_rel: Quat, out: &mut
 }
 
 /// Two rows keeping `u1` (body 1's axis, world) parallel to `u2` (body 2's, world).
+///
+/// The error is the rotation vector taking `u2` to `u1` (angle times unit axis), not the cross
+/// product: the cross product's length, sin θ, falls back to zero as the axes turn past 90°
+/// towards anti-parallel, which would make a hinge folded back on itself a false rest state
+/// that stabilisation holds instead of undoing.
 pub fn write_alignment_rows(u1: Vec3, u2: Vec3, out: &mut RowWriter<'_>) {
     let (p, q) = orthonormal_basis(u2);
-    let e = u2.cross(u1);
+    let cross = u2.cross(u1);
+    let sin = cross.length();
+    let angle = sin.atan2(u2.dot(u1));
+    let e = if sin > 1.0e-6 {
+        cross * (angle / sin)
+    } else if angle > 1.0 {
+        p * angle // anti-parallel: any perpendicular axis undoes it
+    } else {
+        cross
+    };
     for d in [p, q] {
         out.push(
             Row::new(Jacobian::new(Vec3::ZERO, d), Jacobian::new(Vec3::ZERO, -d))
