@@ -69,7 +69,8 @@ pub struct App {
     /// What the last step took.
     pub timings: Timings,
     drag: Option<Drag>,
-    wheels: Vec<ConstraintHandle>,
+    /// Car-wheel joints, each with the spin sign that rolls the car forwards.
+    wheels: Vec<(ConstraintHandle, Real)>,
     /// The last problem a user action ran into (a full world, a failed step), for the overlay.
     pub message: Option<String>,
 }
@@ -125,20 +126,20 @@ impl App {
 
     fn after_build(&mut self) {
         self.snapshot();
-        let world = &self.scene.world;
-        self.wheels = world
-            .enabled_joints()
-            .map(|(h, _)| h)
-            .filter(|h| world.car_wheel(*h).is_ok())
-            .collect();
-        // Steerable wheels are those the scene left unlocked; the others keep their lock.
+        self.wheels = car_wheels(&self.scene.world);
         self.timings = Timings::default();
     }
 
     /// Car-wheel joints, which the throttle and steering keys drive.
     #[must_use]
-    pub fn wheels(&self) -> &[ConstraintHandle] {
-        &self.wheels
+    pub fn wheels(&self) -> Vec<ConstraintHandle> {
+        self.wheels.iter().map(|(h, _)| *h).collect()
+    }
+
+    /// Whether the scene has car wheels to drive.
+    #[must_use]
+    pub fn has_wheels(&self) -> bool {
+        !self.wheels.is_empty()
     }
 
     /// Advances by `frame_seconds` of real time in fixed steps (none while paused); returns the
@@ -322,14 +323,16 @@ impl App {
     /// whose steering the scene locked are not steered.
     pub fn drive(&mut self, throttle: Real, steer: Real) {
         let world = &mut self.scene.world;
-        for &h in &self.wheels {
+        for &(h, forwards) in &self.wheels {
             let Ok(wheel) = world.car_wheel_mut(h) else {
                 continue;
             };
             let drive = if throttle == 0.0 {
                 wheel.drive_mut().set_motor(0.0, DRIVE.1 * 0.25) // engine braking
             } else {
-                wheel.drive_mut().set_motor(throttle * DRIVE.0, DRIVE.1)
+                wheel
+                    .drive_mut()
+                    .set_motor(forwards * throttle * DRIVE.0, DRIVE.1)
             };
             if !wheel.steering_locked {
                 let target = steer * STEER.0;
@@ -347,6 +350,51 @@ impl App {
             }
         }
     }
+}
+
+/// Every car-wheel joint with the sign of spin that rolls its chassis forwards: towards the
+/// steerable wheels (or the chassis's +x if none steer), on ground below the wheel.
+fn car_wheels(world: &kea::World) -> Vec<(ConstraintHandle, Real)> {
+    let wheels: Vec<(ConstraintHandle, [Option<BodyHandle>; 2])> = world
+        .enabled_joints()
+        .filter(|(h, _)| world.car_wheel(*h).is_ok())
+        .collect();
+    let position = |b: Option<BodyHandle>| {
+        b.and_then(|b| world.body(b).ok())
+            .map_or(Vec3::ZERO, |b| b.position())
+    };
+    let mut out = Vec::with_capacity(wheels.len());
+    for &(h, [chassis, _]) in &wheels {
+        let Ok(joint) = world.car_wheel(h) else {
+            continue;
+        };
+        let Some(body) = chassis.and_then(|c| world.body(c).ok()) else {
+            continue;
+        };
+        let steering = body.orientation() * joint.local_steering1;
+        let axle = body.orientation() * joint.local_axle1;
+        // The car's forward: from its wheels' middle towards its steerable wheels' middle.
+        let same_car: Vec<_> = wheels.iter().filter(|(_, b)| b[0] == chassis).collect();
+        let middle = |only_steerable: bool| {
+            let picked: Vec<Vec3> = same_car
+                .iter()
+                .filter(|(w, _)| {
+                    !only_steerable || world.car_wheel(*w).is_ok_and(|j| !j.steering_locked)
+                })
+                .map(|(_, b)| position(b[1]))
+                .collect();
+            (!picked.is_empty())
+                .then(|| picked.iter().copied().sum::<Vec3>() / picked.len() as Real)
+        };
+        let forward = match (middle(true), middle(false)) {
+            (Some(front), Some(all)) if (front - all).length() > 1e-3 => front - all,
+            _ => body.orientation() * Vec3::X,
+        };
+        // Spin ω about the axle rolls the wheel at ω r (axle × up) on ground below it.
+        let rolling = axle.cross(steering).dot(forward);
+        out.push((h, if rolling >= 0.0 { 1.0 } else { -1.0 }));
+    }
+    out
 }
 
 /// Damps a body about to be held (mass and inertia times [`DRAG_DAMPING`]) and returns its

@@ -12,7 +12,7 @@ use kea_render::SKY;
 use macroquad::camera::{set_camera, set_default_camera, Camera3D};
 use macroquad::color::Color;
 use macroquad::input::{
-    is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
+    is_key_down, is_key_pressed, is_key_released, is_mouse_button_down, is_mouse_button_pressed,
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
 };
 use macroquad::texture::get_screen_data;
@@ -134,8 +134,15 @@ impl Session {
         }
     }
 
+    /// Arrow keys drive the scene's car wheels while held; releasing them brakes to a stop.
+    /// Scenes whose wheels are never touched keep the motors they were built with.
     fn handle_car_keys(&mut self) {
-        if self.app.wheels().is_empty() {
+        if !self.app.has_wheels() {
+            return;
+        }
+        const KEYS: [KeyCode; 4] = [KeyCode::Up, KeyCode::Down, KeyCode::Left, KeyCode::Right];
+        let held = KEYS.iter().any(|k| is_key_down(*k));
+        if !held && !KEYS.iter().any(|k| is_key_released(*k)) {
             return;
         }
         let axis = |plus: KeyCode, minus: KeyCode| -> Real {

@@ -128,3 +128,48 @@ fn a_ray_that_misses_every_body_grabs_nothing() {
     assert!(!app.begin_drag(Vec3::new(0.0, 10.0, 0.0), Vec3::Y));
     assert!(app.drag_point().is_none());
 }
+
+fn chassis_pose(app: &App) -> (Vec3, Vec3) {
+    let chassis = app.scene.body("chassis").unwrap();
+    let b = app.scene.world.body(chassis).unwrap();
+    (b.position(), b.orientation() * Vec3::X)
+}
+
+#[test]
+fn the_throttle_drives_the_car_forwards_and_the_steering_turns_it_left() {
+    let mut app = App::new(scene("car.json"), 1.0 / 60.0).unwrap();
+    assert_eq!(app.wheels().len(), 4);
+    for _ in 0..30 {
+        app.step_once(); // settle on the suspension
+    }
+    let (start, _) = chassis_pose(&app);
+    for _ in 0..120 {
+        app.drive(1.0, 0.0);
+        app.step_once();
+    }
+    let (moved, heading) = chassis_pose(&app);
+    // The front (steerable) wheels sit towards +x: forwards is +x.
+    assert!(moved.x - start.x > 2.0, "moved {}", moved - start);
+    assert!(
+        (moved.z - start.z).abs() < 0.3,
+        "drifted sideways {}",
+        moved.z - start.z
+    );
+    assert!(heading.z.abs() < 0.1, "kept its heading: {heading}");
+    for _ in 0..120 {
+        app.drive(1.0, 1.0);
+        app.step_once();
+    }
+    // Turning left (seen from above, +y up): the heading swings from +x towards −z.
+    let (_, turned) = chassis_pose(&app);
+    assert!(turned.z < -0.2, "heading after steering left: {turned}");
+    for _ in 0..120 {
+        app.drive(-1.0, 0.0);
+        app.step_once();
+    }
+    let car_wheel = app.scene.world.car_wheel(app.wheels()[0]).unwrap();
+    assert!(
+        car_wheel.spin_rate().abs() > 1.0,
+        "reverse spins the wheels"
+    );
+}
