@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod app;
+pub mod car;
 mod convert;
 pub mod draw;
 pub mod islands;
