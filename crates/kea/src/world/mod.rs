@@ -104,6 +104,10 @@ struct StepScratch {
     wake: Vec<bool>,
     /// Constraints that broke in the last step.
     broken: Vec<ConstraintHandle>,
+    /// Per constraint of the step: (slot, first row, row count), for projection.
+    step_layout: Vec<(u32, u32, u32)>,
+    /// The step's λ lined up with the rows a projection pass gathers.
+    projection_lambda: Vec<Real>,
 }
 
 /// A simulated world.
@@ -194,6 +198,8 @@ impl World {
             island_flag: Vec::with_capacity(def.max_bodies),
             wake: Vec::with_capacity(def.max_bodies),
             broken: Vec::with_capacity(def.max_constraints),
+            step_layout: Vec::with_capacity(def.max_constraints),
+            projection_lambda: Vec::with_capacity(rows),
         };
         Ok(Self {
             id,
@@ -364,6 +370,8 @@ impl World {
             + s.sleep_sets.bytes()
             + s.island_flag.capacity() * std::mem::size_of::<Real>()
             + s.wake.capacity()
+            + s.step_layout.capacity() * 12
+            + s.projection_lambda.capacity() * std::mem::size_of::<Real>()
     }
 
     /// Island routing (see [`Routing`]).

@@ -306,17 +306,23 @@ impl World {
     /// Returns the largest joint error found by the first pass.
     fn project_positions(&mut self, params: &SolverParams) -> Real {
         let mut first = None;
+        // Where each constraint's rows sat in the step, so that every projection pass finds
+        // each row's λ even when a constraint writes a different number of rows at the new
+        // state (a limit or a contact coming or going).
+        let s = &mut self.scratch;
+        s.step_layout.clear();
+        for (b, &slot) in s.blocks.iter().zip(&s.block_constraint) {
+            s.step_layout.push((slot, b.first_row, b.row_count));
+        }
         for _ in 0..self.projection_iterations {
             self.gather_rows(params);
             let s = &mut self.scratch;
-            if s.rows.len() != s.lambda.len() {
-                break; // a constraint changed its rows: the step's forces no longer line up
-            }
+            line_up_lambda(s);
             let worst = match self.solver.project(
                 &mut s.solver_bodies,
                 &s.blocks,
                 &s.rows,
-                &s.lambda,
+                &s.projection_lambda,
                 params,
             ) {
                 Ok(w) => w,
@@ -450,6 +456,27 @@ impl World {
                     c.remember_direction(s.rows[blk.first_row as usize + 1].jacobian[0].linear);
                 }
             }
+        }
+    }
+}
+
+/// Fills `projection_lambda` with the step's λ for each row gathered now: row `j` of a
+/// constraint takes the λ of its row `j` in the step, or 0 if it has no such row (blocks of
+/// both gathers are in constraint slot order).
+fn line_up_lambda(s: &mut super::StepScratch) {
+    s.projection_lambda.clear();
+    let mut cursor = 0;
+    for (b, &slot) in s.blocks.iter().zip(&s.block_constraint) {
+        while s.step_layout.get(cursor).is_some_and(|l| l.0 < slot) {
+            cursor += 1;
+        }
+        let step = s.step_layout.get(cursor).filter(|l| l.0 == slot).copied();
+        for j in 0..b.row_count {
+            let l = match step {
+                Some((_, first, count)) if j < count => s.lambda[(first + j) as usize],
+                _ => 0.0,
+            };
+            s.projection_lambda.push(l);
         }
     }
 }
