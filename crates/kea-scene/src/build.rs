@@ -319,6 +319,10 @@ fn shape(spec: &ShapeSpec, place: &str) -> Result<Shape, SceneError> {
         ShapeSpec::ConvexHull { points } => {
             Shape::convex_hull(&points.iter().map(|p| v3(*p)).collect::<Vec<_>>())
         }
+        ShapeSpec::Mesh {
+            vertices,
+            triangles,
+        } => Shape::trimesh(vertices.iter().map(|p| v3(*p)).collect(), triangles.clone()),
         ShapeSpec::HeightField { heights, size } => Shape::heightfield(heights, v3(*size)),
     };
     shape.map_err(|e| SceneError::at(place, e))
@@ -333,10 +337,26 @@ fn collider(
 ) -> Result<ColliderDef, SceneError> {
     let mut def = ColliderDef::new(body, shape(&spec.shape, place)?);
     def.offset = v3(spec.offset);
+    def.rotation = collider_rotation(spec, place)?;
     if let Some(name) = &spec.material {
         def.material = material_id(materials, name, format!("{place}.material"))?;
     }
     Ok(def)
+}
+
+/// A collider's orientation, checked to be a unit quaternion.
+fn collider_rotation(spec: &ColliderSpec, place: &str) -> Result<Quat, SceneError> {
+    let Some([x, y, z, w]) = spec.orientation else {
+        return Ok(Quat::IDENTITY);
+    };
+    let q = Quat::from_xyzw(x, y, z, w);
+    if !(q.is_finite() && (q.length() - 1.0).abs() < 1.0e-3) {
+        return Err(SceneError::at(
+            format!("{place}.orientation"),
+            format!("must be a unit quaternion [x, y, z, w], got [{x}, {y}, {z}, {w}]"),
+        ));
+    }
+    Ok(q.normalize())
 }
 
 /// Adds a body with its colliders under a name not yet taken.
@@ -396,11 +416,14 @@ fn mass_properties(spec: &BodySpec, place: &str) -> Result<(Real, Mat3), SceneEr
     let mut shapes = Vec::with_capacity(spec.shapes.len());
     for (k, c) in spec.shapes.iter().enumerate() {
         let shape_place = format!("{place}.shapes[{k}]");
-        shapes.push((v3(c.offset), Quat::IDENTITY, shape(&c.shape, &shape_place)?));
+        let rotation = collider_rotation(c, &shape_place)?;
+        shapes.push((v3(c.offset), rotation, shape(&c.shape, &shape_place)?));
     }
     let density = spec.density.unwrap_or(1000.0);
     let (mut mass, mut inertia) = (1.0, Mat3::IDENTITY);
-    if !shapes.is_empty() {
+    // Given both mass and inertia, the shapes need not weigh anything (meshes cannot).
+    let given = spec.mass.is_some() && spec.inertia.is_some();
+    if !shapes.is_empty() && !given {
         let mp = MassProperties::of_shapes(&shapes, density)
             .map_err(|e| SceneError::at(format!("{place}.shapes"), e))?;
         (mass, inertia) = (mp.mass, mp.inertia);

@@ -315,6 +315,13 @@ pub enum ShapeSpec {
         /// The points.
         points: Vec<V3>,
     },
+    /// A triangle mesh (a surface, for static geometry or bodies given a mass and inertia).
+    Mesh {
+        /// The vertices.
+        vertices: Vec<V3>,
+        /// Vertex index triples, counter-clockwise seen from outside.
+        triangles: Vec<[u32; 3]>,
+    },
     /// A height field over x–z: `heights[row][column]`, rows along z.
     HeightField {
         /// The samples.
@@ -333,6 +340,10 @@ pub struct ColliderSpec {
     /// Offset from the body's centre of mass (or world position), m.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub offset: V3,
+    /// Orientation in the body's frame (or the world's), a unit quaternion `[x, y, z, w]`
+    /// (default identity): a tilted ramp, a rotated part of a body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<[Real; 4]>,
     /// Material name (default `"default"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,

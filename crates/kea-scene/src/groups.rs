@@ -27,6 +27,7 @@ fn one_shape_body(name: String, shape: ShapeSpec, density: Real, position: V3) -
         shapes: vec![ColliderSpec {
             shape,
             offset: [0.0; 3],
+            orientation: None,
             material: None,
         }],
         density: Some(density),

@@ -288,6 +288,21 @@ const MALFORMED: &[(&str, &str, &[&str])] = &[
         &["bodies[0].inertia"],
     ),
     (
+        "a mesh triangle naming a missing vertex",
+        r#"{"version": 1, "static": [{"shape": {"mesh": {"vertices": [[0,0,0],[1,0,0],[0,0,1]], "triangles": [[0,1,3]]}}}]}"#,
+        &["static[0].shape", "vertex 3"],
+    ),
+    (
+        "a body of meshes with no inertia to weigh it by",
+        r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0], "shapes": [{"shape": {"mesh": {"vertices": [[0,0,0],[1,0,0],[0,0,1]], "triangles": [[0,2,1]]}}}]}]}"#,
+        &["bodies[0].shapes", "no volume"],
+    ),
+    (
+        "a collider orientation that is not a unit quaternion",
+        r#"{"version": 1, "static": [{"shape": {"box": {"half_extents": [1,1,1]}}, "orientation": [0, 0, 0, 2]}]}"#,
+        &["static[0].orientation", "unit quaternion"],
+    ),
+    (
         "zero fast-spin axis",
         r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0], "fast_spin_axis": [0,0,0]}]}"#,
         &["bodies[0].fast_spin_axis"],
@@ -332,13 +347,17 @@ const EVERYTHING: &str = r#"{"version": 1,
   "material_pairs": [{"a": "default", "b": "belt", "friction": 0.7, "restitution": 0.1,
                       "restitution_threshold": 0.5, "softness": 0.0001, "slip": [0, 0],
                       "adhesion": 0, "slide": [1, 0], "slide_direction": [2, 0, 0]}],
-  "static": [{"shape": {"plane": {"normal": [0, 1, 0]}}, "material": "belt"}],
+  "static": [{"shape": {"plane": {"normal": [0, 1, 0]}}, "material": "belt"},
+             {"shape": {"mesh": {"vertices": [[4, 0, 0], [6, 0, 0], [5, 1, -1]], "triangles": [[0, 1, 2]]}}},
+             {"shape": {"box": {"half_extents": [1, 0.1, 1]}}, "offset": [8, 0.5, 0], "orientation": [0, 0, 0.2588190, 0.9659258]}],
   "bodies": [
     {"name": "a", "mass": 2, "position": [0, 1, 0], "inertia": [0.1, 0.2, 0.3], "prefer_exact": true,
      "shapes": [{"shape": {"box": {"half_extents": [0.2, 0.2, 0.2]}}}]},
     {"name": "b", "mass": 1, "position": [1, 1, 0], "inertia": [[0.1, 0.01, 0], [0.01, 0.1, 0], [0, 0, 0.1]],
      "fast_spin_axis": [0, 2, 0], "shapes": [{"shape": {"sphere": {"radius": 0.2}}}]},
-    {"name": "c", "mass": 1, "position": [2, 1, 0], "enabled": false}],
+    {"name": "c", "mass": 1, "position": [2, 1, 0], "enabled": false},
+    {"name": "sheet", "mass": 1, "inertia": [0.1, 0.1, 0.1], "position": [-2, 3, 0],
+     "shapes": [{"shape": {"mesh": {"vertices": [[0, 0, 0], [1, 0, 0], [0, 0, 1]], "triangles": [[0, 2, 1]]}}}]}],
   "joints": [
     {"type": "ball", "name": "shoulder", "body1": "b", "body2": "a", "anchor": [0.5, 1, 0], "cone": 0.5,
      "twist": {"lower": -0.2, "upper": 0.2, "restitution": 0.3}, "limit_axis": [1, 0, 0]},
@@ -377,7 +396,7 @@ fn every_field_and_joint_type_builds_steps_and_round_trips() {
     ] {
         assert!(names.contains(&name), "{name} missing from {names:?}");
     }
-    assert_eq!(built.bodies.len(), 3 + 11 + 2);
+    assert_eq!(built.bodies.len(), 4 + 11 + 2);
     let path = built.joint("joint4").unwrap();
     let c = built.body("c").unwrap();
     for _ in 0..30 {
