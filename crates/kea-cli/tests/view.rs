@@ -1,5 +1,5 @@
-//! The Viewer under Xvfb: it opens, draws, takes a screenshot and answers the pause, single-step
-//! and reset keys, driven by real X key events from xdotool.
+//! The Viewer under Xvfb: it opens, draws, takes a screenshot and answers the pause, single-step,
+//! shoot and reset keys and a mouse drag, driven by real X input events from xdotool.
 //!
 //! Needs `Xvfb` and `xdotool` (Debian: xvfb, xdotool, libgl1-mesa-dri). Without them the test
 //! says it is skipped, unless `KEA_REQUIRE_DISPLAY_TEST=1` (CI sets it), which makes their
@@ -90,7 +90,7 @@ fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
 }
 
 #[test]
-fn the_viewer_draws_and_answers_pause_step_and_reset_keys() {
+fn the_viewer_draws_and_answers_keys_and_the_mouse() {
     let required = std::env::var("KEA_REQUIRE_DISPLAY_TEST").is_ok_and(|v| v == "1");
     if !(have("Xvfb") && have("xdotool")) {
         assert!(
@@ -167,6 +167,23 @@ fn the_viewer_draws_and_answers_pause_step_and_reset_keys() {
     assert!(
         not_sky > (w * h / 10) as usize,
         "only {not_sky} pixels drawn"
+    );
+
+    // The mouse: a press on the pyramid at the window's centre grabs a box, moving drags it,
+    // letting go releases it.
+    xdotool(&display, &["mousemove", "--window", &window, "320", "240"]);
+    xdotool(&display, &["mousedown", "1"]);
+    expect_line(&lines, "grabbed", long);
+    xdotool(&display, &["mousemove", "--window", &window, "360", "200"]);
+    xdotool(&display, &["mouseup", "1"]);
+    expect_line(&lines, "released", long);
+    // B shoots a ball from the camera: one more body.
+    let bodies_before = 210;
+    xdotool(&display, &["key", "b"]);
+    let shot = expect_line(&lines, "shot", long);
+    assert!(
+        shot.contains(&format!("bodies={}", bodies_before + 1)),
+        "{shot}"
     );
 
     xdotool(&display, &["key", "Return"]);

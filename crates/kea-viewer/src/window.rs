@@ -80,7 +80,10 @@ impl Session {
             Action::Shoot => {
                 let eye = self.camera.eye();
                 self.app.shoot(eye, self.camera.forward());
-                self.say("shot");
+                self.say(&format!(
+                    "shot bodies={}",
+                    self.app.scene.world.body_count()
+                ));
             }
             Action::Contacts => self.toggles.contacts = !self.toggles.contacts,
             Action::Joints => self.toggles.joints = !self.toggles.joints,
@@ -109,10 +112,14 @@ impl Session {
         if is_mouse_button_pressed(MouseButton::Left) {
             let ray = self.mouse_ray();
             self.dragging = self.app.begin_drag(self.camera.eye(), ray);
+            if self.dragging {
+                self.say("grabbed");
+            }
         }
         if is_mouse_button_released(MouseButton::Left) && self.dragging {
             self.app.end_drag();
             self.dragging = false;
+            self.say("released");
         }
         let (dx, dy) = (to_real(f64::from(dx)), to_real(f64::from(dy)));
         let shift = is_key_down(KeyCode::LeftShift) || is_key_down(KeyCode::RightShift);
