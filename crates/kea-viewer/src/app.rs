@@ -21,6 +21,9 @@ pub const SHOT_DENSITY: Real = 2000.0;
 /// Most steps taken for one drawn frame: a slow frame slows the scene down rather than letting
 /// the backlog grow without end.
 pub const MAX_STEPS_PER_FRAME: u32 = 8;
+/// Most time spent stepping for one drawn frame: a scene whose steps cost more than real time
+/// runs in slow motion instead of dragging the frame rate down with it.
+pub const STEP_BUDGET: Duration = Duration::from_millis(30);
 
 /// Fastest the held point follows the mouse, m/s: a far jump of the mouse becomes a quick
 /// pull, not an impulse that flings the body.
@@ -147,15 +150,21 @@ impl App {
         self.accumulator += frame_seconds.clamp(0.0, 0.25);
         let mut steps = 0;
         let dt = to_f64(self.dt);
-        while self.accumulator >= dt && steps < MAX_STEPS_PER_FRAME {
+        let start = Instant::now();
+        let mut behind = false;
+        while self.accumulator >= dt {
+            if steps == MAX_STEPS_PER_FRAME || start.elapsed() > STEP_BUDGET {
+                behind = true;
+                break;
+            }
             self.accumulator -= dt;
             if !self.step_once() {
                 break;
             }
             steps += 1;
         }
-        if steps == MAX_STEPS_PER_FRAME {
-            self.accumulator = self.accumulator.min(dt);
+        if behind {
+            self.accumulator = self.accumulator.min(dt); // drop the backlog: slow motion
         }
         steps
     }

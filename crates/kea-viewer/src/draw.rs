@@ -27,6 +27,8 @@ pub struct Toggles {
     pub islands: bool,
     /// Grey out sleeping bodies.
     pub sleeping: bool,
+    /// Bodies' shadows on the ground plane.
+    pub shadows: bool,
 }
 
 /// A collider's triangles in its own frame, kept between frames.
@@ -75,8 +77,9 @@ impl Painter {
         if toggles.islands {
             self.islands.rebuild(&app.scene.world);
         }
-        let light = Vec3::new(0.4, 1.0, 0.3).normalize();
+        let light = kea_render::light_direction();
         let collision = &app.scene.collision;
+        let ground = toggles.shadows.then(|| ground_plane(app)).flatten();
         // Fewer segments on curved shapes when there are many bodies: a thousand balls at 16
         // segments is half a million triangles a frame.
         let bodies = collision.collider_count().max(1) as Real;
@@ -100,6 +103,11 @@ impl Painter {
             count += mesh.triangles.len();
             for t in &mesh.triangles {
                 let [a, b, c] = t.map(|k| position + rotation * mesh.vertices[k as usize]);
+                if let (Some(plane), Some(_)) = (&ground, def.body) {
+                    if let Some(shadow) = plane.shadow([a, b, c], light) {
+                        push_triangle(&mut self.batch, shadow, plane.shadow_colour);
+                    }
+                }
                 let mut normal = (b - a).cross(c - a).normalize_or_zero();
                 if normal.dot(eye - a) < 0.0 {
                     normal = -normal; // two-sided: light the face the camera sees
@@ -125,6 +133,52 @@ impl Painter {
         };
         BODY_COLOURS[index % BODY_COLOURS.len()]
     }
+}
+
+/// The scene's ground: its first static plane, onto which bodies cast shadows.
+struct Ground {
+    point: Vec3,
+    normal: Vec3,
+    shadow_colour: [u8; 3],
+}
+
+impl Ground {
+    /// A triangle's shadow on the plane along the light, lifted 3 mm so that it draws over
+    /// the ground; none if a corner is below the plane or the light grazes it.
+    fn shadow(&self, tri: [Vec3; 3], light: Vec3) -> Option<[Vec3; 3]> {
+        let facing = light.dot(self.normal);
+        if facing <= 0.05 {
+            return None;
+        }
+        let mut out = [Vec3::ZERO; 3];
+        for (o, p) in out.iter_mut().zip(tri) {
+            let height = (p - self.point).dot(self.normal);
+            if height < 0.0 {
+                return None;
+            }
+            *o = p - light * (height / facing) + self.normal * 0.003;
+        }
+        Some(out)
+    }
+}
+
+fn ground_plane(app: &App) -> Option<Ground> {
+    let (_, def) = app
+        .scene
+        .collision
+        .colliders()
+        .find(|(_, d)| d.body.is_none() && d.shape.kind_name() == "plane")?;
+    let half_space = def.shape.parry_shape().as_halfspace()?;
+    let normal = (def.rotation * Vec3::from(half_space.normal)).normalize_or_zero();
+    // Ground in shadow gets the ambient light and a share of the direct light, as in
+    // `kea render`.
+    let lambert = normal.dot(kea_render::light_direction()).max(0.0);
+    let shade = 0.3 + 0.7 * lambert * 0.3;
+    Some(Ground {
+        point: def.offset,
+        normal,
+        shadow_colour: STATIC_COLOUR.map(|c| (Real::from(c) * shade) as u8),
+    })
 }
 
 fn push_triangle(batch: &mut Option<Mesh>, tri: [Vec3; 3], colour: [u8; 3]) {

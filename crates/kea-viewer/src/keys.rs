@@ -24,6 +24,8 @@ pub enum Action {
     Islands,
     /// Grey out sleeping bodies.
     Sleeping,
+    /// Draw shadows on the ground.
+    Shadows,
     /// Show or hide the statistics overlay.
     Overlay,
     /// Write a screenshot.
@@ -56,6 +58,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding { key: KeyCode::J, label: "J", action: Action::Joints, help: "draw joint frames" },
     Binding { key: KeyCode::I, label: "I", action: Action::Islands, help: "colour by island" },
     Binding { key: KeyCode::Z, label: "Z", action: Action::Sleeping, help: "grey out sleeping bodies" },
+    Binding { key: KeyCode::H, label: "H", action: Action::Shadows, help: "shadows on the ground" },
     Binding { key: KeyCode::O, label: "O", action: Action::Overlay, help: "statistics overlay" },
     Binding { key: KeyCode::P, label: "P", action: Action::Screenshot, help: "screenshot (PNG)" },
     Binding { key: KeyCode::Escape, label: "Esc", action: Action::Quit, help: "quit" },

@@ -89,6 +89,7 @@ impl Session {
             Action::Joints => self.toggles.joints = !self.toggles.joints,
             Action::Islands => self.toggles.islands = !self.toggles.islands,
             Action::Sleeping => self.toggles.sleeping = !self.toggles.sleeping,
+            Action::Shadows => self.toggles.shadows = !self.toggles.shadows,
             Action::Overlay => self.overlay = !self.overlay,
             Action::Screenshot => {} // taken once the frame is drawn
             Action::Quit => self.quit = true,
@@ -228,7 +229,10 @@ async fn run_loop(app: App, options: ViewerOptions) {
         options,
         camera,
         painter: Painter::new(),
-        toggles: Toggles::default(),
+        toggles: Toggles {
+            shadows: true,
+            ..Toggles::default()
+        },
         help: false,
         overlay: true,
         dragging: false,
