@@ -17,6 +17,7 @@
 
 mod plot;
 mod record;
+mod render;
 mod summary;
 
 use clap::{Parser, Subcommand};
@@ -189,7 +190,7 @@ fn main() -> ExitCode {
             height,
             frames,
             every,
-        } => render(&scene, &out, steps, dt, (width, height), (frames, every)),
+        } => render::render(&scene, &out, steps, dt, (width, height), (frames, every)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -214,13 +215,29 @@ fn load_scene(path: Option<&std::path::Path>) -> Result<(String, Scene), String>
 }
 
 /// Loads and builds a scene file (or the embedded default), naming the file in any error.
-fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> {
+pub(crate) fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> {
     let (name, scene) = load_scene(path)?;
     let built = build(&scene).map_err(|e| format!("{name}: {e}"))?;
     Ok((name, built))
 }
 
-fn check_size(width: u32, height: u32) -> Result<(), String> {
+/// Refuses, before any work, an output whose folder does not exist.
+pub(crate) fn check_output_folder(
+    path: Option<&std::path::Path>,
+    flag: &str,
+) -> Result<(), String> {
+    let Some(path) = path else { return Ok(()) };
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => Err(format!(
+            "{flag} {}: the folder {} does not exist",
+            path.display(),
+            folder.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
+pub(crate) fn check_size(width: u32, height: u32) -> Result<(), String> {
     if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
         return Err(format!(
             "--width and --height must be 1 to 8192, got {width}×{height}"
@@ -241,15 +258,18 @@ fn plot_scene(
     if out.extension().and_then(|e| e.to_str()) != Some("png") {
         return Err(format!("--out {}: write a .png", out.display()));
     }
+    check_output_folder(Some(out), "--out")?;
     let (name, mut built) = load(Some(path))?;
     let mut record = plot::Record::new();
-    record.capture(0.0, &built, 0.0);
+    record.capture(0.0, &built, 0.0)?;
     for n in 1..=steps {
         built
             .step(dt)
             .map_err(|e| format!("{name}: step {n}: {e}"))?;
         let joint_error = built.world.joint_error();
-        record.capture(n as Real * dt, &built, joint_error);
+        record
+            .capture(n as Real * dt, &built, joint_error)
+            .map_err(|e| format!("{name}: {e}"))?;
     }
     let labelled = plot::draw(&record, out, size)?;
     println!(
@@ -267,6 +287,7 @@ fn plot_scene(
 }
 
 fn view(path: Option<&std::path::Path>, options: kea_viewer::ViewerOptions) -> Result<(), String> {
+    check_size(options.width, options.height)?;
     let (name, scene) = load_scene(path)?;
     let has_display = ["DISPLAY", "WAYLAND_DISPLAY"]
         .iter()
@@ -280,7 +301,7 @@ fn view(path: Option<&std::path::Path>, options: kea_viewer::ViewerOptions) -> R
     kea_viewer::run(scene, options).map_err(|e| format!("{name}: {e}"))
 }
 
-fn check_run(steps: u32, dt: Real) -> Result<(), String> {
+pub(crate) fn check_run(steps: u32, dt: Real) -> Result<(), String> {
     if steps == 0 {
         return Err("--steps must be at least 1".into());
     }
@@ -300,6 +321,8 @@ fn run(
     json: Option<&std::path::Path>,
 ) -> Result<(), String> {
     check_run(steps, dt)?;
+    check_output_folder(csv, "--csv")?;
+    check_output_folder(json, "--json")?;
     let (name, mut built) = load(path)?;
     let mut recorder = record::Recorder::new(csv.is_some() || json.is_some());
     let mut summary = summary::Summary::new(&built);
@@ -319,13 +342,16 @@ fn run(
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    // Write outputs only once the whole run succeeded.
-    if let Some(p) = csv {
-        std::fs::write(p, recorder.csv()).map_err(|e| format!("{}: {e}", p.display()))?;
+    // Write outputs only once the whole run succeeded, and all of them or none.
+    let (csv_text, json_text) = (csv.map(|_| recorder.csv()), json.map(|_| recorder.json()));
+    let mut files: Vec<(&std::path::Path, &[u8])> = Vec::new();
+    if let (Some(p), Some(t)) = (csv, &csv_text) {
+        files.push((p, t.as_bytes()));
     }
-    if let Some(p) = json {
-        std::fs::write(p, recorder.json()).map_err(|e| format!("{}: {e}", p.display()))?;
+    if let (Some(p), Some(t)) = (json, &json_text) {
+        files.push((p, t.as_bytes()));
     }
+    kea_render::write_files(&files)?;
     summary.print(&name, &built, steps, dt);
     Ok(())
 }
@@ -334,8 +360,10 @@ fn bench(paths: &[PathBuf], steps: u32, dt: Real) -> Result<(), String> {
     check_run(steps, dt)?;
     for path in paths {
         let (name, mut built) = load(Some(path))?;
-        for _ in 0..10 {
-            built.step(dt).map_err(|e| format!("{name}: {e}"))?;
+        for n in 1..=10 {
+            built
+                .step(dt)
+                .map_err(|e| format!("{name}: warm-up step {n}: {e}"))?;
         }
         let mut summary = summary::Summary::new(&built);
         for n in 1..=steps {
@@ -345,69 +373,6 @@ fn bench(paths: &[PathBuf], steps: u32, dt: Real) -> Result<(), String> {
             summary.add(&stats);
         }
         println!("{}", summary.bench_line(&name, &built, steps));
-    }
-    Ok(())
-}
-
-fn render(
-    path: &std::path::Path,
-    out: &std::path::Path,
-    steps: u32,
-    dt: Real,
-    (width, height): (u32, u32),
-    (frames, every): (u32, u32),
-) -> Result<(), String> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(format!(
-            "--dt must be a positive number of seconds, got {dt}"
-        ));
-    }
-    let gif = match out.extension().and_then(|e| e.to_str()) {
-        Some("png") => false,
-        Some("gif") => true,
-        _ => return Err(format!("--out {}: write a .png or a .gif", out.display())),
-    };
-    check_size(width, height)?;
-    if gif && (frames == 0 || every == 0) {
-        return Err("--frames and --every must be at least 1".into());
-    }
-    let (name, mut built) = load(Some(path))?;
-    let step = |built: &mut BuiltScene, n: u32| -> Result<(), String> {
-        for k in 1..=n {
-            built
-                .step(dt)
-                .map_err(|e| format!("{name}: step {k}: {e}"))?;
-        }
-        Ok(())
-    };
-    step(&mut built, steps)?;
-    let camera = kea_render::Camera::framing(&built.world);
-    let draw = |built: &BuiltScene| {
-        kea_render::render(&built.world, &built.collision, &camera, width, height)
-    };
-    if gif {
-        let mut images = Vec::with_capacity(frames as usize);
-        for f in 0..frames {
-            if f > 0 {
-                step(&mut built, every)?;
-            }
-            images.push(draw(&built));
-        }
-        // Play at the simulation's own speed (GIF delays are in hundredths of a second).
-        let delay = (f64::from(every) * kea::math::wide(dt) * 100.0)
-            .round()
-            .clamp(2.0, 65535.0) as u16;
-        kea_render::write_gif(&images, delay, out)?;
-        println!(
-            "wrote {} ({width}×{height}, {frames} frames)",
-            out.display()
-        );
-    } else {
-        draw(&built).write_png(out)?;
-        println!(
-            "wrote {} ({width}×{height}) after {steps} steps",
-            out.display()
-        );
     }
     Ok(())
 }

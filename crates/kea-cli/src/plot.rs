@@ -72,8 +72,14 @@ impl Record {
         }
     }
 
-    /// Records the scene at time `t`, with its largest joint error (`World::joint_error`).
-    pub fn capture(&mut self, t: Real, built: &BuiltScene, joint_error: Real) {
+    /// Records the scene at time `t`, with its largest joint error (`World::joint_error`); a
+    /// value that is not finite (a scene that blew up) is an error naming it.
+    pub fn capture(
+        &mut self,
+        t: Real,
+        built: &BuiltScene,
+        joint_error: Real,
+    ) -> Result<(), String> {
         let (p, l) = momentum(built);
         let kinetic: Real = built.world.bodies().map(|(_, b)| b.kinetic_energy()).sum();
         let values = [
@@ -86,9 +92,13 @@ impl Record {
         ];
         for ((_, series), row) in self.panels.iter_mut().zip(values) {
             for (s, v) in series.iter_mut().zip(row) {
+                if !v.is_finite() {
+                    return Err(format!("{} is {v} at t = {t} s: nothing to plot", s.name));
+                }
                 s.points.push((wide(t), wide(v)));
             }
         }
+        Ok(())
     }
 }
 
@@ -112,7 +122,7 @@ fn range(series: &[Series]) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
-    if !lo.is_finite() {
+    if !(lo.is_finite() && hi.is_finite()) {
         return (0.0, 1.0);
     }
     let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
@@ -125,7 +135,27 @@ const COLOURS: [RGBColor; 2] = [RGBColor(200, 60, 40), RGBColor(40, 90, 200)];
 pub fn draw(record: &Record, out: &Path, (width, height): (u32, u32)) -> Result<bool, String> {
     let labelled = load_font();
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", out.display());
-    let root = BitMapBackend::new(out, (width, height)).into_drawing_area();
+    // Drawn in memory, then written whole (or not at all) by `write_png`.
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    let labelled = draw_into(record, &mut rgb, (width, height), labelled, &err)?;
+    let pixels = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    kea_render::Image {
+        width,
+        height,
+        pixels,
+    }
+    .write_png(out)?;
+    Ok(labelled)
+}
+
+fn draw_into(
+    record: &Record,
+    rgb: &mut [u8],
+    (width, height): (u32, u32),
+    labelled: bool,
+    err: &dyn Fn(&dyn std::fmt::Display) -> String,
+) -> Result<bool, String> {
+    let root = BitMapBackend::with_buffer(rgb, (width, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let panels = root.split_evenly((record.panels.len(), 1));
     let t_end = record.panels[0].1[0]

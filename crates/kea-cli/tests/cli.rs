@@ -217,3 +217,56 @@ fn plot_draws_energy_momentum_and_error_curves() {
     assert!(!bad.exists(), "nothing written on error");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn outputs_are_written_all_or_none() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-outputs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("drop.csv");
+    let missing = dir.join("no-such-folder").join("drop.json");
+    let (code, _, err) = kea(&[
+        "run",
+        &scene("drop.json"),
+        "--steps",
+        "5",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--json",
+        missing.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("--json") && err.contains("does not exist"),
+        "{err}"
+    );
+    assert!(
+        !csv.exists(),
+        "the CSV must not be written when the JSON cannot be"
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+    // A scene whose energy overflows has nothing to plot: an error, no file.
+    let blowup = dir.join("blowup.json");
+    std::fs::write(
+        &blowup,
+        r#"{"version": 1, "world": {"gravity": [0, -1e30, 0]},
+            "bodies": [{"name": "b", "mass": 1, "position": [0, 0, 0]}]}"#,
+    )
+    .unwrap();
+    let png = dir.join("blowup.png");
+    let (code, _, err) = kea(&[
+        "plot",
+        blowup.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--steps",
+        "5",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("nothing to plot") || err.contains("gravity"),
+        "{err}"
+    );
+    assert!(!png.exists());
+    std::fs::remove_dir_all(dir).ok();
+}

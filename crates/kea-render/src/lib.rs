@@ -79,21 +79,129 @@ pub const BODY_COLOURS: [[u8; 3]; 6] = [
 ];
 
 impl Image {
-    /// The pixel at column `x`, row `y` (row 0 at the top).
+    /// The pixel at column `x`, row `y` (row 0 at the top); panics outside the image.
     #[must_use]
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 3] {
-        self.pixels[(y * self.width + x) as usize]
+        self.pixels[y as usize * self.width as usize + x as usize]
     }
 
-    /// Writes the image as an 8-bit RGB PNG.
-    pub fn write_png(&self, path: &std::path::Path) -> Result<(), String> {
-        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+    /// Checks that the pixel count matches the size (the fields are public).
+    fn check(&self) -> Result<(), String> {
+        if self.pixels.len() as u64 != u64::from(self.width) * u64::from(self.height) {
+            return Err(format!(
+                "an image of {}×{} needs {} pixels, it has {}",
+                self.width,
+                self.height,
+                u64::from(self.width) * u64::from(self.height),
+                self.pixels.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// The image as an 8-bit RGB PNG file's bytes.
+    pub fn png_bytes(&self) -> Result<Vec<u8>, String> {
+        self.check()?;
+        let mut out = Vec::new();
+        let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
         let bytes: Vec<u8> = self.pixels.iter().flatten().copied().collect();
-        writer.write_image_data(&bytes).map_err(|e| e.to_string())
+        writer.write_image_data(&bytes).map_err(|e| e.to_string())?;
+        writer.finish().map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+
+    /// Writes the image as an 8-bit RGB PNG (whole or not at all: see [`write_file`]).
+    pub fn write_png(&self, path: &std::path::Path) -> Result<(), String> {
+        write_file(path, &self.png_bytes()?)
+    }
+}
+
+/// Writes `bytes` to `path` whole or not at all (see [`write_files`]).
+pub fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    write_files(&[(path, bytes)])
+}
+
+/// Writes several files all or none: each into a temporary file beside it, and only once every
+/// one is complete are they renamed over their paths, so a failure (a full disk, a missing
+/// folder) leaves no partial or half-set output. Errors name the path.
+pub fn write_files(files: &[(&std::path::Path, &[u8])]) -> Result<(), String> {
+    let mut written: Vec<std::path::PathBuf> = Vec::with_capacity(files.len());
+    let clean = |written: &[std::path::PathBuf]| {
+        for t in written {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (path, bytes) in files {
+        let Some(name) = path.file_name() else {
+            clean(&written);
+            return Err(format!("{}: not a file name", path.display()));
+        };
+        let mut temporary = name.to_os_string();
+        temporary.push(".kea-partial");
+        let temporary = path.with_file_name(temporary);
+        if let Err(e) = std::fs::write(&temporary, bytes) {
+            let _ = std::fs::remove_file(&temporary);
+            clean(&written);
+            return Err(format!("{}: {e}", path.display()));
+        }
+        written.push(temporary);
+    }
+    for ((path, _), temporary) in files.iter().zip(&written) {
+        if let Err(e) = std::fs::rename(temporary, path) {
+            clean(&written);
+            return Err(format!("{}: {e}", path.display()));
+        }
+    }
+    Ok(())
+}
+
+/// An animated GIF built frame by frame in memory (compressed, so one frame's pixels at a
+/// time), each frame quantised to 256 colours, looping forever.
+pub struct GifWriter {
+    encoder: gif::Encoder<Vec<u8>>,
+    size: (u32, u32),
+    delay_cs: u16,
+}
+
+impl GifWriter {
+    /// A GIF of `width` × `height` frames shown `delay_cs` hundredths of a second each.
+    pub fn new(width: u32, height: u32, delay_cs: u16) -> Result<Self, String> {
+        let gw = u16::try_from(width).map_err(|_| format!("GIF width {width} is over 65535"))?;
+        let gh = u16::try_from(height).map_err(|_| format!("GIF height {height} is over 65535"))?;
+        let mut encoder = gif::Encoder::new(Vec::new(), gw, gh, &[]).map_err(|e| e.to_string())?;
+        encoder
+            .set_repeat(gif::Repeat::Infinite)
+            .map_err(|e| e.to_string())?;
+        Ok(Self {
+            encoder,
+            size: (width, height),
+            delay_cs,
+        })
+    }
+
+    /// Adds a frame, which must have the GIF's size.
+    pub fn push(&mut self, image: &Image) -> Result<(), String> {
+        image.check()?;
+        if (image.width, image.height) != self.size {
+            return Err(format!(
+                "a {}×{} frame in a {}×{} GIF",
+                image.width, image.height, self.size.0, self.size.1
+            ));
+        }
+        let rgb: Vec<u8> = image.pixels.iter().flatten().copied().collect();
+        // The size fits u16: `new` checked it.
+        let (w, h) = (self.size.0 as u16, self.size.1 as u16);
+        let mut frame = gif::Frame::from_rgb_speed(w, h, &rgb, 10);
+        frame.delay = self.delay_cs;
+        self.encoder.write_frame(&frame).map_err(|e| e.to_string())
+    }
+
+    /// The finished file's bytes.
+    pub fn finish(self) -> Result<Vec<u8>, String> {
+        self.encoder.into_inner().map_err(|e| e.to_string())
     }
 }
 
@@ -101,27 +209,11 @@ impl Image {
 /// hundredths of a second apart, looping forever. All frames must have the size of the first.
 pub fn write_gif(frames: &[Image], delay_cs: u16, path: &std::path::Path) -> Result<(), String> {
     let first = frames.first().ok_or("no frames to write")?;
-    let (w, h) = (first.width, first.height);
-    let (gw, gh) = (
-        u16::try_from(w).map_err(|_| "GIF width over 65535")?,
-        u16::try_from(h).map_err(|_| "GIF height over 65535")?,
-    );
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut encoder =
-        gif::Encoder::new(std::io::BufWriter::new(file), gw, gh, &[]).map_err(|e| e.to_string())?;
-    encoder
-        .set_repeat(gif::Repeat::Infinite)
-        .map_err(|e| e.to_string())?;
+    let mut gif = GifWriter::new(first.width, first.height, delay_cs)?;
     for image in frames {
-        if (image.width, image.height) != (w, h) {
-            return Err("every GIF frame must have the same size".into());
-        }
-        let rgb: Vec<u8> = image.pixels.iter().flatten().copied().collect();
-        let mut frame = gif::Frame::from_rgb_speed(gw, gh, &rgb, 10);
-        frame.delay = delay_cs;
-        encoder.write_frame(&frame).map_err(|e| e.to_string())?;
+        gif.push(image)?;
     }
-    Ok(())
+    write_file(path, &gif.finish()?)
 }
 
 /// The direction towards the light (unit): high, from the right and the front.
@@ -141,12 +233,13 @@ pub fn render(
     height: u32,
 ) -> Image {
     let (w, h) = (width.max(1), height.max(1));
+    let count = w as usize * h as usize;
     let mut image = Image {
         width: w,
         height: h,
-        pixels: vec![SKY; (w * h) as usize],
+        pixels: vec![SKY; count],
     };
-    let mut depth = vec![Real::INFINITY; (w * h) as usize];
+    let mut depth = vec![Real::INFINITY; count];
     let projector = Projector::new(camera, w, h);
     let light = light_direction();
     let triangles = world_triangles(world, collision);

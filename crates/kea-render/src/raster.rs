@@ -112,7 +112,7 @@ pub fn draw_triangle(
             // Distance is affine in 1/z across the screen (perspective-correct depth).
             let (q0, q1, q2) = (w0 / p0.z, w1 / p1.z, w2 / p2.z);
             let z = 1.0 / (q0 + q1 + q2);
-            let i = (y * image.width + x) as usize;
+            let i = y as usize * image.width as usize + x as usize;
             if z < depth[i] {
                 depth[i] = z;
                 image.pixels[i] = match shadow {

@@ -13,6 +13,7 @@ use kea::{
     IterativeParams, Mat3, Quat, Real, Routing, SolverMode, StepStats, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, MassProperties, Shape, Surface};
+use std::collections::HashMap;
 
 /// A built scene: the world, its collision layer, and the bodies and joints by name.
 pub struct BuiltScene {
@@ -28,13 +29,19 @@ pub struct BuiltScene {
     pub joints: Vec<(String, ConstraintHandle)>,
     /// Fixed-path joints with keyframed paths, driven before each step.
     pub(crate) paths: Vec<PathDriver>,
+    /// Index into `bodies` by name (names are looked up for every joint and checked for
+    /// every body: a linear scan would make big scenes quadratic).
+    pub(crate) body_index: HashMap<String, usize>,
+    /// Index into `joints` by name.
+    pub(crate) joint_index: HashMap<String, usize>,
     /// Scene time, s: the sum of the steps taken.
     pub(crate) time: Real,
 }
 
 impl BuiltScene {
-    /// Steps the scene by `dt`: moves keyframed paths to where they are at the end of the step,
-    /// then contacts from geometry, then the world's step.
+    /// Steps the scene by `dt`: sets each keyframed path to its position now with the velocity
+    /// that reaches its position at the end of the step, then contacts from geometry, then the
+    /// world's step.
     pub fn step(&mut self, dt: Real) -> Result<StepStats, kea_collision::CollisionError> {
         for p in &self.paths {
             let (position, velocity) = p.sample(self.time, dt);
@@ -54,21 +61,34 @@ impl BuiltScene {
     /// The body of that name.
     #[must_use]
     pub fn body(&self, name: &str) -> Option<BodyHandle> {
-        self.bodies.iter().find(|(n, _)| n == name).map(|(_, h)| *h)
+        self.body_index.get(name).map(|&i| self.bodies[i].1)
     }
 
     /// The joint of that name.
     #[must_use]
     pub fn joint(&self, name: &str) -> Option<ConstraintHandle> {
-        self.joints.iter().find(|(n, _)| n == name).map(|(_, h)| *h)
+        self.joint_index.get(name).map(|&i| self.joints[i].1)
     }
 }
 
 /// Most bodies a scene may have, groups expanded (a typo in a group's counts must not try to
 /// allocate the whole memory).
-const MAX_BODIES: usize = 1 << 20;
+pub const MAX_BODIES: usize = 1 << 20;
+/// Most constraints a scene's world may hold: the world reserves rows for all of them up front
+/// (about 1 KB each), so this bounds what a scene file can make it allocate to about 0.5 GB.
+pub const MAX_CONSTRAINTS: usize = 1 << 19;
 /// Most island rows to reserve exact-solver memory for (its memory grows as rows²).
 const MAX_ISLAND_ROWS: usize = 4096;
+
+/// How many bodies `scene` makes, groups expanded (saturating; [`build`] refuses more than
+/// [`MAX_BODIES`]).
+#[must_use]
+pub fn body_count(scene: &Scene) -> usize {
+    scene
+        .groups
+        .iter()
+        .fold(scene.bodies.len(), |n, g| n.saturating_add(group_size(g)))
+}
 
 /// Builds `scene` into a new world.
 pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
@@ -90,6 +110,8 @@ pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
         bodies: Vec::new(),
         joints: Vec::new(),
         paths: Vec::new(),
+        body_index: HashMap::new(),
+        joint_index: HashMap::new(),
         time: 0.0,
     };
     let materials = add_materials(&mut built.collision, scene)?;
@@ -123,11 +145,11 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
     let max_constraints = if w.max_constraints > 0 {
         w.max_constraints
     } else {
-        body_count.saturating_mul(16).max(256)
+        body_count.saturating_mul(16).clamp(256, MAX_CONSTRAINTS)
     };
     for (field, value, most) in [
         ("max_bodies", w.max_bodies, MAX_BODIES),
-        ("max_constraints", w.max_constraints, 16 * MAX_BODIES),
+        ("max_constraints", w.max_constraints, MAX_CONSTRAINTS),
         (
             "max_island_rows",
             w.max_island_rows.unwrap_or(0),
@@ -407,6 +429,9 @@ pub(crate) fn add_body(
             .add_collider(&built.world, def)
             .map_err(|e| SceneError::at(shape_place, e))?;
     }
+    built
+        .body_index
+        .insert(spec.name.clone(), built.bodies.len());
     built.bodies.push((spec.name.clone(), h));
     Ok(())
 }

@@ -85,7 +85,7 @@ pub enum JointKind {
         /// Also hold the bodies' relative orientation.
         #[serde(default, skip_serializing_if = "is_false")]
         fixed_orientation: bool,
-        /// Keyframes `[t, x, y, z]` (s, then the point in body 2's frame or the world's),
+        /// Keyframes `[t, x, y, z]` (s, then the world position of the anchor point),
         /// t increasing, linearly interpolated and held before the first and after the last.
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         path: Vec<[Real; 4]>,

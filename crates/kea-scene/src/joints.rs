@@ -102,6 +102,7 @@ pub(crate) fn name_joint(
             format!("a joint named \"{name}\" already exists"),
         ));
     }
+    built.joint_index.insert(name.clone(), built.joints.len());
     built.joints.push((name, h));
     Ok(())
 }

@@ -22,7 +22,7 @@ mod groups;
 mod joint_format;
 mod joints;
 
-pub use build::{build, BuiltScene};
+pub use build::{body_count, build, BuiltScene, MAX_BODIES, MAX_CONSTRAINTS};
 pub use error::SceneError;
 pub use format::{
     BodySpec, ColliderSpec, InertiaSpec, IterativeSpec, MaterialPairSpec, MaterialSpec,

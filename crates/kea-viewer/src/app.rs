@@ -114,6 +114,7 @@ impl App {
         match build_with_room(&self.spec) {
             Ok(scene) => {
                 self.scene = scene;
+                self.previous.clear();
                 self.drag = None;
                 self.accumulator = 0.0;
                 self.message = None;
@@ -340,13 +341,20 @@ fn hold_damping(world: &mut kea::World, body: BodyHandle) -> (Real, Real) {
 }
 
 /// Builds `spec`; when its world sizes itself (`max_bodies` 0), leaves room for
-/// [`SHOT_ROOM`] more bodies.
+/// [`SHOT_ROOM`] more bodies and their contacts (as far as the scene limits allow).
 fn build_with_room(spec: &Scene) -> Result<BuiltScene, String> {
     if spec.world.max_bodies != 0 {
         return build(spec).map_err(|e| e.to_string());
     }
-    let needed = build(spec).map_err(|e| e.to_string())?.bodies.len();
+    let needed = kea_scene::body_count(spec);
     let mut roomy = spec.clone();
-    roomy.world.max_bodies = needed + SHOT_ROOM;
+    roomy.world.max_bodies = (needed + SHOT_ROOM).min(kea_scene::MAX_BODIES.max(needed));
+    if roomy.world.max_constraints == 0 {
+        roomy.world.max_constraints = roomy
+            .world
+            .max_bodies
+            .saturating_mul(16)
+            .clamp(256, kea_scene::MAX_CONSTRAINTS);
+    }
     build(&roomy).map_err(|e| e.to_string())
 }

@@ -189,11 +189,16 @@ impl Session {
         }
     }
 
-    fn screenshot(&self) {
+    fn screenshot(&mut self) {
         let path = &self.options.screenshot;
         match write_screenshot(path) {
             Ok(()) => self.say(&format!("screenshot {}", path.display())),
-            Err(e) => self.say(&format!("screenshot failed: {e}")),
+            Err(e) => {
+                let message = format!("screenshot failed: {e}");
+                eprintln!("kea view: {message}");
+                self.say(&message);
+                self.app.message = Some(message);
+            }
         }
     }
 }

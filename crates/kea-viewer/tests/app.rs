@@ -163,13 +163,22 @@ fn the_throttle_drives_the_car_forwards_and_the_steering_turns_it_left() {
     // Turning left (seen from above, +y up): the heading swings from +x towards −z.
     let (_, turned) = chassis_pose(&app);
     assert!(turned.z < -0.2, "heading after steering left: {turned}");
-    for _ in 0..120 {
+    // Reverse: the car slows, stops and backs away along its heading.
+    let (before, heading) = chassis_pose(&app);
+    for _ in 0..240 {
         app.drive(-1.0, 0.0);
         app.step_once();
     }
-    let car_wheel = app.scene.world.car_wheel(app.wheels()[0]).unwrap();
+    let (after, _) = chassis_pose(&app);
+    let chassis = app.scene.body("chassis").unwrap();
+    let v = app.scene.world.body(chassis).unwrap().linear_velocity();
     assert!(
-        car_wheel.spin_rate().abs() > 1.0,
-        "reverse spins the wheels"
+        v.dot(heading) < -1.0,
+        "backing up: velocity {v} along heading {heading}"
+    );
+    assert!(
+        (after - before).length() > 0.1,
+        "it moved: {}",
+        after - before
     );
 }

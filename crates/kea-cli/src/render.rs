@@ -1,0 +1,81 @@
+//! `kea render`: the scene's frame as a PNG, or an animation as a GIF, drawn on the CPU.
+
+use crate::{check_output_folder, check_size, load};
+use kea::Real;
+use kea_scene::BuiltScene;
+use std::path::Path;
+
+/// Most GIF frames one command draws.
+pub const MAX_FRAMES: u32 = 100_000;
+
+/// Steps `steps`, then writes the frame (PNG) or `frames` frames `every` steps apart (GIF).
+pub fn render(
+    path: &Path,
+    out: &Path,
+    steps: u32,
+    dt: Real,
+    (width, height): (u32, u32),
+    (frames, every): (u32, u32),
+) -> Result<(), String> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(format!(
+            "--dt must be a positive number of seconds, got {dt}"
+        ));
+    }
+    let gif = match out.extension().and_then(|e| e.to_str()) {
+        Some("png") => false,
+        Some("gif") => true,
+        _ => return Err(format!("--out {}: write a .png or a .gif", out.display())),
+    };
+    check_size(width, height)?;
+    check_output_folder(Some(out), "--out")?;
+    if gif {
+        if !(1..=MAX_FRAMES).contains(&frames) {
+            return Err(format!("--frames must be 1 to {MAX_FRAMES}, got {frames}"));
+        }
+        if every == 0 {
+            return Err("--every must be at least 1, got 0".into());
+        }
+    }
+    let (name, mut built) = load(Some(path))?;
+    let mut taken = 0u64;
+    let mut step = |built: &mut BuiltScene, n: u32| -> Result<(), String> {
+        for _ in 0..n {
+            taken += 1;
+            built
+                .step(dt)
+                .map_err(|e| format!("{name}: step {taken}: {e}"))?;
+        }
+        Ok(())
+    };
+    step(&mut built, steps)?;
+    let camera = kea_render::Camera::framing(&built.world);
+    let draw = |built: &BuiltScene| {
+        kea_render::render(&built.world, &built.collision, &camera, width, height)
+    };
+    if gif {
+        // Play at the simulation's own speed (GIF delays are in hundredths of a second).
+        let delay = (f64::from(every) * kea::math::wide(dt) * 100.0)
+            .round()
+            .clamp(2.0, 65535.0) as u16;
+        let mut animation = kea_render::GifWriter::new(width, height, delay)?;
+        for f in 0..frames {
+            if f > 0 {
+                step(&mut built, every)?;
+            }
+            animation.push(&draw(&built))?;
+        }
+        kea_render::write_file(out, &animation.finish()?)?;
+        println!(
+            "wrote {} ({width}×{height}, {frames} frames)",
+            out.display()
+        );
+    } else {
+        draw(&built).write_png(out)?;
+        println!(
+            "wrote {} ({width}×{height}) after {steps} steps",
+            out.display()
+        );
+    }
+    Ok(())
+}
