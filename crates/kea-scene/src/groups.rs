@@ -52,6 +52,41 @@ pub(crate) fn add_group(
     index: usize,
     place: &str,
 ) -> Result<(), SceneError> {
+    expand_group(built, g, index, place).map_err(|e| field_of_group(e, g, place))
+}
+
+/// Re-places an error from building a group's bodies on the group's own field: the bodies'
+/// places (`.shapes[0].shape`, `.shapes`) do not exist in the file.
+fn field_of_group(e: SceneError, g: &GroupSpec, place: &str) -> SceneError {
+    let SceneError::Invalid { place: at, message } = e else {
+        return e;
+    };
+    let (kind, shape_field) = match g {
+        GroupSpec::Pyramid { .. } => ("pyramid", "half_extent"),
+        GroupSpec::Grid { .. } => ("grid", "shape"),
+        GroupSpec::Chain { .. } => ("chain", "radius"),
+        GroupSpec::Ragdoll { .. } => ("ragdoll", "scale"),
+    };
+    let field = match at.strip_prefix(place) {
+        Some(".shapes[0].shape") => Some(shape_field),
+        Some(".shapes" | ".mass") => Some("density"),
+        Some(".orientation") => Some("orientation"),
+        Some(".name") => None,
+        _ => return SceneError::Invalid { place: at, message },
+    };
+    let place = match field {
+        Some(f) => format!("{place}.{kind}.{f}"),
+        None => format!("{place}.{kind}"),
+    };
+    SceneError::Invalid { place, message }
+}
+
+fn expand_group(
+    built: &mut BuiltScene,
+    g: &GroupSpec,
+    index: usize,
+    place: &str,
+) -> Result<(), SceneError> {
     let named = |kind: &str, i: usize| format!("{kind}{index}.{i}");
     match *g {
         GroupSpec::Pyramid {

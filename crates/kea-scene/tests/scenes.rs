@@ -312,6 +312,16 @@ const MALFORMED: &[(&str, &str, &[&str])] = &[
         &["static[0].orientation", "unit quaternion"],
     ),
     (
+        "a pyramid of zero-sized cubes",
+        r#"{"version": 1, "groups": [{"pyramid": {"base": 3, "half_extent": 0, "density": 1000, "origin": [0,0,0]}}]}"#,
+        &["groups[0].pyramid.half_extent", "half_extents"],
+    ),
+    (
+        "a grid of negative density",
+        r#"{"version": 1, "groups": [{"grid": {"shape": {"sphere": {"radius": 0.1}}, "counts": [2,2,2], "spacing": [1,1,1], "density": -5, "origin": [0,0,0]}}]}"#,
+        &["groups[0].grid.density", "-5"],
+    ),
+    (
         "zero fast-spin axis",
         r#"{"version": 1, "bodies": [{"name": "a", "mass": 1, "position": [0,0,0], "fast_spin_axis": [0,0,0]}]}"#,
         &["bodies[0].fast_spin_axis"],
