@@ -324,17 +324,17 @@ fn run(
     check_output_folder(csv, "--csv")?;
     check_output_folder(json, "--json")?;
     let (name, mut built) = load(path)?;
-    let mut recorder = record::Recorder::new(csv.is_some() || json.is_some());
+    let mut recorder = record::Recorder::new(csv, json)?;
     let mut summary = summary::Summary::new(&built);
     let bar = (steps >= 1000).then(|| indicatif::ProgressBar::new(u64::from(steps)));
-    recorder.capture(0.0, &built);
+    recorder.capture(0.0, &built)?;
     for n in 1..=steps {
         let stats = built
             .step(dt)
             .map_err(|e| format!("{name}: step {n}: {e}"))?;
         summary.add(&stats);
         summary.measure_joints(&mut built);
-        recorder.capture(n as Real * dt, &built);
+        recorder.capture(n as Real * dt, &built)?;
         if let Some(bar) = &bar {
             bar.inc(1);
         }
@@ -342,16 +342,8 @@ fn run(
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    // Write outputs only once the whole run succeeded, and all of them or none.
-    let (csv_text, json_text) = (csv.map(|_| recorder.csv()), json.map(|_| recorder.json()));
-    let mut files: Vec<(&std::path::Path, &[u8])> = Vec::new();
-    if let (Some(p), Some(t)) = (csv, &csv_text) {
-        files.push((p, t.as_bytes()));
-    }
-    if let (Some(p), Some(t)) = (json, &json_text) {
-        files.push((p, t.as_bytes()));
-    }
-    kea_render::write_files(&files)?;
+    // The outputs become visible only now that the whole run succeeded, all or none.
+    recorder.commit()?;
     summary.print(&name, &built, steps, dt);
     Ok(())
 }

@@ -1,72 +1,142 @@
-//! Trajectories for `--csv` and `--json`: every body's pose and velocity after every step.
+//! Trajectories for `--csv` and `--json`: every body's pose and velocity after every step,
+//! streamed to disk as the run goes (a long run would not fit in memory), into temporary files
+//! that become the outputs only when the whole run has succeeded.
 
 use kea::Real;
 use kea_scene::BuiltScene;
-use std::fmt::Write;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 
-/// One body at one time: t, body index, position, orientation (x, y, z, w), velocity.
-type Sample = (Real, usize, [Real; 3], [Real; 4], [Real; 3]);
-
-/// Collects samples when asked to.
-pub struct Recorder {
-    on: bool,
-    names: Vec<String>,
-    samples: Vec<Sample>,
+/// An output being written: a temporary file beside its path, removed unless committed.
+struct PartialFile {
+    path: PathBuf,
+    temporary: PathBuf,
+    writer: Option<BufWriter<File>>,
 }
 
-impl Recorder {
-    /// A recorder that keeps samples only when `on`.
-    pub fn new(on: bool) -> Self {
-        Self {
-            on,
-            names: Vec::new(),
-            samples: Vec::new(),
+impl PartialFile {
+    fn create(path: &Path, flag: &str) -> Result<Self, String> {
+        let name = path
+            .file_name()
+            .ok_or_else(|| format!("{flag} {}: not a file name", path.display()))?;
+        let mut temporary = name.to_os_string();
+        temporary.push(".kea-partial");
+        let temporary = path.with_file_name(temporary);
+        let file =
+            File::create(&temporary).map_err(|e| format!("{flag} {}: {e}", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            temporary,
+            writer: Some(BufWriter::new(file)),
+        })
+    }
+
+    fn write(&mut self, text: &str) -> Result<(), String> {
+        let path = &self.path;
+        match &mut self.writer {
+            Some(w) => w
+                .write_all(text.as_bytes())
+                .map_err(|e| format!("{}: {e}", path.display())),
+            None => Ok(()),
         }
     }
 
-    /// Records every body at time `t`.
-    pub fn capture(&mut self, t: Real, built: &BuiltScene) {
-        if !self.on {
-            return;
+    /// Flushes and closes the temporary file.
+    fn close(&mut self) -> Result<(), String> {
+        if let Some(w) = self.writer.take() {
+            let file = w
+                .into_inner()
+                .map_err(|e| format!("{}: {}", self.path.display(), e.error()))?;
+            file.sync_all()
+                .map_err(|e| format!("{}: {e}", self.path.display()))?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for PartialFile {
+    fn drop(&mut self) {
+        // Still here: the run failed or was not committed. Leave nothing behind.
+        let _ = std::fs::remove_file(&self.temporary);
+    }
+}
+
+/// Streams samples to the requested outputs.
+pub struct Recorder {
+    names: Vec<String>,
+    csv: Option<PartialFile>,
+    json: Option<PartialFile>,
+    rows: u64,
+}
+
+impl Recorder {
+    /// A recorder writing the outputs asked for; fails, naming the flag, if one cannot be
+    /// created.
+    pub fn new(csv: Option<&Path>, json: Option<&Path>) -> Result<Self, String> {
+        let mut csv = csv.map(|p| PartialFile::create(p, "--csv")).transpose()?;
+        let mut json = json.map(|p| PartialFile::create(p, "--json")).transpose()?;
+        if let Some(f) = &mut csv {
+            f.write("t,body,x,y,z,qx,qy,qz,qw,vx,vy,vz\n")?;
+        }
+        if let Some(f) = &mut json {
+            f.write("[")?;
+        }
+        Ok(Self {
+            names: Vec::new(),
+            csv,
+            json,
+            rows: 0,
+        })
+    }
+
+    /// Records every body at time `t`: one CSV line and one JSON object per body.
+    pub fn capture(&mut self, t: Real, built: &BuiltScene) -> Result<(), String> {
+        if self.csv.is_none() && self.json.is_none() {
+            return Ok(());
         }
         if self.names.is_empty() {
             self.names = built.bodies.iter().map(|(n, _)| n.clone()).collect();
         }
         for (i, (_, h)) in built.bodies.iter().enumerate() {
-            if let Ok(b) = built.world.body(*h) {
-                let (p, q, v) = (b.position(), b.orientation(), b.linear_velocity());
-                self.samples
-                    .push((t, i, p.to_array(), q.to_array(), v.to_array()));
+            let Ok(b) = built.world.body(*h) else {
+                continue;
+            };
+            let (p, q, v) = (b.position(), b.orientation(), b.linear_velocity());
+            let name = &self.names[i];
+            if let Some(f) = &mut self.csv {
+                f.write(&format!(
+                    "{t},{name},{},{},{},{},{},{},{},{},{},{}\n",
+                    p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z
+                ))?;
             }
+            if let Some(f) = &mut self.json {
+                let row = serde_json::json!({
+                    "t": t, "body": name, "position": p.to_array(),
+                    "orientation": q.to_array(), "velocity": v.to_array()
+                });
+                let separator = if self.rows == 0 { "" } else { "," };
+                f.write(&format!("{separator}{row}"))?;
+            }
+            self.rows += 1;
         }
+        Ok(())
     }
 
-    /// `t,body,x,y,z,qx,qy,qz,qw,vx,vy,vz`, one line per body per step.
-    pub fn csv(&self) -> String {
-        let mut out = String::from("t,body,x,y,z,qx,qy,qz,qw,vx,vy,vz\n");
-        for (t, i, p, q, v) in &self.samples {
-            let _ = writeln!(
-                out,
-                "{t},{},{},{},{},{},{},{},{},{},{},{}",
-                self.names[*i], p[0], p[1], p[2], q[0], q[1], q[2], q[3], v[0], v[1], v[2]
-            );
+    /// Finishes the files and puts them in place, all or none.
+    pub fn commit(mut self) -> Result<(), String> {
+        if let Some(f) = &mut self.json {
+            f.write("]\n")?;
         }
-        out
-    }
-
-    /// `[{"t": …, "body": …, "position": […], "orientation": […], "velocity": […]}, …]`.
-    pub fn json(&self) -> String {
-        let rows: Vec<serde_json::Value> = self
-            .samples
-            .iter()
-            .map(|(t, i, p, q, v)| {
-                serde_json::json!({
-                    "t": t, "body": self.names[*i], "position": p, "orientation": q, "velocity": v
-                })
-            })
-            .collect();
-        let mut text = serde_json::to_string(&rows).expect("numbers and strings serialise");
-        text.push('\n');
-        text
+        let mut files: Vec<&mut PartialFile> =
+            self.csv.iter_mut().chain(self.json.iter_mut()).collect();
+        for f in &mut files {
+            f.close()?;
+        }
+        for f in &files {
+            std::fs::rename(&f.temporary, &f.path)
+                .map_err(|e| format!("{}: {e}", f.path.display()))?;
+        }
+        Ok(())
     }
 }
