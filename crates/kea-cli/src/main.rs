@@ -305,6 +305,10 @@ pub(crate) fn check_run(steps: u32, dt: Real) -> Result<(), String> {
     if steps == 0 {
         return Err("--steps must be at least 1".into());
     }
+    check_dt(dt)
+}
+
+pub(crate) fn check_dt(dt: Real) -> Result<(), String> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(format!(
             "--dt must be a positive number of seconds, got {dt}"

@@ -17,12 +17,8 @@ struct PartialFile {
 
 impl PartialFile {
     fn create(path: &Path, flag: &str) -> Result<Self, String> {
-        let name = path
-            .file_name()
+        let temporary = kea_render::partial_path(path)
             .ok_or_else(|| format!("{flag} {}: not a file name", path.display()))?;
-        let mut temporary = name.to_os_string();
-        temporary.push(".kea-partial");
-        let temporary = path.with_file_name(temporary);
         let file =
             File::create(&temporary).map_err(|e| format!("{flag} {}: {e}", path.display()))?;
         Ok(Self {

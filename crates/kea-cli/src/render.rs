@@ -1,6 +1,6 @@
 //! `kea render`: the scene's frame as a PNG, or an animation as a GIF, drawn on the CPU.
 
-use crate::{check_output_folder, check_size, load};
+use crate::{check_dt, check_output_folder, check_size, load};
 use kea::Real;
 use kea_scene::BuiltScene;
 use std::path::Path;
@@ -17,11 +17,7 @@ pub fn render(
     (width, height): (u32, u32),
     (frames, every): (u32, u32),
 ) -> Result<(), String> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(format!(
-            "--dt must be a positive number of seconds, got {dt}"
-        ));
-    }
+    check_dt(dt)?;
     let gif = match out.extension().and_then(|e| e.to_str()) {
         Some("png") => false,
         Some("gif") => true,

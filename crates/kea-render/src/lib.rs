@@ -124,6 +124,15 @@ pub fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
     write_files(&[(path, bytes)])
 }
 
+/// The temporary file beside `path` that an output is written into before it is renamed into
+/// place (`name.kea-partial`); `None` if `path` names no file.
+#[must_use]
+pub fn partial_path(path: &std::path::Path) -> Option<std::path::PathBuf> {
+    let mut name = path.file_name()?.to_os_string();
+    name.push(".kea-partial");
+    Some(path.with_file_name(name))
+}
+
 /// Writes several files all or none: each into a temporary file beside it, and only once every
 /// one is complete are they renamed over their paths, so a failure (a full disk, a missing
 /// folder) leaves no partial or half-set output. Errors name the path.
@@ -135,13 +144,10 @@ pub fn write_files(files: &[(&std::path::Path, &[u8])]) -> Result<(), String> {
         }
     };
     for (path, bytes) in files {
-        let Some(name) = path.file_name() else {
+        let Some(temporary) = partial_path(path) else {
             clean(&written);
             return Err(format!("{}: not a file name", path.display()));
         };
-        let mut temporary = name.to_os_string();
-        temporary.push(".kea-partial");
-        let temporary = path.with_file_name(temporary);
         if let Err(e) = std::fs::write(&temporary, bytes) {
             let _ = std::fs::remove_file(&temporary);
             clean(&written);
