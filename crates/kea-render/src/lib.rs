@@ -9,7 +9,8 @@
 mod raster;
 mod shadow;
 
-use raster::{draw_triangle, Projector, Surface};
+use raster::{draw_triangle, Projector};
+pub use raster::{shade, Surface};
 use shadow::ShadowMap;
 
 use kea::{Real, Vec3, World};

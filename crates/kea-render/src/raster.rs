@@ -61,7 +61,11 @@ impl Projector {
     }
 }
 
-fn shade(surface: Surface, lit: bool) -> [u8; 3] {
+/// The colour of a surface: ambient light plus direct light by Lambert's cosine, the direct
+/// part cut to a share when the surface is in shadow (`lit` false). The Viewer shades with it
+/// too, so both draw the same colours.
+#[must_use]
+pub fn shade(surface: Surface, lit: bool) -> [u8; 3] {
     let direct = if lit { 1.0 } else { SHADOW_LIGHT };
     let s = AMBIENT + (1.0 - AMBIENT) * surface.lambert * direct;
     surface

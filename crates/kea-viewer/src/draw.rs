@@ -7,7 +7,7 @@ use crate::convert::to_mq;
 use crate::islands::Islands;
 use kea::{BodyHandle, Quat, Real, Vec3};
 use kea_collision::ColliderHandle;
-use kea_render::{BODY_COLOURS, STATIC_COLOUR};
+use kea_render::{shade, Surface, BODY_COLOURS, STATIC_COLOUR};
 use macroquad::color::Color;
 use macroquad::math as mq;
 use macroquad::models::{draw_line_3d, draw_mesh, Mesh, Vertex};
@@ -112,8 +112,11 @@ impl Painter {
                 if normal.dot(eye - a) < 0.0 {
                     normal = -normal; // two-sided: light the face the camera sees
                 }
-                let shade = 0.3 + 0.7 * normal.dot(light).max(0.0);
-                let lit = colour.map(|ch| (Real::from(ch) * shade).min(255.0) as u8);
+                let surface = Surface {
+                    colour,
+                    lambert: normal.dot(light).max(0.0),
+                };
+                let lit = shade(surface, true);
                 push_triangle(&mut self.batch, [a, b, c], lit);
             }
         }
@@ -172,12 +175,14 @@ fn ground_plane(app: &App) -> Option<Ground> {
     let normal = (def.rotation * Vec3::from(half_space.normal)).normalize_or_zero();
     // Ground in shadow gets the ambient light and a share of the direct light, as in
     // `kea render`.
-    let lambert = normal.dot(kea_render::light_direction()).max(0.0);
-    let shade = 0.3 + 0.7 * lambert * 0.3;
+    let surface = Surface {
+        colour: STATIC_COLOUR,
+        lambert: normal.dot(kea_render::light_direction()).max(0.0),
+    };
     Some(Ground {
         point: def.offset,
         normal,
-        shadow_colour: STATIC_COLOUR.map(|c| (Real::from(c) * shade) as u8),
+        shadow_colour: shade(surface, false),
     })
 }
 
