@@ -210,7 +210,11 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             iterations: it.iterations,
             relax_iterations: it.relax_iterations,
             max_correction_speed: it.max_correction_speed,
+            ..IterativeParams::default()
         },
+        contact_spring: w.contact_spring.map_or(defaults.contact_spring, |s| {
+            kea::Spring::new(s.hertz, s.damping_ratio)
+        }),
         projection_iterations: w.projection_iterations,
     })
 }

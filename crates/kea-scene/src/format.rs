@@ -79,6 +79,19 @@ pub struct WorldSpec {
     /// Settings of the iterative path (default: kea's).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub iterative: Option<IterativeSpec>,
+    /// Softness of contacts without their own, mass-independent (default: kea's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_spring: Option<SpringSpec>,
+}
+
+/// A mass-independent spring (`kea::Spring`): frequency, Hz, and damping ratio.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// Natural frequency, Hz (> 0).
+    pub hertz: Real,
+    /// Damping ratio (≥ 0).
+    pub damping_ratio: Real,
 }
 
 /// When a body counts as resting (`kea::DemSettings`); an island rests once all its bodies have.
@@ -182,6 +195,7 @@ impl Default for WorldSpec {
             max_island_rows: None,
             routing: None,
             iterative: None,
+            contact_spring: None,
         }
     }
 }

@@ -37,7 +37,7 @@ fn main() -> Result<(), kea::KeaError> {
         gamma: 0.2,
         ..Default::default()
     };
-    let mut solver = Solver::with_capacity(1, 1, 3, 3);
+    let mut solver = Solver::with_capacity(1, 1, 3, 0, 3);
     println!(
         "kea_only: solver workspace {} bytes (memory_required for one 3-row island: {} bytes)",
         solver.memory_used(),
@@ -72,6 +72,7 @@ fn main() -> Result<(), kea::KeaError> {
             &mut bodies,
             &blocks,
             &rows,
+            &mut [],
             &params,
             &mut lambda,
             &mut reactions,

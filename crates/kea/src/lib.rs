@@ -32,16 +32,17 @@ pub mod world;
 
 pub use body::{inertia, Body, BodyDef};
 pub use constraint::{
-    BallJoint, Contact, ContactParams, ContactType, CustomConstraint, FixedJoint, FrictionModel,
-    Hinge, Jacobian, Limit, Linear1, Linear2, Motor, Prismatic, Row, RowBody, RowContext,
-    RowWriter, SingleLimit, Softness, UniversalJoint,
+    BallJoint, Contact, ContactParams, ContactPoint, ContactType, CustomConstraint, FixedJoint,
+    FrictionModel, Hinge, Jacobian, Limit, Linear1, Linear2, Motor, PointForce, Prismatic, Row,
+    RowBody, RowContext, RowWriter, SingleLimit, Softness, Spring, UniversalJoint,
+    MAX_CONTACT_POINTS,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};
 pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
 pub use solver::{
-    IslandReport, IterativeParams, Reaction, Routing, Solver, SolverBody, SolverMode, SolverParams,
-    SolverPath, SolverStats,
+    IslandReport, IterativeParams, Reaction, Routing, SimdLevel, Solver, SolverBody, SolverContact,
+    SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
 pub use world::{DemMode, DemSettings, StepStats, World, WorldDef};
 

@@ -1,178 +1,133 @@
-//! Contacts (the guide's `MdtContact`, `MdtBclContact`, `MdtBclContactParams`).
+//! Contacts (the guide's `MdtContact`, `MdtBclContact`): a unit normal `n` pointing from body 2
+//! towards body 1, shared by one to four points, each with a position and a penetration depth
+//! (a contact manifold). The guide's contact is the one-point case, and the single-point
+//! accessors ([`Contact::new`], [`Contact::position`], [`Contact::set_penetration`]) keep its
+//! API.
 //!
-//! A contact is a point `p`, a unit normal `n` pointing from body 2 towards body 1, and a
-//! penetration depth. It writes up to three rows:
+//! The iterative path solves contacts as contacts (`solver::iterative::contacts`): one
+//! constraint per manifold, a fixed tangent basis, Coulomb friction isotropic in the tangent
+//! plane, warm-started from each point's force of the last step. The exact path solves the rows
+//! they write ([`Contact::write_rows`]), three per point:
 //!
 //! * **normal**: `J₁ = (n, r₁×n)`, `J₂ = (−n, −r₂×n)`, `xi = −penetration`, `λ ∈ [−F_adhesive, ∞)`.
-//!   A negative penetration is a gap (a speculative contact): the row then uses γ = 1, so the
+//!   A negative penetration is a gap (a speculative point): the row then uses γ = 1, so the
 //!   bodies may close exactly the gap in this step and no more, and land without popping.
 //!   When the approach speed exceeds the restitution threshold (and the bodies touch this step),
-//!   the target velocity is `c = e·v_in` and the row is made nearly rigid for that step (ε ≈ 0, no error
-//!   term) so that softness does not eat into the bounce: rebound speed is `e·v_in` to round-off.
+//!   the target velocity is `c = e·v_in` and the row is made nearly rigid for that step (ε ≈ 0,
+//!   no error term) so that softness does not eat into the bounce.
 //! * **friction** along the primary direction `t₁` and (2D) the secondary `t₂ = n × t₁`
 //!   (right-hand rule): `J = (t, r₁×t)`, `(−t, −r₂×t)`, target `c = slide` (conveyor belt
 //!   speed of body 1 relative to body 2), slip factor `s` (sliding speed `s·|F|`), bounds by
 //!   model: box `±F_max`, Coulomb `±μλₙ` (linked to the normal row), infinite `±∞`.
 //!
-//! With no primary direction set, `t₁` follows the predicted tangential sliding velocity (so
-//! friction opposes sliding exactly, without the box model's anisotropy), or a fixed basis when
-//! there is none.
+//! Softness. With no softness of its own ([`ContactParams::softness`]), a contact is the
+//! mass-independent spring of the solver's [`crate::SolverParams::contact_spring`]: a 1 g and a
+//! 10 t box sink alike (see [`Spring`]). Friction rows are [`FRICTION_STIFFNESS_FACTOR`] times
+//! stiffer: just soft enough to regularise redundant points, not enough to creep.
+//!
+//! With no primary direction set, the exact path's `t₁` follows each point's predicted sliding
+//! velocity (so its box-shaped friction bound opposes sliding exactly), or a fixed basis of the
+//! normal when there is none.
 
-use super::{Jacobian, Row, RowContext, RowWriter};
-use crate::error::{check_finite, check_non_negative, check_unit, check_vec3, KeaError, KeaResult};
+pub use super::contact_params::{ContactParams, ContactType, FrictionModel};
+use super::{Jacobian, Row, RowContext, RowWriter, Spring};
+use crate::error::{check_finite, check_unit, check_vec3, KeaError, KeaResult};
 use crate::math::{orthonormal_basis, Real, Vec3};
 
-/// Softness of friction rows relative to the contact's normal softness (see
+/// Most points one contact holds (a box face on a face needs four).
+pub const MAX_CONTACT_POINTS: usize = 4;
+
+/// Softness of friction rows relative to the contact's own raw softness ε (see
 /// [`Contact::write_rows`]).
 pub const FRICTION_SOFTNESS_RATIO: Real = 1.0e-3;
 
-/// Predicted sliding speed, m/s, above which a contact with no primary direction aligns its
-/// friction with the sliding direction. Below it the direction comes from a fixed basis of the
-/// normal, so resting contacts keep the same friction rows from step to step (and their warm
-/// start stays meaningful) instead of following jitter.
+/// How much stiffer (in frequency) a friction row is than its contact's [`Spring`]: about a
+/// thousandth of the softness, as [`FRICTION_SOFTNESS_RATIO`] for raw softness.
+pub const FRICTION_STIFFNESS_FACTOR: Real = 32.0;
+
+/// Predicted sliding speed, m/s, above which a point with no primary direction aligns the exact
+/// path's friction rows with its sliding direction. Below it the direction comes from a fixed
+/// basis of the normal, so resting contacts keep the same friction rows from step to step.
 pub const SLIDING_SPEED: Real = 1.0e-2;
 
 /// Softness of a bounce row (inverse mass units): small enough that the rebound is exact to
 /// ~1e-10 relative for bodies of a gram or more, large enough to keep redundant bounces regular.
 pub const BOUNCE_SOFTNESS: Real = 1.0e-10;
 
-/// Which tangential directions carry friction (the guide's `MdtContactType`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ContactType {
-    /// No friction: the bodies slide freely.
-    Frictionless,
-    /// Friction along the primary direction only.
-    Friction1D,
-    /// Friction along both tangential directions.
-    #[default]
-    Friction2D,
+/// One point of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactPoint {
+    /// World position, between the two surfaces.
+    pub position: Vec3,
+    /// Penetration depth, m: positive when the shapes overlap, negative for a gap (a
+    /// speculative point, which acts only if the gap closes within the step).
+    pub penetration: Real,
+    /// Feature id: when a contact's points are replaced, a new point with the id of an old one
+    /// inherits its force as the solver's warm start (collision code passes the features that
+    /// made the point; any stable numbering works).
+    pub id: u32,
 }
 
-/// How friction is bounded along one direction (the guide's friction models).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum FrictionModel {
-    /// No bound: the surfaces never slide (the guide's default when no model is set).
-    Infinite,
-    /// Constant maximum force, N (the guide's `MdtFrictionModelBox`).
-    Box {
-        /// Maximum friction force along this direction, ≥ 0.
-        max_force: Real,
-    },
-    /// Coulomb: maximum force `μ` times the normal force.
-    Coulomb {
-        /// Friction coefficient, ≥ 0.
-        mu: Real,
-    },
-}
-
-/// The surface parameters of a contact (the guide's `MdtBclContactParams`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactParams {
-    /// Frictionless, 1D or 2D.
-    pub contact_type: ContactType,
-    /// Friction model along the primary and secondary directions.
-    pub friction: [FrictionModel; 2],
-    /// Coefficient of restitution in [0, ∞) (normally ≤ 1; above 1 adds energy, a pinball
-    /// bumper). 0 by default.
-    pub restitution: Real,
-    /// Minimum approach speed (m/s) for a bounce; slower impacts do not bounce. Default 0.1.
-    pub restitution_threshold: Real,
-    /// Contact softness ε (the guide's soft mode); `None` uses the world's ε. Around 1e-4 is
-    /// barely soft; 0.1–1 is visibly springy (units of inverse mass).
-    pub softness: Option<Real>,
-    /// Maximum adhesive (pulling) force, N; 0 for none (the guide's adhesive mode).
-    pub max_adhesive_force: Real,
-    /// Slip factor along the primary and secondary directions, m/s per N (0 = none).
-    pub slip: [Real; 2],
-    /// Surface (conveyor) speed of body 1 relative to body 2 along each direction, m/s.
-    pub slide: [Real; 2],
-}
-
-impl Default for ContactParams {
-    /// 2D Coulomb friction with μ = 0.5, no restitution, world softness, nothing else.
-    fn default() -> Self {
-        Self {
-            contact_type: ContactType::Friction2D,
-            friction: [FrictionModel::Coulomb { mu: 0.5 }; 2],
-            restitution: 0.0,
-            restitution_threshold: 0.1,
-            softness: None,
-            max_adhesive_force: 0.0,
-            slip: [0.0; 2],
-            slide: [0.0; 2],
-        }
-    }
-}
-
-impl ContactParams {
-    /// Checks every field; names the first bad one.
-    pub fn validate(&self) -> KeaResult<()> {
-        for (i, f) in self.friction.iter().enumerate() {
-            let arg = if i == 0 { "friction[0]" } else { "friction[1]" };
-            match *f {
-                FrictionModel::Infinite => {}
-                FrictionModel::Box { max_force } => {
-                    check_non_negative(arg, max_force)?;
-                }
-                FrictionModel::Coulomb { mu } => {
-                    check_non_negative(arg, mu)?;
-                }
-            }
-        }
-        check_non_negative("restitution", self.restitution)?;
-        check_non_negative("restitution_threshold", self.restitution_threshold)?;
-        if let Some(s) = self.softness {
-            check_non_negative("softness", s)?;
-        }
-        check_non_negative("max_adhesive_force", self.max_adhesive_force)?;
-        check_non_negative("slip[0]", self.slip[0])?;
-        check_non_negative("slip[1]", self.slip[1])?;
-        check_finite("slide[0]", self.slide[0])?;
-        check_finite("slide[1]", self.slide[1])?;
-        Ok(())
-    }
-
-    /// Number of rows a contact with these parameters writes.
+impl ContactPoint {
+    /// A point at a world position with a penetration depth and a feature id.
     #[must_use]
-    pub fn row_count(&self) -> usize {
-        match self.contact_type {
-            ContactType::Frictionless => 1,
-            ContactType::Friction1D => 2,
-            ContactType::Friction2D => 3,
+    pub const fn new(position: Vec3, penetration: Real, id: u32) -> Self {
+        Self {
+            position,
+            penetration,
+            id,
         }
     }
 }
 
-/// A contact point between body 1 and body 2 (or the static world). Defaults follow the
-/// guide's reset table: position 0, normal +y, penetration 0, no primary direction.
+/// The force a contact applied at one point in the last step, on body 1 (body 2 gets the
+/// opposite).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PointForce {
+    /// Normal force, N, along the contact normal (negative only for an adhesive contact).
+    pub normal: Real,
+    /// Friction force, N, world frame, in the tangent plane.
+    pub friction: Vec3,
+}
+
+/// A contact between body 1 and body 2 (or the static world): a normal shared by one to four
+/// points (see the module docs). Defaults follow the guide's reset table: one point at the
+/// origin, normal +y, penetration 0, no primary direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
-    position: Vec3,
     normal: Vec3,
-    penetration: Real,
     direction: Option<Vec3>,
     params: ContactParams,
-    /// The primary friction direction used last step, kept so that a persistent contact keeps
-    /// its friction rows (and their warm start) from step to step.
+    count: u8,
+    points: [ContactPoint; MAX_CONTACT_POINTS],
+    /// Each point's mean force over the last step (the read-out).
+    forces: [PointForce; MAX_CONTACT_POINTS],
+    /// Each point's force at the end of the last step (the iterative path's warm start: the
+    /// last substep's, without the restitution pass).
+    warm: [PointForce; MAX_CONTACT_POINTS],
+    /// The primary friction direction of the exact path's rows last step, kept so that a
+    /// persistent contact keeps its friction rows from step to step.
     last_direction: Option<Vec3>,
 }
 
 impl Default for Contact {
     fn default() -> Self {
         Self {
-            position: Vec3::ZERO,
             normal: Vec3::Y,
-            penetration: 0.0,
             direction: None,
             params: ContactParams::default(),
+            count: 1,
+            points: [ContactPoint::default(); MAX_CONTACT_POINTS],
+            forces: [PointForce::default(); MAX_CONTACT_POINTS],
+            warm: [PointForce::default(); MAX_CONTACT_POINTS],
             last_direction: None,
         }
     }
 }
 
 impl Contact {
-    /// A contact at a world point with a unit normal (from body 2 towards body 1) and a
-    /// penetration depth (positive when overlapping).
+    /// A one-point contact at a world point with a unit normal (from body 2 towards body 1)
+    /// and a penetration depth (positive when overlapping).
     pub fn new(position: Vec3, normal: Vec3, penetration: Real) -> KeaResult<Self> {
         let mut c = Self::default();
         c.set_position(position)?;
@@ -180,20 +135,51 @@ impl Contact {
         c.set_penetration(penetration)?;
         Ok(c)
     }
-    /// Contact point, world frame.
+
+    /// A contact of one to [`MAX_CONTACT_POINTS`] points sharing a unit normal (from body 2
+    /// towards body 1).
+    pub fn with_points(normal: Vec3, points: &[ContactPoint]) -> KeaResult<Self> {
+        let mut c = Self::default();
+        c.set_normal(normal)?;
+        c.set_points(points)?;
+        Ok(c)
+    }
+
+    /// The position of the first point, world frame.
     #[must_use]
     pub fn position(&self) -> Vec3 {
-        self.position
+        self.points[0].position
     }
     /// Unit normal, world frame, from body 2 towards body 1.
     #[must_use]
     pub fn normal(&self) -> Vec3 {
         self.normal
     }
-    /// Penetration depth (positive when overlapping).
+    /// The deepest penetration among the points (the first point's for a one-point contact).
     #[must_use]
     pub fn penetration(&self) -> Real {
-        self.penetration
+        self.points()
+            .iter()
+            .map(|p| p.penetration)
+            .fold(Real::NEG_INFINITY, Real::max)
+    }
+    /// The points.
+    #[must_use]
+    pub fn points(&self) -> &[ContactPoint] {
+        &self.points[..self.count as usize]
+    }
+    /// The force at each point in the last step (zero before the first), in point order.
+    #[must_use]
+    pub fn forces(&self) -> &[PointForce] {
+        &self.forces[..self.count as usize]
+    }
+    /// The total force on body 1 in the last step (normal plus friction, every point), N.
+    #[must_use]
+    pub fn total_force(&self) -> Vec3 {
+        self.forces()
+            .iter()
+            .map(|f| self.normal * f.normal + f.friction)
+            .sum()
     }
     /// Primary friction direction, if set.
     #[must_use]
@@ -205,9 +191,9 @@ impl Contact {
     pub fn params(&self) -> &ContactParams {
         &self.params
     }
-    /// Sets the contact point (world frame).
+    /// Sets the position of the first point (world frame).
     pub fn set_position(&mut self, p: Vec3) -> KeaResult<()> {
-        self.position = check_vec3("position", p)?;
+        self.points[0].position = check_vec3("position", p)?;
         Ok(())
     }
     /// Sets the normal (unit; from body 2 towards body 1). If a primary direction is set and
@@ -222,9 +208,38 @@ impl Contact {
         }
         Ok(())
     }
-    /// Sets the penetration depth (finite; negative means a gap).
+    /// Sets the penetration depth of the first point (finite; negative means a gap).
     pub fn set_penetration(&mut self, depth: Real) -> KeaResult<()> {
-        self.penetration = check_finite("penetration", depth)?;
+        self.points[0].penetration = check_finite("penetration", depth)?;
+        Ok(())
+    }
+    /// Replaces the points (one to [`MAX_CONTACT_POINTS`], finite). A new point whose id an
+    /// old point had keeps that point's force as its warm start; the others start from zero.
+    /// On error nothing changes.
+    pub fn set_points(&mut self, points: &[ContactPoint]) -> KeaResult<()> {
+        if points.is_empty() || points.len() > MAX_CONTACT_POINTS {
+            return Err(KeaError::OutOfRange {
+                arg: "points",
+                value: points.len().to_string(),
+                expected: "a contact has 1 to 4 points",
+            });
+        }
+        for p in points {
+            check_vec3("points[].position", p.position)?;
+            check_finite("points[].penetration", p.penetration)?;
+        }
+        let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
+        let mut warm = [PointForce::default(); MAX_CONTACT_POINTS];
+        for (i, p) in points.iter().enumerate() {
+            if let Some(k) = self.points().iter().position(|old| old.id == p.id) {
+                forces[i] = self.forces[k];
+                warm[i] = self.warm[k];
+            }
+        }
+        self.points[..points.len()].copy_from_slice(points);
+        self.count = points.len() as u8;
+        self.forces = forces;
+        self.warm = warm;
         Ok(())
     }
     /// Sets the primary friction direction (unit, perpendicular to the normal within 1e-3), or
@@ -253,23 +268,55 @@ impl Contact {
         Ok(())
     }
 
-    /// Records the primary friction direction used in a step, so that a persistent contact
-    /// keeps the same friction rows (and their warm start) at the next one.
+    /// Records each point's force of a step (solvers call it): the read-out of
+    /// [`Contact::forces`], also used as the next step's warm start.
+    pub fn set_forces(&mut self, forces: &[PointForce]) {
+        let n = forces.len().min(self.count as usize);
+        self.forces[..n].copy_from_slice(&forces[..n]);
+        self.warm[..n].copy_from_slice(&forces[..n]);
+    }
+
+    /// Records one point's mean force over a step and its force at the step's end (the warm
+    /// start of the next step; the two differ by a bounce, for instance).
+    pub fn set_point_force(&mut self, point: usize, mean: PointForce, end: PointForce) {
+        if point < self.count as usize {
+            self.forces[point] = mean;
+            self.warm[point] = end;
+        }
+    }
+
+    /// Each point's force at the end of the last step: the warm start of the next one.
+    #[must_use]
+    pub fn warm_forces(&self) -> &[PointForce] {
+        &self.warm[..self.count as usize]
+    }
+
+    /// Records the primary friction direction the exact path's rows used in a step, so that a
+    /// persistent contact keeps the same friction rows at the next one.
     pub fn remember_direction(&mut self, t1: Vec3) {
         if t1.is_finite() && (t1.length() - 1.0).abs() < 1.0e-3 {
             self.last_direction = Some(t1);
         }
     }
 
-    /// The friction directions `(t₁, t₂)` this contact would use now.
+    /// The fixed tangent basis `(t₁, t₂)` of the iterative path: the primary direction if set,
+    /// else a basis that depends on the normal only (`t₂ = n × t₁`).
     #[must_use]
-    pub fn friction_directions(&self, ctx: &RowContext) -> (Vec3, Vec3) {
+    pub fn tangent_basis(&self) -> (Vec3, Vec3) {
+        let n = self.normal;
+        let t1 = self.direction.unwrap_or_else(|| orthonormal_basis(n).0);
+        (t1, n.cross(t1))
+    }
+
+    /// The exact path's friction directions `(t₁, t₂)` at point `p` (see the module docs).
+    #[must_use]
+    pub fn friction_directions_at(&self, ctx: &RowContext, p: Vec3) -> (Vec3, Vec3) {
         let n = self.normal;
         let t1 = match self.direction {
             Some(d) => d,
             None => {
                 let [b1, b2] = &ctx.bodies;
-                let v = b1.free_velocity_at(self.position) - b2.free_velocity_at(self.position);
+                let v = b1.free_velocity_at(p) - b2.free_velocity_at(p);
                 let vt = v - n * v.dot(n);
                 let speed = vt.length();
                 // A conveyor's slide is along t₁: it needs a direction that does not follow
@@ -290,12 +337,24 @@ impl Contact {
         (t1, n.cross(t1))
     }
 
-    /// Writes the contact's rows: normal first, then friction (see the module docs). The
-    /// primary friction direction is the linear Jacobian of the second row for body 1; the
-    /// world remembers it after a successful step ([`Contact::remember_direction`]).
+    /// The exact path's friction directions at the first point.
+    #[must_use]
+    pub fn friction_directions(&self, ctx: &RowContext) -> (Vec3, Vec3) {
+        self.friction_directions_at(ctx, self.position())
+    }
+
+    /// Writes the contact's rows, point by point: normal first, then friction (see the module
+    /// docs). Each point's primary friction direction is the linear Jacobian of its second row
+    /// for body 1.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+        for p in self.points() {
+            self.write_point_rows(p, ctx, out);
+        }
+    }
+
+    fn write_point_rows(&self, point: &ContactPoint, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
-        let p = self.position;
+        let p = point.position;
         let n = self.normal;
         let r1 = p - b1.position;
         let r2 = p - b2.position;
@@ -306,16 +365,18 @@ impl Contact {
                 Jacobian::new(-d, -r2.cross(d)),
             ]
         };
+        let spring = ctx.contact_spring;
 
         let mut normal = Row::new(jac(n)[0], jac(n)[1])
-            .with_error(-self.penetration)
+            .with_error(-point.penetration)
             .with_bounds(-prm.max_adhesive_force, Real::INFINITY);
-        if let Some(s) = prm.softness {
-            normal.softness = Some(s);
+        match prm.softness {
+            Some(s) => normal.softness = Some(s),
+            None => normal.spring = Some(spring),
         }
-        let gap = -self.penetration;
+        let gap = -point.penetration;
         if gap > 0.0 {
-            // Speculative contact: the bodies may close the whole gap this step, no more.
+            // Speculative point: the bodies may close the whole gap this step, no more.
             // Adhesion still acts across the gap: a held adhesive contact opens slightly
             // under load (softness), and the guide's sticky contacts fail exactly there.
             normal.gamma = Some(1.0);
@@ -329,6 +390,7 @@ impl Contact {
             // Nearly rigid, so the rebound is e·v_in to ~1e-10, yet regular when several
             // bounce rows on one body are redundant (a box landing flat).
             normal.softness = Some(BOUNCE_SOFTNESS);
+            normal.spring = None;
             normal.gamma = Some(0.0);
         }
         let normal_row = out.push(normal);
@@ -341,17 +403,24 @@ impl Contact {
         if directions == 0 {
             return;
         }
-        let (t1, t2) = self.friction_directions(ctx);
-        // A friction row has no position error to recover, so softness would make a resting
-        // body creep at ε·h·F for ever; it gets a thousandth of the normal row's softness, just
-        // enough to regularise redundant contacts.
-        let friction_softness = prm.softness.unwrap_or(ctx.epsilon) * FRICTION_SOFTNESS_RATIO;
+        let (t1, t2) = self.friction_directions_at(ctx, p);
         for (k, t) in [t1, t2].into_iter().enumerate().take(directions) {
             let j = jac(t);
             let mut row = Row::new(j[0], j[1])
                 .with_target_velocity(prm.slide[k])
                 .with_slip(prm.slip[k]);
-            row.softness = Some(friction_softness);
+            // A friction row has no position error to recover, so softness would make a
+            // resting body creep at ε·h·F for ever; it gets about a thousandth of the normal
+            // row's softness, just enough to regularise redundant contacts.
+            match prm.softness {
+                Some(s) => row.softness = Some(s * FRICTION_SOFTNESS_RATIO),
+                None => {
+                    row.spring = Some(Spring::new(
+                        spring.hertz * FRICTION_STIFFNESS_FACTOR,
+                        spring.damping_ratio,
+                    ));
+                }
+            }
             // Friction acts on velocity only: no position error to drive (γ = 0).
             row.gamma = Some(0.0);
             match prm.friction[k] {
@@ -361,5 +430,43 @@ impl Contact {
             }
             out.push(row);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replacing_points_keeps_the_force_of_each_surviving_id() {
+        let pts = [
+            ContactPoint::new(Vec3::ZERO, 0.01, 7),
+            ContactPoint::new(Vec3::X, 0.02, 9),
+        ];
+        let mut c = Contact::with_points(Vec3::Y, &pts).unwrap();
+        c.set_forces(&[
+            PointForce {
+                normal: 3.0,
+                friction: Vec3::X,
+            },
+            PointForce {
+                normal: 5.0,
+                friction: Vec3::Z,
+            },
+        ]);
+        c.set_points(&[
+            ContactPoint::new(Vec3::Z, 0.0, 9),
+            ContactPoint::new(Vec3::Z, 0.0, 4),
+        ])
+        .unwrap();
+        assert_eq!(c.forces()[0].normal, 5.0);
+        assert_eq!(c.forces()[1], PointForce::default());
+        assert_eq!(c.penetration(), 0.0);
+        // Five points, or a NaN, are refused and change nothing.
+        let five = [ContactPoint::default(); 5];
+        assert!(c.set_points(&five).is_err());
+        let bad = [ContactPoint::new(Vec3::NAN, 0.0, 1)];
+        assert!(c.set_points(&bad).is_err());
+        assert_eq!(c.points().len(), 2);
     }
 }

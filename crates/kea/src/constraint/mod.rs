@@ -7,6 +7,7 @@
 pub mod ball;
 pub mod car_wheel;
 pub mod contact;
+mod contact_params;
 pub mod fixed;
 pub mod fixed_path;
 pub mod hinge;
@@ -16,11 +17,15 @@ pub mod linear1;
 pub mod linear2;
 pub mod prismatic;
 pub mod row;
+pub mod softness;
 pub mod universal;
 
 pub use ball::{BallJoint, BallLimits};
 pub use car_wheel::CarWheel;
-pub use contact::{Contact, ContactParams, ContactType, FrictionModel};
+pub use contact::{
+    Contact, ContactParams, ContactPoint, ContactType, FrictionModel, PointForce,
+    MAX_CONTACT_POINTS,
+};
 pub use fixed::FixedJoint;
 pub use fixed_path::FixedPath;
 pub use hinge::Hinge;
@@ -28,7 +33,8 @@ pub use limit::{Limit, Motor, SingleLimit};
 pub use linear1::Linear1;
 pub use linear2::Linear2;
 pub use prismatic::Prismatic;
-pub use row::{FrictionLink, Jacobian, Row, RowWriter, Softness};
+pub use row::{FrictionLink, Jacobian, Row, RowWriter};
+pub use softness::{SoftCoefficients, Softness, Spring};
 pub use universal::UniversalJoint;
 
 use crate::math::{Quat, Real, Vec3};
@@ -111,6 +117,8 @@ pub struct RowContext {
     pub epsilon: Real,
     /// The solver's default relaxation γ.
     pub gamma: Real,
+    /// The default softness of contacts (mass-independent).
+    pub contact_spring: Spring,
 }
 
 /// A user-written constraint (the guide: "You Can Add Your Own Joint Types"): it only has to

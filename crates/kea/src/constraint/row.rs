@@ -16,6 +16,7 @@
 //! of inverse mass. A row with stiffness `k` and damping `d` is obtained with
 //! [`Softness::from_spring`].
 
+use super::softness::{Softness, Spring};
 use crate::math::{Real, Vec3};
 
 /// The Jacobian entries of one row for one body: `J·(v, ω) = linear·v + angular·ω`.
@@ -74,6 +75,9 @@ pub struct Row {
     /// Per-row error reduction γ in [0, 1]; `None` uses the solver's γ. A row with γ = 0 acts
     /// on velocity only (friction, motors): its error is neither corrected nor tracked.
     pub gamma: Option<Real>,
+    /// Mass-independent softness (see [`Spring`]): when set, it replaces `softness` and `gamma`
+    /// with the ε and γ of this spring at the row's own effective mass.
+    pub spring: Option<Spring>,
     /// `c` is a restitution (bounce) velocity. The exact path uses it as the target of its one
     /// solve; the iterative path treats the row as resting during its substeps and applies the
     /// bounce once afterwards, if the row carried impulse.
@@ -95,6 +99,7 @@ impl Row {
             slip: 0.0,
             softness: None,
             gamma: None,
+            spring: None,
             bounce: false,
         }
     }
@@ -134,6 +139,12 @@ impl Row {
     pub fn with_softness(mut self, softness: Softness) -> Self {
         self.softness = Some(softness.epsilon);
         self.gamma = Some(softness.gamma);
+        self
+    }
+    /// Makes this row a mass-independent spring (see [`Spring`]).
+    #[must_use]
+    pub fn with_spring(mut self, spring: Spring) -> Self {
+        self.spring = Some(spring);
         self
     }
     /// Sets the per-row γ.
@@ -186,38 +197,12 @@ impl Row {
                 return Some("gamma");
             }
         }
-        None
-    }
-}
-
-/// A row's softness ε and relaxation γ, usually derived from a physical spring.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Softness {
-    /// Softness ε (inverse mass units).
-    pub epsilon: Real,
-    /// Error reduction γ in [0, 1].
-    pub gamma: Real,
-}
-
-impl Softness {
-    /// The ε and γ that make a row behave as an implicit spring of stiffness `k` (N/m or
-    /// N·m/rad) and damping `d` (N·s/m or N·m·s/rad) at step `h`:
-    /// `γ = h·k / (h·k + d)`, `ε = 1 / (h·(h·k + d))`.
-    ///
-    /// With these, one step of the row reproduces implicit Euler on `m·ẍ = −k·x − d·ẋ`
-    /// exactly for a single body of effective mass `m`, so the spring oscillates at `√(k/m)`
-    /// whatever the step. Returns `None` unless `k ≥ 0`, `d ≥ 0`, `h > 0`, `h·k + d > 0`.
-    #[must_use]
-    pub fn from_spring(k: Real, d: Real, h: Real) -> Option<Self> {
-        let ok = k.is_finite() && d.is_finite() && h.is_finite() && k >= 0.0 && d >= 0.0;
-        let hkd = h * k + d;
-        if !ok || h <= 0.0 || hkd <= 0.0 {
-            return None;
+        if let Some(sp) = self.spring {
+            if sp.validate("spring").is_err() {
+                return Some("spring");
+            }
         }
-        Some(Self {
-            epsilon: 1.0 / (h * hkd),
-            gamma: h * k / hkd,
-        })
+        None
     }
 }
 
@@ -262,21 +247,5 @@ impl<'a> RowWriter<'a> {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spring_mapping_round_trips() {
-        let h = 0.01;
-        let s = Softness::from_spring(1000.0, 10.0, h).unwrap();
-        // k = γ/(ε h²), d = (1 − γ)/(ε h)
-        let k = s.gamma / (s.epsilon * h * h);
-        let d = (1.0 - s.gamma) / (s.epsilon * h);
-        assert!((k - 1000.0).abs() < 1e-2 && (d - 10.0).abs() < 1e-3);
-        assert!(Softness::from_spring(-1.0, 0.0, h).is_none());
     }
 }

@@ -13,9 +13,12 @@
 use super::integrate::BodyScratch;
 use super::lcp::{self, Bound, LcpWorkspace};
 use super::{
-    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats,
+    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams,
+    SolverStats,
 };
-use crate::constraint::Row;
+use crate::constraint::{
+    Contact, PointForce, Row, RowBody, RowContext, RowWriter, MAX_CONTACT_POINTS,
+};
 use crate::math::{to_f64, wide, DVec3, Real};
 
 /// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
@@ -32,6 +35,13 @@ struct IslandRow {
 /// Workspace for island solves; grows to the largest island seen.
 #[derive(Debug, Default)]
 pub(crate) struct ExactWorkspace {
+    /// An island's joint rows and its contacts' rows together, with their blocks, forces and
+    /// reactions (contacts reach the exact path as contacts and are written as rows here).
+    mixed_rows: Vec<Row>,
+    mixed_blocks: Vec<ConstraintBlock>,
+    mixed_order: Vec<u32>,
+    mixed_lambda: Vec<Real>,
+    mixed_reactions: Vec<[Reaction; 2]>,
     rows: Vec<IslandRow>,
     a: Vec<f64>,
     b: Vec<f64>,
@@ -44,6 +54,16 @@ pub(crate) struct ExactWorkspace {
 }
 
 impl ExactWorkspace {
+    /// Reserves room for islands of `island_rows` rows, joints and contacts together.
+    pub(crate) fn reserve_mixed(&mut self, island_rows: usize) {
+        let n = island_rows;
+        reserve(&mut self.mixed_rows, n);
+        reserve(&mut self.mixed_blocks, n);
+        reserve(&mut self.mixed_order, n);
+        reserve(&mut self.mixed_lambda, n);
+        reserve(&mut self.mixed_reactions, n);
+    }
+
     pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
         let n = island_rows;
         reserve(&mut self.rows, n);
@@ -62,7 +82,12 @@ impl ExactWorkspace {
     }
 
     pub(crate) fn bytes(&self) -> usize {
-        self.rows.capacity() * std::mem::size_of::<IslandRow>()
+        self.mixed_rows.capacity() * std::mem::size_of::<Row>()
+            + self.mixed_blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
+            + self.mixed_order.capacity() * 4
+            + self.mixed_lambda.capacity() * std::mem::size_of::<Real>()
+            + self.mixed_reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+            + self.rows.capacity() * std::mem::size_of::<IslandRow>()
             + self.a.capacity() * 8
             + (self.b.capacity()
                 + self.lo.capacity()
@@ -76,7 +101,12 @@ impl ExactWorkspace {
 
     pub(crate) fn bytes_for(largest_island: usize, _rows: usize) -> usize {
         let n = largest_island;
-        n * std::mem::size_of::<IslandRow>()
+        n * (std::mem::size_of::<IslandRow>()
+            + std::mem::size_of::<Row>()
+            + std::mem::size_of::<ConstraintBlock>()
+            + 4
+            + std::mem::size_of::<Real>()
+            + std::mem::size_of::<[Reaction; 2]>())
             + n * n * 8
             + 5 * n * 8
             + n
@@ -126,6 +156,110 @@ impl ExactWorkspace {
             }
         }
         block_reactions(island_blocks, blocks, rows, lambda, reactions);
+    }
+
+    /// Solves an island of joint blocks and contacts: the contacts write their rows (three
+    /// per point) next to a copy of the joints' rows, the whole is solved as one LCP, and the
+    /// forces go back to the joints' λ and reactions and to each contact point.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_island_with_contacts(
+        &mut self,
+        island_blocks: &[u32],
+        island_contacts: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        contacts: &mut [SolverContact],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+        stats: &mut SolverStats,
+    ) {
+        if island_contacts.is_empty() {
+            return self.solve_island(
+                island_blocks,
+                blocks,
+                rows,
+                bodies,
+                scratch,
+                params,
+                lambda,
+                reactions,
+                stats,
+            );
+        }
+        let mut mrows = std::mem::take(&mut self.mixed_rows);
+        let mut mblocks = std::mem::take(&mut self.mixed_blocks);
+        let mut order = std::mem::take(&mut self.mixed_order);
+        let mut mlambda = std::mem::take(&mut self.mixed_lambda);
+        let mut mreactions = std::mem::take(&mut self.mixed_reactions);
+        mrows.clear();
+        mblocks.clear();
+        for &k in island_blocks {
+            let blk = blocks[k as usize];
+            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
+            mblocks.push(ConstraintBlock {
+                first_row: mrows.len() as u32,
+                ..blk
+            });
+            mrows.extend_from_slice(&rows[range]);
+        }
+        for &c in island_contacts {
+            let sc = &contacts[c as usize];
+            let ctx = RowContext {
+                bodies: sc.bodies.map(|b| row_body(b, bodies, scratch)),
+                dt: params.dt,
+                epsilon: params.epsilon,
+                gamma: params.gamma,
+                contact_spring: params.contact_spring,
+            };
+            let first = mrows.len();
+            sc.contact.write_rows(&ctx, &mut RowWriter::new(&mut mrows));
+            mblocks.push(ConstraintBlock {
+                bodies: sc.bodies,
+                first_row: first as u32,
+                row_count: (mrows.len() - first) as u32,
+            });
+        }
+        order.clear();
+        order.extend(0..mblocks.len() as u32);
+        mlambda.clear();
+        mlambda.resize(mrows.len(), 0.0);
+        mreactions.clear();
+        mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
+        self.solve_island(
+            &order,
+            &mblocks,
+            &mrows,
+            bodies,
+            scratch,
+            params,
+            &mut mlambda,
+            &mut mreactions,
+            stats,
+        );
+        for (i, &k) in island_blocks.iter().enumerate() {
+            let blk = &blocks[k as usize];
+            let from = mblocks[i].first_row as usize;
+            let n = blk.row_count as usize;
+            lambda[blk.first_row as usize..blk.first_row as usize + n]
+                .copy_from_slice(&mlambda[from..from + n]);
+            reactions[k as usize] = mreactions[i];
+        }
+        for (i, &c) in island_contacts.iter().enumerate() {
+            let blk = &mblocks[island_blocks.len() + i];
+            let block_rows =
+                &mrows[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
+            let block_lambda =
+                &mlambda[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
+            store_point_forces(&mut contacts[c as usize].contact, block_rows, block_lambda);
+        }
+        self.mixed_rows = mrows;
+        self.mixed_blocks = mblocks;
+        self.mixed_order = order;
+        self.mixed_lambda = mlambda;
+        self.mixed_reactions = mreactions;
     }
 
     fn gather(
@@ -214,8 +348,15 @@ impl ExactWorkspace {
         for i in 0..n {
             let ri = self.rows[i];
             let row = &rows[ri.global as usize];
-            let eps = wide(row.softness.unwrap_or(params.epsilon));
-            let gamma = wide(row.gamma.unwrap_or(params.gamma));
+            // A spring row's ε is relative to its own effective mass: the diagonal just built.
+            let diag = self.a[i * n + i];
+            let (eps, gamma) = match row.spring.and_then(|sp| sp.relative_softness(h as Real)) {
+                Some((relative, g)) => (wide(relative) * diag, wide(row.gamma.unwrap_or(g))),
+                None => (
+                    wide(row.softness.unwrap_or(params.epsilon)),
+                    wide(row.gamma.unwrap_or(params.gamma)),
+                ),
+            };
             self.a[i * n + i] += eps + wide(row.slip) / h;
             let mut jv = 0.0;
             for s in 0..2 {
@@ -263,6 +404,7 @@ impl ExactWorkspace {
                 && r.hi == Real::INFINITY
                 && r.friction.is_none()
                 && r.softness.is_none()
+                && r.spring.is_none()
                 && r.gamma != Some(0.0)
         };
         self.gather(island_blocks, blocks, rows, bodies, scratch, projectable);
@@ -391,5 +533,40 @@ impl ExactWorkspace {
                 params.max_lcp_iterations
             );
         }
+    }
+}
+
+/// The row-writing view of solver body `b` (`None`: the static world).
+pub(crate) fn row_body(b: Option<u32>, bodies: &[SolverBody], scratch: &BodyScratch) -> RowBody {
+    let Some(b) = b else {
+        return RowBody::STATIC;
+    };
+    let body = &bodies[b as usize];
+    RowBody {
+        position: body.position,
+        orientation: body.orientation,
+        linear_velocity: body.linear_velocity,
+        angular_velocity: body.angular_velocity,
+        free_linear_velocity: scratch.free_linear[b as usize],
+        free_angular_velocity: scratch.free_angular[b as usize],
+        dynamic: !body.is_fixed(),
+    }
+}
+
+/// Each point's force from the λ of the rows a contact wrote (normal, then its friction rows),
+/// and the primary direction they used.
+fn store_point_forces(contact: &mut Contact, rows: &[Row], lambda: &[Real]) {
+    let per_point = rows.len() / contact.points().len().max(1);
+    let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
+    for (j, f) in forces.iter_mut().enumerate().take(contact.points().len()) {
+        let base = j * per_point;
+        f.normal = lambda[base];
+        for k in 1..per_point {
+            f.friction += rows[base + k].jacobian[0].linear * lambda[base + k];
+        }
+    }
+    contact.set_forces(&forces[..contact.points().len()]);
+    if per_point >= 2 {
+        contact.remember_direction(rows[1].jacobian[0].linear);
     }
 }

@@ -118,42 +118,86 @@ impl BodyScratch {
     }
 }
 
-/// New orientation and angular velocity after a step `h` at angular velocity `w_step`: a fixed
-/// (kinematic) body just rotates; a body with mass keeps its angular momentum (module docs).
-pub(crate) fn rotate_body(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
-    if b.is_fixed() {
-        (rotate_by_vector(b.orientation, w_step * h), w_step)
-    } else {
-        rotate_free(b, w_step, h)
+/// How a body's orientation advances, decided once per step (the inertia's principal frame is
+/// found then, not at every substep).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Rotation {
+    /// A fixed or kinematic body: it just turns at its angular velocity.
+    Kinematic,
+    /// Isotropic inertia: the exact rotation `exp(h ω)`, ω unchanged (no gyroscopic term).
+    Isotropic,
+    /// General inertia: torque-free motion keeping `L` (module docs), principal frame and
+    /// moments in `f64`.
+    Free { principal: DQuat, moments: DVec3 },
+    /// A fast-spin axis: the spin as its own exact rotation, then the rest.
+    FastSpin,
+}
+
+impl Rotation {
+    /// The rotation rule of body `b`.
+    pub(crate) fn of(b: &SolverBody) -> Self {
+        if b.is_fixed() {
+            return Rotation::Kinematic;
+        }
+        if b.fast_spin_axis.is_some() {
+            return Rotation::FastSpin;
+        }
+        let (p, d) = symmetric_eigen(b.inertia);
+        let d = to_f64(d);
+        let isotropic = (d.x - d.y).abs() <= 1e-6 * d.x && (d.x - d.z).abs() <= 1e-6 * d.x;
+        if isotropic {
+            Rotation::Isotropic
+        } else {
+            Rotation::Free {
+                principal: to_dquat(p),
+                moments: d,
+            }
+        }
     }
+}
+
+/// New orientation and angular velocity of body `b` (for its inertia and fast-spin axis), now
+/// at orientation `q` turning at `w_step`, after `h`: a fixed (kinematic) body just rotates; a
+/// body with mass keeps its angular momentum (module docs).
+pub(crate) fn advance_rotation(
+    b: &SolverBody,
+    rule: Rotation,
+    q: Quat,
+    w_step: Vec3,
+    h: Real,
+) -> (Quat, Vec3) {
+    match rule {
+        Rotation::Kinematic | Rotation::Isotropic => (rotate_by_vector(q, w_step * h), w_step),
+        Rotation::FastSpin | Rotation::Free { .. } => rotate_free(b, rule, q, w_step, h),
+    }
+}
+
+/// New orientation and angular velocity after a step `h` at angular velocity `w_step` (the
+/// body's rule found on the spot: for a body advanced once per step).
+pub(crate) fn rotate_body(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
+    advance_rotation(b, Rotation::of(b), b.orientation, w_step, h)
 }
 
 /// New orientation and angular velocity of a body with mass, keeping `L = I_w ω_step`.
 /// Computed in `f64` whatever `Real` is, so that `f32` bodies keep `|L|` to ~1e-6 over
 /// thousands of steps.
-fn rotate_free(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
+fn rotate_free(b: &SolverBody, rule: Rotation, q: Quat, w_step: Vec3, h: Real) -> (Quat, Vec3) {
     let h = wide(h);
-    let q0 = to_dquat(b.orientation);
+    let q0 = to_dquat(q);
     let w = to_f64(w_step);
     let inertia = to_dmat3(&b.inertia);
     // World angular momentum the step produced.
     let l_world = q0 * (inertia * (q0.inverse() * w));
-    let q1 = match b.fast_spin_axis {
-        Some(axis) => {
+    let q1 = match (rule, b.fast_spin_axis) {
+        (Rotation::Free { principal, moments }, _) => {
+            split_rotation(q0 * principal, l_world, moments, h) * principal.inverse()
+        }
+        (_, Some(axis)) => {
             let a = q0 * to_f64(axis);
             let spin = a * w.dot(a);
             rotate_by_dvector(rotate_by_dvector(q0, spin * h), (w - spin) * h)
         }
-        None => {
-            let (p, d) = symmetric_eigen(b.inertia);
-            let (p, d) = (to_dquat(p), to_f64(d));
-            let isotropic = (d.x - d.y).abs() <= 1e-6 * d.x && (d.x - d.z).abs() <= 1e-6 * d.x;
-            if isotropic {
-                rotate_by_dvector(q0, w * h)
-            } else {
-                split_rotation(q0 * p, l_world, d, h) * p.inverse()
-            }
-        }
+        _ => rotate_by_dvector(q0, w * h),
     }
     .normalize();
     let inv_inertia = to_dmat3(&b.inv_inertia);

@@ -51,11 +51,13 @@ mod iterative;
 pub(crate) mod lcp;
 mod routing;
 mod validate;
+mod wide;
 
 pub use iterative::IterativeParams;
 pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
+pub use wide::SimdLevel;
 
-use crate::constraint::Row;
+use crate::constraint::{Contact, PointForce, Row, Spring, MAX_CONTACT_POINTS};
 use crate::error::{check_non_negative, check_positive, check_vec3, KeaError, KeaResult};
 use crate::math::{from_f64, rotate_by_vector, DVec3, Mat3, Quat, Real, Vec3};
 use std::time::{Duration, Instant};
@@ -152,6 +154,22 @@ pub struct ConstraintBlock {
     pub row_count: u32,
 }
 
+/// A contact as the solver sees it: which bodies (indices into the body slice, `None` for the
+/// static world) and the contact itself (normal, points, parameters, and as warm start each
+/// point's force of the last step). On return the contact holds this step's forces
+/// ([`Contact::forces`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverContact {
+    /// Body 1 and body 2 of the contact; the normal points from body 2 to body 1.
+    pub bodies: [Option<u32>; 2],
+    /// The contact.
+    pub contact: Contact,
+}
+
+/// The default softness of contacts: 240 Hz with a damping ratio of 10 (see [`Spring`]): a
+/// body resting on the ground sinks about 4 µm, and a column of 40 unit boxes about 4 mm.
+pub const DEFAULT_CONTACT_SPRING: Spring = Spring::new(60.0, 10.0);
+
 /// Solver parameters (the guide's `MdtKeaParameters`). Every field is documented with its unit,
 /// normal value and safe range.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -168,6 +186,10 @@ pub struct SolverParams {
     pub gamma: Real,
     /// Gravity, m/s², applied to bodies with mass.
     pub gravity: Vec3,
+    /// Softness of contacts without their own ([`crate::ContactParams::softness`]): a
+    /// mass-independent spring ([`Spring`]), so that a 1 g and a 10 t body rest alike.
+    /// Default [`DEFAULT_CONTACT_SPRING`].
+    pub contact_spring: Spring,
     /// Cap on pivoting iterations per LCP solve. Default 100; reaching it is reported.
     pub max_lcp_iterations: u32,
     /// Cap on Coulomb re-solves per island. Default 16; reaching it is reported.
@@ -188,6 +210,7 @@ impl Default for SolverParams {
             epsilon: 0.01,
             gamma: 0.2,
             gravity: Vec3::ZERO,
+            contact_spring: DEFAULT_CONTACT_SPRING,
             max_lcp_iterations: 100,
             max_friction_passes: 16,
             partition: true,
@@ -211,6 +234,7 @@ impl SolverParams {
             });
         }
         check_vec3("gravity", self.gravity)?;
+        self.contact_spring.validate("contact_spring")?;
         if self.max_lcp_iterations == 0 {
             return Err(KeaError::OutOfRange {
                 arg: "max_lcp_iterations",
@@ -274,8 +298,18 @@ pub struct SolverStats {
     pub exact_rows: u32,
     /// Rows solved by the iterative path.
     pub iterative_rows: u32,
-    /// Gauss-Seidel sweeps of the iterative path (per island, summed).
+    /// Gauss-Seidel sweeps of the iterative path per step (all its islands at once).
     pub iterative_sweeps: u32,
+    /// Contacts solved (both paths; those touching no dynamic body excluded).
+    pub contacts: u32,
+    /// Their points.
+    pub contact_points: u32,
+    /// Colours the contacts were split into.
+    pub colours: u32,
+    /// Contacts that found no colour (solved one by one before the colours).
+    pub overflow_contacts: u32,
+    /// SIMD lanes of the contact solver (8 with AVX2 in `f32`, 4 with SSE2, 1 scalar).
+    pub simd_lanes: u32,
     /// Time finding islands and routing them.
     pub time_islands: Duration,
     /// Time assembling and solving exact islands.
@@ -307,16 +341,18 @@ pub struct Solver {
     iterative: iterative::IterativeWorkspace,
     integ: integrate::BodyScratch,
     reports: Vec<IslandReport>,
+    /// Islands routed to the iterative path this step.
+    iterative_islands: Vec<u32>,
 }
 
 /// Bytes of workspace the solver needs for islands of the given row counts, with `bodies` and
-/// `rows` in total (the guide's `MdtKeaMemoryRequired`).
+/// `rows` in total (the guide's `MdtKeaMemoryRequired`); contacts count as three rows a point.
 #[must_use]
 pub fn memory_required(rows_per_island: &[usize], bodies: usize) -> usize {
     let rows: usize = rows_per_island.iter().sum();
     let largest = rows_per_island.iter().copied().max().unwrap_or(0);
     exact::ExactWorkspace::bytes_for(largest, rows)
-        + iterative::IterativeWorkspace::bytes_for(bodies, rows)
+        + iterative::IterativeWorkspace::bytes_for(bodies, rows, rows / 3)
         + integrate::BodyScratch::bytes_for(bodies)
         + std::mem::size_of::<IslandReport>() * rows_per_island.len()
         + 16 * (bodies + rows)
@@ -330,21 +366,36 @@ impl Solver {
     }
 
     /// A solver with workspace reserved for `bodies` bodies, `blocks` constraints, `rows` rows
-    /// in total and islands of up to `island_rows` rows.
+    /// in total, `contacts` contacts and islands of up to `island_rows` rows.
     #[must_use]
-    pub fn with_capacity(bodies: usize, blocks: usize, rows: usize, island_rows: usize) -> Self {
+    pub fn with_capacity(
+        bodies: usize,
+        blocks: usize,
+        rows: usize,
+        contacts: usize,
+        island_rows: usize,
+    ) -> Self {
         let mut s = Self::default();
-        s.reserve(bodies, blocks, rows, island_rows);
+        s.reserve(bodies, blocks, rows, contacts, island_rows);
         s
     }
 
     /// Reserves workspace (see [`Solver::with_capacity`]).
-    pub fn reserve(&mut self, bodies: usize, blocks: usize, rows: usize, island_rows: usize) {
-        self.islands.reserve(bodies, blocks);
+    pub fn reserve(
+        &mut self,
+        bodies: usize,
+        blocks: usize,
+        rows: usize,
+        contacts: usize,
+        island_rows: usize,
+    ) {
+        self.islands.reserve(bodies, blocks, contacts);
         self.exact.reserve(rows, island_rows);
-        self.iterative.reserve(bodies, rows);
+        self.exact.reserve_mixed(island_rows);
+        self.iterative.reserve(bodies, rows, contacts);
         self.integ.reserve(bodies);
         reserve(&mut self.reports, bodies);
+        reserve(&mut self.iterative_islands, bodies);
     }
 
     /// Bytes of workspace currently held: the high-water mark of what steps have needed (the
@@ -356,6 +407,7 @@ impl Solver {
             + self.iterative.bytes()
             + self.integ.bytes()
             + self.reports.capacity() * std::mem::size_of::<IslandReport>()
+            + self.iterative_islands.capacity() * 4
     }
 
     /// One report per island of the last step: which path solved it, its size and effort.
@@ -364,23 +416,27 @@ impl Solver {
         &self.reports
     }
 
-    /// Advances `bodies` by one step under the constraints (`blocks` over `rows`).
+    /// Advances `bodies` by one step under the constraints (`blocks` over `rows`) and the
+    /// contacts.
     ///
     /// On input `lambda[i]` is a warm-start guess of row i's force for the iterative path (0 when
-    /// unknown; the exact path needs none). On return it is row i's force, and `reactions[k]`
-    /// the force and torque of constraint k on its two bodies. Each body's `last_path` is set
-    /// to the path that solved its island. Everything is checked first: on `Err` nothing
-    /// changed.
+    /// unknown; the exact path needs none), and each contact carries its points' forces of the
+    /// last step. On return `lambda[i]` is row i's force, `reactions[k]` the force and torque of
+    /// constraint k on its two bodies, and each contact holds its points' forces. Each body's
+    /// `last_path` is set to the path that solved its island. Everything is checked first: on
+    /// `Err` nothing changed.
+    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
         bodies: &mut [SolverBody],
         blocks: &[ConstraintBlock],
         rows: &[Row],
+        contacts: &mut [SolverContact],
         params: &SolverParams,
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
     ) -> KeaResult<SolverStats> {
-        validate_inputs(bodies, blocks, rows, params, lambda, reactions)?;
+        validate_inputs(bodies, blocks, rows, contacts, params, lambda, reactions)?;
         let mut stats = SolverStats::default();
         let before = self.memory_used();
 
@@ -390,6 +446,7 @@ impl Solver {
             bodies.len(),
             |i| !bodies[i].is_fixed(),
             blocks,
+            contacts,
             params.partition,
         );
         let t1 = Instant::now();
@@ -398,65 +455,90 @@ impl Solver {
         for r in reactions.iter_mut() {
             *r = [Reaction::default(); 2];
         }
-        // Rows of constraints that touch no dynamic body carry no force.
+        // Constraints that touch no dynamic body carry no force.
         for (k, blk) in blocks.iter().enumerate() {
             if self.islands.block_island[k] == u32::MAX {
                 let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
                 lambda[range].fill(0.0);
             }
         }
+        for (c, sc) in contacts.iter_mut().enumerate() {
+            let n = sc.contact.points().len();
+            if self.islands.contact_island[c] == u32::MAX {
+                sc.contact
+                    .set_forces(&[PointForce::default(); MAX_CONTACT_POINTS][..n]);
+            } else {
+                stats.contacts += 1;
+                stats.contact_points += n as u32;
+            }
+        }
         self.reports.clear();
         reserve(&mut self.reports, self.islands.count());
+        self.iterative_islands.clear();
         for k in 0..self.islands.count() {
-            let path = routing::choose(&params.routing, &self.islands, k, blocks, bodies);
-            let island_blocks = self.islands.blocks(k);
+            let path = routing::choose(&params.routing, &self.islands, k, blocks, contacts, bodies);
+            let island_rows = self.island_rows(k, blocks, contacts);
+            let mut report = IslandReport {
+                path,
+                bodies: self.islands.island_bodies[k],
+                rows: island_rows,
+                iterations: 0,
+                pivots: 0,
+            };
+            if path == SolverPath::Exact {
+                let t = Instant::now();
+                let before = stats;
+                self.exact.solve_island_with_contacts(
+                    self.islands.blocks(k),
+                    self.islands.contacts(k),
+                    blocks,
+                    rows,
+                    contacts,
+                    bodies,
+                    &mut self.integ,
+                    params,
+                    lambda,
+                    reactions,
+                    &mut stats,
+                );
+                stats.exact_islands += 1;
+                stats.exact_rows += stats.rows - before.rows;
+                stats.time_solve_exact += t.elapsed();
+                report.iterations = stats.lcp_iterations - before.lcp_iterations;
+                report.pivots = stats.pivots - before.pivots;
+            } else {
+                self.iterative_islands.push(k as u32);
+            }
+            self.reports.push(report);
+        }
+        if !self.iterative_islands.is_empty() {
             let t = Instant::now();
-            let before = stats;
-            match path {
-                SolverPath::Exact => {
-                    self.exact.solve_island(
-                        island_blocks,
-                        blocks,
-                        rows,
-                        bodies,
-                        &mut self.integ,
-                        params,
-                        lambda,
-                        reactions,
-                        &mut stats,
-                    );
-                    stats.exact_islands += 1;
-                    stats.exact_rows += stats.rows - before.rows;
-                    stats.time_solve_exact += t.elapsed();
-                }
-                _ => {
-                    self.iterative.solve_island(
-                        island_blocks,
-                        blocks,
-                        rows,
-                        bodies,
-                        &mut self.integ,
-                        params,
-                        lambda,
-                        reactions,
-                        &mut stats,
-                    );
-                    stats.iterative_islands += 1;
-                    stats.iterative_rows += stats.rows - before.rows;
-                    stats.time_solve_iterative += t.elapsed();
-                }
+            let done = self.iterative.solve(
+                &self.iterative_islands,
+                &self.islands,
+                blocks,
+                rows,
+                contacts,
+                bodies,
+                &mut self.integ,
+                params,
+                lambda,
+                reactions,
+            );
+            for &k in &self.iterative_islands {
+                let r = &mut self.reports[k as usize];
+                r.iterations = done.sweeps;
+                stats.iterative_rows += r.rows;
+                stats.rows += r.rows;
+                stats.largest_island_rows = stats.largest_island_rows.max(r.rows);
             }
-            {
-                self.reports.push(IslandReport {
-                    path,
-                    bodies: self.islands.island_bodies[k],
-                    rows: stats.rows - before.rows,
-                    iterations: stats.lcp_iterations - before.lcp_iterations
-                        + stats.iterative_sweeps
-                        - before.iterative_sweeps,
-                    pivots: stats.pivots - before.pivots,
-                });
-            }
+            stats.islands += self.iterative_islands.len() as u32;
+            stats.iterative_islands = self.iterative_islands.len() as u32;
+            stats.iterative_sweeps = done.sweeps;
+            stats.colours = done.colours;
+            stats.overflow_contacts = done.overflow;
+            stats.simd_lanes = done.lanes;
+            stats.time_solve_iterative = t.elapsed();
         }
         for (i, b) in bodies.iter_mut().enumerate() {
             let k = self.islands.body_island[i];
@@ -475,6 +557,23 @@ impl Solver {
         stats.time_integrate = t2.elapsed();
         stats.workspace_grew = self.memory_used() > before;
         Ok(stats)
+    }
+
+    /// Rows of island `k`: its constraints' rows and three per contact point.
+    fn island_rows(&self, k: usize, blocks: &[ConstraintBlock], contacts: &[SolverContact]) -> u32 {
+        let joint: u32 = self
+            .islands
+            .blocks(k)
+            .iter()
+            .map(|&b| blocks[b as usize].row_count)
+            .sum();
+        let contact: u32 = self
+            .islands
+            .contacts(k)
+            .iter()
+            .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
+            .sum();
+        joint + contact
     }
 }
 
@@ -506,16 +605,20 @@ impl Solver {
             bodies.len(),
             |i| !bodies[i].is_fixed(),
             blocks,
+            &[],
             params.partition,
         );
         let mut stats = SolverStats::default();
         let mut worst = 0.0f64;
         for k in 0..self.islands.count() {
-            let path = match self.reports.get(k) {
-                Some(r) => r.path,
-                None => routing::choose(&params.routing, &self.islands, k, blocks, bodies),
-            };
-            if path != SolverPath::Exact {
+            // Joints only here: an island is projected if the step solved its bodies exactly.
+            let exact = self
+                .islands
+                .blocks(k)
+                .iter()
+                .flat_map(|&b| blocks[b as usize].bodies.into_iter().flatten())
+                .any(|i| bodies[i as usize].last_path == SolverPath::Exact);
+            if !exact {
                 continue;
             }
             let e = self.exact.project_island(

@@ -1,14 +1,16 @@
 //! Hybrid routing: which path solves each island.
 //!
-//! Small islands go to the exact solver, where pivoting is cheap and its answer is the
-//! reference; big ones to the iterative solver, whose cost grows only linearly. An island that
-//! was iterative last step returns to exact only once it is clearly small again (below the
-//! thresholds times `hysteresis`), so an island near the threshold does not flip every step.
-//! A body can ask for exact solving of its island (vehicles, ragdolls), and the world can force
-//! either path.
+//! By structure first: an island of contacts only (a pile, a box on the floor, balls in a box)
+//! goes to the iterative path, whose contact solver is built for exactly that. An island with
+//! joints goes to the exact solver when small, where pivoting is cheap and its answer is the
+//! reference, and to the iterative solver when big, whose cost grows only linearly. An island
+//! that was iterative last step returns to exact only once it is clearly small again (below
+//! the thresholds times `hysteresis`), so an island near the threshold does not flip every
+//! step. A body can ask for exact solving of its island (vehicles, ragdolls), and the world can
+//! force either path.
 
 use super::island::Islands;
-use super::{ConstraintBlock, SolverBody};
+use super::{ConstraintBlock, SolverBody, SolverContact};
 use crate::error::{KeaError, KeaResult};
 use crate::math::Real;
 
@@ -41,7 +43,8 @@ pub enum SolverMode {
 pub struct Routing {
     /// The mode. Default hybrid.
     pub mode: SolverMode,
-    /// Largest island, in rows, that the hybrid mode sends to the exact path. Default 64.
+    /// Largest island with joints, in rows (three per contact point), that the hybrid mode sends
+    /// to the exact path. Default 64.
     pub max_exact_rows: u32,
     /// Largest island, in bodies, that the hybrid mode sends to the exact path. Default 32.
     pub max_exact_bodies: u32,
@@ -96,6 +99,7 @@ pub(crate) fn choose(
     islands: &Islands,
     k: usize,
     blocks: &[ConstraintBlock],
+    contacts: &[SolverContact],
     bodies: &[SolverBody],
 ) -> SolverPath {
     match routing.mode {
@@ -103,16 +107,32 @@ pub(crate) fn choose(
         SolverMode::Iterative => return SolverPath::Iterative,
         SolverMode::Hybrid => {}
     }
+    let contact_rows: u32 = islands
+        .contacts(k)
+        .iter()
+        .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
+        .sum();
     let rows: u32 = islands
         .blocks(k)
         .iter()
         .map(|&b| blocks[b as usize].row_count)
-        .sum();
+        .sum::<u32>()
+        + contact_rows;
     let n_bodies = islands.island_bodies[k];
     let mut was_iterative = false;
     let mut prefer_exact = false;
-    for &b in islands.blocks(k) {
-        for i in blocks[b as usize].bodies.iter().flatten() {
+    let pairs = islands
+        .blocks(k)
+        .iter()
+        .map(|&b| blocks[b as usize].bodies)
+        .chain(
+            islands
+                .contacts(k)
+                .iter()
+                .map(|&c| contacts[c as usize].bodies),
+        );
+    for pair in pairs {
+        for i in pair.iter().flatten() {
             let body = &bodies[*i as usize];
             if islands.body_island[*i as usize] == k as u32 {
                 was_iterative |= body.last_path == SolverPath::Iterative;
@@ -122,6 +142,10 @@ pub(crate) fn choose(
     }
     if prefer_exact {
         return SolverPath::Exact;
+    }
+    if islands.blocks(k).is_empty() {
+        // Contacts only: the contact solver's work.
+        return SolverPath::Iterative;
     }
     let scale = if was_iterative {
         routing.hysteresis

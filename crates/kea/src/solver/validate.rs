@@ -1,7 +1,7 @@
 //! Checks on the immediate-mode inputs: every array consistent, every number finite, every
 //! body physical. The solver changes nothing before these pass.
 
-use super::{ConstraintBlock, Reaction, SolverBody, SolverParams};
+use super::{ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams};
 use crate::constraint::Row;
 use crate::error::{KeaError, KeaResult};
 use crate::math::{is_finite3, Mat3, Real};
@@ -10,11 +10,29 @@ pub(super) fn validate_inputs(
     bodies: &[SolverBody],
     blocks: &[ConstraintBlock],
     rows: &[Row],
+    contacts: &[SolverContact],
     params: &SolverParams,
     lambda: &[Real],
     reactions: &[[Reaction; 2]],
 ) -> KeaResult<()> {
     params.validate()?;
+    for (i, c) in contacts.iter().enumerate() {
+        let [a, b] = c.bodies;
+        for x in [a, b].into_iter().flatten() {
+            if x as usize >= bodies.len() {
+                return Err(KeaError::Inconsistent {
+                    arg: "contacts",
+                    reason: format!("contact {i} names body {x} of {}", bodies.len()),
+                });
+            }
+        }
+        if a.is_some() && a == b {
+            return Err(KeaError::Inconsistent {
+                arg: "contacts",
+                reason: format!("contact {i} joins body {} to itself", a.unwrap_or(0)),
+            });
+        }
+    }
     let inconsistent = |arg, reason: String| Err(KeaError::Inconsistent { arg, reason });
     if lambda.len() != rows.len() {
         return inconsistent(

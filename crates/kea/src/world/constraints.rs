@@ -239,11 +239,16 @@ impl World {
     }
 
     /// The λ (force) of each of the constraint's rows in the last step (empty before its first
-    /// step or while disabled). For a contact: normal, then primary and secondary friction.
+    /// step or while disabled). For a contact, point by point: the normal force, then the
+    /// friction force along each direction of [`Contact::tangent_basis`].
     pub fn constraint_lambdas(&self, h: ConstraintHandle) -> KeaResult<&[Real]> {
         let entry = self.constraints.get(h)?;
+        let all = match entry.kind {
+            ConstraintKind::Contact(_) => &self.scratch.contact_lambda,
+            _ => &self.scratch.lambda,
+        };
         Ok(match entry.last_rows {
-            Some((first, count)) => &self.scratch.lambda[first as usize..(first + count) as usize],
+            Some((first, count)) => &all[first as usize..(first + count) as usize],
             None => &[],
         })
     }
@@ -275,7 +280,7 @@ impl World {
     }
 
     /// The total force a contact applied to its first body in the last step (normal plus
-    /// friction), N.
+    /// friction, all its points), N.
     pub fn contact_force(&self, h: ConstraintHandle) -> KeaResult<Vec3> {
         self.contact(h)?;
         Ok(self.constraints.get(h)?.reaction[0].force)

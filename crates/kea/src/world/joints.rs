@@ -27,6 +27,7 @@ impl World {
             dt: 1.0,
             epsilon: self.epsilon,
             gamma: self.gamma,
+            contact_spring: self.contact_spring,
         })
     }
 

@@ -15,12 +15,13 @@ pub use sleep::{DemMode, DemSettings};
 pub use step::{StepStats, PROJECTION_TOLERANCE};
 
 use crate::body::{Body, BodyDef};
-use crate::constraint::Row;
+use crate::constraint::{Row, Spring};
 use crate::error::{check_non_negative, check_vec3, KeaError, KeaResult};
 use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::{
     ConstraintBlock, IslandReport, IterativeParams, Reaction, Routing, Solver, SolverBody,
+    SolverContact, DEFAULT_CONTACT_SPRING,
 };
 use constraint_entry::ConstraintEntry;
 
@@ -41,6 +42,9 @@ pub struct WorldDef {
     pub epsilon: Real,
     /// Error reduction γ in [0, 1] (see [`crate::solver::SolverParams::gamma`]). Default 0.2.
     pub gamma: Real,
+    /// Softness of contacts that have none of their own: a mass-independent spring (see
+    /// [`Spring`]). Default 240 Hz, damping ratio 10 ([`DEFAULT_CONTACT_SPRING`]).
+    pub contact_spring: Spring,
     /// Pivoting iteration cap per LCP. Default 100.
     pub max_lcp_iterations: u32,
     /// Coulomb re-solve cap per island. Default 16.
@@ -70,6 +74,7 @@ impl Default for WorldDef {
             gravity: Vec3::new(0.0, -9.81, 0.0),
             epsilon: 0.01,
             gamma: 0.2,
+            contact_spring: DEFAULT_CONTACT_SPRING,
             max_lcp_iterations: 100,
             max_friction_passes: 16,
             dem: DemSettings::default(),
@@ -92,6 +97,14 @@ struct StepScratch {
     blocks: Vec<ConstraintBlock>,
     /// Block index → constraint slot.
     block_constraint: Vec<u32>,
+    /// The enabled contacts of the step, as the solver takes them, and their constraint slots.
+    contacts: Vec<SolverContact>,
+    contact_constraint: Vec<u32>,
+    /// Each contact's per-row forces (normal, friction 1, friction 2 per point), where they
+    /// sit in `contact_lambda`, and its reactions, from the last step.
+    contact_lambda: Vec<Real>,
+    contact_rows: Vec<(u32, u32)>,
+    contact_reactions: Vec<[Reaction; 2]>,
     lambda: Vec<Real>,
     /// The previous step's λ, for warm starting the iterative path.
     prev_lambda: Vec<Real>,
@@ -118,6 +131,7 @@ pub struct World {
     gravity: Vec3,
     epsilon: Real,
     gamma: Real,
+    contact_spring: Spring,
     max_lcp_iterations: u32,
     max_friction_passes: u32,
     dem: DemSettings,
@@ -170,6 +184,7 @@ impl World {
             epsilon: def.epsilon,
             gamma: def.gamma,
             gravity: def.gravity,
+            contact_spring: def.contact_spring,
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
             partition: true,
@@ -191,6 +206,11 @@ impl World {
             rows: Vec::with_capacity(rows),
             blocks: Vec::with_capacity(def.max_constraints),
             block_constraint: Vec::with_capacity(def.max_constraints),
+            contacts: Vec::with_capacity(def.max_constraints),
+            contact_constraint: Vec::with_capacity(def.max_constraints),
+            contact_lambda: Vec::with_capacity(def.max_constraints * 3),
+            contact_rows: Vec::with_capacity(def.max_constraints),
+            contact_reactions: Vec::with_capacity(def.max_constraints),
             lambda: Vec::with_capacity(rows),
             prev_lambda: Vec::with_capacity(rows),
             reactions: Vec::with_capacity(def.max_constraints),
@@ -208,13 +228,20 @@ impl World {
             gravity: def.gravity,
             epsilon: def.epsilon,
             gamma: def.gamma,
+            contact_spring: def.contact_spring,
             max_lcp_iterations: def.max_lcp_iterations,
             max_friction_passes: def.max_friction_passes,
             dem: def.dem,
             routing: def.routing,
             iterative: def.iterative,
             projection_iterations: def.projection_iterations,
-            solver: Solver::with_capacity(def.max_bodies, def.max_constraints, rows, island_rows),
+            solver: Solver::with_capacity(
+                def.max_bodies,
+                def.max_constraints,
+                rows,
+                def.max_constraints,
+                island_rows,
+            ),
             scratch,
             time: 0.0,
             steps: 0,
@@ -269,6 +296,17 @@ impl World {
     /// Sets softness ε (≥ 0).
     pub fn set_epsilon(&mut self, eps: Real) -> KeaResult<()> {
         self.epsilon = check_non_negative("epsilon", eps)?;
+        Ok(())
+    }
+    /// The default softness of contacts (see [`WorldDef::contact_spring`]).
+    #[must_use]
+    pub fn contact_spring(&self) -> Spring {
+        self.contact_spring
+    }
+    /// Sets the default softness of contacts (frequency > 0, damping ratio ≥ 0).
+    pub fn set_contact_spring(&mut self, spring: Spring) -> KeaResult<()> {
+        spring.validate("contact_spring")?;
+        self.contact_spring = spring;
         Ok(())
     }
     /// Error reduction γ.
@@ -365,6 +403,11 @@ impl World {
             + s.rows.capacity() * std::mem::size_of::<Row>()
             + s.blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
             + s.block_constraint.capacity() * 4
+            + s.contacts.capacity() * std::mem::size_of::<SolverContact>()
+            + s.contact_constraint.capacity() * 4
+            + s.contact_lambda.capacity() * std::mem::size_of::<Real>()
+            + s.contact_rows.capacity() * 8
+            + s.contact_reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
             + (s.lambda.capacity() + s.prev_lambda.capacity()) * std::mem::size_of::<Real>()
             + s.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
             + s.sleep_sets.bytes()

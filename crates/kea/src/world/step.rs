@@ -13,7 +13,9 @@ use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
 use crate::math::{wide, Real, Vec3};
-use crate::solver::{ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats};
+use crate::solver::{
+    ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams, SolverStats,
+};
 use std::time::{Duration, Instant};
 
 /// Joint error, m (or rad), below which position projection stops early.
@@ -80,6 +82,7 @@ impl World {
             &mut s.solver_bodies,
             &s.blocks,
             &s.rows,
+            &mut s.contacts,
             &params,
             &mut s.lambda,
             &mut s.reactions,
@@ -120,7 +123,7 @@ impl World {
             bodies: self.scratch.solver_bodies.len() as u32,
             sleeping_bodies,
             constraints,
-            rows: self.scratch.rows.len() as u32,
+            rows: self.scratch.rows.len() as u32 + 3 * solver_stats.contact_points,
             solver: solver_stats,
             time_collect: t1 - t0,
             time_gather: t2 - t1,
@@ -207,6 +210,7 @@ impl World {
             epsilon: self.epsilon,
             gamma: self.gamma,
             gravity: self.gravity,
+            contact_spring: self.contact_spring,
             max_lcp_iterations: self.max_lcp_iterations,
             max_friction_passes: self.max_friction_passes,
             partition: self.dem.mode != super::DemMode::NoPartition,
@@ -248,6 +252,8 @@ impl World {
         worst
     }
 
+    /// Asks every enabled joint for its rows and files every enabled contact for the solver.
+    /// Returns how many constraints take part.
     fn gather_rows(&mut self, params: &SolverParams) -> u32 {
         let mut rows = std::mem::take(&mut self.scratch.rows);
         let mut blocks = std::mem::take(&mut self.scratch.blocks);
@@ -255,6 +261,8 @@ impl World {
         rows.clear();
         blocks.clear();
         block_constraint.clear();
+        self.scratch.contacts.clear();
+        self.scratch.contact_constraint.clear();
         for slot in 0..self.constraints.slot_count() {
             let Some(entry) = self.constraints.at(slot) else {
                 continue;
@@ -263,6 +271,21 @@ impl World {
                 continue;
             }
             let slots = entry.bodies.map(|b| b.map(|h| h.index()));
+            if let ConstraintKind::Contact(c) = &entry.kind {
+                let solver_slot = |s: Option<u32>| {
+                    s.map(|s| self.scratch.slot_to_solver[s as usize])
+                        .filter(|&i| i != u32::MAX)
+                };
+                let bodies = slots.map(solver_slot);
+                if bodies != [None, None] {
+                    self.scratch.contacts.push(SolverContact {
+                        bodies,
+                        contact: *c,
+                    });
+                    self.scratch.contact_constraint.push(slot as u32);
+                }
+                continue;
+            }
             let (rb0, s0) = self.row_body(slots[0], params.dt);
             let (rb1, s1) = self.row_body(slots[1], params.dt);
             if s0.is_none() && s1.is_none() {
@@ -273,6 +296,7 @@ impl World {
                 dt: params.dt,
                 epsilon: params.epsilon,
                 gamma: params.gamma,
+                contact_spring: params.contact_spring,
             };
             let first = rows.len();
             let entry = self.constraints.at(slot).expect("occupied");
@@ -293,7 +317,7 @@ impl World {
                 block_constraint.push(slot as u32);
             }
         }
-        let n = blocks.len() as u32;
+        let n = (blocks.len() + self.scratch.contacts.len()) as u32;
         self.scratch.rows = rows;
         self.scratch.blocks = blocks;
         self.scratch.block_constraint = block_constraint;
@@ -387,6 +411,7 @@ impl World {
                 dt,
                 epsilon: self.epsilon,
                 gamma: self.gamma,
+                contact_spring: self.contact_spring,
             };
             if let Some(entry) = self.constraints.at_mut(slot) {
                 entry.kind.commit(&ctx);
@@ -418,6 +443,7 @@ impl World {
     }
 
     fn write_back(&mut self) {
+        self.write_back_contacts();
         let s = &self.scratch;
         for (i, sb) in s.solver_bodies.iter().enumerate() {
             let slot = s.solver_to_slot[i] as usize;
@@ -451,11 +477,55 @@ impl World {
                 .expect("solved constraints are live");
             e.last_rows = Some((blk.first_row, blk.row_count));
             e.reaction = s.reactions[k];
-            if let ConstraintKind::Contact(c) = &mut e.kind {
-                if blk.row_count >= 2 {
-                    c.remember_direction(s.rows[blk.first_row as usize + 1].jacobian[0].linear);
+        }
+        for (k, &slot) in s.contact_constraint.iter().enumerate() {
+            let e = self
+                .constraints
+                .at_mut(slot as usize)
+                .expect("solved contacts are live");
+            e.last_rows = Some(s.contact_rows[k]);
+            e.reaction = s.contact_reactions[k];
+        }
+    }
+
+    /// Hands each contact its forces, and records its reactions and its per-row forces for
+    /// [`World::constraint_lambdas`] (normal, then the two friction directions of
+    /// [`crate::Contact::tangent_basis`], point by point), before the bodies move.
+    fn write_back_contacts(&mut self) {
+        let s = &mut self.scratch;
+        s.contact_lambda.clear();
+        s.contact_rows.clear();
+        s.contact_reactions.clear();
+        for (sc, &slot) in s.contacts.iter().zip(&s.contact_constraint) {
+            let Some(e) = self.constraints.at_mut(slot as usize) else {
+                continue;
+            };
+            let ConstraintKind::Contact(c) = &mut e.kind else {
+                continue;
+            };
+            *c = sc.contact;
+            let (t1, t2) = c.tangent_basis();
+            let first = s.contact_lambda.len() as u32;
+            let mut reaction = [Reaction::default(); 2];
+            for (p, f) in c.points().iter().zip(c.forces()) {
+                s.contact_lambda.extend_from_slice(&[
+                    f.normal,
+                    f.friction.dot(t1),
+                    f.friction.dot(t2),
+                ]);
+                let force = c.normal() * f.normal + f.friction;
+                for (side, body) in e.bodies.iter().enumerate() {
+                    let Some(x) = body.and_then(|h| self.bodies.get(h).ok()) else {
+                        continue;
+                    };
+                    let sign = if side == 0 { 1.0 } else { -1.0 };
+                    reaction[side].force += force * sign;
+                    reaction[side].torque += (p.position - x.position()).cross(force) * sign;
                 }
             }
+            s.contact_rows
+                .push((first, s.contact_lambda.len() as u32 - first));
+            s.contact_reactions.push(reaction);
         }
     }
 }

@@ -1,13 +1,15 @@
-//! The Gauss-Seidel sweeps of the iterative path: per row, per equality block and per friction
-//! pair, with the soft and hard row rules of the module docs.
+//! The Gauss-Seidel sweeps over rows: per row, per equality block and per tangential pair, with
+//! the soft and hard row rules of the module docs.
 
-use super::{IterativeWorkspace, HARD, MAX_BLOCK, NONE, UNILATERAL};
+use super::super::bodies::{BodyStates, NONE};
+use super::{JointRows, HARD, MAX_BLOCK, UNILATERAL};
 use crate::math::{Real, Vec3};
 
-impl IterativeWorkspace {
+impl JointRows {
     /// Solves friction pair `p` starting at row `i`.
-    pub(super) fn solve_pair(
+    fn solve_pair(
         &mut self,
+        states: &mut BodyStates,
         p: usize,
         i: usize,
         hs: Real,
@@ -18,7 +20,7 @@ impl IterativeWorkspace {
         let mut r = [0.0 as Real; 2];
         for (k, row) in [i, j].into_iter().enumerate() {
             let soft_relax = !use_bias && self.flags[row] & HARD == 0;
-            let (jv, xi) = self.jv_and_error(row, soft_relax);
+            let (jv, xi) = self.jv_and_error(states, row, soft_relax);
             let bias = self.bias(row, xi, hs, use_bias, max_speed);
             r[k] = self.target[row] - bias - jv - self.extra[row] * self.impulse[row];
         }
@@ -39,7 +41,7 @@ impl IterativeWorkspace {
             let dp = new[k] - self.impulse[row];
             self.impulse[row] = new[k];
             if dp != 0.0 {
-                self.apply(row, dp);
+                self.apply(states, row, dp);
             }
         }
     }
@@ -47,7 +49,7 @@ impl IterativeWorkspace {
     /// Mass and impulse scales of row i in this pass: a hard row is softened in the biased
     /// solve only, rigid in the relax.
     #[inline]
-    pub(super) fn scales(&self, i: usize, use_bias: bool) -> (Real, Real) {
+    fn scales(&self, i: usize, use_bias: bool) -> (Real, Real) {
         if use_bias && self.flags[i] & HARD != 0 {
             (self.mass_scale[i], self.impulse_scale[i])
         } else {
@@ -72,12 +74,12 @@ impl IterativeWorkspace {
     /// one point all through the step and the pair keeps its angular momentum. A row on one
     /// body (to the world) has no shift: its point moves with that body.
     #[inline]
-    fn departures(&self, i: usize) -> (Vec3, Vec3) {
+    fn departures(&self, states: &BodyStates, i: usize) -> (Vec3, Vec3) {
         let (a, b) = (self.row_a[i], self.row_b[i]);
         if a == NONE || b == NONE {
             return (Vec3::ZERO, Vec3::ZERO);
         }
-        let half = 0.5 * (self.dx[a as usize] - self.dx[b as usize]);
+        let half = 0.5 * (states.delta[a as usize].dp - states.delta[b as usize].dp);
         let lever = self.lever[i];
         if half.length_squared() > 0.01 * lever * lever {
             // Moved more than a tenth of the lever: the linearisation is gone; do not shift.
@@ -87,28 +89,33 @@ impl IterativeWorkspace {
     }
 
     /// Applies impulse `dp` of row i (with the shifted levers of [`Self::departures`]).
-    pub(super) fn apply(&mut self, i: usize, dp: Real) {
+    pub(super) fn apply(&self, states: &mut BodyStates, i: usize, dp: Real) {
         let (a, b) = (self.row_a[i], self.row_b[i]);
-        let (da, db) = self.departures(i);
+        let (da, db) = self.departures(states, i);
         if a != NONE {
             let a = a as usize;
-            self.v[a] += self.ma_lin[i] * dp;
             let shift = da.cross(self.ja_lin[i]);
-            self.w[a] += (self.ma_ang[i] - self.inv_iw[a] * shift) * dp;
+            let dw = (self.ma_ang[i] - states.inv_inertia[a] * shift) * dp;
+            let vel = &mut states.vel[a];
+            vel.v += self.ma_lin[i] * dp;
+            vel.w += dw;
         }
         if b != NONE {
             let b = b as usize;
-            self.v[b] += self.mb_lin[i] * dp;
             let shift = db.cross(self.jb_lin[i]);
-            self.w[b] += (self.mb_ang[i] - self.inv_iw[b] * shift) * dp;
+            let dw = (self.mb_ang[i] - states.inv_inertia[b] * shift) * dp;
+            let vel = &mut states.vel[b];
+            vel.v += self.mb_lin[i] * dp;
+            vel.w += dw;
         }
     }
 
-    pub(super) fn warm_start(&mut self) {
+    /// Re-applies each row's impulse of the previous substep (or step).
+    pub(crate) fn warm_start(&mut self, states: &mut BodyStates) {
         for i in 0..self.row_global.len() {
             let p = self.impulse[i];
             if p != 0.0 {
-                self.apply(i, p);
+                self.apply(states, i, p);
             }
         }
     }
@@ -116,14 +123,33 @@ impl IterativeWorkspace {
     /// `J v` and the tracked error of row i; `substep_start` takes the error at the start of
     /// the substep instead of now.
     #[inline]
-    pub(super) fn jv_and_error(&self, i: usize, substep_start: bool) -> (Real, Real) {
-        let (dx, dth, elapsed) = if substep_start {
-            (&self.dx_sub, &self.dtheta_sub, self.elapsed_sub)
+    pub(super) fn jv_and_error(
+        &self,
+        states: &BodyStates,
+        i: usize,
+        substep_start: bool,
+    ) -> (Real, Real) {
+        let elapsed = if substep_start {
+            self.elapsed_sub
         } else {
-            (&self.dx, &self.dtheta, self.elapsed)
+            self.elapsed
+        };
+        let dx = |l: usize| {
+            if substep_start {
+                states.dx_sub[l]
+            } else {
+                states.delta[l].dp
+            }
+        };
+        let dth = |l: usize| {
+            if substep_start {
+                states.dtheta_sub[l]
+            } else {
+                states.dtheta[l]
+            }
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
-        let (da, db) = self.departures(i);
+        let (da, db) = self.departures(states, i);
         let mut jv = 0.0;
         // The error is measured from a reference that moves at the row's target velocity (a
         // path, a kinematic body): over one step this is what the exact path's single solve does.
@@ -131,28 +157,21 @@ impl IterativeWorkspace {
         if a != NONE {
             let a = a as usize;
             let ang = self.ja_ang[i] - da.cross(self.ja_lin[i]);
-            jv += self.ja_lin[i].dot(self.v[a]) + ang.dot(self.w[a]);
-            xi += self.ja_lin[i].dot(dx[a]) + self.ja_ang[i].dot(dth[a]);
+            jv += self.ja_lin[i].dot(states.vel[a].v) + ang.dot(states.vel[a].w);
+            xi += self.ja_lin[i].dot(dx(a)) + self.ja_ang[i].dot(dth(a));
         }
         if b != NONE {
             let b = b as usize;
             let ang = self.jb_ang[i] - db.cross(self.jb_lin[i]);
-            jv += self.jb_lin[i].dot(self.v[b]) + ang.dot(self.w[b]);
-            xi += self.jb_lin[i].dot(dx[b]) + self.jb_ang[i].dot(dth[b]);
+            jv += self.jb_lin[i].dot(states.vel[b].v) + ang.dot(states.vel[b].w);
+            xi += self.jb_lin[i].dot(dx(b)) + self.jb_ang[i].dot(dth(b));
         }
         (jv, xi)
     }
 
     /// The velocity bias of row i for error `xi` (see the module docs).
     #[inline]
-    pub(super) fn bias(
-        &self,
-        i: usize,
-        xi: Real,
-        hs: Real,
-        use_bias: bool,
-        max_speed: Real,
-    ) -> Real {
+    fn bias(&self, i: usize, xi: Real, hs: Real, use_bias: bool, max_speed: Real) -> Real {
         let flags = self.flags[i];
         let unilateral = flags & UNILATERAL != 0;
         if unilateral && xi > 0.0 {
@@ -171,14 +190,20 @@ impl IterativeWorkspace {
     }
 
     /// One sweep: the equality blocks, then every other row, each in constraint order.
-    pub(super) fn sweep(&mut self, hs: Real, use_bias: bool, max_speed: Real) {
+    pub(crate) fn sweep(
+        &mut self,
+        states: &mut BodyStates,
+        hs: Real,
+        use_bias: bool,
+        max_speed: Real,
+    ) {
         for blk in 0..self.eq_start.len() {
             let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
             let mut r = [0.0 as Real; MAX_BLOCK];
             for a in 0..m {
                 let i = self.eq_rows[start + a] as usize;
                 let soft_relax = !use_bias && self.flags[i] & HARD == 0;
-                let (jv, xi) = self.jv_and_error(i, soft_relax);
+                let (jv, xi) = self.jv_and_error(states, i, soft_relax);
                 let bias = self.bias(i, xi, hs, use_bias, max_speed);
                 r[a] = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
             }
@@ -192,7 +217,7 @@ impl IterativeWorkspace {
                 let (ms, is) = self.scales(i, use_bias);
                 let d = ms * dp[a] - is * self.impulse[i];
                 self.impulse[i] += d;
-                self.apply(i, d);
+                self.apply(states, i, d);
             }
         }
         for i in 0..self.row_global.len() {
@@ -200,11 +225,11 @@ impl IterativeWorkspace {
                 continue;
             }
             if self.pair_of[i] != NONE {
-                self.solve_pair(self.pair_of[i] as usize, i, hs, use_bias, max_speed);
+                self.solve_pair(states, self.pair_of[i] as usize, i, hs, use_bias, max_speed);
                 continue;
             }
             let soft_relax = !use_bias && self.flags[i] & HARD == 0;
-            let (jv, xi) = self.jv_and_error(i, soft_relax);
+            let (jv, xi) = self.jv_and_error(states, i, soft_relax);
             let bias = self.bias(i, xi, hs, use_bias, max_speed);
             let e = self.extra[i];
             let denom = self.diag[i] + e;
@@ -219,7 +244,7 @@ impl IterativeWorkspace {
             let dp = new - self.impulse[i];
             self.impulse[i] = new;
             if dp != 0.0 {
-                self.apply(i, dp);
+                self.apply(states, i, dp);
             }
         }
     }

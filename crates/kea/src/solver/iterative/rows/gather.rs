@@ -1,105 +1,29 @@
-//! Packing an island into the iterative path's arrays: bodies, rows, equality blocks (a joint's
-//! rows, solved together) and friction pairs (a contact's two tangential rows).
+//! Packing rows into the iterative path's arrays: rows, equality blocks (a joint's rows, solved
+//! together) and pairs of tangential rows.
 
-use super::{IterativeWorkspace, BOUNCE, HARD, MAX_BLOCK, NONE, UNILATERAL};
+use super::super::bodies::{BodyStates, NONE};
+use super::{JointRows, BOUNCE, HARD, MAX_BLOCK, UNILATERAL};
 use crate::constraint::Row;
 use crate::math::{wide, Real, Vec3};
 use crate::solver::integrate::BodyScratch;
 use crate::solver::{ConstraintBlock, SolverBody, SolverParams};
 
-impl IterativeWorkspace {
-    pub(super) fn gather_bodies(
-        &mut self,
-        island_blocks: &[u32],
-        blocks: &[ConstraintBlock],
-        bodies: &[SolverBody],
-        scratch: &BodyScratch,
-    ) {
-        self.body_global.clear();
-        self.v.clear();
-        self.w.clear();
-        self.inv_iw.clear();
-        self.dx.clear();
-        self.dtheta.clear();
-        self.dx_sub.clear();
-        self.dtheta_sub.clear();
-        if self.local_of.len() < bodies.len() {
-            self.local_of.resize(bodies.len(), NONE);
-        }
-        for &k in island_blocks {
-            for b in blocks[k as usize].bodies.iter().flatten() {
-                let g = *b as usize;
-                if bodies[g].is_fixed() || self.local_of[g] != NONE {
-                    continue;
-                }
-                self.local_of[g] = self.body_global.len() as u32;
-                self.body_global.push(g as u32);
-                // Start from the step's velocity: each substep damps and adds forces itself.
-                self.v.push(bodies[g].linear_velocity);
-                self.w.push(bodies[g].angular_velocity);
-                self.inv_iw.push(scratch.inv_inertia_world[g]);
-                self.dx.push(Vec3::ZERO);
-                self.dtheta.push(Vec3::ZERO);
-                self.dx_sub.push(Vec3::ZERO);
-                self.dtheta_sub.push(Vec3::ZERO);
-            }
-        }
-        let _ = scratch;
-    }
-
+impl JointRows {
+    /// Packs the rows of `island_blocks` (blocks of iterative islands), giving their bodies
+    /// local slots in `states`. `warm` holds each row's λ of the last step.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn gather_rows(
+    pub(crate) fn gather(
         &mut self,
         island_blocks: &[u32],
         blocks: &[ConstraintBlock],
         rows: &[Row],
         bodies: &[SolverBody],
+        states: &mut BodyStates,
         scratch: &BodyScratch,
         params: &SolverParams,
         hs: Real,
         warm: &[Real],
     ) {
-        macro_rules! clear_all {
-            ($($v:ident),*) => { $(self.$v.clear();)* };
-        }
-        clear_all!(
-            row_global,
-            row_a,
-            row_b,
-            ja_lin,
-            ja_ang,
-            jb_lin,
-            jb_ang,
-            ma_lin,
-            ma_ang,
-            mb_lin,
-            mb_ang,
-            diag,
-            lever,
-            xi0,
-            target,
-            bounce_target,
-            lo,
-            hi,
-            link,
-            mu,
-            extra,
-            rate,
-            mass_scale,
-            impulse_scale,
-            flags,
-            impulse,
-            total,
-            in_block,
-            eq_start,
-            eq_len,
-            eq_rows,
-            eq_kstart,
-            eq_kinv,
-            pair_of,
-            pair_second,
-            pair_kinv
-        );
         let h = params.dt;
         let n_sub = params.iterative.substeps as Real;
         for &k in island_blocks {
@@ -121,7 +45,7 @@ impl IterativeWorkspace {
                             + j.angular.dot(body.angular_velocity);
                         continue;
                     }
-                    local[s] = self.local_of[b as usize];
+                    local[s] = states.local(Some(b), bodies, scratch, params, hs);
                     let ml = j.linear * body.inv_mass;
                     let ma = scratch.inv_inertia_world[b as usize] * j.angular;
                     diag += j.linear.dot(ml) + j.angular.dot(ma);
@@ -135,8 +59,16 @@ impl IterativeWorkspace {
                 }
                 // Only a row's own softness is a physical spring; the world's ε regularises the
                 // exact path's matrix and is not needed here (see the module docs).
-                let eps = row.softness.unwrap_or(0.0);
-                let gamma = row.gamma.unwrap_or(params.gamma);
+                let (eps, gamma) = match row
+                    .spring
+                    .and_then(|sp| (diag > 0.0).then(|| sp.softness(1.0 / diag, h)).flatten())
+                {
+                    Some(s) => (s.epsilon, row.gamma.unwrap_or(s.gamma)),
+                    None => (
+                        row.softness.unwrap_or(0.0),
+                        row.gamma.unwrap_or(params.gamma),
+                    ),
+                };
                 let mut flags = 0u8;
                 let (rate, extra) = if eps > 0.0 {
                     let k = gamma / (eps * h * h);
@@ -154,9 +86,9 @@ impl IterativeWorkspace {
                 {
                     flags |= UNILATERAL;
                 }
-                // Only rows that can only push (contacts, stops) are softened: Gauss-Seidel on a
-                // stiff stack needs it, while joints converge without and keep their geometry
-                // (softened, a hinged rod swung 1% slow).
+                // Only rows that can only push (stops, user contacts) are softened: Gauss-Seidel
+                // on a stiff stack needs it, while joints converge without and keep their
+                // geometry (softened, a hinged rod swung 1% slow).
                 let (ms, is) = if flags & HARD != 0 && flags & UNILATERAL != 0 {
                     hard_softening(rate, hs)
                 } else {
@@ -177,7 +109,7 @@ impl IterativeWorkspace {
                 self.mb_ang.push(jm[1].1);
                 self.diag.push(diag);
                 self.xi0.push(row.xi);
-                // A bounce target waits for the post-pass; the substeps treat the contact as
+                // A bounce target waits for the post-pass; the substeps treat the row as
                 // resting.
                 let c = if row.bounce { 0.0 } else { row.c };
                 self.target.push(c - kinematic);
@@ -232,7 +164,7 @@ impl IterativeWorkspace {
     /// inverse of its `J M⁻¹ Jᵀ + E`, so that a joint's rows are solved together: per-row
     /// Gauss-Seidel converges slowly when rows share a badly conditioned body (a small sphere at
     /// the end of a long pendulum).
-    pub(super) fn make_block(&mut self, base: usize, rows: &[Row], blk: &ConstraintBlock) {
+    fn make_block(&mut self, base: usize, rows: &[Row], blk: &ConstraintBlock) {
         let mut idx = [0usize; MAX_BLOCK];
         let mut m = 0;
         for i in base..self.row_global.len() {
@@ -279,7 +211,7 @@ impl IterativeWorkspace {
 
     /// Pairs consecutive bounded tangential rows of one constraint (Coulomb rows on the same
     /// normal row, or symmetric box bounds) and stores the inverse of their 2×2 `K + E`.
-    pub(super) fn make_pairs(&mut self, base: usize, rows: &[Row]) {
+    fn make_pairs(&mut self, base: usize, rows: &[Row]) {
         let end = self.row_global.len();
         let mut i = base;
         while i + 1 < end {

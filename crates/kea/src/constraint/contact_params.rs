@@ -1,0 +1,112 @@
+//! The surface parameters of a contact (the guide's `MdtBclContactParams`): friction model and
+//! directions, restitution, softness, adhesion, slip and conveyor slide.
+
+use crate::error::{check_finite, check_non_negative, KeaResult};
+use crate::math::Real;
+
+/// Which tangential directions carry friction (the guide's `MdtContactType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactType {
+    /// No friction: the bodies slide freely.
+    Frictionless,
+    /// Friction along the primary direction only.
+    Friction1D,
+    /// Friction along both tangential directions.
+    #[default]
+    Friction2D,
+}
+
+/// How friction is bounded along one direction (the guide's friction models).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrictionModel {
+    /// No bound: the surfaces never slide (the guide's default when no model is set).
+    Infinite,
+    /// Constant maximum force, N (the guide's `MdtFrictionModelBox`).
+    Box {
+        /// Maximum friction force along this direction, ≥ 0.
+        max_force: Real,
+    },
+    /// Coulomb: maximum force `μ` times the normal force.
+    Coulomb {
+        /// Friction coefficient, ≥ 0.
+        mu: Real,
+    },
+}
+
+/// The surface parameters of a contact (the guide's `MdtBclContactParams`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactParams {
+    /// Frictionless, 1D or 2D.
+    pub contact_type: ContactType,
+    /// Friction model along the primary and secondary directions.
+    pub friction: [FrictionModel; 2],
+    /// Coefficient of restitution in [0, ∞) (normally ≤ 1; above 1 adds energy, a pinball
+    /// bumper). 0 by default.
+    pub restitution: Real,
+    /// Minimum approach speed (m/s) for a bounce; slower impacts do not bounce. Default 0.1.
+    pub restitution_threshold: Real,
+    /// Contact softness ε (the guide's soft mode); `None` uses the world's ε. Around 1e-4 is
+    /// barely soft; 0.1–1 is visibly springy (units of inverse mass).
+    pub softness: Option<Real>,
+    /// Maximum adhesive (pulling) force, N; 0 for none (the guide's adhesive mode).
+    pub max_adhesive_force: Real,
+    /// Slip factor along the primary and secondary directions, m/s per N (0 = none).
+    pub slip: [Real; 2],
+    /// Surface (conveyor) speed of body 1 relative to body 2 along each direction, m/s.
+    pub slide: [Real; 2],
+}
+
+impl Default for ContactParams {
+    /// 2D Coulomb friction with μ = 0.5, no restitution, world softness, nothing else.
+    fn default() -> Self {
+        Self {
+            contact_type: ContactType::Friction2D,
+            friction: [FrictionModel::Coulomb { mu: 0.5 }; 2],
+            restitution: 0.0,
+            restitution_threshold: 0.1,
+            softness: None,
+            max_adhesive_force: 0.0,
+            slip: [0.0; 2],
+            slide: [0.0; 2],
+        }
+    }
+}
+
+impl ContactParams {
+    /// Checks every field; names the first bad one.
+    pub fn validate(&self) -> KeaResult<()> {
+        for (i, f) in self.friction.iter().enumerate() {
+            let arg = if i == 0 { "friction[0]" } else { "friction[1]" };
+            match *f {
+                FrictionModel::Infinite => {}
+                FrictionModel::Box { max_force } => {
+                    check_non_negative(arg, max_force)?;
+                }
+                FrictionModel::Coulomb { mu } => {
+                    check_non_negative(arg, mu)?;
+                }
+            }
+        }
+        check_non_negative("restitution", self.restitution)?;
+        check_non_negative("restitution_threshold", self.restitution_threshold)?;
+        if let Some(s) = self.softness {
+            check_non_negative("softness", s)?;
+        }
+        check_non_negative("max_adhesive_force", self.max_adhesive_force)?;
+        check_non_negative("slip[0]", self.slip[0])?;
+        check_non_negative("slip[1]", self.slip[1])?;
+        check_finite("slide[0]", self.slide[0])?;
+        check_finite("slide[1]", self.slide[1])?;
+        Ok(())
+    }
+
+    /// Number of rows a contact with these parameters writes.
+    #[must_use]
+    pub fn row_count(&self) -> usize {
+        match self.contact_type {
+            ContactType::Frictionless => 1,
+            ContactType::Friction1D => 2,
+            ContactType::Friction2D => 3,
+        }
+    }
+}

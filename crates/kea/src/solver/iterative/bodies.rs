@@ -1,0 +1,335 @@
+//! The iterative path's bodies: a compact hot array of velocities and step displacements that
+//! every stage reads and writes, and the per-substep integration.
+//!
+//! Hot data is what the contact and joint solves touch in their inner loops: [`BodyVel`]
+//! (velocity and spin, 32 bytes in `f32`) and [`BodyDelta`] (displacement and rotation since the
+//! step began, 32 bytes). Constraints keep their anchors relative to each body's centre of mass
+//! at the step's start, so the current separation of a contact is its initial one moved by the
+//! two bodies' displacements: deltas instead of poses keep that exact far from the origin and
+//! make the static world an identity. Local index 0 is that static world: zero velocity,
+//! identity delta, never written.
+//!
+//! Bodies are numbered island by island (so an island's bodies sit together in memory); fixed
+//! or kinematic bodies that contacts touch get a read-only slot as well, so that their motion
+//! enters the contacts' relative velocity and separation.
+
+use super::super::integrate::{advance_rotation, BodyScratch, Rotation};
+use super::super::{reserve, SolverBody, SolverParams};
+use crate::math::{Mat3, Quat, Real, Vec3};
+
+/// Marks a body with no local slot.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Velocity and spin of one body (hot).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BodyVel {
+    pub(crate) v: Vec3,
+    pub(crate) w: Vec3,
+    _pad: [Real; 2],
+}
+
+impl BodyVel {
+    pub(crate) const ZERO: Self = Self {
+        v: Vec3::ZERO,
+        w: Vec3::ZERO,
+        _pad: [0.0; 2],
+    };
+    pub(crate) fn new(v: Vec3, w: Vec3) -> Self {
+        Self {
+            v,
+            w,
+            _pad: [0.0; 2],
+        }
+    }
+}
+
+/// Displacement and rotation of one body since the step began (hot).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BodyDelta {
+    pub(crate) dp: Vec3,
+    _pad: Real,
+    pub(crate) dq: Quat,
+}
+
+impl BodyDelta {
+    pub(crate) const IDENTITY: Self = Self {
+        dp: Vec3::ZERO,
+        _pad: 0.0,
+        dq: Quat::IDENTITY,
+    };
+}
+
+/// What a body gets every substep before the constraints: forces and damping, precomputed.
+#[derive(Debug, Clone, Copy)]
+struct Forcing {
+    /// `hs·(g + f/m)`.
+    dv: Vec3,
+    /// `hs·I⁻¹τ`.
+    dw: Vec3,
+    /// `1/(1 + hs·d/m)`.
+    linear_damping: Real,
+    /// `(I_w + hs·d_ω)⁻¹ I_w`, when the body has angular damping.
+    angular_damping: Option<Mat3>,
+}
+
+/// The iterative path's bodies (module docs).
+#[derive(Debug, Default)]
+pub(crate) struct BodyStates {
+    pub(crate) vel: Vec<BodyVel>,
+    pub(crate) delta: Vec<BodyDelta>,
+    /// Global (solver slice) index of each local body; `NONE` for the static world at 0.
+    pub(crate) global: Vec<u32>,
+    /// Local index of each global body, `NONE` if it has none.
+    pub(crate) local_of: Vec<u32>,
+    pub(crate) inv_mass: Vec<Real>,
+    /// World inverse inertia at the step's start.
+    pub(crate) inv_inertia: Vec<Mat3>,
+    /// The body can be pushed (not fixed or kinematic, and not the static world).
+    pub(crate) writable: Vec<bool>,
+    /// Accumulated rotation vector `Σ hs·ω` since the step began (the joint rows' linearised
+    /// error), now and at the start of the current substep; the same for displacement.
+    pub(crate) dtheta: Vec<Vec3>,
+    pub(crate) dtheta_sub: Vec<Vec3>,
+    pub(crate) dx_sub: Vec<Vec3>,
+    orientation0: Vec<Quat>,
+    orientation: Vec<Quat>,
+    rotation: Vec<Rotation>,
+    forcing: Vec<Forcing>,
+}
+
+impl BodyStates {
+    pub(crate) fn reserve(&mut self, n: usize) {
+        let n = n + 1;
+        reserve(&mut self.vel, n);
+        reserve(&mut self.delta, n);
+        reserve(&mut self.global, n);
+        reserve(&mut self.local_of, n);
+        reserve(&mut self.inv_mass, n);
+        reserve(&mut self.inv_inertia, n);
+        reserve(&mut self.writable, n);
+        reserve(&mut self.dtheta, n);
+        reserve(&mut self.dtheta_sub, n);
+        reserve(&mut self.dx_sub, n);
+        reserve(&mut self.orientation0, n);
+        reserve(&mut self.orientation, n);
+        reserve(&mut self.rotation, n);
+        reserve(&mut self.forcing, n);
+    }
+
+    pub(crate) fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.vel.capacity() * size_of::<BodyVel>()
+            + self.delta.capacity() * size_of::<BodyDelta>()
+            + (self.global.capacity() + self.local_of.capacity()) * 4
+            + self.inv_mass.capacity() * size_of::<Real>()
+            + self.inv_inertia.capacity() * size_of::<Mat3>()
+            + self.writable.capacity()
+            + (self.dtheta.capacity() + self.dtheta_sub.capacity() + self.dx_sub.capacity())
+                * size_of::<Vec3>()
+            + (self.orientation0.capacity() + self.orientation.capacity()) * size_of::<Quat>()
+            + self.rotation.capacity() * size_of::<Rotation>()
+            + self.forcing.capacity() * size_of::<Forcing>()
+    }
+
+    pub(crate) fn bytes_for(n: usize) -> usize {
+        use std::mem::size_of;
+        (n + 1)
+            * (size_of::<BodyVel>()
+                + size_of::<BodyDelta>()
+                + 9
+                + size_of::<Real>()
+                + size_of::<Mat3>()
+                + 3 * size_of::<Vec3>()
+                + 2 * size_of::<Quat>()
+                + size_of::<Rotation>()
+                + size_of::<Forcing>())
+    }
+
+    /// Empties the set, keeping only the static world at local index 0.
+    pub(crate) fn begin(&mut self, body_count: usize) {
+        for v in [&mut self.global, &mut self.local_of] {
+            v.clear();
+        }
+        self.local_of.resize(body_count, NONE);
+        self.vel.clear();
+        self.delta.clear();
+        self.inv_mass.clear();
+        self.inv_inertia.clear();
+        self.writable.clear();
+        self.dtheta.clear();
+        self.dtheta_sub.clear();
+        self.dx_sub.clear();
+        self.orientation0.clear();
+        self.orientation.clear();
+        self.rotation.clear();
+        self.forcing.clear();
+        self.push_slot(
+            NONE,
+            BodyVel::ZERO,
+            0.0,
+            Mat3::ZERO,
+            false,
+            Quat::IDENTITY,
+            Rotation::Kinematic,
+        );
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn push_slot(
+        &mut self,
+        global: u32,
+        vel: BodyVel,
+        inv_mass: Real,
+        inv_inertia: Mat3,
+        writable: bool,
+        q: Quat,
+        rotation: Rotation,
+    ) {
+        self.global.push(global);
+        self.vel.push(vel);
+        self.delta.push(BodyDelta::IDENTITY);
+        self.inv_mass.push(inv_mass);
+        self.inv_inertia.push(inv_inertia);
+        self.writable.push(writable);
+        self.dtheta.push(Vec3::ZERO);
+        self.dtheta_sub.push(Vec3::ZERO);
+        self.dx_sub.push(Vec3::ZERO);
+        self.orientation0.push(q);
+        self.orientation.push(q);
+        self.rotation.push(rotation);
+        self.forcing.push(Forcing {
+            dv: Vec3::ZERO,
+            dw: Vec3::ZERO,
+            linear_damping: 1.0,
+            angular_damping: None,
+        });
+    }
+
+    /// The velocity and spin body `l` gains every substep from gravity and applied forces.
+    pub(crate) fn forcing(&self, l: usize) -> (Vec3, Vec3) {
+        (self.forcing[l].dv, self.forcing[l].dw)
+    }
+
+    /// Number of local slots (the static world included).
+    pub(crate) fn len(&self) -> usize {
+        self.vel.len()
+    }
+
+    /// The local index of global body `g` (`None`: the static world, index 0), adding it on
+    /// first sight. A fixed (kinematic) body gets a read-only slot.
+    pub(crate) fn local(
+        &mut self,
+        g: Option<u32>,
+        bodies: &[SolverBody],
+        scratch: &BodyScratch,
+        params: &SolverParams,
+        hs: Real,
+    ) -> u32 {
+        let Some(g) = g else { return 0 };
+        let slot = self.local_of[g as usize];
+        if slot != NONE {
+            return slot;
+        }
+        let b = &bodies[g as usize];
+        let local = self.len() as u32;
+        self.local_of[g as usize] = local;
+        let inv_iw = scratch.inv_inertia_world[g as usize];
+        let writable = !b.is_fixed();
+        self.push_slot(
+            g,
+            BodyVel::new(b.linear_velocity, b.angular_velocity),
+            b.inv_mass,
+            inv_iw,
+            writable,
+            b.orientation,
+            Rotation::of(b),
+        );
+        if writable {
+            let gravity = if b.inv_mass > 0.0 {
+                params.gravity
+            } else {
+                Vec3::ZERO
+            };
+            let angular_damping = (b.angular_damping > 0.0).then(|| {
+                // Implicit, with the world inertia of the step's start.
+                let iw = inv_iw.inverse();
+                let damped = iw + Mat3::from_diagonal(Vec3::splat(hs * b.angular_damping));
+                damped.inverse() * iw
+            });
+            *self.forcing.last_mut().expect("just pushed") = Forcing {
+                dv: hs * (gravity + b.inv_mass * b.force),
+                dw: hs * (inv_iw * b.torque),
+                linear_damping: 1.0 / (1.0 + hs * b.linear_damping * b.inv_mass),
+                angular_damping,
+            };
+        }
+        local
+    }
+
+    /// Substep stage 1: damping, gravity and applied forces on every body that can be pushed.
+    pub(crate) fn integrate_velocities(&mut self) {
+        for (vel, (f, &writable)) in self
+            .vel
+            .iter_mut()
+            .zip(self.forcing.iter().zip(&self.writable))
+        {
+            if !writable {
+                continue;
+            }
+            let mut w = vel.w;
+            if let Some(d) = f.angular_damping {
+                w = d * w;
+            }
+            vel.v = vel.v * f.linear_damping + f.dv;
+            vel.w = w + f.dw;
+        }
+    }
+
+    /// Substep stage 4: every body (kinematic ones included) moves by `hs` at its velocity;
+    /// bodies with mass turn keeping their angular momentum.
+    pub(crate) fn integrate_positions(&mut self, bodies: &[SolverBody], hs: Real) {
+        for l in 1..self.len() {
+            let g = self.global[l] as usize;
+            let vel = &mut self.vel[l];
+            let delta = &mut self.delta[l];
+            self.dx_sub[l] = delta.dp;
+            self.dtheta_sub[l] = self.dtheta[l];
+            delta.dp += hs * vel.v;
+            self.dtheta[l] += hs * vel.w;
+            let (q, w) =
+                advance_rotation(&bodies[g], self.rotation[l], self.orientation[l], vel.w, hs);
+            self.orientation[l] = q;
+            delta.dq = (q * self.orientation0[l].inverse()).normalize();
+            if self.writable[l] {
+                vel.w = w;
+            }
+        }
+    }
+
+    /// Writes the new state of every body that can be pushed back to the solver's array and
+    /// marks it integrated.
+    pub(crate) fn write_out(
+        &mut self,
+        bodies: &mut [SolverBody],
+        scratch: &mut BodyScratch,
+        h: Real,
+    ) {
+        for l in 1..self.len() {
+            let g = self.global[l] as usize;
+            if !self.writable[l] {
+                continue;
+            }
+            let b = &mut bodies[g];
+            let vel = self.vel[l];
+            b.linear_acceleration = (vel.v - b.linear_velocity) / h;
+            b.angular_acceleration = (vel.w - b.angular_velocity) / h;
+            b.linear_velocity = vel.v;
+            b.angular_velocity = vel.w;
+            b.position += self.delta[l].dp;
+            b.orientation = self.orientation[l];
+            scratch.integrated[g] = true;
+        }
+    }
+}

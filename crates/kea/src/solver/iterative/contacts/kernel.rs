@@ -1,0 +1,439 @@
+//! The contact kernels, written once over [`FloatW`] lanes: warm start, solve (biased or
+//! relax) and restitution of one batch. Box2D v3's soft step over manifolds in 3D.
+//!
+//! Solve, per point, in impulse units (P = λ·hs):
+//!
+//! ```text
+//!   s    = base + n·(Δx₁ − Δx₂) + (Δq₁⁻¹ n)·r₁ − (Δq₂⁻¹ n)·r₂   current separation
+//!   vₙ   = n·(v₁ + ω₁×r₁ − v₂ − ω₂×r₂)                         relative normal velocity
+//!   s > 0 (speculative):  bias = s/hs, rigid: the gap may close within the substep, no more
+//!   biased solve:         bias = max(β·s, −v_push), mass scale and impulse scale of the spring
+//!   relax solve:          bias = 0, rigid (so correcting penetration adds no kinetic energy)
+//!   ΔPₙ  = −mₙ·mass_scale·(vₙ + bias) − impulse_scale·Pₙ,   Pₙ ← max(Pₙ + ΔPₙ, P_min)
+//! ```
+//!
+//! then friction at the same point with the updated normal impulse: with `vₜ` the tangential
+//! velocity less the conveyor slide, `Pₜ ← Pₜ − mₜ(vₜ + slip·Pₜ)`, projected on the disc
+//! `|Pₜ| ≤ μ·Pₙ` (isotropic Coulomb) or on each direction's own bound. The restitution pass,
+//! once after the substeps, drives the normal velocity of every point that pushed in this step
+//! and approached faster than the threshold to `−e` times its approach velocity: the relative
+//! normal velocity at the step's start plus what gravity and applied forces added up to the
+//! substep in which the point first pushed. So the bounce is right whatever the phase of the
+//! impact in the step (Box2D v3 uses the step's start, so a speculative point that closes
+//! late bounces without the speed gravity added meanwhile), and the points of a manifold that
+//! lands flat bounce alike (none sees the others' impulses).
+
+use super::super::super::wide::{FloatW, V3};
+use super::super::bodies::{BodyDelta, BodyVel};
+use super::batch::{ContactBatch, PointLanes};
+use crate::math::Real;
+
+/// Step constants of the kernels.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct KernelParams {
+    pub(crate) inv_hs: Real,
+    /// Fastest push-out speed of the biased solve, m/s.
+    pub(crate) max_push: Real,
+    /// Index of the current substep (0 for the first).
+    pub(crate) substep: Real,
+    /// Step and substep, s.
+    pub(crate) h: Real,
+    pub(crate) hs: Real,
+}
+
+/// Velocity and spin of each lane's body.
+#[inline(always)]
+fn gather_vel<F: FloatW>(vel: &[BodyVel], idx: &F::Index) -> (V3<F>, V3<F>) {
+    let mut a: [F::Array; 6] = Default::default();
+    for (l, &i) in idx.as_ref().iter().enumerate() {
+        let s = &vel[i as usize];
+        a[0].as_mut()[l] = s.v.x;
+        a[1].as_mut()[l] = s.v.y;
+        a[2].as_mut()[l] = s.v.z;
+        a[3].as_mut()[l] = s.w.x;
+        a[4].as_mut()[l] = s.w.y;
+        a[5].as_mut()[l] = s.w.z;
+    }
+    (
+        V3::new(F::load(&a[0]), F::load(&a[1]), F::load(&a[2])),
+        V3::new(F::load(&a[3]), F::load(&a[4]), F::load(&a[5])),
+    )
+}
+
+/// Writes velocity and spin back to the lanes' bodies that may be written.
+#[inline(always)]
+fn scatter_vel<F: FloatW>(
+    vel: &mut [BodyVel],
+    idx: &F::Index,
+    write: &F::Index,
+    v: V3<F>,
+    w: V3<F>,
+) {
+    let mut a: [F::Array; 6] = Default::default();
+    v.x.store(&mut a[0]);
+    v.y.store(&mut a[1]);
+    v.z.store(&mut a[2]);
+    w.x.store(&mut a[3]);
+    w.y.store(&mut a[4]);
+    w.z.store(&mut a[5]);
+    for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
+        if ok != 0 {
+            let s = &mut vel[i as usize];
+            s.v.x = a[0].as_ref()[l];
+            s.v.y = a[1].as_ref()[l];
+            s.v.z = a[2].as_ref()[l];
+            s.w.x = a[3].as_ref()[l];
+            s.w.y = a[4].as_ref()[l];
+            s.w.z = a[5].as_ref()[l];
+        }
+    }
+}
+
+/// Each lane body's displacement since the step began, and the contact normal seen in the
+/// frame that turned with it (`Δq⁻¹ n`).
+#[inline(always)]
+fn gather_delta<F: FloatW>(delta: &[BodyDelta], idx: &F::Index, n: V3<F>) -> (V3<F>, V3<F>) {
+    let mut a: [F::Array; 7] = Default::default();
+    for (l, &i) in idx.as_ref().iter().enumerate() {
+        let s = &delta[i as usize];
+        a[0].as_mut()[l] = s.dp.x;
+        a[1].as_mut()[l] = s.dp.y;
+        a[2].as_mut()[l] = s.dp.z;
+        a[3].as_mut()[l] = s.dq.x;
+        a[4].as_mut()[l] = s.dq.y;
+        a[5].as_mut()[l] = s.dq.z;
+        a[6].as_mut()[l] = s.dq.w;
+    }
+    let dp = V3::new(F::load(&a[0]), F::load(&a[1]), F::load(&a[2]));
+    let u = V3::new(F::load(&a[3]), F::load(&a[4]), F::load(&a[5]));
+    let w = F::load(&a[6]);
+    // Rotate n by the inverse of (u, w): n − 2w(u×n) + 2u×(u×n).
+    let un = u.cross(n);
+    let two = F::splat(2.0);
+    let turned = n.sub(un.scale(two * w)).add(u.cross(un).scale(two));
+    (dp, turned)
+}
+
+/// The bodies of a batch, loaded.
+struct Pair<F> {
+    va: V3<F>,
+    wa: V3<F>,
+    vb: V3<F>,
+    wb: V3<F>,
+}
+
+impl<F: FloatW> Pair<F> {
+    #[inline(always)]
+    fn load(c: &ContactBatch<F>, vel: &[BodyVel]) -> Self {
+        let (va, wa) = gather_vel::<F>(vel, &c.body_a);
+        let (vb, wb) = gather_vel::<F>(vel, &c.body_b);
+        Self { va, wa, vb, wb }
+    }
+
+    #[inline(always)]
+    fn store(self, c: &ContactBatch<F>, vel: &mut [BodyVel]) {
+        scatter_vel(vel, &c.body_a, &c.write_a, self.va, self.wa);
+        scatter_vel(vel, &c.body_b, &c.write_b, self.vb, self.wb);
+    }
+
+    /// Velocity of body 1 relative to body 2 at the point.
+    #[inline(always)]
+    fn relative(&self, ra: V3<F>, rb: V3<F>) -> V3<F> {
+        self.va
+            .add(self.wa.cross(ra))
+            .sub(self.vb.add(self.wb.cross(rb)))
+    }
+
+    /// Applies impulse `p` at the point: `+p` on body 1, `−p` on body 2.
+    #[inline(always)]
+    fn apply(&mut self, m: &Masses<F>, ra: V3<F>, rb: V3<F>, p: V3<F>) {
+        self.va = self.va.add(p.scale(m.ma));
+        self.wa = self.wa.add(m.ia.mul(ra.cross(p)));
+        self.vb = self.vb.sub(p.scale(m.mb));
+        self.wb = self.wb.sub(m.ib.mul(rb.cross(p)));
+    }
+}
+
+/// The inverse masses of a batch, loaded.
+struct Masses<F> {
+    ma: F,
+    mb: F,
+    ia: super::super::super::wide::Sym3<F>,
+    ib: super::super::super::wide::Sym3<F>,
+}
+
+impl<F: FloatW> Masses<F> {
+    #[inline(always)]
+    fn load(c: &ContactBatch<F>) -> Self {
+        Self {
+            ma: F::load(&c.inv_mass_a),
+            mb: F::load(&c.inv_mass_b),
+            ia: c.inv_inertia_a.load(),
+            ib: c.inv_inertia_b.load(),
+        }
+    }
+}
+
+/// Re-applies each point's impulse of the last substep (or step) and counts it in the totals.
+#[inline(always)]
+pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: &mut [BodyVel]) {
+    let m = Masses::load(c);
+    let mut bodies = Pair::load(c, vel);
+    let n = c.normal.load();
+    let t = [c.tangent[0].load(), c.tangent[1].load()];
+    for p in c.p.iter_mut().take(c.points as usize) {
+        let pn = F::load(&p.normal_impulse);
+        let pt = [
+            F::load(&p.tangent_impulse[0]),
+            F::load(&p.tangent_impulse[1]),
+        ];
+        (F::load(&p.total_normal) + pn).store(&mut p.total_normal);
+        for d in 0..2 {
+            (F::load(&p.total_tangent[d]) + pt[d]).store(&mut p.total_tangent[d]);
+        }
+        let impulse = n.scale(pn).add(t[0].scale(pt[0])).add(t[1].scale(pt[1]));
+        bodies.apply(&m, p.r_a.load(), p.r_b.load(), impulse);
+    }
+    bodies.store(c, vel);
+}
+
+/// Per-batch constants of the solve, loaded once.
+struct Surface<F> {
+    n: V3<F>,
+    t: [V3<F>; 2],
+    bias_rate: F,
+    min_normal: F,
+    spring_relax: F,
+    disc: F,
+    mu: [F; 2],
+    fixed: [F; 2],
+    slide: [F; 2],
+    slip: [F; 2],
+}
+
+impl<F: FloatW> Surface<F> {
+    #[inline(always)]
+    fn load(c: &ContactBatch<F>) -> Self {
+        Self {
+            n: c.normal.load(),
+            t: [c.tangent[0].load(), c.tangent[1].load()],
+            bias_rate: F::load(&c.bias_rate),
+            min_normal: F::load(&c.min_normal),
+            spring_relax: F::load(&c.spring_relax),
+            disc: F::load(&c.disc),
+            mu: [F::load(&c.mu[0]), F::load(&c.mu[1])],
+            fixed: [F::load(&c.fixed_limit[0]), F::load(&c.fixed_limit[1])],
+            slide: [F::load(&c.slide[0]), F::load(&c.slide[1])],
+            slip: [F::load(&c.slip[0]), F::load(&c.slip[1])],
+        }
+    }
+}
+
+/// One Gauss-Seidel pass over the batch's points: the biased solve (`use_bias`) or the relax.
+#[inline(always)]
+pub(crate) fn solve<F: FloatW>(
+    c: &mut ContactBatch<F>,
+    vel: &mut [BodyVel],
+    delta: &[BodyDelta],
+    k: &KernelParams,
+    use_bias: bool,
+) {
+    let m = Masses::load(c);
+    let mut bodies = Pair::load(c, vel);
+    let surface = Surface::load(c);
+    let n = surface.n;
+    let (dpa, na) = gather_delta::<F>(delta, &c.body_a, n);
+    let (dpb, nb) = gather_delta::<F>(delta, &c.body_b, n);
+    let moved = n.dot(dpa.sub(dpb));
+    for p in c.p.iter_mut().take(c.points as usize) {
+        let ra = p.r_a.load();
+        let rb = p.r_b.load();
+        let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
+        let normal = solve_normal(p, &surface, &bodies, ra, rb, s, k, use_bias);
+        bodies.apply(&m, ra, rb, n.scale(normal));
+        let friction = solve_friction(p, &surface, &bodies, ra, rb);
+        bodies.apply(&m, ra, rb, friction);
+    }
+    bodies.store(c, vel);
+}
+
+/// The normal impulse of one point: updates the point and returns the change to apply.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn solve_normal<F: FloatW>(
+    p: &mut PointLanes<F>,
+    sf: &Surface<F>,
+    bodies: &Pair<F>,
+    ra: V3<F>,
+    rb: V3<F>,
+    s: F,
+    k: &KernelParams,
+    use_bias: bool,
+) -> F {
+    let zero = F::zero();
+    let vn = bodies.relative(ra, rb).dot(sf.n);
+    let pn = F::load(&p.normal_impulse);
+    let speculative = s.gt(zero);
+    // Where the spring acts: the biased solve of every touching point, and the relax solve of
+    // a contact with its own raw softness (a physical spring that keeps pushing); every other
+    // solve is rigid, so correcting penetration adds no kinetic energy.
+    let touching = s.le(zero);
+    let spring_relax = sf.spring_relax.gt(F::splat(0.5));
+    let soft = if use_bias {
+        touching
+    } else {
+        F::and(spring_relax, touching)
+    };
+    let spring_bias = sf.bias_rate * s;
+    let soft_bias = if use_bias {
+        F::select(
+            spring_relax,
+            spring_bias,
+            spring_bias.max(F::splat(-k.max_push)),
+        )
+    } else {
+        spring_bias
+    };
+    let bias = F::select(
+        speculative,
+        s * F::splat(k.inv_hs),
+        F::select(soft, soft_bias, zero),
+    );
+    let mass = F::select(soft, F::load(&p.soft_mass), F::load(&p.normal_mass));
+    let scale = F::select(soft, F::load(&p.soft_impulse), zero);
+    let new = (pn - mass * (vn + bias) - scale * pn).max(sf.min_normal);
+    // The approach velocity, recorded when the point starts pushing: its velocity at the start
+    // of this substep, before other points of the manifold pushed.
+    let starts = F::and(new.gt(zero), pn.le(zero));
+    let before = F::load(&p.relative_velocity) + F::load(&p.forcing) * F::splat(k.substep);
+    F::select(starts, before, F::load(&p.approach)).store(&mut p.approach);
+    F::select(starts, F::splat(k.substep), F::load(&p.impact_substep)).store(&mut p.impact_substep);
+    let dn = new - pn;
+    new.store(&mut p.normal_impulse);
+    (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
+    dn
+}
+
+/// The friction impulse of one point, bounded by its normal impulse: updates the point and
+/// returns the impulse change to apply (a vector in the tangent plane).
+#[inline(always)]
+fn solve_friction<F: FloatW>(
+    p: &mut PointLanes<F>,
+    sf: &Surface<F>,
+    bodies: &Pair<F>,
+    ra: V3<F>,
+    rb: V3<F>,
+) -> V3<F> {
+    let zero = F::zero();
+    let one = F::splat(1.0);
+    let dv = bodies.relative(ra, rb);
+    let pt = [
+        F::load(&p.tangent_impulse[0]),
+        F::load(&p.tangent_impulse[1]),
+    ];
+    let r = [
+        dv.dot(sf.t[0]) - sf.slide[0] + sf.slip[0] * pt[0],
+        dv.dot(sf.t[1]) - sf.slide[1] + sf.slip[1] * pt[1],
+    ];
+    let trial = [
+        pt[0] - F::load(&p.tangent_mass[0]) * r[0],
+        pt[1] - F::load(&p.tangent_mass[1]) * r[1],
+    ];
+    let pn = F::load(&p.normal_impulse).max(zero);
+    let limit = [sf.mu[0] * pn + sf.fixed[0], sf.mu[1] * pn + sf.fixed[1]];
+    let len = (trial[0] * trial[0] + trial[1] * trial[1]).sqrt();
+    let shrink = F::select(len.gt(limit[0]), limit[0] / len, one);
+    let disc = sf.disc.gt(F::splat(0.5));
+    let mut dt = [zero; 2];
+    for d in 0..2 {
+        let boxed = trial[d].min(limit[d]).max(-limit[d]);
+        let clamped = F::select(disc, trial[d] * shrink, boxed);
+        dt[d] = clamped - pt[d];
+        clamped.store(&mut p.tangent_impulse[d]);
+        (F::load(&p.total_tangent[d]) + dt[d]).store(&mut p.total_tangent[d]);
+    }
+    sf.t[0].scale(dt[0]).add(sf.t[1].scale(dt[1]))
+}
+
+/// The restitution pass of one batch (module docs). A bounce belongs to the moment of impact:
+/// the bodies also travel with their change of velocity for what remains of the step after
+/// the substep in which the point first pushed (for an impact at the step's start, the whole
+/// step, as in the exact path).
+#[inline(always)]
+pub(crate) fn restitution<F: FloatW>(
+    c: &mut ContactBatch<F>,
+    vel: &mut [BodyVel],
+    delta: &mut [BodyDelta],
+    k: &KernelParams,
+) {
+    let e = F::load(&c.restitution);
+    let threshold = -F::load(&c.restitution_threshold);
+    let zero = F::zero();
+    if !F::any(e.gt(zero)) {
+        return;
+    }
+    let m = Masses::load(c);
+    let mut bodies = Pair::load(c, vel);
+    let n = c.normal.load();
+    let min_normal = F::load(&c.min_normal);
+    let mut travel_a = V3::new(zero, zero, zero);
+    let mut travel_b = travel_a;
+    for p in c.p.iter_mut().take(c.points as usize) {
+        let approach = F::load(&p.approach);
+        let pushed = F::load(&p.total_normal).gt(zero);
+        let bounce = F::and(F::and(e.gt(zero), approach.lt(threshold)), pushed);
+        if !F::any(bounce) {
+            continue;
+        }
+        let ra = p.r_a.load();
+        let rb = p.r_b.load();
+        let vn = bodies.relative(ra, rb).dot(n);
+        let pn = F::load(&p.normal_impulse);
+        let mass = F::select(bounce, F::load(&p.normal_mass), zero);
+        let new = (pn - mass * (vn + e * approach)).max(min_normal);
+        let dn = new - pn;
+        new.store(&mut p.normal_impulse);
+        (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
+        bodies.apply(&m, ra, rb, n.scale(dn));
+        let remaining = F::splat(k.h) - F::load(&p.impact_substep) * F::splat(k.hs);
+        travel_a = travel_a.add(n.scale(m.ma * dn * remaining));
+        travel_b = travel_b.sub(n.scale(m.mb * dn * remaining));
+    }
+    bodies.store(c, vel);
+    displace(delta, &c.body_a, &c.write_a, travel_a);
+    displace(delta, &c.body_b, &c.write_b, travel_b);
+}
+
+/// Adds a displacement to the lanes' bodies that may be written.
+#[inline(always)]
+fn displace<F: FloatW>(delta: &mut [BodyDelta], idx: &F::Index, write: &F::Index, d: V3<F>) {
+    let mut a: [F::Array; 3] = Default::default();
+    d.x.store(&mut a[0]);
+    d.y.store(&mut a[1]);
+    d.z.store(&mut a[2]);
+    for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
+        if ok != 0 {
+            let s = &mut delta[i as usize];
+            s.dp.x += a[0].as_ref()[l];
+            s.dp.y += a[1].as_ref()[l];
+            s.dp.z += a[2].as_ref()[l];
+        }
+    }
+}
+
+/// Reads a lane's point back as impulses (normal, tangent 1, tangent 2) of the substep and of
+/// the whole step.
+pub(crate) fn lane_impulses<F: FloatW>(p: &PointLanes<F>, l: usize) -> ([Real; 3], [Real; 3]) {
+    (
+        [
+            p.normal_impulse.as_ref()[l],
+            p.tangent_impulse[0].as_ref()[l],
+            p.tangent_impulse[1].as_ref()[l],
+        ],
+        [
+            p.total_normal.as_ref()[l],
+            p.total_tangent[0].as_ref()[l],
+            p.total_tangent[1].as_ref()[l],
+        ],
+    )
+}

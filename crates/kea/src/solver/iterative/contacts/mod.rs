@@ -1,0 +1,419 @@
+//! Contacts solved as contacts: one constraint per manifold, coloured, packed into SIMD
+//! batches and solved lane-parallel in the soft step's stages (see `kernel` for the maths and
+//! `batch` for the data).
+//!
+//! Prepare colours the step's contacts (`graph`), orders each colour's contacts by point count
+//! so that a batch's lanes have as many points as each other, and writes them into batches of
+//! the lane width chosen at run time (8 `f32` lanes with AVX2, 4 with SSE2, or 1). Contacts that
+//! found no colour form the overflow, solved one at a time before the colours in every stage.
+//! Every stage runs colour after colour; within a colour no body appears twice, so the lanes
+//! (and, with the `parallel` feature, the threads) never write the same body.
+
+mod batch;
+mod kernel;
+
+use super::super::integrate::BodyScratch;
+use super::super::wide::{FloatW, SimdLevel};
+use super::super::{reserve, SolverBody, SolverContact};
+use super::bodies::{BodyDelta, BodyStates, BodyVel};
+use super::graph::{Colouring, COLOURS, OVERFLOW};
+use crate::constraint::PointForce;
+use crate::math::{to_f64, Real, Vec3};
+use batch::ContactBatch;
+pub(crate) use batch::PrepareParams;
+pub(crate) use kernel::KernelParams;
+
+#[cfg(target_arch = "x86_64")]
+use super::super::wide::{Narrow, Wide};
+
+/// One contact of the step as the solver files it.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    /// Index in the solver's contact slice.
+    index: u32,
+    a: u32,
+    b: u32,
+    colour: u8,
+    points: u8,
+}
+
+/// The batches of one lane width, colour after colour.
+#[derive(Debug, Default)]
+struct Lanes<F: FloatW> {
+    batches: Vec<ContactBatch<F>>,
+    /// `batches[colour_start[c]..colour_start[c + 1]]` are colour c's.
+    colour_start: Vec<u32>,
+}
+
+/// A stage of the soft step, as far as contacts are concerned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stage {
+    WarmStart,
+    Solve,
+    Relax,
+    Restitution,
+}
+
+impl<F: FloatW> Lanes<F> {
+    fn clear(&mut self) {
+        self.batches.clear();
+        self.colour_start.clear();
+    }
+
+    fn bytes(&self) -> usize {
+        self.batches.capacity() * std::mem::size_of::<ContactBatch<F>>()
+            + self.colour_start.capacity() * 4
+    }
+
+    /// Runs one stage over every batch, colour after colour.
+    #[inline(always)]
+    fn run(
+        &mut self,
+        stage: Stage,
+        vel: &mut [BodyVel],
+        delta: &mut [BodyDelta],
+        k: &KernelParams,
+    ) {
+        for c in &mut self.batches {
+            match stage {
+                Stage::WarmStart => kernel::warm_start(c, vel),
+                Stage::Solve => kernel::solve(c, vel, delta, k, true),
+                Stage::Relax => kernel::solve(c, vel, delta, k, false),
+                Stage::Restitution => kernel::restitution(c, vel, delta, k),
+            }
+        }
+    }
+}
+
+/// The 8-lane (4 in `f64`) stage, compiled for AVX2.
+///
+/// # Safety
+/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_wide(
+    lanes: &mut Lanes<Wide>,
+    stage: Stage,
+    vel: &mut [BodyVel],
+    delta: &mut [BodyDelta],
+    k: &KernelParams,
+) {
+    lanes.run(stage, vel, delta, k);
+}
+
+/// The contact solver's workspace.
+#[derive(Debug, Default)]
+pub(crate) struct ContactSolver {
+    level: SimdLevel,
+    colouring: Colouring,
+    entries: Vec<Entry>,
+    order: Vec<u32>,
+    colour_count: Vec<u32>,
+    bucket: Vec<u32>,
+    overflow: Lanes<Real>,
+    scalar: Lanes<Real>,
+    #[cfg(target_arch = "x86_64")]
+    narrow: Lanes<Narrow>,
+    #[cfg(target_arch = "x86_64")]
+    wide: Lanes<Wide>,
+}
+
+impl ContactSolver {
+    pub(crate) fn reserve(&mut self, bodies: usize, contacts: usize) {
+        self.colouring.reserve(bodies);
+        reserve(&mut self.entries, contacts);
+        reserve(&mut self.order, contacts);
+        let level = SimdLevel::Auto.detect();
+        let lanes = level.lanes();
+        let batches = contacts / lanes + COLOURS + 1;
+        reserve(&mut self.overflow.batches, contacts.min(64));
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Wide => reserve(&mut self.wide.batches, batches),
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Narrow => reserve(&mut self.narrow.batches, batches),
+            _ => reserve(&mut self.scalar.batches, batches),
+        }
+    }
+
+    pub(crate) fn bytes(&self) -> usize {
+        let mut n = self.colouring.bytes()
+            + self.entries.capacity() * std::mem::size_of::<Entry>()
+            + (self.order.capacity() + self.colour_count.capacity() + self.bucket.capacity()) * 4
+            + self.overflow.bytes()
+            + self.scalar.bytes();
+        #[cfg(target_arch = "x86_64")]
+        {
+            n += self.narrow.bytes() + self.wide.bytes();
+        }
+        n
+    }
+
+    pub(crate) fn bytes_for(bodies: usize, contacts: usize) -> usize {
+        let lanes = SimdLevel::Auto.lanes();
+        let batch = std::mem::size_of::<ContactBatch<Real>>() * lanes;
+        (bodies + 1) * 4 + contacts * (std::mem::size_of::<Entry>() + 4) + contacts * batch
+    }
+
+    /// Starts a step.
+    pub(crate) fn begin(&mut self) {
+        self.entries.clear();
+    }
+
+    /// Files contact `index` (on local bodies `a`, `b`) for this step.
+    pub(crate) fn add(&mut self, index: u32, contact: &SolverContact, a: u32, b: u32) {
+        let points = contact.contact.points().len() as u8;
+        self.entries.push(Entry {
+            index,
+            a,
+            b,
+            colour: OVERFLOW,
+            points,
+        });
+    }
+
+    /// Colours used and contacts in the overflow.
+    pub(crate) fn colour_stats(&self) -> (u32, u32) {
+        let used = self.colour_count[..COLOURS]
+            .iter()
+            .filter(|&&n| n > 0)
+            .count() as u32;
+        (used, self.colour_count[COLOURS])
+    }
+
+    /// The lane width in use.
+    pub(crate) fn lanes(&self) -> u32 {
+        self.level.lanes() as u32
+    }
+
+    /// Colours the filed contacts and writes them into batches of the lane width `level`.
+    pub(crate) fn prepare(
+        &mut self,
+        contacts: &[SolverContact],
+        bodies: &[SolverBody],
+        states: &BodyStates,
+        level: SimdLevel,
+        k: &PrepareParams,
+    ) {
+        self.level = level.detect();
+        self.colouring.begin(states.len());
+        self.colour_count.clear();
+        self.colour_count.resize(COLOURS + 1, 0);
+        for e in &mut self.entries {
+            let (wa, wb) = (states.writable[e.a as usize], states.writable[e.b as usize]);
+            e.colour = self.colouring.assign(e.a, wa, e.b, wb);
+            let c = if e.colour == OVERFLOW {
+                COLOURS
+            } else {
+                e.colour as usize
+            };
+            self.colour_count[c] += 1;
+        }
+        // Order: by colour, then most points first (a stable counting sort), so that the lanes
+        // of a batch have as many points as each other.
+        const P: usize = crate::constraint::MAX_CONTACT_POINTS;
+        let key = |e: &Entry| {
+            let c = if e.colour == OVERFLOW {
+                COLOURS
+            } else {
+                e.colour as usize
+            };
+            c * P + (P - e.points as usize)
+        };
+        self.bucket.clear();
+        self.bucket.resize((COLOURS + 1) * P + 1, 0);
+        for e in &self.entries {
+            self.bucket[key(e) + 1] += 1;
+        }
+        for i in 1..self.bucket.len() {
+            self.bucket[i] += self.bucket[i - 1];
+        }
+        self.order.clear();
+        self.order.resize(self.entries.len(), 0);
+        for (i, e) in self.entries.iter().enumerate() {
+            let slot = &mut self.bucket[key(e)];
+            self.order[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        let position = |slot: u32| {
+            let g = states.global[slot as usize];
+            if slot == 0 {
+                Vec3::ZERO
+            } else {
+                bodies[g as usize].position
+            }
+        };
+        let split = self.order.len() - self.colour_count[COLOURS] as usize;
+        let (coloured, overflow) = self.order.split_at(split);
+        build(
+            &mut self.overflow,
+            overflow,
+            &self.entries,
+            &self.colour_count,
+            true,
+            contacts,
+            states,
+            &position,
+            k,
+        );
+        match self.level {
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Wide => build(
+                &mut self.wide,
+                coloured,
+                &self.entries,
+                &self.colour_count,
+                false,
+                contacts,
+                states,
+                &position,
+                k,
+            ),
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Narrow => build(
+                &mut self.narrow,
+                coloured,
+                &self.entries,
+                &self.colour_count,
+                false,
+                contacts,
+                states,
+                &position,
+                k,
+            ),
+            _ => build(
+                &mut self.scalar,
+                coloured,
+                &self.entries,
+                &self.colour_count,
+                false,
+                contacts,
+                states,
+                &position,
+                k,
+            ),
+        }
+    }
+
+    /// Runs one stage: the overflow, then every colour.
+    pub(crate) fn run(&mut self, stage: Stage, states: &mut BodyStates, k: &KernelParams) {
+        let (vel, delta) = (&mut states.vel[..], &mut states.delta[..]);
+        self.overflow.run(stage, vel, delta, k);
+        match self.level {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
+            SimdLevel::Wide => unsafe { run_wide(&mut self.wide, stage, vel, delta, k) },
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Narrow => self.narrow.run(stage, vel, delta, k),
+            _ => self.scalar.run(stage, vel, delta, k),
+        }
+    }
+
+    /// Writes every point's forces back to its contact (mean over the step, and the last
+    /// substep's as the next warm start) and adds them to the bodies' constraint forces.
+    pub(crate) fn store(
+        &self,
+        contacts: &mut [SolverContact],
+        states: &BodyStates,
+        scratch: &mut BodyScratch,
+        h: Real,
+        hs: Real,
+    ) {
+        store_lanes(&self.overflow, contacts, states, scratch, h, hs);
+        match self.level {
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Wide => store_lanes(&self.wide, contacts, states, scratch, h, hs),
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Narrow => store_lanes(&self.narrow, contacts, states, scratch, h, hs),
+            _ => store_lanes(&self.scalar, contacts, states, scratch, h, hs),
+        }
+    }
+}
+
+/// Writes the contacts of `order` (already sorted by colour) into `lanes`' batches.
+#[allow(clippy::too_many_arguments)]
+fn build<F: FloatW>(
+    lanes: &mut Lanes<F>,
+    order: &[u32],
+    entries: &[Entry],
+    colour_count: &[u32],
+    overflow: bool,
+    contacts: &[SolverContact],
+    states: &BodyStates,
+    position: &dyn Fn(u32) -> Vec3,
+    k: &PrepareParams,
+) {
+    lanes.clear();
+    let colours: &[u32] = if overflow {
+        &colour_count[COLOURS..]
+    } else {
+        &colour_count[..COLOURS]
+    };
+    let mut next = 0;
+    for &count in colours {
+        lanes.colour_start.push(lanes.batches.len() as u32);
+        for (i, &o) in order[next..next + count as usize].iter().enumerate() {
+            let l = i % F::LANES;
+            if l == 0 {
+                lanes.batches.push(ContactBatch::empty());
+            }
+            let e = &entries[o as usize];
+            let c = &contacts[e.index as usize];
+            let batch = lanes.batches.last_mut().expect("pushed above");
+            batch.set_lane(
+                l,
+                e.index,
+                &c.contact,
+                (e.a, e.b),
+                (position(e.a), position(e.b)),
+                states,
+                k,
+            );
+        }
+        next += count as usize;
+    }
+    lanes.colour_start.push(lanes.batches.len() as u32);
+}
+
+fn store_lanes<F: FloatW>(
+    lanes: &Lanes<F>,
+    contacts: &mut [SolverContact],
+    states: &BodyStates,
+    scratch: &mut BodyScratch,
+    h: Real,
+    hs: Real,
+) {
+    for batch in &lanes.batches {
+        for l in 0..F::LANES {
+            let index = batch.contact.as_ref()[l];
+            if index == u32::MAX {
+                continue;
+            }
+            let sc = &mut contacts[index as usize];
+            let n = batch.normal.lane(l);
+            let t = [batch.tangent[0].lane(l), batch.tangent[1].lane(l)];
+            let a = batch.body_a.as_ref()[l] as usize;
+            let b = batch.body_b.as_ref()[l] as usize;
+            for (j, p) in batch.p.iter().enumerate().take(sc.contact.points().len()) {
+                let (now, total) = kernel::lane_impulses(p, l);
+                let mean = PointForce {
+                    normal: total[0] / h,
+                    friction: (t[0] * total[1] + t[1] * total[2]) / h,
+                };
+                let end = PointForce {
+                    normal: now[0] / hs,
+                    friction: (t[0] * now[1] + t[1] * now[2]) / hs,
+                };
+                sc.contact.set_point_force(j, mean, end);
+                let f = n * mean.normal + mean.friction;
+                for (slot, r, sign) in [(a, p.r_a.lane(l), 1.0), (b, p.r_b.lane(l), -1.0)] {
+                    if states.writable[slot] {
+                        let g = states.global[slot] as usize;
+                        scratch.constraint_force[g] += to_f64(f * sign);
+                        scratch.constraint_torque[g] += to_f64(r.cross(f) * sign);
+                    }
+                }
+            }
+        }
+    }
+}
