@@ -1,61 +1,129 @@
-use rapier3d::prelude::*;
-fn main() {
-    let n: usize = std::env::args().nth(1).map_or(40, |s| s.parse().unwrap());
-    let steps: usize = std::env::args().nth(2).map_or(3600, |s| s.parse().unwrap());
-    let mut bodies = RigidBodySet::new();
-    let mut colliders = ColliderSet::new();
-    let mut ij = ImpulseJointSet::new();
-    let mut mj = MultibodyJointSet::new();
-    let mut sb = SoftBodySet::new();
-    let mut islands = IslandManager::new();
-    let mut bp = BroadPhaseBvh::new();
-    let mut np = NarrowPhase::new();
-    let mut ccd = CCDSolver::new();
-    let mut pipe = PhysicsPipeline::new();
-    let params = IntegrationParameters::default();
-    println!("{:?}", params);
-    let g = bodies.insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.5, 0.0)));
-    colliders.insert_with_parent(ColliderBuilder::cuboid(50.0, 0.5, 50.0), g, &mut bodies);
-    let mut hs = Vec::new();
-    for i in 0..n {
-        let h = bodies.insert(
-            RigidBodyBuilder::dynamic()
-                .translation(Vector::new(0.0, 0.5 + i as f32, 0.0))
-                .can_sleep(false),
-        );
-        colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5), h, &mut bodies);
-        hs.push(h);
+//! `kea-bench`: Kea and Rapier on the same scenes, one after the other in one process.
+//!
+//! For each scene, both engines build it from one description ([`scenes`]), step it at 60 Hz
+//! on one thread (sleeping off, except in the sleeping scene), and are timed over several
+//! runs, alternating engines so that a machine whose speed drifts treats both alike. The table
+//! gives the median ms/step of each, Rapier's time over Kea's (above 1: Kea is faster), and a
+//! quality figure per scene: the largest displacement of any body (stacks that should stand),
+//! the final kinetic energy (balls that should settle) or the largest joint gap (chains).
+//!
+//! `cargo run --release -p kea-bench [-- [--runs N] [--quick] [FILTER]]`
+
+mod kea_run;
+mod rapier_run;
+mod scenes;
+
+use scenes::{Quality, Scene};
+
+/// One timed run of one scene in one engine.
+#[derive(Debug, Clone, Copy)]
+pub struct Outcome {
+    /// Time per step, ms.
+    pub ms: f64,
+    /// The scene's quality figure.
+    pub quality: f64,
+    /// Kea's stage times per step, ms: solver, broad phase, narrow phase.
+    pub stages_ms: [f64; 3],
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
-    let top0 = bodies[hs[n - 1]].translation();
-    let t = std::time::Instant::now();
-    for s in 0..steps {
-        pipe.step(
-            Vector::new(0.0, -9.81, 0.0),
-            &params,
-            &mut islands,
-            &mut bp,
-            &mut np,
-            &mut bodies,
-            &mut colliders,
-            &mut ij,
-            &mut mj,
-            &mut sb,
-            &mut ccd,
-            &(),
-            &(),
-        );
-        if s % 300 == 299 {
-            let top = bodies[hs[n - 1]].translation();
-            println!(
-                "{s}: dy {:.4} dx {:.5} dz {:.5}",
-                top.y - top0.y,
-                top.x - top0.x,
-                top.z - top0.z
-            );
+}
+
+fn spread(v: &[f64]) -> f64 {
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    hi - lo
+}
+
+fn scenes(quick: bool) -> Vec<Scene> {
+    let s = |n: usize| if quick { n.div_ceil(4) } else { n };
+    vec![
+        scenes::pyramid(20, s(300)),
+        scenes::pyramid(40, s(200)),
+        scenes::pyramid(80, s(100)),
+        scenes::balls(1000, s(300)),
+        scenes::column(40, s(600)),
+        scenes::heavy_light(10, s(600)),
+        scenes::sleeping_pyramid(40, s(100)),
+        scenes::chain(100, s(600)),
+    ]
+}
+
+fn quality(q: Quality, x: f64) -> String {
+    match q {
+        Quality::Displacement => format!("moved {:.1} cm", x * 100.0),
+        Quality::Energy => format!("KE {x:.2e} J"),
+        Quality::JointGap => format!("gap {:.1} mm", x * 1000.0),
+    }
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!(
+        "{cpu}, {cores} cores; Kea's contact solver uses {} SIMD lanes",
+        kea::SimdLevel::Auto.lanes()
+    )
+}
+
+fn main() {
+    let mut runs = 3;
+    let mut quick = false;
+    let mut filter = String::new();
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--runs" => runs = args.next().and_then(|n| n.parse().ok()).unwrap_or(3),
+            "--quick" => quick = true,
+            _ => filter = a,
         }
     }
-    println!(
-        "{:.3} ms/step",
-        t.elapsed().as_secs_f64() * 1000.0 / steps as f64
-    );
+    println!("Kea vs Rapier 0.36 (defaults), dt 1/60, one thread: median of {runs} runs");
+    println!("Machine: {}\n", machine());
+    println!("| scene | Rapier ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
+    println!("|---|---|---|---|---|---|---|");
+    for scene in scenes(quick)
+        .into_iter()
+        .filter(|s| s.name.contains(&filter))
+    {
+        let (mut kea, mut rapier) = (Vec::new(), Vec::new());
+        for _ in 0..runs {
+            kea.push(kea_run::run(&scene));
+            rapier.push(rapier_run::run(&scene));
+        }
+        let k = median(kea.iter().map(|o| o.ms).collect());
+        let r = median(rapier.iter().map(|o| o.ms).collect());
+        let kq = kea.last().map_or(0.0, |o| o.quality);
+        let rq = rapier.last().map_or(0.0, |o| o.quality);
+        let stage = |i: usize| median(kea.iter().map(|o| o.stages_ms[i]).collect());
+        println!(
+            "| {} | {:.3} (±{:.3}) | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
+            scene.name,
+            r,
+            0.5 * spread(&rapier.iter().map(|o| o.ms).collect::<Vec<_>>()),
+            k,
+            0.5 * spread(&kea.iter().map(|o| o.ms).collect::<Vec<_>>()),
+            r / k,
+            quality(scene.quality, kq),
+            quality(scene.quality, rq),
+            stage(0),
+            stage(1),
+            stage(2),
+        );
+    }
 }

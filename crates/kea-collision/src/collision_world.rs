@@ -2,16 +2,19 @@
 //! attached to Kea bodies, and the step that turns their contact manifolds into the world's
 //! contacts.
 
-use crate::broad_phase::{Entry, SweepAndPrune};
+use crate::broad_phase::{Aabb, DynamicTree};
 use crate::error::{check_finite, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
+use crate::manifold_gen::Generator;
 use crate::material::{MaterialId, MaterialTable};
-use crate::narrow_phase::ManifoldScratch;
+use crate::narrow_phase::Wanted;
+use crate::pairs::Pairs;
 use crate::parry::math::Pose;
-use crate::parry::query::{ContactManifold, ContactManifoldsWorkspace};
 use crate::shape::Shape;
-use kea::{BodyHandle, ConstraintHandle, Contact, Quat, Real, StepStats, Vec3, World};
-use std::collections::BTreeMap;
+use kea::{
+    BodyHandle, CollisionStats, ConstraintHandle, Contact, Quat, Real, StepStats, Vec3, World,
+};
+use std::time::Instant;
 
 /// A collider's handle: generational, like Kea's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -72,38 +75,13 @@ impl Default for ContactStrategy {
     }
 }
 
-/// One contact point of a pair, remembered across steps by its features so that its Kea
-/// contact (and the solvers' warm start) persists.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct PairContact {
-    pub key: (u32, u32, u32, u32),
-    pub handle: ConstraintHandle,
-    pub seen: bool,
-}
-
-/// What the collision world remembers of a pair of colliders whose bounds overlap.
-#[derive(Default)]
-pub(crate) struct PairState {
-    pub manifolds: Vec<ContactManifold<(), ()>>,
-    pub workspace: Option<ContactManifoldsWorkspace>,
-    pub contacts: Vec<PairContact>,
-    /// Among this step's candidate pairs (bounds overlap and the filter lets it collide).
-    pub seen: bool,
-    /// Neither side can move: its contacts are kept as they are.
-    pub resting: bool,
-    /// Touching last step, and this step.
-    pub touching: bool,
-    pub touching_now: bool,
-    /// Impulse on the first collider's side over the last step, N·s.
-    pub impulse: Vec3,
-    /// The first collider's body is body 2 of the pair's contacts.
-    pub flipped: bool,
-}
-
 pub(crate) struct Collider {
     pub(crate) def: ColliderDef,
     /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
     pub(crate) reach: Real,
+    /// Its leaf in the broad phase's tree, and the fat box stored there.
+    pub(crate) leaf: u32,
+    pub(crate) fat: Aabb,
 }
 
 pub(crate) struct Slot {
@@ -117,14 +95,6 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
         index: i,
         generation: slots[i as usize].generation,
     }
-}
-
-/// A contact the narrow phase wants this step.
-pub(crate) struct Wanted {
-    pub pair: (u32, u32),
-    pub key: (u32, u32, u32, u32),
-    pub bodies: (BodyHandle, Option<BodyHandle>),
-    pub contact: Contact,
 }
 
 /// Colliders, materials, and the contacts they generate in a [`World`].
@@ -141,18 +111,33 @@ pub struct CollisionWorld {
     /// How close to overlap a contact point must be for its pair to count as touching in the
     /// events, m (1 mm by default).
     pub touch_distance: Real,
-    pub(crate) pairs: BTreeMap<(u32, u32), PairState>,
-    sap: SweepAndPrune,
-    pub(crate) candidates: Vec<(u32, u32)>,
+    pub(crate) pairs: Pairs,
+    pub(crate) tree: DynamicTree,
+    /// Colliders whose fat box changed this step (they look for new pairs).
+    pub(crate) moved: Vec<u32>,
+    pub(crate) new_pairs: Vec<(u32, u32)>,
+    /// Pairs to forget this step (their boxes parted, or the filter now refuses them).
+    pub(crate) dropped: Vec<u32>,
     pub(crate) wanted: Vec<Wanted>,
     pub(crate) events: Vec<ContactEvent>,
     pub(crate) pending_events: Vec<ContactEvent>,
-    /// Body pairs joined by an enabled joint, sorted; rebuilt each update.
+    /// Body pairs joined by an enabled joint, sorted; rebuilt each update, and last update's.
     pub(crate) jointed: Vec<(BodyHandle, BodyHandle)>,
+    previously_jointed: Vec<(BodyHandle, BodyHandle)>,
     /// Joints whose bodies may still collide.
     colliding_joints: Vec<ConstraintHandle>,
-    pub(crate) scratch: ManifoldScratch,
+    pub(crate) generator: Generator,
+    pub(crate) reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
+    /// What the last update did.
+    pub(crate) stats: CollisionStats,
+    /// The strategy and margin the pairs' manifolds were generated with: a change makes every
+    /// manifold be generated anew.
+    generated_with: (ContactStrategy, Real),
 }
+
+/// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than
+/// this since its box was last set costs the broad phase nothing.
+pub const FAT_MARGIN: Real = 0.05;
 
 impl Default for CollisionWorld {
     fn default() -> Self {
@@ -174,12 +159,18 @@ impl CollisionWorld {
             events: Vec::new(),
             pending_events: Vec::new(),
             jointed: Vec::new(),
+            previously_jointed: Vec::new(),
             colliding_joints: Vec::new(),
-            pairs: BTreeMap::new(),
-            sap: SweepAndPrune::default(),
-            candidates: Vec::new(),
+            pairs: Pairs::default(),
+            tree: DynamicTree::new(),
+            moved: Vec::new(),
+            new_pairs: Vec::new(),
+            dropped: Vec::new(),
             wanted: Vec::new(),
-            scratch: ManifoldScratch::default(),
+            generator: Generator::default(),
+            reduce_scratch: (Vec::with_capacity(16), Vec::with_capacity(16)),
+            stats: CollisionStats::default(),
+            generated_with: (ContactStrategy::default(), 0.01),
         }
     }
 
@@ -207,7 +198,29 @@ impl CollisionWorld {
         let local = Pose::from_parts(def.offset, def.rotation.normalize());
         let sphere = def.shared_shape().compute_bounding_sphere(&local);
         let reach = sphere.center().length() + sphere.radius();
-        let collider = Collider { def, reach };
+        let aabb = def.shared_shape().compute_aabb(&collider_pose(world, &def));
+        let fat = Aabb {
+            min: aabb.mins,
+            max: aabb.maxs,
+        };
+        let fat = if def.body.is_some() {
+            fat.grown(FAT_MARGIN + self.margin)
+        } else {
+            fat
+        };
+        let index = match self.free.last() {
+            Some(&i) => i,
+            None => self.slots.len() as u32,
+        };
+        self.reserve_for(self.slots.len() + 1);
+        let leaf = self.tree.insert(fat, index);
+        let collider = Collider {
+            def,
+            reach,
+            leaf,
+            fat,
+        };
+        self.moved.push(index);
         let index = match self.free.pop() {
             Some(i) => {
                 self.slots[i as usize].collider = Some(collider);
@@ -227,35 +240,76 @@ impl CollisionWorld {
         })
     }
 
+    /// Reserves room for `colliders` colliders (and a few pairs each), so that adding them
+    /// and stepping do not allocate.
+    pub fn reserve(&mut self, colliders: usize) {
+        self.reserve_for(colliders);
+    }
+
+    fn reserve_for(&mut self, colliders: usize) {
+        if self.slots.capacity() < colliders {
+            self.slots.reserve(colliders - self.slots.len());
+        }
+        self.tree.reserve(colliders);
+        let pairs = 8 * colliders;
+        self.pairs.reserve(pairs);
+        for v in [&mut self.jointed, &mut self.previously_jointed] {
+            if v.capacity() < colliders {
+                v.reserve(colliders - v.len());
+            }
+        }
+        for v in [&mut self.moved, &mut self.dropped] {
+            if v.capacity() < colliders {
+                v.reserve(colliders - v.len());
+            }
+        }
+        if self.new_pairs.capacity() < pairs {
+            self.new_pairs.reserve(pairs - self.new_pairs.len());
+        }
+        if self.wanted.capacity() < pairs {
+            self.wanted.reserve(pairs - self.wanted.len());
+        }
+        for v in [&mut self.events, &mut self.pending_events] {
+            if v.capacity() < pairs {
+                v.reserve(pairs - v.len());
+            }
+        }
+    }
+
     /// Removes a collider and destroys the contacts it had in `world`.
     pub fn remove_collider(&mut self, world: &mut World, h: ColliderHandle) -> CollisionResult<()> {
         self.get(h)?;
-        let gone: Vec<(u32, u32)> = self
-            .pairs
-            .keys()
-            .filter(|k| k.0 == h.index || k.1 == h.index)
-            .copied()
-            .collect();
-        for k in gone {
-            let Some(state) = self.pairs.remove(&k) else {
+        self.forget_collider(world, h.index);
+        Ok(())
+    }
+
+    /// Drops collider slot `index`: its pairs (destroying their contacts, an `Ended` event
+    /// for those touching), its leaf, and the slot itself.
+    fn forget_collider(&mut self, world: &mut World, index: u32) {
+        for slot in 0..self.pairs.slots.len() as u32 {
+            let p = &self.pairs.slots[slot as usize];
+            if !p.alive || (p.colliders.0 != index && p.colliders.1 != index) {
                 continue;
-            };
-            for c in &state.contacts {
-                let _ = world.destroy_constraint(c.handle); // already gone with its body is fine
             }
-            if state.touching {
+            for m in &p.manifolds {
+                let _ = world.destroy_constraint(m.handle); // already gone with its body is fine
+            }
+            if p.touching {
+                let k = p.colliders;
                 let colliders = [handle_of(&self.slots, k.0), handle_of(&self.slots, k.1)];
                 self.pending_events.push(ContactEvent {
                     kind: ContactEventKind::Ended,
                     colliders,
                 });
             }
+            self.pairs.remove(slot);
         }
-        let slot = &mut self.slots[h.index as usize];
-        slot.collider = None;
+        let slot = &mut self.slots[index as usize];
+        if let Some(c) = slot.collider.take() {
+            self.tree.remove(c.leaf);
+        }
         slot.generation = slot.generation.wrapping_add(1);
-        self.free.push(h.index);
-        Ok(())
+        self.free.push(index);
     }
 
     /// The contact events of the last update (began, persisted, ended), in pair order.
@@ -270,7 +324,10 @@ impl CollisionWorld {
         self.get(a)?;
         self.get(b)?;
         let key = (a.index.min(b.index), a.index.max(b.index));
-        let on_first = self.pairs.get(&key).map_or(Vec3::ZERO, |p| p.impulse);
+        let on_first = self
+            .pairs
+            .find(key)
+            .map_or(Vec3::ZERO, |s| self.pairs.slots[s as usize].impulse);
         Ok(if a.index <= b.index {
             on_first
         } else {
@@ -283,7 +340,8 @@ impl CollisionWorld {
     #[must_use]
     pub fn body_pair_impulse(&self, body: BodyHandle, other: Option<BodyHandle>) -> Vec3 {
         let mut total = Vec3::ZERO;
-        for (&(ia, ib), state) in &self.pairs {
+        for (_, state) in self.pairs.live() {
+            let (ia, ib) = state.colliders;
             let (Some(a), Some(b)) = (
                 &self.slots[ia as usize].collider,
                 &self.slots[ib as usize].collider,
@@ -304,9 +362,9 @@ impl CollisionWorld {
     #[must_use]
     pub fn deepest_penetration(&self, world: &World) -> Real {
         self.pairs
-            .values()
-            .flat_map(|p| p.contacts.iter())
-            .filter_map(|c| world.contact(c.handle).ok())
+            .live()
+            .flat_map(|(_, p)| p.manifolds.iter())
+            .filter_map(|m| world.contact(m.handle).ok())
             .map(Contact::penetration)
             .fold(0.0, Real::max)
     }
@@ -352,20 +410,28 @@ impl CollisionWorld {
         let key = (a.index.min(b.index), a.index.max(b.index));
         Ok(self
             .pairs
-            .get(&key)
-            .map(|p| p.contacts.iter().map(|c| c.handle).collect())
+            .find(key)
+            .map(|s| {
+                self.pairs.slots[s as usize]
+                    .manifolds
+                    .iter()
+                    .map(|m| m.handle)
+                    .collect()
+            })
             .unwrap_or_default())
     }
 
     /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
+    /// The step's statistics include this update's ([`StepStats::collision`]).
     pub fn step(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
         self.update_contacts(world, dt)?;
-        let stats = world.step(dt)?;
-        for state in self.pairs.values_mut() {
+        let mut stats = world.step(dt)?;
+        stats.collision = self.stats;
+        for state in self.pairs.slots.iter_mut().filter(|p| p.alive) {
             let force: Vec3 = state
-                .contacts
+                .manifolds
                 .iter()
-                .filter_map(|c| world.contact_force(c.handle).ok())
+                .filter_map(|m| world.contact_force(m.handle).ok())
                 .sum();
             // Contact forces act on the contacts' body 1: the first collider's, unless flipped.
             state.impulse = if state.flipped {
@@ -382,11 +448,30 @@ impl CollisionWorld {
     /// each body's motion (speculative contacts). On error nothing in `world` has changed.
     pub fn update_contacts(&mut self, world: &mut World, dt: Real) -> CollisionResult<()> {
         check_finite("dt", dt)?;
+        let t0 = Instant::now();
+        if self.generated_with != (self.strategy, self.margin) {
+            self.generated_with = (self.strategy, self.margin);
+            for p in &mut self.pairs.slots {
+                p.generated_at = None;
+            }
+        }
         self.drop_colliders_of_destroyed_bodies(world);
         self.collect_jointed_pairs(world);
-        self.broad_phase(world, dt);
+        self.update_bounds(world, dt);
+        self.find_new_pairs();
+        let t1 = Instant::now();
         self.narrow_phase(world, dt);
-        self.apply(world)
+        self.apply(world)?;
+        self.stats.time_broad_phase = t1 - t0;
+        self.stats.time_narrow_phase = t1.elapsed();
+        self.stats.pairs = self.pairs.len() as u32;
+        Ok(())
+    }
+
+    /// What the last [`CollisionWorld::update_contacts`] did.
+    #[must_use]
+    pub fn stats(&self) -> &CollisionStats {
+        &self.stats
     }
 
     fn get(&self, h: ColliderHandle) -> CollisionResult<&Collider> {
@@ -400,25 +485,23 @@ impl CollisionWorld {
             })
     }
 
-    fn drop_colliders_of_destroyed_bodies(&mut self, world: &World) {
-        for slot in &mut self.slots {
-            if let Some(c) = &slot.collider {
-                if c.def.body.is_some_and(|b| world.body(b).is_err()) {
-                    slot.collider = None;
-                    slot.generation = slot.generation.wrapping_add(1);
-                }
+    fn drop_colliders_of_destroyed_bodies(&mut self, world: &mut World) {
+        for i in 0..self.slots.len() as u32 {
+            let gone = self.slots[i as usize]
+                .collider
+                .as_ref()
+                .is_some_and(|c| c.def.body.is_some_and(|b| world.body(b).is_err()));
+            if gone {
+                self.forget_collider(world, i);
             }
         }
-        self.free.clear();
-        self.free.extend(
-            (0..self.slots.len() as u32)
-                .rev()
-                .filter(|&i| self.slots[i as usize].collider.is_none()),
-        );
     }
 
-    /// Body pairs joined by an enabled joint that has not been allowed to collide.
+    /// Body pairs joined by an enabled joint that has not been allowed to collide. When the set
+    /// changes, the colliders of the bodies concerned look for pairs again (a pair the filter
+    /// refused was never made, and their boxes may not move).
     fn collect_jointed_pairs(&mut self, world: &World) {
+        std::mem::swap(&mut self.jointed, &mut self.previously_jointed);
         self.jointed.clear();
         for (joint, [a, b]) in world.enabled_joints() {
             if let (Some(a), Some(b)) = (a, b) {
@@ -428,33 +511,25 @@ impl CollisionWorld {
             }
         }
         self.jointed.sort_unstable();
-    }
-
-    fn broad_phase(&mut self, world: &World, dt: Real) {
-        let margin = self.margin;
-        let entries = self.slots.iter().enumerate().filter_map(|(i, s)| {
-            let c = s.collider.as_ref()?;
-            let pose = collider_pose(world, &c.def);
-            let aabb = c.def.shared_shape().compute_aabb(&pose);
-            let (mut min, mut max) = (
-                aabb.mins - Vec3::splat(margin),
-                aabb.maxs + Vec3::splat(margin),
-            );
-            if let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) {
-                let sweep = body.linear_velocity() * dt;
-                min += sweep.min(Vec3::ZERO);
-                max += sweep.max(Vec3::ZERO);
-                let turn = Vec3::splat(body.angular_velocity().length() * dt * c.reach);
-                min -= turn;
-                max += turn;
+        if self.jointed == self.previously_jointed {
+            return;
+        }
+        for (i, slot) in self.slots.iter().enumerate() {
+            let Some(body) = slot.collider.as_ref().and_then(|c| c.def.body) else {
+                continue;
+            };
+            let changed = |list: &[(BodyHandle, BodyHandle)],
+                           other: &[(BodyHandle, BodyHandle)]| {
+                list.iter().any(|&(a, b)| {
+                    (a == body || b == body) && other.binary_search(&(a, b)).is_err()
+                })
+            };
+            if changed(&self.jointed, &self.previously_jointed)
+                || changed(&self.previously_jointed, &self.jointed)
+            {
+                self.moved.push(i as u32);
             }
-            Some(Entry {
-                slot: i as u32,
-                min,
-                max,
-            })
-        });
-        self.sap.pairs(entries, &mut self.candidates);
+        }
     }
 }
 

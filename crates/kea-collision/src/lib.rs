@@ -27,18 +27,24 @@ mod broad_phase;
 mod collision_world;
 mod error;
 mod events;
+mod manifold_gen;
 mod material;
 mod narrow_phase;
+mod pairs;
+mod proxies;
 mod query;
 mod reduce;
 mod shape;
 mod sync;
 mod tessellate;
 
-pub use collision_world::{ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy};
+pub use collision_world::{
+    ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy, FAT_MARGIN,
+};
 pub use error::{CollisionError, CollisionResult};
 pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, PairContact, Surface};
+pub use narrow_phase::{CACHE_ANGLE, CACHE_DISTANCE};
 pub use query::{PointHit, QueryFilter, RayHit, ShapeCast, ShapeHit};
 pub use shape::{MassProperties, Shape};
 pub use tessellate::PLANE_HALF_SIZE;

@@ -1,133 +1,81 @@
-//! The narrow phase: parry contact manifolds for every candidate pair the filter lets through,
-//! reduced by the contact strategy and turned into the Kea contacts the world should hold.
+//! The narrow phase: for every pair with something that moves, the manifolds this step wants
+//! (one Kea contact each), generated or moved along with the bodies.
+//!
+//! Manifold cache. When the second collider's pose relative to the first has changed by less
+//! than [`CACHE_DISTANCE`] and [`CACHE_ANGLE`] since the pair's manifolds were generated, they
+//! are not generated again: their points, kept in each collider's own frame, are carried to the
+//! colliders' current poses and the separations measured anew (Jolt's body-pair cache). A pile
+//! at rest then costs a few transforms per contact instead of a clipping test, and keeps its
+//! points (and their warm starts) exactly.
 
-use crate::collision_world::{collider_pose, ColliderDef, CollisionWorld, Wanted};
+use crate::collision_world::{collider_pose, ColliderDef, CollisionWorld};
+use crate::pairs::{CachedPoint, ManifoldCache};
 use crate::parry::math::Pose;
-use crate::parry::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use crate::reduce::reduce;
-use kea::{BodyHandle, Contact, ContactParams, Real, Vec3, World};
+use kea::{BodyHandle, ContactPoint, Real, Vec3, World, MAX_CONTACT_POINTS};
 
-/// What every contact of one pair shares this step.
-struct PairFrame {
-    pair: (u32, u32),
-    bodies: (BodyHandle, Option<BodyHandle>),
-    /// The first collider is static, so it is body 2 and the normal keeps parry's direction.
-    flip: bool,
-    params: ContactParams,
-    /// A fixed world primary friction direction (conveyor pairs).
-    direction: Option<Vec3>,
-    poses: (Pose, Pose),
-    prediction: Real,
+/// Relative displacement below which a pair's manifolds are moved rather than generated, m.
+pub const CACHE_DISTANCE: Real = 1.0e-3;
+/// Relative rotation below which a pair's manifolds are moved rather than generated, rad.
+pub const CACHE_ANGLE: Real = 2.0 * std::f64::consts::PI as Real / 180.0;
+
+/// A manifold the narrow phase wants this step: the contact it should be.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Wanted {
+    /// Pair slot.
+    pub pair: u32,
+    /// Index of the pair's manifold it refreshes, or [`Wanted::NEW`].
+    pub existing: u32,
+    /// Body 1 and body 2 of the contact, and the contact's normal (from body 2 to body 1).
+    pub bodies: (BodyHandle, Option<BodyHandle>),
+    pub normal: Vec3,
+    pub points: [ContactPoint; MAX_CONTACT_POINTS],
+    /// The manifold as kept for the cache.
+    pub cache: ManifoldCache,
 }
 
-/// Buffers reused from manifold to manifold.
-#[derive(Debug, Default)]
-pub(crate) struct ManifoldScratch {
-    points: Vec<(Vec3, Real)>,
-    features: Vec<(u32, u32)>,
-    keep: Vec<usize>,
+impl Wanted {
+    /// A manifold the pair does not have yet.
+    pub(crate) const NEW: u32 = u32::MAX;
 }
 
-impl ManifoldScratch {
-    /// Reduces one manifold to at most `max_points` and appends its contacts to `wanted`,
-    /// skipping a key that the pair's contacts from `wanted[pair_start..]` already have (parry
-    /// can report the same features in two manifolds of a height field; one contact per key).
-    fn push_contacts(
-        &mut self,
-        manifold: &ContactManifold<(), ()>,
-        frame: &PairFrame,
-        max_points: usize,
-        wanted: &mut Vec<Wanted>,
-        pair_start: usize,
-    ) {
-        let (pose_a, pose_b) = frame.poses;
-        let sub_a = manifold.subshape_pos1().map_or(pose_a, |p| pose_a * *p);
-        let sub_b = manifold.subshape_pos2().map_or(pose_b, |p| pose_b * *p);
-        let n_ab = sub_a.rotation * manifold.local_n1;
-        // Kea's normal points from body 2 to body 1; parry's n1 points from shape 1 to shape 2.
-        let normal = if frame.flip { n_ab } else { -n_ab };
-        self.points.clear();
-        self.features.clear();
-        for p in manifold
-            .points
-            .iter()
-            .filter(|p| p.dist <= frame.prediction)
-        {
-            let wa = sub_a.transform_point(p.local_p1);
-            let wb = sub_b.transform_point(p.local_p2);
-            self.points.push(((wa + wb) * 0.5, -p.dist));
-            self.features.push((p.fid1.0, p.fid2.0));
-        }
-        reduce(&self.points, max_points.clamp(1, 8), &mut self.keep);
-        for &k in &self.keep {
-            let (position, depth) = self.points[k];
-            let Ok(mut contact) = Contact::new(position, normal, depth) else {
-                continue;
-            };
-            if contact.set_params(frame.params).is_err() {
-                continue;
-            }
-            if let Some(d) = frame.direction {
-                // Its projection on the tangent plane; none when it is (nearly) the normal.
-                let t = d - normal * d.dot(normal);
-                if t.length() > 1.0e-2 {
-                    let _ = contact.set_direction(Some(t.normalize()));
-                }
-            }
-            let (f1, f2) = self.features[k];
-            let key = (manifold.subshape1, manifold.subshape2, f1, f2);
-            if wanted[pair_start..].iter().any(|w| w.key == key) {
-                continue;
-            }
-            wanted.push(Wanted {
-                pair: frame.pair,
-                key,
-                bodies: frame.bodies,
-                contact,
-            });
-        }
-    }
+/// Whether a pair's relative pose `now` is close enough to `then` to reuse its manifolds.
+fn cache_holds(then: &Pose, now: &Pose) -> bool {
+    let moved = (now.translation - then.translation).length_squared();
+    // |q₁·q₀| = cos(θ/2) for the rotation θ between them.
+    let turned = now.rotation.dot(then.rotation).abs();
+    moved < CACHE_DISTANCE * CACHE_DISTANCE && turned >= (0.5 * CACHE_ANGLE).cos()
 }
 
 impl CollisionWorld {
+    /// Fills `wanted` with the manifolds of every pair that can move this step, and `dropped`
+    /// with the pairs to forget.
     pub(crate) fn narrow_phase(&mut self, world: &World, dt: Real) {
-        let dispatcher = DefaultQueryDispatcher;
         self.wanted.clear();
-        for state in self.pairs.values_mut() {
-            state.seen = false;
-        }
-        for &(ia, ib) in &self.candidates {
+        self.dropped.clear();
+        let (mut manifolds, mut reused) = (0u32, 0u32);
+        for slot in 0..self.pairs.slots.len() as u32 {
+            let p = &self.pairs.slots[slot as usize];
+            if !p.alive {
+                continue;
+            }
+            let (ia, ib) = p.colliders;
             let (Some(a), Some(b)) = (
                 &self.slots[ia as usize].collider,
                 &self.slots[ib as usize].collider,
             ) else {
+                self.dropped.push(slot);
                 continue;
             };
-            if !should_collide(&self.jointed, &a.def, &b.def) {
+            if !a.fat.overlaps(&b.fat) || !should_collide(&self.jointed, &a.def, &b.def) {
+                self.pairs.slots[slot as usize].resting = false;
+                self.dropped.push(slot);
                 continue;
             }
-            let state = self.pairs.entry((ia, ib)).or_default();
-            state.seen = true;
-            state.resting = pair_is_resting(world, &a.def, &b.def);
-            if state.resting {
+            let resting = pair_is_resting(world, &a.def, &b.def);
+            self.pairs.slots[slot as usize].resting = resting;
+            if resting {
                 continue; // asleep or static: its contacts stay as they are
-            }
-            let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
-            let prediction = self.margin
-                + dt * (motion(world, &a.def, a.reach) + motion(world, &b.def, b.reach));
-            let pos_ab = pose_a.inv_mul(&pose_b);
-            if dispatcher
-                .contact_manifolds(
-                    &pos_ab,
-                    a.def.shared_shape().as_ref(),
-                    b.def.shared_shape().as_ref(),
-                    prediction,
-                    &mut state.manifolds,
-                    &mut state.workspace,
-                )
-                .is_err()
-            {
-                continue; // a pair parry cannot collide (two meshes, say) gets no contacts
             }
             // Body 1 of a Kea contact must be a body; the normal points from body 2 to body 1.
             let (body1, body2, flip) = match (a.def.body, b.def.body) {
@@ -135,35 +83,102 @@ impl CollisionWorld {
                 (None, Some(y)) => (y, None, true),
                 (None, None) => continue,
             };
-            state.flipped = flip;
-            let (m1, m2) = if flip {
-                (b.def.material, a.def.material)
-            } else {
-                (a.def.material, b.def.material)
-            };
-            let Ok(pair) = self.materials.pair_contact(m1, m2) else {
-                continue;
-            };
-            let frame = PairFrame {
-                pair: (ia, ib),
+            let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
+            let relative = pose_a.inv_mul(&pose_b);
+            let p = &mut self.pairs.slots[slot as usize];
+            p.flipped = flip;
+            let frame = Frame {
+                pair: slot,
                 bodies: (body1, body2),
                 flip,
-                params: pair.params,
-                direction: pair.friction_direction,
                 poses: (pose_a, pose_b),
-                prediction,
             };
-            let pair_start = self.wanted.len();
-            for manifold in &state.manifolds {
-                self.scratch.push_contacts(
-                    manifold,
-                    &frame,
-                    self.strategy.max_points,
-                    &mut self.wanted,
-                    pair_start,
-                );
+            if p.generated_at
+                .is_some_and(|then| cache_holds(&then, &relative))
+            {
+                for (k, m) in p.manifolds.iter().enumerate() {
+                    self.wanted.push(frame.moved(k as u32, &m.cache));
+                }
+                manifolds += p.manifolds.len() as u32;
+                reused += p.manifolds.len() as u32;
+                continue;
+            }
+            p.generated_at = Some(relative);
+            let prediction = self.margin
+                + dt * (motion(world, &a.def, a.reach) + motion(world, &b.def, b.reach));
+            let (sa, sb) = (a.def.shared_shape().clone(), b.def.shared_shape().clone());
+            if !self
+                .generator
+                .generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
+            {
+                continue; // a pair of shapes that cannot collide (two meshes) gets no contacts
+            }
+            let max_points = self.strategy.max_points.clamp(1, MAX_CONTACT_POINTS);
+            let (points, keep) = &mut self.reduce_scratch;
+            for g in &self.generator.out {
+                points.clear();
+                for gp in g.points() {
+                    let wa = pose_a.transform_point(gp.local_a);
+                    points.push((wa, -gp.dist));
+                }
+                reduce(points, max_points, keep);
+                let existing = self.pairs.slots[slot as usize]
+                    .manifolds
+                    .iter()
+                    .position(|m| m.cache.sub == g.sub)
+                    .map_or(Wanted::NEW, |k| k as u32);
+                let mut m = ManifoldCache {
+                    sub: g.sub,
+                    normal_a: g.normal_a,
+                    points: [CachedPoint::default(); MAX_CONTACT_POINTS],
+                    count: keep.len() as u8,
+                };
+                for (j, &k) in keep.iter().enumerate() {
+                    let gp = g.points[k];
+                    m.points[j] = CachedPoint {
+                        local_a: gp.local_a,
+                        local_b: gp.local_b,
+                        id: gp.id,
+                    };
+                }
+                self.wanted.push(frame.moved(existing, &m));
+                manifolds += 1;
             }
         }
+        self.stats.manifolds = manifolds;
+        self.stats.reused_manifolds = reused;
+    }
+}
+
+/// What every manifold of one pair shares this step.
+struct Frame {
+    pair: u32,
+    bodies: (BodyHandle, Option<BodyHandle>),
+    /// The first collider is static, so it is body 2 and the normal keeps parry's direction.
+    flip: bool,
+    poses: (Pose, Pose),
+}
+
+impl Frame {
+    /// Manifold `m` (index `k` of its pair, or [`Wanted::NEW`]) at the colliders' poses now.
+    fn moved(&self, k: u32, m: &ManifoldCache) -> Wanted {
+        let (pose_a, pose_b) = &self.poses;
+        let n = pose_a.rotation * m.normal_a;
+        let mut w = Wanted {
+            pair: self.pair,
+            existing: k,
+            bodies: self.bodies,
+            // Kea's normal points from body 2 to body 1; parry's from the first shape.
+            normal: if self.flip { n } else { -n },
+            points: [ContactPoint::default(); MAX_CONTACT_POINTS],
+            cache: *m,
+        };
+        for (cp, out) in m.points[..m.count as usize].iter().zip(w.points.iter_mut()) {
+            let wa = pose_a.transform_point(cp.local_a);
+            let wb = pose_b.transform_point(cp.local_b);
+            *out = ContactPoint::new((wa + wb) * 0.5, -(wb - wa).dot(n), cp.id);
+        }
+        w
     }
 }
 
@@ -175,7 +190,11 @@ fn motion(world: &World, def: &ColliderDef, reach: Real) -> Real {
 }
 
 /// The filter: not the same body (or both static), groups and masks agree, and not joined.
-fn should_collide(jointed: &[(BodyHandle, BodyHandle)], a: &ColliderDef, b: &ColliderDef) -> bool {
+pub(crate) fn should_collide(
+    jointed: &[(BodyHandle, BodyHandle)],
+    a: &ColliderDef,
+    b: &ColliderDef,
+) -> bool {
     if a.body == b.body || a.groups & b.mask == 0 || b.groups & a.mask == 0 {
         return false;
     }

@@ -1,97 +1,152 @@
-//! Keeping the world's contacts in step with the manifolds: update the persisting ones (same
-//! handle, so the solvers warm-start), create the new ones, destroy the vanished ones, and
-//! record began / persisted / ended events per collider pair.
+//! Keeping the world's contacts in step with the manifolds: refresh the persisting ones (same
+//! handle; points matched by feature id, so the solvers warm-start them), create the new ones,
+//! destroy the vanished ones, forget pairs whose boxes parted, and record began / persisted /
+//! ended events per collider pair.
 
-use crate::collision_world::{handle_of, CollisionWorld, PairContact};
+use crate::collision_world::{handle_of, CollisionWorld};
 use crate::error::CollisionResult;
 use crate::events::{ContactEvent, ContactEventKind};
-use kea::World;
+use crate::narrow_phase::Wanted;
+use crate::pairs::PairManifold;
+use kea::{Contact, World};
 
 impl CollisionWorld {
-    /// Writes the wanted contacts into the world, after checking that they fit.
+    /// Writes the wanted manifolds into the world, after checking that they fit. On error
+    /// nothing in `world` has changed.
     pub(crate) fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
         self.check_capacity(world)?;
-        for state in self.pairs.values_mut() {
-            let keep_all = state.seen && state.resting;
-            for c in &mut state.contacts {
-                c.seen = keep_all;
-            }
+        for k in 0..self.dropped.len() {
+            let slot = self.dropped[k];
+            self.drop_pair(world, slot);
         }
-        for w in &self.wanted {
-            let state = self
-                .pairs
-                .get_mut(&w.pair)
-                .expect("pair recorded in narrow phase");
-            if let Some(c) = state.contacts.iter_mut().find(|c| c.key == w.key) {
-                c.seen = true;
+        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+            let keep = p.resting;
+            for m in &mut p.manifolds {
+                m.seen = keep;
             }
+            p.touching_now = keep && p.touching;
         }
-        // Destroy first, so their capacity is free for the new ones.
-        for state in self.pairs.values_mut() {
-            state.contacts.retain(|c| {
-                let keep = c.seen && world.contact(c.handle).is_ok();
-                if !keep {
-                    let _ = world.destroy_constraint(c.handle); // may already be gone with its body
+        for i in 0..self.wanted.len() {
+            let w = self.wanted[i];
+            self.apply_one(world, &w)?;
+        }
+        // Destroy the manifolds no longer generated.
+        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+            p.manifolds.retain(|m| {
+                if !m.seen {
+                    let _ = world.destroy_constraint(m.handle); // may be gone with its body
                 }
-                keep
+                m.seen
             });
         }
-        for state in self.pairs.values_mut() {
-            state.touching_now = state.seen && state.resting && state.touching;
-        }
-        for w in &self.wanted {
-            let state = self
-                .pairs
-                .get_mut(&w.pair)
-                .expect("pair recorded in narrow phase");
-            state.touching_now |= w.contact.penetration() > -self.touch_distance;
-            match state.contacts.iter().find(|c| c.key == w.key) {
-                Some(c) => {
-                    let target = world.contact_mut(c.handle)?;
-                    target.set_position(w.contact.position())?;
-                    target.set_normal(w.contact.normal())?;
-                    target.set_penetration(w.contact.penetration())?;
-                    target.set_params(*w.contact.params())?;
-                    target.set_direction(w.contact.direction())?;
-                }
-                None => {
-                    let handle = world.create_contact(w.bodies.0, w.bodies.1, w.contact)?;
-                    state.contacts.push(PairContact {
-                        key: w.key,
+        self.record_events();
+        Ok(())
+    }
+
+    fn apply_one(&mut self, world: &mut World, w: &Wanted) -> CollisionResult<()> {
+        let touch = self.touch_distance;
+        let (ia, ib) = self.pairs.slots[w.pair as usize].colliders;
+        let (Some(a), Some(b)) = (
+            &self.slots[ia as usize].collider,
+            &self.slots[ib as usize].collider,
+        ) else {
+            return Ok(());
+        };
+        let flipped = self.pairs.slots[w.pair as usize].flipped;
+        let (m1, m2) = if flipped {
+            (b.def.material, a.def.material)
+        } else {
+            (a.def.material, b.def.material)
+        };
+        let pair = self.materials.pair_contact(m1, m2)?;
+        // A fixed friction direction (conveyor pairs): its projection on the tangent plane,
+        // none when it is (nearly) the normal.
+        let direction = pair.friction_direction.and_then(|d| {
+            let t = d - w.normal * d.dot(w.normal);
+            (t.length() > 1.0e-2).then(|| t.normalize())
+        });
+        let points = &w.points[..w.cache.count as usize];
+        let p = &mut self.pairs.slots[w.pair as usize];
+        p.touching_now |= points.iter().any(|q| q.penetration > -touch);
+        match p.manifolds.get_mut(w.existing as usize) {
+            Some(m) if w.existing != Wanted::NEW && world.contact(m.handle).is_ok() => {
+                let c = world.contact_mut(m.handle)?;
+                c.set_normal(w.normal)?;
+                c.set_points(points)?;
+                c.set_params(pair.params)?;
+                c.set_direction(direction)?;
+                m.cache = w.cache;
+                m.seen = true;
+            }
+            _ => {
+                let mut c = Contact::with_points(w.normal, points)?;
+                c.set_params(pair.params)?;
+                c.set_direction(direction)?;
+                let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
+                if let Some(m) = p.manifolds.get_mut(w.existing as usize) {
+                    // Its old contact went away with a body: a new one in its place.
+                    m.handle = handle;
+                    m.cache = w.cache;
+                    m.seen = true;
+                } else {
+                    p.manifolds.push(PairManifold {
+                        cache: w.cache,
                         handle,
                         seen: true,
                     });
                 }
             }
         }
-        self.record_events();
-        self.pairs.retain(|_, s| s.seen);
         Ok(())
+    }
+
+    /// Forgets pair `slot`: destroys its contacts and ends its touching.
+    fn drop_pair(&mut self, world: &mut World, slot: u32) {
+        let p = &self.pairs.slots[slot as usize];
+        if !p.alive {
+            return;
+        }
+        for m in &p.manifolds {
+            let _ = world.destroy_constraint(m.handle); // may be gone with its body
+        }
+        if p.touching {
+            let (a, b) = p.colliders;
+            let colliders = [handle_of(&self.slots, a), handle_of(&self.slots, b)];
+            self.pending_events.push(ContactEvent {
+                kind: ContactEventKind::Ended,
+                colliders,
+            });
+        }
+        self.pairs.remove(slot);
     }
 
     /// Refuses, before anything changes, an update whose new contacts would not fit.
     fn check_capacity(&self, world: &World) -> CollisionResult<()> {
-        let live = |c: &PairContact| world.contact(c.handle).is_ok();
-        let mut matched = 0;
+        let live = |m: &PairManifold| world.contact(m.handle).is_ok();
+        let mut creations = 0;
+        let mut refreshed = 0;
         for w in &self.wanted {
-            let state = &self.pairs[&w.pair];
-            if state.contacts.iter().any(|c| c.key == w.key && live(c)) {
-                matched += 1;
+            let p = &self.pairs.slots[w.pair as usize];
+            match p.manifolds.get(w.existing as usize) {
+                Some(m) if w.existing != Wanted::NEW && live(m) => refreshed += 1,
+                _ => creations += 1,
             }
         }
-        let creations = self.wanted.len() - matched;
-        let kept_resting: usize = self
+        let kept: usize = self
             .pairs
-            .values()
-            .filter(|s| s.seen && s.resting)
-            .map(|s| s.contacts.iter().filter(|c| live(c)).count())
+            .slots
+            .iter()
+            .filter(|p| p.alive && p.resting)
+            .map(|p| p.manifolds.iter().filter(|m| live(m)).count())
             .sum();
         let ours: usize = self
             .pairs
-            .values()
-            .map(|s| s.contacts.iter().filter(|c| live(c)).count())
+            .slots
+            .iter()
+            .filter(|p| p.alive)
+            .map(|p| p.manifolds.iter().filter(|m| live(m)).count())
             .sum();
-        let destroyed = ours - matched - kept_resting;
+        let destroyed = ours - refreshed - kept;
         let after = world.constraint_count() - destroyed + creations;
         if after > world.constraint_capacity() {
             return Err(kea::KeaError::CapacityExceeded {
@@ -106,16 +161,17 @@ impl CollisionWorld {
     fn record_events(&mut self) {
         self.events.clear();
         self.events.append(&mut self.pending_events);
-        for (&(a, b), state) in &mut self.pairs {
-            let now = state.seen && state.touching_now;
-            let kind = match (state.touching, now) {
+        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+            let now = p.touching_now;
+            let kind = match (p.touching, now) {
                 (false, true) => Some(ContactEventKind::Began),
                 (true, true) => Some(ContactEventKind::Persisted),
                 (true, false) => Some(ContactEventKind::Ended),
                 (false, false) => None,
             };
-            state.touching = now;
+            p.touching = now;
             if let Some(kind) = kind {
+                let (a, b) = p.colliders;
                 let colliders = [handle_of(&self.slots, a), handle_of(&self.slots, b)];
                 self.events.push(ContactEvent { kind, colliders });
             }

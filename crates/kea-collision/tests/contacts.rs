@@ -16,7 +16,8 @@ fn body(world: &mut World, position: Vec3, shape: &Shape) -> BodyHandle {
         .unwrap()
 }
 
-/// The contacts generated between two bodies (or a body and the ground): (normal, depth).
+/// The contact points generated between two bodies (or a body and the ground), over all
+/// their manifolds: (normal, depth, position).
 fn contacts(
     world: &World,
     collision: &CollisionWorld,
@@ -27,9 +28,12 @@ fn contacts(
         .contacts_between(a, b)
         .unwrap()
         .into_iter()
-        .map(|h| {
+        .flat_map(|h| {
             let c = world.contact(h).unwrap();
-            (c.normal(), c.penetration(), c.position())
+            c.points()
+                .iter()
+                .map(|p| (c.normal(), p.penetration, p.position))
+                .collect::<Vec<_>>()
         })
         .collect()
 }
@@ -58,7 +62,8 @@ fn known_configurations_give_the_right_normal_and_depth() {
     assert!((depth - 0.1).abs() < 1e-5, "depth {depth}");
     assert!(p.abs_diff_eq(Vec3::new(0.45, 0.0, 0.0), 1e-5), "point {p}");
 
-    // Box on the ground plane, its face 2 cm into it: 4 corner contacts, normal +y, depth 0.02.
+    // Box on the ground plane, its face 2 cm into it: one manifold of 4 corner points, normal
+    // +y, depth 0.02.
     let mut world = World::with_capacity(8, 64).unwrap();
     let mut collision = CollisionWorld::new();
     let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
@@ -186,7 +191,8 @@ fn a_box_rests_on_a_plane_without_drift_or_rotation() {
         collision.step(&mut world, 1.0 / 60.0).unwrap();
         first = collision.contacts_between(ground, cb).unwrap();
     }
-    assert_eq!(first.len(), 4);
+    assert_eq!(first.len(), 1, "one manifold");
+    assert_eq!(world.contact(first[0]).unwrap().points().len(), 4);
     let start = world.body(b).unwrap().position();
     let mut worst: Real = 0.0;
     let mut worst_turn: Real = 0.0;
@@ -199,7 +205,7 @@ fn a_box_rests_on_a_plane_without_drift_or_rotation() {
     eprintln!("box on plane: drift {worst:e} m, rotation {worst_turn:e} rad over 10 s");
     assert!(worst < 1e-4, "drift {worst}");
     assert!(worst_turn < 1e-4, "rotation {worst_turn}");
-    // The same four contacts persisted (same handles: warm starting keeps working).
+    // The same manifold persisted (same handle and point ids: warm starting keeps working).
     assert_eq!(collision.contacts_between(ground, cb).unwrap(), first);
     // The ground carries the weight.
     let total: Real = first

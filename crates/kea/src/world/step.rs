@@ -21,6 +21,25 @@ use std::time::{Duration, Instant};
 /// Joint error, m (or rad), below which position projection stops early.
 pub const PROJECTION_TOLERANCE: Real = 1.0e-6;
 
+/// What a collision layer did before a step (filled by `kea-collision`; zero when contacts
+/// come from elsewhere).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct CollisionStats {
+    /// Time updating bounds and finding new pairs.
+    pub time_broad_phase: Duration,
+    /// Time generating manifolds and updating the world's contacts.
+    pub time_narrow_phase: Duration,
+    /// Pairs of colliders whose bounds overlap.
+    pub pairs: u32,
+    /// Pairs found this step.
+    pub new_pairs: u32,
+    /// Manifolds (contacts) kept up to date.
+    pub manifolds: u32,
+    /// Of those, manifolds moved with their bodies instead of generated again (the pair
+    /// barely moved relative to itself).
+    pub reused_manifolds: u32,
+}
+
 /// What one [`World::step`] did: counts, solver warnings and per-stage times.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
@@ -48,8 +67,10 @@ pub struct StepStats {
     /// Largest error of a rigid joint row after the velocity step, before projection (0 when no
     /// projection ran).
     pub max_joint_error: Real,
-    /// Whole step.
+    /// Whole step (the collision update not included).
     pub time_total: Duration,
+    /// The collision layer's work before the step, when one ran.
+    pub collision: CollisionStats,
 }
 
 impl World {
@@ -132,6 +153,7 @@ impl World {
             max_joint_error,
             broken_joints,
             time_total: t4 - t0,
+            collision: CollisionStats::default(),
         })
     }
 

@@ -61,17 +61,13 @@ impl BodyDelta {
     };
 }
 
-/// What a body gets every substep before the constraints: forces and damping, precomputed.
+/// How a body's velocity is damped every substep, precomputed.
 #[derive(Debug, Clone, Copy)]
-struct Forcing {
-    /// `hs·(g + f/m)`.
-    dv: Vec3,
-    /// `hs·I⁻¹τ`.
-    dw: Vec3,
+struct Damping {
     /// `1/(1 + hs·d/m)`.
-    linear_damping: Real,
+    linear: Real,
     /// `(I_w + hs·d_ω)⁻¹ I_w`, when the body has angular damping.
-    angular_damping: Option<Mat3>,
+    angular: Option<Mat3>,
 }
 
 /// The iterative path's bodies (module docs).
@@ -96,7 +92,10 @@ pub(crate) struct BodyStates {
     orientation0: Vec<Quat>,
     orientation: Vec<Quat>,
     rotation: Vec<Rotation>,
-    forcing: Vec<Forcing>,
+    /// What each body gains every substep from gravity and applied forces: `hs·(g + f/m)` and
+    /// `hs·I⁻¹τ` (laid out as velocities, so the contact solver gathers them alike).
+    pub(crate) forcing: Vec<BodyVel>,
+    damping: Vec<Damping>,
 }
 
 impl BodyStates {
@@ -116,6 +115,7 @@ impl BodyStates {
         reserve(&mut self.orientation, n);
         reserve(&mut self.rotation, n);
         reserve(&mut self.forcing, n);
+        reserve(&mut self.damping, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -130,7 +130,8 @@ impl BodyStates {
                 * size_of::<Vec3>()
             + (self.orientation0.capacity() + self.orientation.capacity()) * size_of::<Quat>()
             + self.rotation.capacity() * size_of::<Rotation>()
-            + self.forcing.capacity() * size_of::<Forcing>()
+            + self.forcing.capacity() * size_of::<BodyVel>()
+            + self.damping.capacity() * size_of::<Damping>()
     }
 
     pub(crate) fn bytes_for(n: usize) -> usize {
@@ -144,7 +145,8 @@ impl BodyStates {
                 + 3 * size_of::<Vec3>()
                 + 2 * size_of::<Quat>()
                 + size_of::<Rotation>()
-                + size_of::<Forcing>())
+                + size_of::<BodyVel>()
+                + size_of::<Damping>())
     }
 
     /// Empties the set, keeping only the static world at local index 0.
@@ -165,6 +167,7 @@ impl BodyStates {
         self.orientation.clear();
         self.rotation.clear();
         self.forcing.clear();
+        self.damping.clear();
         self.push_slot(
             NONE,
             BodyVel::ZERO,
@@ -199,17 +202,11 @@ impl BodyStates {
         self.orientation0.push(q);
         self.orientation.push(q);
         self.rotation.push(rotation);
-        self.forcing.push(Forcing {
-            dv: Vec3::ZERO,
-            dw: Vec3::ZERO,
-            linear_damping: 1.0,
-            angular_damping: None,
+        self.forcing.push(BodyVel::ZERO);
+        self.damping.push(Damping {
+            linear: 1.0,
+            angular: None,
         });
-    }
-
-    /// The velocity and spin body `l` gains every substep from gravity and applied forces.
-    pub(crate) fn forcing(&self, l: usize) -> (Vec3, Vec3) {
-        (self.forcing[l].dv, self.forcing[l].dw)
     }
 
     /// Number of local slots (the static world included).
@@ -258,11 +255,13 @@ impl BodyStates {
                 let damped = iw + Mat3::from_diagonal(Vec3::splat(hs * b.angular_damping));
                 damped.inverse() * iw
             });
-            *self.forcing.last_mut().expect("just pushed") = Forcing {
-                dv: hs * (gravity + b.inv_mass * b.force),
-                dw: hs * (inv_iw * b.torque),
-                linear_damping: 1.0 / (1.0 + hs * b.linear_damping * b.inv_mass),
-                angular_damping,
+            *self.forcing.last_mut().expect("just pushed") = BodyVel::new(
+                hs * (gravity + b.inv_mass * b.force),
+                hs * (inv_iw * b.torque),
+            );
+            *self.damping.last_mut().expect("just pushed") = Damping {
+                linear: 1.0 / (1.0 + hs * b.linear_damping * b.inv_mass),
+                angular: angular_damping,
             };
         }
         local
@@ -270,20 +269,20 @@ impl BodyStates {
 
     /// Substep stage 1: damping, gravity and applied forces on every body that can be pushed.
     pub(crate) fn integrate_velocities(&mut self) {
-        for (vel, (f, &writable)) in self
+        for (vel, ((f, d), &writable)) in self
             .vel
             .iter_mut()
-            .zip(self.forcing.iter().zip(&self.writable))
+            .zip(self.forcing.iter().zip(&self.damping).zip(&self.writable))
         {
             if !writable {
                 continue;
             }
             let mut w = vel.w;
-            if let Some(d) = f.angular_damping {
-                w = d * w;
+            if let Some(a) = d.angular {
+                w = a * w;
             }
-            vel.v = vel.v * f.linear_damping + f.dv;
-            vel.w = w + f.dw;
+            vel.v = vel.v * d.linear + f.v;
+            vel.w = w + f.w;
         }
     }
 

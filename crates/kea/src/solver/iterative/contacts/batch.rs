@@ -9,6 +9,11 @@
 //! out (`s = base + n·(Δx₁ − Δx₂) + (Δq₁⁻¹n)·r₁ − (Δq₂⁻¹n)·r₂` in the solve), the effective
 //! masses, the accumulated impulses and their totals over the step.
 //!
+//! Prepare is two passes: [`ContactBatch::load_lane`] copies each contact's raw data into its
+//! lane (scalar), then [`derive`] computes everything else lane-parallel: anchors' effective
+//! masses, soft coefficients, approach velocities, the warm start clamped to this step's
+//! bounds.
+//!
 //! Effective masses. Normal: `m_n = 1/(1/m₁ + 1/m₂ + (r₁×n)·I₁⁻¹(r₁×n) + (r₂×n)·I₂⁻¹(r₂×n))`.
 //! Friction uses one scalar mass for both tangent directions, `m_t = 2/(K₁₁ + K₂₂)` (the mean
 //! of the two diagonal terms of the tangential block): with it the projected friction impulse
@@ -16,8 +21,9 @@
 //! veers nor spins, and the Gauss-Seidel step stays below twice the stiffest direction's, so it
 //! converges. Slip `s` (velocity per force) softens a direction to `1/(1/m_t + s/hs)`.
 
-use super::super::super::wide::{FloatW, Sym3A, V3A};
-use super::super::bodies::BodyStates;
+use super::super::super::wide::{FloatW, Sym3, Sym3A, V3, V3A};
+use super::super::bodies::{BodyStates, BodyVel};
+use super::kernel::gather_vel;
 use crate::constraint::{Contact, FrictionModel, SoftCoefficients, Spring, MAX_CONTACT_POINTS};
 use crate::math::{Real, Vec3};
 
@@ -41,9 +47,8 @@ pub(crate) struct PointLanes<F: FloatW> {
     /// substep k is `relative_velocity + k·forcing`).
     pub(crate) relative_velocity: F::Array,
     pub(crate) forcing: F::Array,
-    /// Approach velocity of the point when it first pushed in this step, and the substep in
-    /// which it did (restitution).
-    pub(crate) approach: F::Array,
+    /// The first substep in which the point pushed this step ([`NEVER`] until it does); its
+    /// approach velocity then was `relative_velocity + impact_substep·forcing` (restitution).
     pub(crate) impact_substep: F::Array,
     /// Impulses over the whole step.
     pub(crate) total_normal: F::Array,
@@ -60,7 +65,8 @@ pub(crate) struct ContactBatch<F: FloatW> {
     pub(crate) write_b: F::Index,
     /// Index of each lane's contact in the solver's contact slice (`u32::MAX`: empty lane).
     pub(crate) contact: F::Index,
-    /// Most points of any lane.
+    /// Points of each lane, and the most of any lane.
+    pub(crate) count: F::Array,
     pub(crate) points: u32,
     pub(crate) inv_mass_a: F::Array,
     pub(crate) inv_mass_b: F::Array,
@@ -83,10 +89,17 @@ pub(crate) struct ContactBatch<F: FloatW> {
     /// Lowest normal impulse per substep (minus the adhesive force × hs).
     pub(crate) min_normal: F::Array,
     pub(crate) bias_rate: F::Array,
+    /// The spring's mass and impulse scales, or (raw softness) the extra diagonal `1/(hs(hs k + d))`.
+    pub(crate) mass_scale: F::Array,
+    pub(crate) impulse_scale: F::Array,
+    pub(crate) raw_extra: F::Array,
     /// 1 where the contact has its own raw softness: a physical spring also in the relax solve.
     pub(crate) spring_relax: F::Array,
     pub(crate) p: [PointLanes<F>; MAX_CONTACT_POINTS],
 }
+
+/// The impact substep of a point that has not pushed (more substeps than any step has).
+pub(crate) const NEVER: Real = 1.0e6;
 
 /// What prepare needs of the step.
 #[derive(Debug, Clone, Copy)]
@@ -105,24 +118,66 @@ fn index_lane(a: &mut impl AsMut<[u32]>, l: usize) -> &mut u32 {
     &mut a.as_mut()[l]
 }
 
-/// `m·I⁻¹` quadratic form `a·(I⁻¹ a)` for a (symmetric) inverse inertia.
-fn quad(inv_inertia: &crate::math::Mat3, a: Vec3) -> Real {
-    a.dot(*inv_inertia * a)
-}
-
 impl<F: FloatW> ContactBatch<F> {
-    /// An empty batch: every lane a no-op on the static world.
-    pub(crate) fn empty() -> Self {
-        let mut b = Self::default();
-        for l in 0..F::LANES {
-            *index_lane(&mut b.contact, l) = u32::MAX;
+    /// Makes lane `l` an empty lane: a no-op on the static world.
+    pub(crate) fn clear_lane(&mut self, l: usize) {
+        for idx in [
+            &mut self.body_a,
+            &mut self.body_b,
+            &mut self.write_a,
+            &mut self.write_b,
+        ] {
+            *index_lane(idx, l) = 0;
         }
-        b
+        *index_lane(&mut self.contact, l) = u32::MAX;
+        *lane(&mut self.count, l) = 0.0;
+        *lane(&mut self.inv_mass_a, l) = 0.0;
+        *lane(&mut self.inv_mass_b, l) = 0.0;
+        self.inv_inertia_a.set_lane(l, &crate::math::Mat3::ZERO);
+        self.inv_inertia_b.set_lane(l, &crate::math::Mat3::ZERO);
+        self.normal.set_lane(l, Vec3::ZERO);
+        for v in &mut self.tangent {
+            v.set_lane(l, Vec3::ZERO);
+        }
+        for d in 0..2 {
+            *lane(&mut self.mu[d], l) = 0.0;
+            *lane(&mut self.fixed_limit[d], l) = 0.0;
+            *lane(&mut self.slide[d], l) = 0.0;
+            *lane(&mut self.slip[d], l) = 0.0;
+        }
+        for a in [
+            &mut self.disc,
+            &mut self.restitution,
+            &mut self.restitution_threshold,
+            &mut self.min_normal,
+            &mut self.bias_rate,
+            &mut self.mass_scale,
+            &mut self.impulse_scale,
+            &mut self.raw_extra,
+            &mut self.spring_relax,
+        ] {
+            *lane(a, l) = 0.0;
+        }
+        self.clear_points(l, 0);
     }
 
-    /// Writes contact `index` (on local bodies `a`, `b`) into lane `l`.
+    /// Zeroes the points of lane `l` from `from` on (they do nothing then: no mass).
+    pub(crate) fn clear_points(&mut self, l: usize, from: usize) {
+        for p in &mut self.p[from..] {
+            p.r_a.set_lane(l, Vec3::ZERO);
+            p.r_b.set_lane(l, Vec3::ZERO);
+            *lane(&mut p.base_separation, l) = 0.0;
+            *lane(&mut p.normal_impulse, l) = 0.0;
+            for t in &mut p.tangent_impulse {
+                *lane(t, l) = 0.0;
+            }
+        }
+    }
+
+    /// Copies contact `index` (on local bodies `a`, `b` at `positions`) into lane `l`: its raw
+    /// data only, [`derive`] computes the rest.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn set_lane(
+    pub(crate) fn load_lane(
         &mut self,
         l: usize,
         index: u32,
@@ -139,19 +194,44 @@ impl<F: FloatW> ContactBatch<F> {
         *index_lane(&mut self.write_b, l) = u32::from(states.writable[lb]);
         *index_lane(&mut self.contact, l) = index;
         let count = contact.points().len();
+        *lane(&mut self.count, l) = count as Real;
         self.points = self.points.max(count as u32);
-        let (ma, mb) = (states.inv_mass[la], states.inv_mass[lb]);
-        let (ia, ib) = (&states.inv_inertia[la], &states.inv_inertia[lb]);
-        *lane(&mut self.inv_mass_a, l) = ma;
-        *lane(&mut self.inv_mass_b, l) = mb;
-        self.inv_inertia_a.set_lane(l, ia);
-        self.inv_inertia_b.set_lane(l, ib);
+        *lane(&mut self.inv_mass_a, l) = states.inv_mass[la];
+        *lane(&mut self.inv_mass_b, l) = states.inv_mass[lb];
+        self.inv_inertia_a.set_lane(l, &states.inv_inertia[la]);
+        self.inv_inertia_b.set_lane(l, &states.inv_inertia[lb]);
         let n = contact.normal();
         let (t1, t2) = contact.tangent_basis();
         self.normal.set_lane(l, n);
         self.tangent[0].set_lane(l, t1);
         self.tangent[1].set_lane(l, t2);
+        self.load_surface(l, contact, k);
 
+        let (xa, xb) = positions;
+        // The static world (slot 0) never moves: its anchor can be 0, which keeps the
+        // separation exact however far from the origin the contact is.
+        let anchor = |p: Vec3, x: Vec3, slot: usize| if slot == 0 { Vec3::ZERO } else { p - x };
+        for (j, (point, f)) in contact
+            .points()
+            .iter()
+            .zip(contact.warm_forces())
+            .enumerate()
+        {
+            let pl = &mut self.p[j];
+            let ra = anchor(point.position, xa, la);
+            let rb = anchor(point.position, xb, lb);
+            pl.r_a.set_lane(l, ra);
+            pl.r_b.set_lane(l, rb);
+            *lane(&mut pl.base_separation, l) = -point.penetration - n.dot(ra) + n.dot(rb);
+            // The warm start, clamped to this step's bounds by `derive`.
+            *lane(&mut pl.normal_impulse, l) = f.normal * k.hs;
+            *lane(&mut pl.tangent_impulse[0], l) = f.friction.dot(t1) * k.hs;
+            *lane(&mut pl.tangent_impulse[1], l) = f.friction.dot(t2) * k.hs;
+        }
+    }
+
+    /// The surface parameters and softness of lane `l`.
+    fn load_surface(&mut self, l: usize, contact: &Contact, k: &PrepareParams) {
         let prm = contact.params();
         let directions = match prm.contact_type {
             crate::ContactType::Frictionless => 0,
@@ -191,7 +271,7 @@ impl<F: FloatW> ContactBatch<F> {
             let hkd = k.hs * stiffness + damping;
             (stiffness / hkd, 1.0 / (k.hs * hkd))
         });
-        let coefficients = match raw {
+        let c = match raw {
             Some((rate, _)) => SoftCoefficients {
                 bias_rate: rate,
                 ..SoftCoefficients::RIGID
@@ -199,72 +279,82 @@ impl<F: FloatW> ContactBatch<F> {
             None if prm.softness == Some(0.0) => SoftCoefficients::RIGID,
             None => k.spring.coefficients(k.hs),
         };
-        *lane(&mut self.bias_rate, l) = coefficients.bias_rate;
+        *lane(&mut self.bias_rate, l) = c.bias_rate;
+        *lane(&mut self.mass_scale, l) = c.mass_scale;
+        *lane(&mut self.impulse_scale, l) = c.impulse_scale;
+        *lane(&mut self.raw_extra, l) = raw.map_or(0.0, |r| r.1);
         *lane(&mut self.spring_relax, l) = if raw.is_some() { 1.0 } else { 0.0 };
+    }
+}
 
-        let (xa, xb) = positions;
-        let (va, vb) = (states.vel[la], states.vel[lb]);
-        let (fa, fb) = (states.forcing(la), states.forcing(lb));
-        // The static world (slot 0) never moves: its anchor can be 0, which keeps the
-        // separation exact however far from the origin the contact is.
-        let anchor = |p: Vec3, x: Vec3, slot: usize| if slot == 0 { Vec3::ZERO } else { p - x };
-        let warm = contact.warm_forces();
-        for (j, point) in contact.points().iter().enumerate() {
-            let pl = &mut self.p[j];
-            let ra = anchor(point.position, xa, la);
-            let rb = anchor(point.position, xb, lb);
-            pl.r_a.set_lane(l, ra);
-            pl.r_b.set_lane(l, rb);
-            *lane(&mut pl.base_separation, l) = -point.penetration - n.dot(ra) + n.dot(rb);
-            let kn = ma + mb + quad(ia, ra.cross(n)) + quad(ib, rb.cross(n));
-            let k1 = ma + mb + quad(ia, ra.cross(t1)) + quad(ib, rb.cross(t1));
-            let k2 = ma + mb + quad(ia, ra.cross(t2)) + quad(ib, rb.cross(t2));
-            let normal_mass = if kn > 0.0 { 1.0 / kn } else { 0.0 };
-            *lane(&mut pl.normal_mass, l) = normal_mass;
-            let (soft_mass, soft_impulse) = match raw {
-                Some((_, extra)) if kn > 0.0 => (1.0 / (kn + extra), extra / (kn + extra)),
-                _ => (
-                    normal_mass * coefficients.mass_scale,
-                    coefficients.impulse_scale,
-                ),
-            };
-            *lane(&mut pl.soft_mass, l) = soft_mass;
-            *lane(&mut pl.soft_impulse, l) = soft_impulse;
-            let kt = 0.5 * (k1 + k2);
-            for d in 0..2 {
-                let slip = prm.slip[d] / k.hs;
-                let m = if kt > 0.0 { 1.0 / (kt + slip) } else { 0.0 };
-                *lane(&mut pl.tangent_mass[d], l) = m;
-            }
-            // Warm start from the last step's impulses, within this step's bounds.
-            let f = warm[j];
-            let pn = (f.normal * k.hs).max(-prm.max_adhesive_force * k.hs);
-            let mut pt = [f.friction.dot(t1) * k.hs, f.friction.dot(t2) * k.hs];
-            for d in 0..2 {
-                let limit = (mu[d] * pn).max(0.0) + fixed[d];
-                pt[d] = pt[d].clamp(-limit, limit);
-            }
-            if isotropic_coulomb {
-                let limit = (mu[0] * pn).max(0.0);
-                let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
-                if len > limit {
-                    let s = limit / len;
-                    pt = [pt[0] * s, pt[1] * s];
-                }
-            }
-            *lane(&mut pl.normal_impulse, l) = pn;
-            *lane(&mut pl.tangent_impulse[0], l) = pt[0];
-            *lane(&mut pl.tangent_impulse[1], l) = pt[1];
-            let at = |v: Vec3, w: Vec3, r: Vec3| v + w.cross(r);
-            let vn0 = n.dot(at(va.v, va.w, ra) - at(vb.v, vb.w, rb));
-            let forcing = n.dot(at(fa.0, fa.1, ra) - at(fb.0, fb.1, rb));
-            *lane(&mut pl.relative_velocity, l) = vn0;
-            *lane(&mut pl.forcing, l) = forcing;
-            *lane(&mut pl.approach, l) = 0.0;
-            *lane(&mut pl.impact_substep, l) = 0.0;
-            *lane(&mut pl.total_normal, l) = 0.0;
-            *lane(&mut pl.total_tangent[0], l) = 0.0;
-            *lane(&mut pl.total_tangent[1], l) = 0.0;
+/// `a·(I⁻¹ a)` per lane.
+#[inline(always)]
+fn quad<F: FloatW>(inv_inertia: &Sym3<F>, a: V3<F>) -> F {
+    a.dot(inv_inertia.mul(a))
+}
+
+/// The derived data of a loaded batch, lane-parallel (module docs). `vel` are the bodies'
+/// velocities at the step's start; `forcing` what gravity and applied forces add per substep.
+#[inline(always)]
+pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcing: &[BodyVel]) {
+    let zero = F::zero();
+    let one = F::splat(1.0);
+    let (ma, mb) = (F::load(&c.inv_mass_a), F::load(&c.inv_mass_b));
+    let (ia, ib) = (c.inv_inertia_a.load(), c.inv_inertia_b.load());
+    let n = c.normal.load();
+    let t = [c.tangent[0].load(), c.tangent[1].load()];
+    let (va, wa) = gather_vel::<F>(vel, &c.body_a);
+    let (vb, wb) = gather_vel::<F>(vel, &c.body_b);
+    let (fva, fwa) = gather_vel::<F>(forcing, &c.body_a);
+    let (fvb, fwb) = gather_vel::<F>(forcing, &c.body_b);
+    let count = F::load(&c.count);
+    let extra = F::load(&c.raw_extra);
+    let raw = extra.gt(zero);
+    let (mass_scale, impulse_scale) = (F::load(&c.mass_scale), F::load(&c.impulse_scale));
+    let min_normal = F::load(&c.min_normal);
+    let mu = [F::load(&c.mu[0]), F::load(&c.mu[1])];
+    let fixed = [F::load(&c.fixed_limit[0]), F::load(&c.fixed_limit[1])];
+    let slip = [F::load(&c.slip[0]), F::load(&c.slip[1])];
+    let disc = F::load(&c.disc).gt(F::splat(0.5));
+    let mass = |k: F, active: F::Mask| F::select(F::and(active, k.gt(zero)), one / k, zero);
+    for (j, p) in c.p.iter_mut().enumerate().take(c.points as usize) {
+        let active = count.gt(F::splat(j as Real));
+        let ra = p.r_a.load();
+        let rb = p.r_b.load();
+        let kn = ma + mb + quad(&ia, ra.cross(n)) + quad(&ib, rb.cross(n));
+        let normal_mass = mass(kn, active);
+        normal_mass.store(&mut p.normal_mass);
+        let soft_kn = kn + extra;
+        F::select(raw, mass(soft_kn, active), normal_mass * mass_scale).store(&mut p.soft_mass);
+        F::select(raw, extra * mass(soft_kn, active), impulse_scale).store(&mut p.soft_impulse);
+        let k1 = ma + mb + quad(&ia, ra.cross(t[0])) + quad(&ib, rb.cross(t[0]));
+        let k2 = ma + mb + quad(&ia, ra.cross(t[1])) + quad(&ib, rb.cross(t[1]));
+        let kt = F::splat(0.5) * (k1 + k2);
+        for d in 0..2 {
+            mass(kt + slip[d], active).store(&mut p.tangent_mass[d]);
         }
+        let at = |v: V3<F>, w: V3<F>, r: V3<F>| v.add(w.cross(r));
+        n.dot(at(va, wa, ra).sub(at(vb, wb, rb)))
+            .store(&mut p.relative_velocity);
+        n.dot(at(fva, fwa, ra).sub(at(fvb, fwb, rb)))
+            .store(&mut p.forcing);
+        // The warm start, within this step's bounds.
+        let pn = F::load(&p.normal_impulse).max(min_normal);
+        pn.store(&mut p.normal_impulse);
+        let pos = pn.max(zero);
+        let mut pt = [zero; 2];
+        for d in 0..2 {
+            let limit = mu[d] * pos + fixed[d];
+            pt[d] = F::load(&p.tangent_impulse[d]).min(limit).max(-limit);
+        }
+        let limit = mu[0] * pos;
+        let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
+        let shrink = F::select(F::and(disc, len.gt(limit)), limit / len, one);
+        for d in 0..2 {
+            (pt[d] * shrink).store(&mut p.tangent_impulse[d]);
+            zero.store(&mut p.total_tangent[d]);
+        }
+        F::splat(NEVER).store(&mut p.impact_substep);
+        zero.store(&mut p.total_normal);
     }
 }

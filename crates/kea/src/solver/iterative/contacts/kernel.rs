@@ -25,7 +25,7 @@
 
 use super::super::super::wide::{FloatW, V3};
 use super::super::bodies::{BodyDelta, BodyVel};
-use super::batch::{ContactBatch, PointLanes};
+use super::batch::{ContactBatch, PointLanes, NEVER};
 use crate::math::Real;
 
 /// Step constants of the kernels.
@@ -43,7 +43,7 @@ pub(crate) struct KernelParams {
 
 /// Velocity and spin of each lane's body.
 #[inline(always)]
-fn gather_vel<F: FloatW>(vel: &[BodyVel], idx: &F::Index) -> (V3<F>, V3<F>) {
+pub(crate) fn gather_vel<F: FloatW>(vel: &[BodyVel], idx: &F::Index) -> (V3<F>, V3<F>) {
     let mut a: [F::Array; 6] = Default::default();
     for (l, &i) in idx.as_ref().iter().enumerate() {
         let s = &vel[i as usize];
@@ -302,12 +302,12 @@ fn solve_normal<F: FloatW>(
     let mass = F::select(soft, F::load(&p.soft_mass), F::load(&p.normal_mass));
     let scale = F::select(soft, F::load(&p.soft_impulse), zero);
     let new = (pn - mass * (vn + bias) - scale * pn).max(sf.min_normal);
-    // The approach velocity, recorded when the point starts pushing: its velocity at the start
-    // of this substep, before other points of the manifold pushed.
-    let starts = F::and(new.gt(zero), pn.le(zero));
-    let before = F::load(&p.relative_velocity) + F::load(&p.forcing) * F::splat(k.substep);
-    F::select(starts, before, F::load(&p.approach)).store(&mut p.approach);
-    F::select(starts, F::splat(k.substep), F::load(&p.impact_substep)).store(&mut p.impact_substep);
+    // The first substep in which the point pushes (a minimum, so the store is unconditional:
+    // a masked store would be microcoded on some processors).
+    let pushing = F::select(new.gt(zero), F::splat(k.substep), F::splat(NEVER));
+    F::load(&p.impact_substep)
+        .min(pushing)
+        .store(&mut p.impact_substep);
     let dn = new - pn;
     new.store(&mut p.normal_impulse);
     (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
@@ -379,8 +379,12 @@ pub(crate) fn restitution<F: FloatW>(
     let mut travel_a = V3::new(zero, zero, zero);
     let mut travel_b = travel_a;
     for p in c.p.iter_mut().take(c.points as usize) {
-        let approach = F::load(&p.approach);
-        let pushed = F::load(&p.total_normal).gt(zero);
+        let impact = F::load(&p.impact_substep);
+        let approach = F::load(&p.relative_velocity) + F::load(&p.forcing) * impact;
+        let pushed = F::and(
+            F::load(&p.total_normal).gt(zero),
+            impact.lt(F::splat(NEVER)),
+        );
         let bounce = F::and(F::and(e.gt(zero), approach.lt(threshold)), pushed);
         if !F::any(bounce) {
             continue;
@@ -395,7 +399,7 @@ pub(crate) fn restitution<F: FloatW>(
         new.store(&mut p.normal_impulse);
         (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
         bodies.apply(&m, ra, rb, n.scale(dn));
-        let remaining = F::splat(k.h) - F::load(&p.impact_substep) * F::splat(k.hs);
+        let remaining = F::splat(k.h) - impact * F::splat(k.hs);
         travel_a = travel_a.add(n.scale(m.ma * dn * remaining));
         travel_b = travel_b.sub(n.scale(m.mb * dn * remaining));
     }

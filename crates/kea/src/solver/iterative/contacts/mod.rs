@@ -55,14 +55,17 @@ pub(crate) enum Stage {
 }
 
 impl<F: FloatW> Lanes<F> {
-    fn clear(&mut self) {
-        self.batches.clear();
-        self.colour_start.clear();
-    }
-
     fn bytes(&self) -> usize {
         self.batches.capacity() * std::mem::size_of::<ContactBatch<F>>()
             + self.colour_start.capacity() * 4
+    }
+
+    /// Computes every batch's derived data (see `batch`).
+    #[inline(always)]
+    fn derive(&mut self, vel: &[BodyVel], forcing: &[BodyVel]) {
+        for c in &mut self.batches {
+            batch::derive(c, vel, forcing);
+        }
     }
 
     /// Runs one stage over every batch, colour after colour.
@@ -99,6 +102,16 @@ unsafe fn run_wide(
     k: &KernelParams,
 ) {
     lanes.run(stage, vel, delta, k);
+}
+
+/// [`Lanes::derive`] for 8 lanes (4 in `f64`), compiled for AVX2.
+///
+/// # Safety
+/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn derive_wide(lanes: &mut Lanes<Wide>, vel: &[BodyVel], forcing: &[BodyVel]) {
+    lanes.derive(vel, forcing);
 }
 
 /// The contact solver's workspace.
@@ -293,6 +306,16 @@ impl ContactSolver {
                 k,
             ),
         }
+        let (vel, forcing) = (&states.vel[..], &states.forcing[..]);
+        self.overflow.derive(vel, forcing);
+        match self.level {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
+            SimdLevel::Wide => unsafe { derive_wide(&mut self.wide, vel, forcing) },
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Narrow => self.narrow.derive(vel, forcing),
+            _ => self.scalar.derive(vel, forcing),
+        }
     }
 
     /// Runs one stage: the overflow, then every colour.
@@ -330,7 +353,8 @@ impl ContactSolver {
     }
 }
 
-/// Writes the contacts of `order` (already sorted by colour) into `lanes`' batches.
+/// Writes the contacts of `order` (already sorted by colour) into `lanes`' batches, reusing
+/// last step's batches: every lane and point is written, so nothing is zeroed twice.
 #[allow(clippy::too_many_arguments)]
 fn build<F: FloatW>(
     lanes: &mut Lanes<F>,
@@ -343,25 +367,29 @@ fn build<F: FloatW>(
     position: &dyn Fn(u32) -> Vec3,
     k: &PrepareParams,
 ) {
-    lanes.clear();
+    lanes.colour_start.clear();
     let colours: &[u32] = if overflow {
         &colour_count[COLOURS..]
     } else {
         &colour_count[..COLOURS]
     };
     let mut next = 0;
+    let mut used = 0;
     for &count in colours {
-        lanes.colour_start.push(lanes.batches.len() as u32);
-        for (i, &o) in order[next..next + count as usize].iter().enumerate() {
-            let l = i % F::LANES;
-            if l == 0 {
-                lanes.batches.push(ContactBatch::empty());
-            }
+        lanes.colour_start.push(used as u32);
+        let count = count as usize;
+        let batches = count.div_ceil(F::LANES);
+        if lanes.batches.len() < used + batches {
+            lanes.batches.resize_with(used + batches, Default::default);
+        }
+        for b in &mut lanes.batches[used..used + batches] {
+            b.points = 0;
+        }
+        for (i, &o) in order[next..next + count].iter().enumerate() {
             let e = &entries[o as usize];
             let c = &contacts[e.index as usize];
-            let batch = lanes.batches.last_mut().expect("pushed above");
-            batch.set_lane(
-                l,
+            lanes.batches[used + i / F::LANES].load_lane(
+                i % F::LANES,
                 e.index,
                 &c.contact,
                 (e.a, e.b),
@@ -370,9 +398,24 @@ fn build<F: FloatW>(
                 k,
             );
         }
-        next += count as usize;
+        for (b, batch) in lanes.batches[used..used + batches].iter_mut().enumerate() {
+            for l in 0..F::LANES {
+                let i = b * F::LANES + l;
+                if i >= count {
+                    batch.clear_lane(l);
+                } else {
+                    let n = entries[order[next + i] as usize].points as usize;
+                    if n < batch.points as usize {
+                        batch.clear_points(l, n);
+                    }
+                }
+            }
+        }
+        next += count;
+        used += batches;
     }
-    lanes.colour_start.push(lanes.batches.len() as u32);
+    lanes.batches.truncate(used);
+    lanes.colour_start.push(used as u32);
 }
 
 fn store_lanes<F: FloatW>(

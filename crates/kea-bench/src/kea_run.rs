@@ -1,0 +1,175 @@
+//! A scene in Kea (kea + kea-collision), stepped and measured.
+
+use crate::scenes::{Quality, Scene, Shape, Static};
+use crate::Outcome;
+use kea::{
+    BodyDef, BodyHandle, DemMode, DemSettings, Mat3, Quat, Real, StepStats, Vec3, World, WorldDef,
+};
+use kea_collision::{ColliderDef, CollisionWorld, Shape as KeaShape};
+use std::time::{Duration, Instant};
+
+fn v(a: [f32; 3]) -> Vec3 {
+    Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real)
+}
+
+/// The scene built in Kea.
+pub struct KeaScene {
+    world: World,
+    collision: CollisionWorld,
+    bodies: Vec<(BodyHandle, Vec3)>,
+    /// Joints as (body a or world, local anchor on a, body b, local anchor on b).
+    joints: Vec<(Option<BodyHandle>, Vec3, BodyHandle, Vec3)>,
+    last: StepStats,
+}
+
+impl KeaScene {
+    pub fn build(scene: &Scene) -> Self {
+        let n = scene.bodies.len();
+        let mut world = World::new(WorldDef {
+            max_bodies: n + 1,
+            max_constraints: 8 * n + scene.joints.len() + 64,
+            ..Default::default()
+        })
+        .expect("world");
+        if scene.sleep {
+            world
+                .set_dem(DemSettings {
+                    mode: DemMode::PartitionAutoDisable,
+                    ..Default::default()
+                })
+                .expect("sleep");
+        }
+        let mut collision = CollisionWorld::new();
+        collision.reserve(n + scene.statics.len());
+        for s in &scene.statics {
+            let def = match *s {
+                Static::Ground => ColliderDef::new(None, KeaShape::plane(Vec3::Y).expect("plane")),
+                Static::Cuboid { half, position } => {
+                    let mut d = ColliderDef::new(None, KeaShape::cuboid(v(half)).expect("box"));
+                    d.offset = v(position);
+                    d
+                }
+            };
+            collision.add_collider(&world, def).expect("static");
+        }
+        let mut bodies = Vec::with_capacity(n);
+        for b in &scene.bodies {
+            // Kea's capsules lie along y: turned onto x, with the inertia turned alike.
+            let (shape, rotation) = match b.shape {
+                Shape::Cuboid(h) => (KeaShape::cuboid(v(h)), Quat::IDENTITY),
+                Shape::Ball(r) => (KeaShape::sphere(r as Real), Quat::IDENTITY),
+                Shape::CapsuleX(hh, r) => (
+                    KeaShape::capsule(hh as Real, r as Real),
+                    Quat::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real),
+                ),
+            };
+            let shape = shape.expect("shape");
+            let mp = shape.mass_properties(b.density as Real).expect("mass");
+            let r = Mat3::from_quat(rotation);
+            let body = world
+                .create_body(&BodyDef {
+                    mass: mp.mass,
+                    inertia: r * mp.inertia * r.transpose(),
+                    position: v(b.position),
+                    ..Default::default()
+                })
+                .expect("body");
+            let mut def = ColliderDef::new(Some(body), shape);
+            def.rotation = rotation;
+            collision.add_collider(&world, def).expect("collider");
+            bodies.push((body, v(b.position)));
+        }
+        let mut joints = Vec::new();
+        for j in &scene.joints {
+            let a = j.a.map(|i| bodies[i].0);
+            let b = bodies[j.b].0;
+            world
+                .create_ball_joint(b, a, v(j.anchor))
+                .expect("ball joint");
+            let local = |h: Option<BodyHandle>| match h {
+                Some(h) => world.body(h).expect("body").point_to_local(v(j.anchor)),
+                None => v(j.anchor),
+            };
+            joints.push((a, local(a), b, local(Some(b))));
+        }
+        Self {
+            world,
+            collision,
+            bodies,
+            joints,
+            last: StepStats::default(),
+        }
+    }
+
+    pub fn step(&mut self) {
+        self.last = self
+            .collision
+            .step(&mut self.world, 1.0 / 60.0)
+            .expect("kea step");
+    }
+
+    /// Largest joint gap now, m.
+    pub fn joint_gap(&self) -> f64 {
+        let at = |h: Option<BodyHandle>, p: Vec3| match h {
+            Some(h) => self.world.body(h).expect("body").point_to_world(p),
+            None => p,
+        };
+        self.joints
+            .iter()
+            .map(|&(a, pa, b, pb)| (at(a, pa) - at(Some(b), pb)).length() as f64)
+            .fold(0.0, f64::max)
+    }
+
+    pub fn displacement(&self) -> f64 {
+        self.bodies
+            .iter()
+            .map(|&(h, p0)| (self.world.body(h).expect("body").position() - p0).length() as f64)
+            .fold(0.0, f64::max)
+    }
+
+    pub fn energy(&self) -> f64 {
+        self.world.kinetic_energy() as f64
+    }
+
+    /// The last step's stage times: solver, broad phase, narrow phase.
+    pub fn stages(&self) -> [Duration; 3] {
+        [
+            self.last.solver.time_solve,
+            self.last.collision.time_broad_phase,
+            self.last.collision.time_narrow_phase,
+        ]
+    }
+}
+
+/// Builds `scene`, settles it, times its steps; returns ms/step and the quality figure.
+pub fn run(scene: &Scene) -> Outcome {
+    let mut s = KeaScene::build(scene);
+    for _ in 0..scene.settle {
+        s.step();
+    }
+    let mut gap: f64 = 0.0;
+    let mut stages = [Duration::ZERO; 3];
+    let mut total = Duration::ZERO;
+    for _ in 0..scene.steps {
+        let t = Instant::now();
+        s.step();
+        total += t.elapsed();
+        if scene.quality == Quality::JointGap {
+            gap = gap.max(s.joint_gap());
+        }
+        for (t, d) in stages.iter_mut().zip(s.stages()) {
+            *t += d;
+        }
+    }
+    let ms = total.as_secs_f64() * 1e3 / scene.steps as f64;
+    let quality = match scene.quality {
+        Quality::Displacement => s.displacement(),
+        Quality::Energy => s.energy(),
+        Quality::JointGap => gap,
+    };
+    Outcome {
+        ms,
+        quality,
+        stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / scene.steps as f64),
+    }
+}

@@ -1,0 +1,420 @@
+//! Contact manifolds of a pair of shapes, generated without touching the heap once warm.
+//!
+//! parry's per-pair generators are used where they work in place (balls, box-box,
+//! capsule-capsule, box-triangle), on one scratch manifold cleared before every call: parry
+//! clones a manifold's old points to match warm starts, which Kea does itself by feature id, so
+//! a cleared manifold turns that clone into nothing. Where parry allocates on every call, the
+//! generator does the work itself with reused buffers:
+//!
+//! * a plane against a polyhedral shape (box, hull, capsule, cylinder, cone): the support
+//!   feature of the shape towards the plane, vertex by vertex;
+//! * two polyhedral shapes otherwise (GJK, then EPA when they overlap, on an EPA kept here
+//!   rather than a fresh one per call; then parry's feature clipping);
+//! * a height field or triangle mesh against a convex shape: the triangles under the shape's
+//!   box, each as its own manifold (its triangle index as the sub-shape).
+//!
+//! Two composite shapes, or a composite against a plane, get no contacts.
+//!
+//! Output: manifolds in the pair's frames: points in each collider's own frame, the normal in
+//! the first collider's frame pointing from it to the second, and separations (`dist < 0`:
+//! overlap), parry's convention.
+
+use crate::parry::bounding_volume::BoundingVolume;
+use crate::parry::math::{Pose, Vector};
+use crate::parry::query::details::{
+    contact_manifold_ball_ball, contact_manifold_capsule_capsule, contact_manifold_convex_ball,
+    contact_manifold_cuboid_cuboid, contact_manifold_cuboid_triangle,
+};
+use crate::parry::query::epa::EPA;
+use crate::parry::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+use crate::parry::query::ContactManifold;
+use crate::parry::query::TrackedContact;
+use crate::parry::shape::{
+    PackedFeatureId, PolygonalFeature, Shape as ParryShape, ShapeType, Triangle,
+};
+use kea::{Real, Vec3};
+
+/// Most points one generated manifold keeps before reduction (a box face clipped against
+/// another gives up to eight).
+pub(crate) const MAX_GEN_POINTS: usize = 8;
+
+/// One generated point.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct GenPoint {
+    /// On the first shape, in its collider's frame.
+    pub local_a: Vec3,
+    /// On the second shape, in its collider's frame.
+    pub local_b: Vec3,
+    /// Separation along the normal (negative: overlap).
+    pub dist: Real,
+    /// Feature id (stable while the same features touch).
+    pub id: u32,
+}
+
+/// One generated manifold.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct GenManifold {
+    /// Sub-shape (triangle) of each side, 0 for simple shapes.
+    pub sub: (u32, u32),
+    /// Normal in the first collider's frame, from the first shape towards the second.
+    pub normal_a: Vec3,
+    pub count: usize,
+    pub points: [GenPoint; MAX_GEN_POINTS],
+}
+
+impl GenManifold {
+    pub(crate) fn points(&self) -> &[GenPoint] {
+        &self.points[..self.count]
+    }
+
+    fn push(&mut self, p: GenPoint) {
+        if self.count < MAX_GEN_POINTS {
+            self.points[self.count] = p;
+            self.count += 1;
+        }
+    }
+}
+
+/// The generator's reusable buffers.
+pub(crate) struct Generator {
+    scratch: ContactManifold<(), ()>,
+    epa: EPA,
+    feature: [PolygonalFeature; 2],
+    /// The manifolds of the last [`Generator::generate`].
+    pub out: Vec<GenManifold>,
+}
+
+impl Default for Generator {
+    fn default() -> Self {
+        let mut scratch = ContactManifold::new();
+        scratch.points.reserve(2 * MAX_GEN_POINTS);
+        Self {
+            scratch,
+            epa: EPA::new(),
+            feature: [PolygonalFeature::new(), PolygonalFeature::new()],
+            out: Vec::with_capacity(16),
+        }
+    }
+}
+
+/// Packs parry's two feature ids into one (a point keeps it while the same features touch).
+fn feature_id(f1: u32, f2: u32) -> u32 {
+    f1.wrapping_mul(0x9E37_79B1) ^ f2.rotate_left(16)
+}
+
+fn is_composite(t: ShapeType) -> bool {
+    matches!(t, ShapeType::HeightField | ShapeType::TriMesh)
+}
+
+impl Generator {
+    /// Generates the manifolds of shape `a` at `pose_a` against shape `b` at `pose_b`, for
+    /// points closer than `prediction`, into [`Generator::out`]. Returns false for a pair of
+    /// shapes it cannot collide.
+    pub(crate) fn generate(
+        &mut self,
+        a: &dyn ParryShape,
+        pose_a: &Pose,
+        b: &dyn ParryShape,
+        pose_b: &Pose,
+        prediction: Real,
+    ) -> bool {
+        self.out.clear();
+        let pos_ab = pose_a.inv_mul(pose_b);
+        let (ta, tb) = (a.shape_type(), b.shape_type());
+        if is_composite(ta) && is_composite(tb)
+            || (is_composite(ta) && tb == ShapeType::HalfSpace)
+            || (is_composite(tb) && ta == ShapeType::HalfSpace)
+            || (ta == ShapeType::HalfSpace && tb == ShapeType::HalfSpace)
+        {
+            return false;
+        }
+        if is_composite(ta) {
+            return self.composite(a, b, &pos_ab, prediction, false);
+        }
+        if is_composite(tb) {
+            return self.composite(b, a, &pos_ab.inverse(), prediction, true);
+        }
+        match self.convex(a, b, &pos_ab, prediction) {
+            Some(m) => {
+                if m.count > 0 {
+                    self.out.push(m);
+                }
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Manifold of two convex shapes (or a plane and a convex shape), `pos12` placing `b` in
+    /// `a`'s frame. `None` when unsupported.
+    fn convex(
+        &mut self,
+        a: &dyn ParryShape,
+        b: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> Option<GenManifold> {
+        let (ta, tb) = (a.shape_type(), b.shape_type());
+        match (ta, tb) {
+            (ShapeType::Ball, ShapeType::Ball) => {
+                let (b1, b2) = (a.as_ball()?, b.as_ball()?);
+                self.scratch.clear();
+                contact_manifold_ball_ball(pos12, b1, b2, prediction, &mut self.scratch);
+                Some(self.take_scratch(prediction))
+            }
+            (_, ShapeType::Ball) => {
+                let ball = b.as_ball()?;
+                self.scratch.clear();
+                contact_manifold_convex_ball(
+                    pos12,
+                    a,
+                    ball,
+                    None,
+                    None,
+                    prediction,
+                    &mut self.scratch,
+                    false,
+                );
+                Some(self.take_scratch(prediction))
+            }
+            (ShapeType::Ball, _) => {
+                let mut m = self.convex(b, a, &pos12.inverse(), prediction)?;
+                flip(&mut m, pos12);
+                Some(m)
+            }
+            (ShapeType::HalfSpace, _) => self.plane_convex(a, b, pos12, prediction),
+            (_, ShapeType::HalfSpace) => {
+                let mut m = self.plane_convex(b, a, &pos12.inverse(), prediction)?;
+                flip(&mut m, pos12);
+                Some(m)
+            }
+            (ShapeType::Cuboid, ShapeType::Cuboid) => {
+                self.scratch.clear();
+                contact_manifold_cuboid_cuboid(
+                    pos12,
+                    a.as_cuboid()?,
+                    b.as_cuboid()?,
+                    prediction,
+                    &mut self.scratch,
+                );
+                Some(self.take_scratch(prediction))
+            }
+            (ShapeType::Capsule, ShapeType::Capsule) => {
+                self.scratch.clear();
+                contact_manifold_capsule_capsule(
+                    pos12,
+                    a.as_capsule()?,
+                    b.as_capsule()?,
+                    prediction,
+                    &mut self.scratch,
+                );
+                Some(self.take_scratch(prediction))
+            }
+            (ShapeType::Cuboid, ShapeType::Triangle) => {
+                self.scratch.clear();
+                contact_manifold_cuboid_triangle(
+                    pos12,
+                    &pos12.inverse(),
+                    a.as_cuboid()?,
+                    b.as_triangle()?,
+                    None,
+                    None,
+                    prediction,
+                    &mut self.scratch,
+                    false,
+                );
+                Some(self.take_scratch(prediction))
+            }
+            (ShapeType::Triangle, ShapeType::Cuboid) => {
+                let mut m = self.convex(b, a, &pos12.inverse(), prediction)?;
+                flip(&mut m, pos12);
+                Some(m)
+            }
+            _ => self.pfm_pfm(a, b, pos12, prediction),
+        }
+    }
+
+    /// Copies the scratch manifold's points closer than `prediction` out (parry's frames are
+    /// the pair's frames here; some of its generators keep farther points).
+    fn take_scratch(&mut self, prediction: Real) -> GenManifold {
+        let mut m = GenManifold {
+            normal_a: self.scratch.local_n1,
+            ..Default::default()
+        };
+        for p in self.scratch.points.iter().filter(|p| p.dist <= prediction) {
+            m.push(GenPoint {
+                local_a: p.local_p1,
+                local_b: p.local_p2,
+                dist: p.dist,
+                id: feature_id(p.fid1.0, p.fid2.0),
+            });
+        }
+        m
+    }
+
+    /// A plane (`a`, a half-space through its origin) against a convex shape `b`.
+    fn plane_convex(
+        &mut self,
+        a: &dyn ParryShape,
+        b: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> Option<GenManifold> {
+        let n = a.as_halfspace()?.normal;
+        if b.shape_type() == ShapeType::Ball {
+            return self.convex(a, b, pos12, prediction);
+        }
+        let (pfm, radius) = b.as_polygonal_feature_map()?;
+        // The plane's normal in b's frame, and b's deepest feature against it.
+        let n_b = pos12.rotation.inverse() * -n;
+        let f = &mut self.feature[0];
+        pfm.local_support_feature(n_b, f);
+        let mut m = GenManifold {
+            normal_a: n,
+            ..Default::default()
+        };
+        for k in 0..f.num_vertices {
+            // The vertex pushed out by the rounding radius, towards the plane.
+            let local_b = f.vertices[k] + n_b * radius;
+            let in_a = pos12.transform_point(local_b);
+            let dist = in_a.dot(n);
+            if dist <= prediction {
+                m.push(GenPoint {
+                    local_a: in_a - n * dist,
+                    local_b,
+                    dist,
+                    id: feature_id(u32::MAX, f.vids[k].0),
+                });
+            }
+        }
+        Some(m)
+    }
+
+    /// Two polyhedral shapes (capsules, cylinders, cones, hulls, triangles), by GJK and, when
+    /// they overlap, EPA on the generator's own EPA, then parry's feature clipping.
+    fn pfm_pfm(
+        &mut self,
+        a: &dyn ParryShape,
+        b: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> Option<GenManifold> {
+        let (pfm1, r1) = a.as_polygonal_feature_map()?;
+        let (pfm2, r2) = b.as_polygonal_feature_map()?;
+        let total = prediction + r1 + r2;
+        let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+        let mut simplex = VoronoiSimplex::new();
+        simplex.reset(CsoPoint::from_shapes(pos12, pfm1, pfm2, dir));
+        let mut result = gjk::closest_points(pos12, pfm1, pfm2, total, true, &mut simplex);
+        if result == GJKResult::Intersection {
+            result = match self.epa.closest_points(pos12, pfm1, pfm2, &simplex) {
+                Some((p1, p2, n)) => GJKResult::ClosestPoints(p1, p2, n),
+                None => GJKResult::NoIntersection(Vector::X),
+            };
+        }
+        let GJKResult::ClosestPoints(p1, p2_1, dir) = result else {
+            return Some(GenManifold::default());
+        };
+        let local_n1 = dir;
+        let local_n2 = pos12.rotation.inverse() * -dir;
+        let [f1, f2] = &mut self.feature;
+        pfm1.local_support_feature_toward(local_n1, p1, f1);
+        pfm2.local_support_feature_toward(local_n2, pos12.inverse_transform_point(p2_1), f2);
+        self.scratch.clear();
+        PolygonalFeature::contacts(
+            pos12,
+            &pos12.inverse(),
+            local_n1,
+            local_n2,
+            f1,
+            f2,
+            &mut self.scratch,
+            false,
+        );
+        if self.scratch.points.is_empty() {
+            // Features that clip to nothing (a vertex against a face): the GJK points.
+            let dist = (p2_1 - p1).dot(local_n1);
+            self.scratch.points.push(TrackedContact::new(
+                p1,
+                pos12.inverse_transform_point(p2_1),
+                PackedFeatureId::UNKNOWN,
+                PackedFeatureId::UNKNOWN,
+                dist,
+            ));
+        }
+        let mut m = GenManifold {
+            normal_a: local_n1,
+            ..Default::default()
+        };
+        for p in &self.scratch.points {
+            let dist = p.dist - r1 - r2;
+            if dist <= prediction {
+                m.push(GenPoint {
+                    local_a: p.local_p1 + local_n1 * r1,
+                    local_b: p.local_p2 + local_n2 * r2,
+                    dist,
+                    id: feature_id(p.fid1.0, p.fid2.0),
+                });
+            }
+        }
+        Some(m)
+    }
+
+    /// A height field or mesh `comp` against a convex shape `other` placed at `pos12` in the
+    /// composite's frame: one manifold per touching triangle. `flipped`: the composite is the
+    /// pair's second shape.
+    fn composite(
+        &mut self,
+        comp: &dyn ParryShape,
+        other: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+        flipped: bool,
+    ) -> bool {
+        let local_box = other.compute_aabb(pos12).loosened(prediction);
+        let mut triangles = std::mem::take(&mut self.out);
+        let mut visit = |g: &mut Generator, id: u32, tri: &Triangle| {
+            if let Some(mut m) = g.convex(tri, other, pos12, prediction) {
+                if m.count > 0 {
+                    m.sub = (id, 0);
+                    if flipped {
+                        // Computed with the composite first: back to the pair's order.
+                        flip(&mut m, &pos12.inverse());
+                    }
+                    triangles.push(m);
+                }
+            }
+        };
+        match comp.shape_type() {
+            ShapeType::HeightField => {
+                let Some(hf) = comp.as_heightfield() else {
+                    return false;
+                };
+                hf.map_elements_in_local_aabb(&local_box, &mut |id, tri| visit(self, id, tri));
+            }
+            ShapeType::TriMesh => {
+                let Some(mesh) = comp.as_trimesh() else {
+                    return false;
+                };
+                for id in mesh.bvh().intersect_aabb(&local_box) {
+                    let tri = mesh.triangle(id);
+                    visit(self, id, &tri);
+                }
+            }
+            _ => return false,
+        }
+        self.out = triangles;
+        true
+    }
+}
+
+/// Swaps the roles of the two shapes of a manifold computed as (b, a) with `pos12` placing b
+/// in a's frame: the normal is brought into a's frame and reversed.
+fn flip(m: &mut GenManifold, pos12: &Pose) {
+    // `m` was computed with b first: its normal is in b's frame, from b to a.
+    m.normal_a = pos12.rotation * -m.normal_a;
+    for p in &mut m.points[..m.count] {
+        std::mem::swap(&mut p.local_a, &mut p.local_b);
+    }
+    m.sub = (m.sub.1, m.sub.0);
+}

@@ -1,0 +1,137 @@
+//! The pairs of colliders whose fat boxes overlap, kept from step to step: each with the Kea
+//! contacts its manifolds became and what is needed to update them cheaply.
+//!
+//! Pairs live in slots (reused after removal, so a warm world allocates nothing) and are
+//! visited in slot order, which depends only on the order in which pairs were found:
+//! deterministic. A hash map finds a pair by its two collider slots when the broad phase
+//! reports it again.
+
+use crate::parry::math::Pose;
+use kea::{ConstraintHandle, Vec3};
+use std::collections::HashMap;
+
+/// One point of a manifold as generated, in each collider's own frame.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct CachedPoint {
+    pub local_a: Vec3,
+    pub local_b: Vec3,
+    pub id: u32,
+}
+
+/// A manifold as generated (reduced), in the colliders' own frames: enough to move it with the
+/// colliders while they barely move relative to each other (the manifold cache).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ManifoldCache {
+    /// Sub-shapes (triangles of a mesh or height field; 0 otherwise).
+    pub sub: (u32, u32),
+    /// The normal in the first collider's frame, from it to the second.
+    pub normal_a: Vec3,
+    pub points: [CachedPoint; kea::MAX_CONTACT_POINTS],
+    pub count: u8,
+}
+
+/// One manifold of a pair and the Kea contact it became.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PairManifold {
+    pub cache: ManifoldCache,
+    pub handle: ConstraintHandle,
+    /// Generated again (or kept) this step.
+    pub seen: bool,
+}
+
+/// A pair of colliders whose fat boxes overlap.
+#[derive(Debug, Default)]
+pub(crate) struct PairState {
+    /// Collider slots, first < second.
+    pub colliders: (u32, u32),
+    pub manifolds: Vec<PairManifold>,
+    /// The second collider's pose in the first's frame when the manifolds were generated.
+    pub generated_at: Option<Pose>,
+    /// Touching last step, and this step.
+    pub touching: bool,
+    pub touching_now: bool,
+    /// Impulse on the first collider's side over the last step, N·s.
+    pub impulse: Vec3,
+    /// The first collider's body is body 2 of the pair's contacts (it is static).
+    pub flipped: bool,
+    /// Neither collider could move this step: its contacts were left as they are.
+    pub resting: bool,
+    pub alive: bool,
+}
+
+/// The live pairs (module docs).
+#[derive(Debug, Default)]
+pub(crate) struct Pairs {
+    pub slots: Vec<PairState>,
+    free: Vec<u32>,
+    map: HashMap<(u32, u32), u32>,
+}
+
+impl Pairs {
+    /// Reserves room for `n` pairs.
+    pub(crate) fn reserve(&mut self, n: usize) {
+        if self.slots.capacity() < n {
+            self.slots.reserve(n - self.slots.len());
+        }
+        if self.free.capacity() < n {
+            self.free.reserve(n - self.free.len());
+        }
+        if self.map.capacity() < n {
+            self.map.reserve(n - self.map.len());
+        }
+    }
+
+    /// The slot of the pair of colliders `key` (first < second), if it is live.
+    pub(crate) fn find(&self, key: (u32, u32)) -> Option<u32> {
+        self.map.get(&key).copied()
+    }
+
+    /// Adds the pair `key`; returns its slot.
+    pub(crate) fn insert(&mut self, key: (u32, u32)) -> u32 {
+        let slot = match self.free.pop() {
+            Some(s) => s,
+            None => {
+                self.slots.push(PairState::default());
+                (self.slots.len() - 1) as u32
+            }
+        };
+        let p = &mut self.slots[slot as usize];
+        p.colliders = key;
+        p.manifolds.clear();
+        p.generated_at = None;
+        p.touching = false;
+        p.touching_now = false;
+        p.impulse = Vec3::ZERO;
+        p.flipped = false;
+        p.resting = false;
+        p.alive = true;
+        self.map.insert(key, slot);
+        slot
+    }
+
+    /// Removes the pair in `slot` (its contacts must already be gone).
+    pub(crate) fn remove(&mut self, slot: u32) {
+        let p = &mut self.slots[slot as usize];
+        if !p.alive {
+            return;
+        }
+        p.alive = false;
+        p.manifolds.clear();
+        self.map.remove(&p.colliders);
+        self.free.push(slot);
+    }
+
+    /// Live pairs with their slots, in slot order.
+    pub(crate) fn live(&self) -> impl Iterator<Item = (u32, &PairState)> {
+        self.slots
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.alive)
+            .map(|(i, p)| (i as u32, p))
+    }
+
+    /// Number of live pairs.
+    pub(crate) fn len(&self) -> usize {
+        self.map.len()
+    }
+}

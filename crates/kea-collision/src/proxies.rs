@@ -1,0 +1,91 @@
+//! The broad phase's step: keep each moving collider's fat box around its swept box, and look
+//! up the colliders whose fat box moved for new pairs (see `broad_phase`).
+
+use crate::broad_phase::Aabb;
+use crate::collision_world::{collider_pose, CollisionWorld, FAT_MARGIN};
+use crate::narrow_phase::should_collide;
+use kea::{Real, Vec3, World};
+
+impl CollisionWorld {
+    /// Refreshes the fat box of every collider on a body that moves this step (awake and
+    /// enabled), grown by the speculative margin and swept by its motion over `dt`. A
+    /// collider whose box left its fat box gets a new one and is marked moved.
+    pub(crate) fn update_bounds(&mut self, world: &World, dt: Real) {
+        let margin = self.margin;
+        for (i, slot) in self.slots.iter_mut().enumerate() {
+            let Some(c) = slot.collider.as_mut() else {
+                continue;
+            };
+            let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) else {
+                continue;
+            };
+            if !body.is_enabled() || body.is_sleeping() {
+                continue;
+            }
+            let pose = collider_pose(world, &c.def);
+            let aabb = c.def.shared_shape().compute_aabb(&pose);
+            let (mut min, mut max) = (
+                aabb.mins - Vec3::splat(margin),
+                aabb.maxs + Vec3::splat(margin),
+            );
+            let sweep = body.linear_velocity() * dt;
+            min += sweep.min(Vec3::ZERO);
+            max += sweep.max(Vec3::ZERO);
+            let turn = Vec3::splat(body.angular_velocity().length() * dt * c.reach);
+            min -= turn;
+            max += turn;
+            let tight = Aabb { min, max };
+            if !c.fat.contains(&tight) {
+                c.fat = tight.grown(FAT_MARGIN);
+                self.tree.update(c.leaf, c.fat);
+                self.moved.push(i as u32);
+            }
+        }
+    }
+
+    /// Looks up every moved collider in the tree and adds the pairs it did not have, in a
+    /// deterministic order (sorted), filtered as the narrow phase filters.
+    pub(crate) fn find_new_pairs(&mut self) {
+        self.new_pairs.clear();
+        self.moved.sort_unstable();
+        self.moved.dedup();
+        for k in 0..self.moved.len() {
+            let i = self.moved[k];
+            let Some(fat) = self.slots[i as usize].collider.as_ref().map(|c| c.fat) else {
+                continue;
+            };
+            let (moved, new_pairs) = (&self.moved, &mut self.new_pairs);
+            self.tree.query(&fat, |j| {
+                // Both moved: the lower slot reports the pair.
+                if j != i && (j > i || moved.binary_search(&j).is_err()) {
+                    new_pairs.push((i.min(j), i.max(j)));
+                }
+            });
+        }
+        self.moved.clear();
+        self.new_pairs.sort_unstable();
+        self.new_pairs.dedup();
+        let mut added = 0;
+        for k in 0..self.new_pairs.len() {
+            let key = self.new_pairs[k];
+            if self.pairs.find(key).is_some() {
+                continue;
+            }
+            let (Some(a), Some(b)) = (
+                &self.slots[key.0 as usize].collider,
+                &self.slots[key.1 as usize].collider,
+            ) else {
+                continue;
+            };
+            if a.def.body.is_none() && b.def.body.is_none() {
+                continue; // two static colliders never touch each other's motion
+            }
+            if !should_collide(&self.jointed, &a.def, &b.def) {
+                continue;
+            }
+            self.pairs.insert(key);
+            added += 1;
+        }
+        self.stats.new_pairs = added;
+    }
+}
