@@ -82,6 +82,12 @@ pub(crate) struct Collider {
     /// Its leaf in the broad phase's tree, and the fat box stored there.
     pub(crate) leaf: u32,
     pub(crate) fat: Aabb,
+    /// Its pose this step, whether it cannot move this step (static, asleep or disabled), and
+    /// an upper bound of how fast any of its points moves, m/s: the narrow phase reads these
+    /// instead of the world.
+    pub(crate) pose: Pose,
+    pub(crate) still: bool,
+    pub(crate) motion: Real,
 }
 
 pub(crate) struct Slot {
@@ -136,8 +142,15 @@ pub struct CollisionWorld {
 }
 
 /// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than
-/// this since its box was last set costs the broad phase nothing.
+/// this since its box was last set costs the broad phase nothing. A moving collider's fat box
+/// also reaches [`FAT_LOOKAHEAD`] steps ahead along its velocity.
 pub const FAT_MARGIN: Real = 0.05;
+
+/// Steps of motion a moving collider's fat box reaches ahead.
+pub const FAT_LOOKAHEAD: Real = 2.0;
+
+/// Largest coordinate of a box in the broad phase, m: planes are cut there.
+pub(crate) const WORLD_BOUND: Real = 1.0e6;
 
 impl Default for CollisionWorld {
     fn default() -> Self {
@@ -198,10 +211,12 @@ impl CollisionWorld {
         let local = Pose::from_parts(def.offset, def.rotation.normalize());
         let sphere = def.shared_shape().compute_bounding_sphere(&local);
         let reach = sphere.center().length() + sphere.radius();
-        let aabb = def.shared_shape().compute_aabb(&collider_pose(world, &def));
+        let pose = collider_pose(world, &def);
+        let aabb = def.shared_shape().compute_aabb(&pose);
+        // Planes have unbounded boxes: a bound keeps the tree's surface areas finite.
         let fat = Aabb {
-            min: aabb.mins,
-            max: aabb.maxs,
+            min: aabb.mins.max(Vec3::splat(-WORLD_BOUND)),
+            max: aabb.maxs.min(Vec3::splat(WORLD_BOUND)),
         };
         let fat = if def.body.is_some() {
             fat.grown(FAT_MARGIN + self.margin)
@@ -219,6 +234,9 @@ impl CollisionWorld {
             reach,
             leaf,
             fat,
+            pose,
+            still: true,
+            motion: 0.0,
         };
         self.moved.push(index);
         let index = match self.free.pop() {
@@ -460,7 +478,7 @@ impl CollisionWorld {
         self.update_bounds(world, dt);
         self.find_new_pairs();
         let t1 = Instant::now();
-        self.narrow_phase(world, dt);
+        self.narrow_phase(dt);
         self.apply(world)?;
         self.stats.time_broad_phase = t1 - t0;
         self.stats.time_narrow_phase = t1.elapsed();

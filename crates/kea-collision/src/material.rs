@@ -81,6 +81,8 @@ pub struct MaterialTable {
     surfaces: Vec<Surface>,
     /// Explicit pair entries, keyed by (smaller id, larger id), sorted for binary search.
     pairs: Vec<((MaterialId, MaterialId), PairEntry)>,
+    /// Counts the changes: contacts keep their parameters until it moves.
+    revision: u64,
 }
 
 /// One explicit pair entry.
@@ -108,6 +110,7 @@ impl Default for MaterialTable {
         Self {
             surfaces: vec![Surface::default()],
             pairs: Vec::new(),
+            revision: 0,
         }
     }
 }
@@ -123,6 +126,7 @@ impl MaterialTable {
     pub fn add(&mut self, surface: Surface) -> CollisionResult<MaterialId> {
         surface.validate()?;
         self.surfaces.push(surface);
+        self.revision += 1;
         Ok((self.surfaces.len() - 1) as MaterialId)
     }
 
@@ -131,6 +135,7 @@ impl MaterialTable {
         self.check(id)?;
         surface.validate()?;
         self.surfaces[id as usize] = surface;
+        self.revision += 1;
         Ok(())
     }
 
@@ -183,6 +188,7 @@ impl MaterialTable {
             Ok(i) => self.pairs[i].1 = entry,
             Err(i) => self.pairs.insert(i, (key, entry)),
         }
+        self.revision += 1;
         Ok(())
     }
 
@@ -218,6 +224,12 @@ impl MaterialTable {
             Ok(i) => self.pairs[i].1.params,
             Err(_) => surface_params(&self.surfaces[a as usize], &self.surfaces[b as usize]),
         })
+    }
+
+    /// A number that changes whenever the table does.
+    #[must_use]
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// Checks that a material id exists.

@@ -8,14 +8,15 @@
 //! at rest then costs a few transforms per contact instead of a clipping test, and keeps its
 //! points (and their warm starts) exactly.
 
-use crate::collision_world::{collider_pose, ColliderDef, CollisionWorld};
+use crate::collision_world::{ColliderDef, CollisionWorld};
 use crate::pairs::{CachedPoint, ManifoldCache};
 use crate::parry::math::Pose;
 use crate::reduce::reduce;
-use kea::{BodyHandle, ContactPoint, Real, Vec3, World, MAX_CONTACT_POINTS};
+use kea::{BodyHandle, ContactPoint, Real, Vec3, MAX_CONTACT_POINTS};
 
 /// Relative displacement below which a pair's manifolds are moved rather than generated, m.
-pub const CACHE_DISTANCE: Real = 1.0e-3;
+/// Rapier recycles contacts up to 5 cm; Jolt's body-pair cache stops at 1 mm.
+pub const CACHE_DISTANCE: Real = 5.0e-3;
 /// Relative rotation below which a pair's manifolds are moved rather than generated, rad.
 pub const CACHE_ANGLE: Real = 2.0 * std::f64::consts::PI as Real / 180.0;
 
@@ -32,6 +33,8 @@ pub(crate) struct Wanted {
     pub points: [ContactPoint; MAX_CONTACT_POINTS],
     /// The manifold as kept for the cache.
     pub cache: ManifoldCache,
+    /// The pair's parameters changed (or are new): the contact must take them.
+    pub refresh: bool,
 }
 
 impl Wanted {
@@ -50,7 +53,7 @@ fn cache_holds(then: &Pose, now: &Pose) -> bool {
 impl CollisionWorld {
     /// Fills `wanted` with the manifolds of every pair that can move this step, and `dropped`
     /// with the pairs to forget.
-    pub(crate) fn narrow_phase(&mut self, world: &World, dt: Real) {
+    pub(crate) fn narrow_phase(&mut self, dt: Real) {
         self.wanted.clear();
         self.dropped.clear();
         let (mut manifolds, mut reused) = (0u32, 0u32);
@@ -72,7 +75,7 @@ impl CollisionWorld {
                 self.dropped.push(slot);
                 continue;
             }
-            let resting = pair_is_resting(world, &a.def, &b.def);
+            let resting = a.still && b.still;
             self.pairs.slots[slot as usize].resting = resting;
             if resting {
                 continue; // asleep or static: its contacts stay as they are
@@ -83,15 +86,31 @@ impl CollisionWorld {
                 (None, Some(y)) => (y, None, true),
                 (None, None) => continue,
             };
-            let (pose_a, pose_b) = (collider_pose(world, &a.def), collider_pose(world, &b.def));
+            let (pose_a, pose_b) = (a.pose, b.pose);
             let relative = pose_a.inv_mul(&pose_b);
             let p = &mut self.pairs.slots[slot as usize];
             p.flipped = flip;
+            let revision = self.materials.revision();
+            let refresh = p.params_revision != revision;
+            if refresh {
+                let (m1, m2) = if flip {
+                    (b.def.material, a.def.material)
+                } else {
+                    (a.def.material, b.def.material)
+                };
+                let Ok(pair) = self.materials.pair_contact(m1, m2) else {
+                    continue;
+                };
+                p.params = pair.params;
+                p.direction = pair.friction_direction;
+                p.params_revision = revision;
+            }
             let frame = Frame {
                 pair: slot,
                 bodies: (body1, body2),
                 flip,
                 poses: (pose_a, pose_b),
+                refresh,
             };
             if p.generated_at
                 .is_some_and(|then| cache_holds(&then, &relative))
@@ -104,8 +123,7 @@ impl CollisionWorld {
                 continue;
             }
             p.generated_at = Some(relative);
-            let prediction = self.margin
-                + dt * (motion(world, &a.def, a.reach) + motion(world, &b.def, b.reach));
+            let prediction = self.margin + dt * (a.motion + b.motion);
             let (sa, sb) = (a.def.shared_shape().clone(), b.def.shared_shape().clone());
             if !self
                 .generator
@@ -157,6 +175,7 @@ struct Frame {
     /// The first collider is static, so it is body 2 and the normal keeps parry's direction.
     flip: bool,
     poses: (Pose, Pose),
+    refresh: bool,
 }
 
 impl Frame {
@@ -172,6 +191,7 @@ impl Frame {
             normal: if self.flip { n } else { -n },
             points: [ContactPoint::default(); MAX_CONTACT_POINTS],
             cache: *m,
+            refresh: self.refresh,
         };
         for (cp, out) in m.points[..m.count as usize].iter().zip(w.points.iter_mut()) {
             let wa = pose_a.transform_point(cp.local_a);
@@ -180,13 +200,6 @@ impl Frame {
         }
         w
     }
-}
-
-/// An upper bound of how fast any point of the collider moves, m/s.
-fn motion(world: &World, def: &ColliderDef, reach: Real) -> Real {
-    def.body.and_then(|b| world.body(b).ok()).map_or(0.0, |b| {
-        b.linear_velocity().length() + b.angular_velocity().length() * reach
-    })
 }
 
 /// The filter: not the same body (or both static), groups and masks agree, and not joined.
@@ -202,14 +215,4 @@ pub(crate) fn should_collide(
         (Some(x), Some(y)) => jointed.binary_search(&(x.min(y), x.max(y))).is_err(),
         _ => true,
     }
-}
-
-/// Whether neither collider can move this step (static, disabled or asleep).
-fn pair_is_resting(world: &World, a: &ColliderDef, b: &ColliderDef) -> bool {
-    let still = |d: &ColliderDef| {
-        d.body
-            .and_then(|h| world.body(h).ok())
-            .is_none_or(|b| !b.is_enabled() || b.is_sleeping())
-    };
-    still(a) && still(b)
 }

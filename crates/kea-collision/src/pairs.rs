@@ -57,6 +57,11 @@ pub(crate) struct PairState {
     /// Neither collider could move this step: its contacts were left as they are.
     pub resting: bool,
     pub alive: bool,
+    /// The pair's contact parameters and fixed friction direction, for material table
+    /// revision `params_revision` (`u64::MAX`: not yet).
+    pub params: kea::ContactParams,
+    pub direction: Option<Vec3>,
+    pub params_revision: u64,
 }
 
 /// The live pairs (module docs).
@@ -105,6 +110,7 @@ impl Pairs {
         p.flipped = false;
         p.resting = false;
         p.alive = true;
+        p.params_revision = u64::MAX;
         self.map.insert(key, slot);
         slot
     }

@@ -2,7 +2,8 @@
 //! up the colliders whose fat box moved for new pairs (see `broad_phase`).
 
 use crate::broad_phase::Aabb;
-use crate::collision_world::{collider_pose, CollisionWorld, FAT_MARGIN};
+use crate::collision_world::{collider_pose, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN};
+
 use crate::narrow_phase::should_collide;
 use kea::{Real, Vec3, World};
 
@@ -19,10 +20,18 @@ impl CollisionWorld {
             let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) else {
                 continue;
             };
-            if !body.is_enabled() || body.is_sleeping() {
+            if body.is_sleeping() {
+                c.still = true;
                 continue;
             }
-            let pose = collider_pose(world, &c.def);
+            // A disabled body can be placed by hand: its pose is refreshed, its box is not.
+            c.pose = collider_pose(world, &c.def);
+            c.still = !body.is_enabled();
+            c.motion = body.linear_velocity().length() + body.angular_velocity().length() * c.reach;
+            if c.still {
+                continue;
+            }
+            let pose = c.pose;
             let aabb = c.def.shared_shape().compute_aabb(&pose);
             let (mut min, mut max) = (
                 aabb.mins - Vec3::splat(margin),
@@ -36,7 +45,12 @@ impl CollisionWorld {
             max += turn;
             let tight = Aabb { min, max };
             if !c.fat.contains(&tight) {
-                c.fat = tight.grown(FAT_MARGIN);
+                let ahead = sweep * FAT_LOOKAHEAD;
+                let fat = tight.grown(FAT_MARGIN);
+                c.fat = Aabb {
+                    min: fat.min + ahead.min(Vec3::ZERO),
+                    max: fat.max + ahead.max(Vec3::ZERO),
+                };
                 self.tree.update(c.leaf, c.fat);
                 self.moved.push(i as u32);
             }

@@ -52,35 +52,34 @@ impl CollisionWorld {
         ) else {
             return Ok(());
         };
-        let flipped = self.pairs.slots[w.pair as usize].flipped;
-        let (m1, m2) = if flipped {
-            (b.def.material, a.def.material)
-        } else {
-            (a.def.material, b.def.material)
-        };
-        let pair = self.materials.pair_contact(m1, m2)?;
+        let _ = (a, b);
+        let p = &mut self.pairs.slots[w.pair as usize];
+        let params = p.params;
         // A fixed friction direction (conveyor pairs): its projection on the tangent plane,
         // none when it is (nearly) the normal.
-        let direction = pair.friction_direction.and_then(|d| {
+        let direction = p.direction.and_then(|d| {
             let t = d - w.normal * d.dot(w.normal);
             (t.length() > 1.0e-2).then(|| t.normalize())
         });
         let points = &w.points[..w.cache.count as usize];
-        let p = &mut self.pairs.slots[w.pair as usize];
         p.touching_now |= points.iter().any(|q| q.penetration > -touch);
         match p.manifolds.get_mut(w.existing as usize) {
             Some(m) if w.existing != Wanted::NEW && world.contact(m.handle).is_ok() => {
                 let c = world.contact_mut(m.handle)?;
                 c.set_normal(w.normal)?;
                 c.set_points(points)?;
-                c.set_params(pair.params)?;
-                c.set_direction(direction)?;
+                if w.refresh {
+                    c.set_params(params)?;
+                }
+                if direction.is_some() || c.direction().is_some() {
+                    c.set_direction(direction)?;
+                }
                 m.cache = w.cache;
                 m.seen = true;
             }
             _ => {
                 let mut c = Contact::with_points(w.normal, points)?;
-                c.set_params(pair.params)?;
+                c.set_params(params)?;
                 c.set_direction(direction)?;
                 let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
                 if let Some(m) = p.manifolds.get_mut(w.existing as usize) {

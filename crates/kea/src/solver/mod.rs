@@ -168,7 +168,7 @@ pub struct SolverContact {
 
 /// The default softness of contacts: 240 Hz with a damping ratio of 10 (see [`Spring`]): a
 /// body resting on the ground sinks about 4 µm, and a column of 40 unit boxes about 4 mm.
-pub const DEFAULT_CONTACT_SPRING: Spring = Spring::new(60.0, 10.0);
+pub const DEFAULT_CONTACT_SPRING: Spring = Spring::new(30.0, 10.0);
 
 /// Solver parameters (the guide's `MdtKeaParameters`). Every field is documented with its unit,
 /// normal value and safe range.

@@ -72,6 +72,35 @@ pub(crate) trait FloatW:
     fn zero() -> Self {
         Self::splat(0.0)
     }
+    /// Loads one record of 8 reals per lane, transposed: field `k` of `records[idx[l]]` in lane
+    /// `l` of `out[k]` (the body states the contact kernels gather).
+    #[inline(always)]
+    fn gather8(records: &[[Real; 8]], idx: &Self::Index) -> [Self; 8] {
+        let mut a: [Self::Array; 8] = Default::default();
+        for (l, &i) in idx.as_ref().iter().enumerate() {
+            let r = &records[i as usize];
+            for k in 0..8 {
+                a[k].as_mut()[l] = r[k];
+            }
+        }
+        std::array::from_fn(|k| Self::load(&a[k]))
+    }
+    /// The inverse of [`FloatW::gather8`] for the lanes whose `write` is not 0.
+    #[inline(always)]
+    fn scatter8(records: &mut [[Real; 8]], idx: &Self::Index, write: &Self::Index, v: [Self; 8]) {
+        let mut a: [Self::Array; 8] = Default::default();
+        for k in 0..8 {
+            v[k].store(&mut a[k]);
+        }
+        for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
+            if ok != 0 {
+                let r = &mut records[i as usize];
+                for k in 0..8 {
+                    r[k] = a[k].as_ref()[l];
+                }
+            }
+        }
+    }
 }
 
 /// Which lane width the contact solver uses.
@@ -421,6 +450,61 @@ mod x86 {
             // SAFETY: AVX detected.
             unsafe { _mm256_movemask_ps(m) != 0 }
         }
+        #[inline(always)]
+        fn gather8(records: &[[f32; 8]], idx: &[u32; 8]) -> [Self; 8] {
+            // SAFETY: AVX detected; every record holds 8 floats.
+            unsafe {
+                let r: [__m256; 8] =
+                    std::array::from_fn(|l| _mm256_loadu_ps(records[idx[l] as usize].as_ptr()));
+                transpose8(r).map(Self)
+            }
+        }
+        #[inline(always)]
+        fn scatter8(records: &mut [[f32; 8]], idx: &[u32; 8], write: &[u32; 8], v: [Self; 8]) {
+            // SAFETY: AVX detected; every record holds 8 floats.
+            unsafe {
+                let rows = transpose8(v.map(|x| x.0));
+                for l in 0..8 {
+                    if write[l] != 0 {
+                        _mm256_storeu_ps(records[idx[l] as usize].as_mut_ptr(), rows[l]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Transposes an 8×8 matrix of floats held as 8 rows (its own inverse).
+    #[inline(always)]
+    unsafe fn transpose8(r: [__m256; 8]) -> [__m256; 8] {
+        // SAFETY (for the intrinsics): callers run only where AVX was detected.
+        unsafe {
+            let t0 = _mm256_unpacklo_ps(r[0], r[1]);
+            let t1 = _mm256_unpackhi_ps(r[0], r[1]);
+            let t2 = _mm256_unpacklo_ps(r[2], r[3]);
+            let t3 = _mm256_unpackhi_ps(r[2], r[3]);
+            let t4 = _mm256_unpacklo_ps(r[4], r[5]);
+            let t5 = _mm256_unpackhi_ps(r[4], r[5]);
+            let t6 = _mm256_unpacklo_ps(r[6], r[7]);
+            let t7 = _mm256_unpackhi_ps(r[6], r[7]);
+            let s0 = _mm256_shuffle_ps::<0x44>(t0, t2);
+            let s1 = _mm256_shuffle_ps::<0xEE>(t0, t2);
+            let s2 = _mm256_shuffle_ps::<0x44>(t1, t3);
+            let s3 = _mm256_shuffle_ps::<0xEE>(t1, t3);
+            let s4 = _mm256_shuffle_ps::<0x44>(t4, t6);
+            let s5 = _mm256_shuffle_ps::<0xEE>(t4, t6);
+            let s6 = _mm256_shuffle_ps::<0x44>(t5, t7);
+            let s7 = _mm256_shuffle_ps::<0xEE>(t5, t7);
+            [
+                _mm256_permute2f128_ps::<0x20>(s0, s4),
+                _mm256_permute2f128_ps::<0x20>(s1, s5),
+                _mm256_permute2f128_ps::<0x20>(s2, s6),
+                _mm256_permute2f128_ps::<0x20>(s3, s7),
+                _mm256_permute2f128_ps::<0x31>(s0, s4),
+                _mm256_permute2f128_ps::<0x31>(s1, s5),
+                _mm256_permute2f128_ps::<0x31>(s2, s6),
+                _mm256_permute2f128_ps::<0x31>(s3, s7),
+            ]
+        }
     }
 }
 
@@ -768,6 +852,43 @@ mod tests {
             check_width::<Narrow>();
             if SimdLevel::Wide.detect() == SimdLevel::Wide {
                 check_width::<Wide>();
+            }
+        }
+    }
+
+    fn check_gather<F: FloatW>() {
+        let records: Vec<[Real; 8]> = (0..20)
+            .map(|i| std::array::from_fn(|k| (i * 8 + k) as Real))
+            .collect();
+        let mut idx = F::Index::default();
+        let mut write = F::Index::default();
+        for (l, (i, w)) in idx.as_mut().iter_mut().zip(write.as_mut()).enumerate() {
+            *i = (3 * l as u32 + 1) % 20;
+            *w = (l % 2) as u32;
+        }
+        let g = F::gather8(&records, &idx);
+        let mut out = records.clone();
+        let doubled = g.map(|x| x + x);
+        F::scatter8(&mut out, &idx, &write, doubled);
+        for (l, &i) in idx.as_ref().iter().enumerate() {
+            for k in 0..8 {
+                let mut a = F::Array::default();
+                g[k].store(&mut a);
+                assert_eq!(a.as_ref()[l], records[i as usize][k]);
+                let expect = if write.as_ref()[l] != 0 { 2.0 } else { 1.0 };
+                assert_eq!(out[i as usize][k], expect * records[i as usize][k]);
+            }
+        }
+    }
+
+    #[test]
+    fn gathers_and_scatters_transpose_the_records() {
+        check_gather::<Real>();
+        #[cfg(target_arch = "x86_64")]
+        {
+            check_gather::<Narrow>();
+            if SimdLevel::Wide.detect() == SimdLevel::Wide {
+                check_gather::<Wide>();
             }
         }
     }

@@ -61,6 +61,30 @@ impl BodyDelta {
     };
 }
 
+// The contact kernels read both as records of 8 reals (one 256-bit load each in `f32`).
+const _: () = assert!(std::mem::size_of::<BodyVel>() == 8 * std::mem::size_of::<Real>());
+const _: () = assert!(std::mem::size_of::<BodyDelta>() == 8 * std::mem::size_of::<Real>());
+
+/// The states as records of 8 reals: `[v.x, v.y, v.z, ω.x, ω.y, ω.z, _, _]`.
+pub(crate) fn vel_records(vel: &[BodyVel]) -> &[[Real; 8]] {
+    // SAFETY: `BodyVel` is `repr(C)`, 8 reals and nothing else (asserted above), and its
+    // alignment is at least that of `Real`.
+    unsafe { std::slice::from_raw_parts(vel.as_ptr().cast(), vel.len()) }
+}
+
+/// [`vel_records`], mutable.
+pub(crate) fn vel_records_mut(vel: &mut [BodyVel]) -> &mut [[Real; 8]] {
+    // SAFETY: as for `vel_records`; every bit pattern is a valid `BodyVel`.
+    unsafe { std::slice::from_raw_parts_mut(vel.as_mut_ptr().cast(), vel.len()) }
+}
+
+/// The deltas as records of 8 reals: `[dp.x, dp.y, dp.z, _, dq.x, dq.y, dq.z, dq.w]`.
+pub(crate) fn delta_records(delta: &[BodyDelta]) -> &[[Real; 8]] {
+    // SAFETY: `BodyDelta` is `repr(C)`: a `Vec3`, one `Real` and a `Quat`, 8 reals with no
+    // padding (asserted above).
+    unsafe { std::slice::from_raw_parts(delta.as_ptr().cast(), delta.len()) }
+}
+
 /// How a body's velocity is damped every substep, precomputed.
 #[derive(Debug, Clone, Copy)]
 struct Damping {

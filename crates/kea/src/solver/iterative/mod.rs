@@ -42,8 +42,7 @@ pub struct IterativeParams {
     /// Substeps per step (≥ 1). Default 4. More substeps stiffen contacts and joints at a
     /// linear cost; 1 is plain sequential impulses.
     pub substeps: u32,
-    /// Gauss-Seidel sweeps per substep with error correction (≥ 1). Default 2: one leaves a
-    /// column of 4-point contacts leaning by a few millimetres.
+    /// Gauss-Seidel sweeps per substep with error correction (≥ 1). Default 1 (Box2D v3's).
     pub iterations: u32,
     /// Sweeps per substep without the correction of hard rows (≥ 0). Default 1.
     pub relax_iterations: u32,
@@ -59,7 +58,7 @@ impl Default for IterativeParams {
     fn default() -> Self {
         Self {
             substeps: 4,
-            iterations: 2,
+            iterations: 1,
             relax_iterations: 1,
             max_correction_speed: 3.0,
             simd: SimdLevel::Auto,

@@ -50,9 +50,10 @@ pub(crate) struct PointLanes<F: FloatW> {
     /// The first substep in which the point pushed this step ([`NEVER`] until it does); its
     /// approach velocity then was `relative_velocity + impact_substep·forcing` (restitution).
     pub(crate) impact_substep: F::Array,
-    /// Impulses over the whole step.
+    /// Impulses over the substeps before the last, and the restitution pass's.
     pub(crate) total_normal: F::Array,
     pub(crate) total_tangent: [F::Array; 2],
+    pub(crate) bounce: F::Array,
 }
 
 /// Up to `F::LANES` contacts of one colour (module docs).
@@ -356,5 +357,6 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcin
         }
         F::splat(NEVER).store(&mut p.impact_substep);
         zero.store(&mut p.total_normal);
+        zero.store(&mut p.bounce);
     }
 }

@@ -24,7 +24,7 @@
 //! lands flat bounce alike (none sees the others' impulses).
 
 use super::super::super::wide::{FloatW, V3};
-use super::super::bodies::{BodyDelta, BodyVel};
+use super::super::bodies::{delta_records, vel_records, vel_records_mut, BodyDelta, BodyVel};
 use super::batch::{ContactBatch, PointLanes, NEVER};
 use crate::math::Real;
 
@@ -44,20 +44,8 @@ pub(crate) struct KernelParams {
 /// Velocity and spin of each lane's body.
 #[inline(always)]
 pub(crate) fn gather_vel<F: FloatW>(vel: &[BodyVel], idx: &F::Index) -> (V3<F>, V3<F>) {
-    let mut a: [F::Array; 6] = Default::default();
-    for (l, &i) in idx.as_ref().iter().enumerate() {
-        let s = &vel[i as usize];
-        a[0].as_mut()[l] = s.v.x;
-        a[1].as_mut()[l] = s.v.y;
-        a[2].as_mut()[l] = s.v.z;
-        a[3].as_mut()[l] = s.w.x;
-        a[4].as_mut()[l] = s.w.y;
-        a[5].as_mut()[l] = s.w.z;
-    }
-    (
-        V3::new(F::load(&a[0]), F::load(&a[1]), F::load(&a[2])),
-        V3::new(F::load(&a[3]), F::load(&a[4]), F::load(&a[5])),
-    )
+    let r = F::gather8(vel_records(vel), idx);
+    (V3::new(r[0], r[1], r[2]), V3::new(r[3], r[4], r[5]))
 }
 
 /// Writes velocity and spin back to the lanes' bodies that may be written.
@@ -69,44 +57,23 @@ fn scatter_vel<F: FloatW>(
     v: V3<F>,
     w: V3<F>,
 ) {
-    let mut a: [F::Array; 6] = Default::default();
-    v.x.store(&mut a[0]);
-    v.y.store(&mut a[1]);
-    v.z.store(&mut a[2]);
-    w.x.store(&mut a[3]);
-    w.y.store(&mut a[4]);
-    w.z.store(&mut a[5]);
-    for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
-        if ok != 0 {
-            let s = &mut vel[i as usize];
-            s.v.x = a[0].as_ref()[l];
-            s.v.y = a[1].as_ref()[l];
-            s.v.z = a[2].as_ref()[l];
-            s.w.x = a[3].as_ref()[l];
-            s.w.y = a[4].as_ref()[l];
-            s.w.z = a[5].as_ref()[l];
-        }
-    }
+    let zero = F::zero();
+    F::scatter8(
+        vel_records_mut(vel),
+        idx,
+        write,
+        [v.x, v.y, v.z, w.x, w.y, w.z, zero, zero],
+    );
 }
 
 /// Each lane body's displacement since the step began, and the contact normal seen in the
 /// frame that turned with it (`Δq⁻¹ n`).
 #[inline(always)]
 fn gather_delta<F: FloatW>(delta: &[BodyDelta], idx: &F::Index, n: V3<F>) -> (V3<F>, V3<F>) {
-    let mut a: [F::Array; 7] = Default::default();
-    for (l, &i) in idx.as_ref().iter().enumerate() {
-        let s = &delta[i as usize];
-        a[0].as_mut()[l] = s.dp.x;
-        a[1].as_mut()[l] = s.dp.y;
-        a[2].as_mut()[l] = s.dp.z;
-        a[3].as_mut()[l] = s.dq.x;
-        a[4].as_mut()[l] = s.dq.y;
-        a[5].as_mut()[l] = s.dq.z;
-        a[6].as_mut()[l] = s.dq.w;
-    }
-    let dp = V3::new(F::load(&a[0]), F::load(&a[1]), F::load(&a[2]));
-    let u = V3::new(F::load(&a[3]), F::load(&a[4]), F::load(&a[5]));
-    let w = F::load(&a[6]);
+    let r = F::gather8(delta_records(delta), idx);
+    let dp = V3::new(r[0], r[1], r[2]);
+    let u = V3::new(r[4], r[5], r[6]);
+    let w = r[7];
     // Rotate n by the inverse of (u, w): n − 2w(u×n) + 2u×(u×n).
     let un = u.cross(n);
     let two = F::splat(2.0);
@@ -174,22 +141,27 @@ impl<F: FloatW> Masses<F> {
     }
 }
 
-/// Re-applies each point's impulse of the last substep (or step) and counts it in the totals.
+/// Re-applies each point's impulse of the last substep (or step). From the second substep on,
+/// that impulse (the whole impulse of the substep before) is added to the step's totals; the
+/// last substep's is added when the forces are stored.
 #[inline(always)]
-pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: &mut [BodyVel]) {
+pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: &mut [BodyVel], k: &KernelParams) {
     let m = Masses::load(c);
     let mut bodies = Pair::load(c, vel);
     let n = c.normal.load();
     let t = [c.tangent[0].load(), c.tangent[1].load()];
+    let accumulate = k.substep > 0.0;
     for p in c.p.iter_mut().take(c.points as usize) {
         let pn = F::load(&p.normal_impulse);
         let pt = [
             F::load(&p.tangent_impulse[0]),
             F::load(&p.tangent_impulse[1]),
         ];
-        (F::load(&p.total_normal) + pn).store(&mut p.total_normal);
-        for d in 0..2 {
-            (F::load(&p.total_tangent[d]) + pt[d]).store(&mut p.total_tangent[d]);
+        if accumulate {
+            (F::load(&p.total_normal) + pn).store(&mut p.total_normal);
+            for d in 0..2 {
+                (F::load(&p.total_tangent[d]) + pt[d]).store(&mut p.total_tangent[d]);
+            }
         }
         let impulse = n.scale(pn).add(t[0].scale(pt[0])).add(t[1].scale(pt[1]));
         bodies.apply(&m, p.r_a.load(), p.r_b.load(), impulse);
@@ -241,6 +213,8 @@ pub(crate) fn solve<F: FloatW>(
     let m = Masses::load(c);
     let mut bodies = Pair::load(c, vel);
     let surface = Surface::load(c);
+    // Only a batch that can bounce records when its points start pushing.
+    let bouncy = F::any(F::load(&c.restitution).gt(F::zero()));
     let n = surface.n;
     let (dpa, na) = gather_delta::<F>(delta, &c.body_a, n);
     let (dpb, nb) = gather_delta::<F>(delta, &c.body_b, n);
@@ -249,7 +223,7 @@ pub(crate) fn solve<F: FloatW>(
         let ra = p.r_a.load();
         let rb = p.r_b.load();
         let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
-        let normal = solve_normal(p, &surface, &bodies, ra, rb, s, k, use_bias);
+        let normal = solve_normal(p, &surface, &bodies, ra, rb, s, k, use_bias, bouncy);
         bodies.apply(&m, ra, rb, n.scale(normal));
         let friction = solve_friction(p, &surface, &bodies, ra, rb);
         bodies.apply(&m, ra, rb, friction);
@@ -269,6 +243,7 @@ fn solve_normal<F: FloatW>(
     s: F,
     k: &KernelParams,
     use_bias: bool,
+    bouncy: bool,
 ) -> F {
     let zero = F::zero();
     let vn = bodies.relative(ra, rb).dot(sf.n);
@@ -302,15 +277,16 @@ fn solve_normal<F: FloatW>(
     let mass = F::select(soft, F::load(&p.soft_mass), F::load(&p.normal_mass));
     let scale = F::select(soft, F::load(&p.soft_impulse), zero);
     let new = (pn - mass * (vn + bias) - scale * pn).max(sf.min_normal);
-    // The first substep in which the point pushes (a minimum, so the store is unconditional:
-    // a masked store would be microcoded on some processors).
-    let pushing = F::select(new.gt(zero), F::splat(k.substep), F::splat(NEVER));
-    F::load(&p.impact_substep)
-        .min(pushing)
-        .store(&mut p.impact_substep);
+    if bouncy {
+        // The first substep in which the point pushes (a minimum, so the store is
+        // unconditional: a masked store would be microcoded on some processors).
+        let pushing = F::select(new.gt(zero), F::splat(k.substep), F::splat(NEVER));
+        F::load(&p.impact_substep)
+            .min(pushing)
+            .store(&mut p.impact_substep);
+    }
     let dn = new - pn;
     new.store(&mut p.normal_impulse);
-    (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
     dn
 }
 
@@ -350,7 +326,6 @@ fn solve_friction<F: FloatW>(
         let clamped = F::select(disc, trial[d] * shrink, boxed);
         dt[d] = clamped - pt[d];
         clamped.store(&mut p.tangent_impulse[d]);
-        (F::load(&p.total_tangent[d]) + dt[d]).store(&mut p.total_tangent[d]);
     }
     sf.t[0].scale(dt[0]).add(sf.t[1].scale(dt[1]))
 }
@@ -381,10 +356,7 @@ pub(crate) fn restitution<F: FloatW>(
     for p in c.p.iter_mut().take(c.points as usize) {
         let impact = F::load(&p.impact_substep);
         let approach = F::load(&p.relative_velocity) + F::load(&p.forcing) * impact;
-        let pushed = F::and(
-            F::load(&p.total_normal).gt(zero),
-            impact.lt(F::splat(NEVER)),
-        );
+        let pushed = impact.lt(F::splat(NEVER));
         let bounce = F::and(F::and(e.gt(zero), approach.lt(threshold)), pushed);
         if !F::any(bounce) {
             continue;
@@ -394,10 +366,10 @@ pub(crate) fn restitution<F: FloatW>(
         let vn = bodies.relative(ra, rb).dot(n);
         let pn = F::load(&p.normal_impulse);
         let mass = F::select(bounce, F::load(&p.normal_mass), zero);
+        // The bounce is kept apart from the substep's impulse, which warm-starts the next step.
         let new = (pn - mass * (vn + e * approach)).max(min_normal);
         let dn = new - pn;
-        new.store(&mut p.normal_impulse);
-        (F::load(&p.total_normal) + dn).store(&mut p.total_normal);
+        dn.store(&mut p.bounce);
         bodies.apply(&m, ra, rb, n.scale(dn));
         let remaining = F::splat(k.h) - impact * F::splat(k.hs);
         travel_a = travel_a.add(n.scale(m.ma * dn * remaining));
@@ -425,19 +397,20 @@ fn displace<F: FloatW>(delta: &mut [BodyDelta], idx: &F::Index, write: &F::Index
     }
 }
 
-/// Reads a lane's point back as impulses (normal, tangent 1, tangent 2) of the substep and of
-/// the whole step.
+/// Reads a lane's point back as impulses (normal, tangent 1, tangent 2): the last substep's
+/// (the next step's warm start) and the whole step's (every substep's and the bounce).
 pub(crate) fn lane_impulses<F: FloatW>(p: &PointLanes<F>, l: usize) -> ([Real; 3], [Real; 3]) {
+    let now = [
+        p.normal_impulse.as_ref()[l],
+        p.tangent_impulse[0].as_ref()[l],
+        p.tangent_impulse[1].as_ref()[l],
+    ];
     (
+        now,
         [
-            p.normal_impulse.as_ref()[l],
-            p.tangent_impulse[0].as_ref()[l],
-            p.tangent_impulse[1].as_ref()[l],
-        ],
-        [
-            p.total_normal.as_ref()[l],
-            p.total_tangent[0].as_ref()[l],
-            p.total_tangent[1].as_ref()[l],
+            p.total_normal.as_ref()[l] + now[0] + p.bounce.as_ref()[l],
+            p.total_tangent[0].as_ref()[l] + now[1],
+            p.total_tangent[1].as_ref()[l] + now[2],
         ],
     )
 }

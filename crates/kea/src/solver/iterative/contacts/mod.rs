@@ -79,7 +79,7 @@ impl<F: FloatW> Lanes<F> {
     ) {
         for c in &mut self.batches {
             match stage {
-                Stage::WarmStart => kernel::warm_start(c, vel),
+                Stage::WarmStart => kernel::warm_start(c, vel, k),
                 Stage::Solve => kernel::solve(c, vel, delta, k, true),
                 Stage::Relax => kernel::solve(c, vel, delta, k, false),
                 Stage::Restitution => kernel::restitution(c, vel, delta, k),
