@@ -11,9 +11,13 @@
 //! * two polyhedral shapes otherwise (GJK, then EPA when they overlap, on an EPA kept here
 //!   rather than a fresh one per call; then parry's feature clipping);
 //! * a height field or triangle mesh against a convex shape: the triangles under the shape's
-//!   box, each as its own manifold (its triangle index as the sub-shape).
+//!   box, each as its own manifold (its triangle index as the sub-shape), with the triangle's
+//!   pseudo-normals (parry's internal-edge fix) bending or dropping normals that come from an
+//!   edge shared with a neighbour;
+//! * a compound: each of its parts under the other shape's box, as above, each part's
+//!   manifolds brought back into the compound's frame.
 //!
-//! Two composite shapes, or a composite against a plane, get no contacts.
+//! Two meshes, a mesh against a plane, or two planes get no contacts.
 //!
 //! Output: manifolds in the pair's frames: points in each collider's own frame, the normal in
 //! the first collider's frame pointing from it to the second, and separations (`dist < 0`:
@@ -23,7 +27,8 @@ use crate::parry::bounding_volume::BoundingVolume;
 use crate::parry::math::{Pose, Vector};
 use crate::parry::query::details::{
     contact_manifold_ball_ball, contact_manifold_capsule_capsule, contact_manifold_convex_ball,
-    contact_manifold_cuboid_cuboid, contact_manifold_cuboid_triangle,
+    contact_manifold_cuboid_cuboid, contact_manifold_cuboid_triangle, NormalConstraints,
+    NormalConstraintsPair,
 };
 use crate::parry::query::epa::EPA;
 use crate::parry::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
@@ -102,9 +107,15 @@ fn feature_id(f1: u32, f2: u32) -> u32 {
     f1.wrapping_mul(0x9E37_79B1) ^ f2.rotate_left(16)
 }
 
-fn is_composite(t: ShapeType) -> bool {
+fn is_mesh(t: ShapeType) -> bool {
     matches!(t, ShapeType::HeightField | ShapeType::TriMesh)
 }
+
+/// The normal constraints (a mesh triangle's pseudo-normals) of each shape of a pair.
+type Normals<'a> = (
+    Option<&'a dyn NormalConstraints>,
+    Option<&'a dyn NormalConstraints>,
+);
 
 impl Generator {
     /// Generates the manifolds of shape `a` at `pose_a` against shape `b` at `pose_b`, for
@@ -119,22 +130,39 @@ impl Generator {
         prediction: Real,
     ) -> bool {
         self.out.clear();
-        let pos_ab = pose_a.inv_mul(pose_b);
+        self.pair(a, b, &pose_a.inv_mul(pose_b), prediction)
+    }
+
+    /// Appends the manifolds of `a` against `b` (placed at `pos12` in `a`'s frame) to
+    /// [`Generator::out`], in `a`'s frame. False for a pair of shapes it cannot collide.
+    fn pair(
+        &mut self,
+        a: &dyn ParryShape,
+        b: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> bool {
         let (ta, tb) = (a.shape_type(), b.shape_type());
-        if is_composite(ta) && is_composite(tb)
-            || (is_composite(ta) && tb == ShapeType::HalfSpace)
-            || (is_composite(tb) && ta == ShapeType::HalfSpace)
-            || (ta == ShapeType::HalfSpace && tb == ShapeType::HalfSpace)
-        {
+        if ta == ShapeType::Compound {
+            return self.compound(a, b, pos12, prediction);
+        }
+        if tb == ShapeType::Compound {
+            return self.swapped(a, b, pos12, prediction);
+        }
+        let mesh_a = is_mesh(ta);
+        let mesh_b = is_mesh(tb);
+        let plane_a = ta == ShapeType::HalfSpace;
+        let plane_b = tb == ShapeType::HalfSpace;
+        if (mesh_a || plane_a) && (mesh_b || plane_b) {
             return false;
         }
-        if is_composite(ta) {
-            return self.composite(a, b, &pos_ab, prediction, false);
+        if mesh_a {
+            return self.mesh(a, b, pos12, prediction);
         }
-        if is_composite(tb) {
-            return self.composite(b, a, &pos_ab.inverse(), prediction, true);
+        if mesh_b {
+            return self.swapped(a, b, pos12, prediction);
         }
-        match self.convex(a, b, &pos_ab, prediction) {
+        match self.convex(a, b, pos12, prediction, (None, None)) {
             Some(m) => {
                 if m.count > 0 {
                     self.out.push(m);
@@ -145,6 +173,54 @@ impl Generator {
         }
     }
 
+    /// [`Generator::pair`] computed as (`b`, `a`) and turned back to the pair's order.
+    fn swapped(
+        &mut self,
+        a: &dyn ParryShape,
+        b: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> bool {
+        let start = self.out.len();
+        let ok = self.pair(b, a, &pos12.inverse(), prediction);
+        for m in &mut self.out[start..] {
+            flip(m, pos12);
+        }
+        ok
+    }
+
+    /// Each part of compound `comp` under `other`'s box, against `other` placed at `pos12`:
+    /// the parts' manifolds, brought into the compound's frame (the part's index as its
+    /// sub-shape).
+    fn compound(
+        &mut self,
+        comp: &dyn ParryShape,
+        other: &dyn ParryShape,
+        pos12: &Pose,
+        prediction: Real,
+    ) -> bool {
+        let Some(parts) = comp.as_composite_shape() else {
+            return false;
+        };
+        let local_box = other.compute_aabb(pos12).loosened(prediction);
+        let mut any = false;
+        for id in parts.bvh().intersect_aabb(&local_box) {
+            parts.map_part_at(id, &mut |part_pose, part, _| {
+                let start = self.out.len();
+                let at = part_pose.copied().unwrap_or(Pose::IDENTITY);
+                any |= self.pair(part, other, &at.inv_mul(pos12), prediction);
+                for m in &mut self.out[start..] {
+                    m.normal_a = at.rotation * m.normal_a;
+                    for p in &mut m.points[..m.count] {
+                        p.local_a = at.transform_point(p.local_a);
+                    }
+                    m.sub.0 = id;
+                }
+            });
+        }
+        any || parts.bvh().leaf_count() == 0
+    }
+
     /// Manifold of two convex shapes (or a plane and a convex shape), `pos12` placing `b` in
     /// `a`'s frame. `None` when unsupported.
     fn convex(
@@ -153,6 +229,7 @@ impl Generator {
         b: &dyn ParryShape,
         pos12: &Pose,
         prediction: Real,
+        normals: Normals<'_>,
     ) -> Option<GenManifold> {
         let (ta, tb) = (a.shape_type(), b.shape_type());
         match (ta, tb) {
@@ -169,8 +246,8 @@ impl Generator {
                     pos12,
                     a,
                     ball,
-                    None,
-                    None,
+                    normals.0,
+                    normals.1,
                     prediction,
                     &mut self.scratch,
                     false,
@@ -178,7 +255,8 @@ impl Generator {
                 Some(self.take_scratch(prediction))
             }
             (ShapeType::Ball, _) => {
-                let mut m = self.convex(b, a, &pos12.inverse(), prediction)?;
+                let mut m =
+                    self.convex(b, a, &pos12.inverse(), prediction, (normals.1, normals.0))?;
                 flip(&mut m, pos12);
                 Some(m)
             }
@@ -217,8 +295,8 @@ impl Generator {
                     &pos12.inverse(),
                     a.as_cuboid()?,
                     b.as_triangle()?,
-                    None,
-                    None,
+                    normals.0,
+                    normals.1,
                     prediction,
                     &mut self.scratch,
                     false,
@@ -226,11 +304,12 @@ impl Generator {
                 Some(self.take_scratch(prediction))
             }
             (ShapeType::Triangle, ShapeType::Cuboid) => {
-                let mut m = self.convex(b, a, &pos12.inverse(), prediction)?;
+                let mut m =
+                    self.convex(b, a, &pos12.inverse(), prediction, (normals.1, normals.0))?;
                 flip(&mut m, pos12);
                 Some(m)
             }
-            _ => self.pfm_pfm(a, b, pos12, prediction),
+            _ => self.pfm_pfm(a, b, pos12, prediction, normals),
         }
     }
 
@@ -262,7 +341,7 @@ impl Generator {
     ) -> Option<GenManifold> {
         let n = a.as_halfspace()?.normal;
         if b.shape_type() == ShapeType::Ball {
-            return self.convex(a, b, pos12, prediction);
+            return self.convex(a, b, pos12, prediction, (None, None));
         }
         let (pfm, radius) = b.as_polygonal_feature_map()?;
         // The plane's normal in b's frame, and b's deepest feature against it.
@@ -298,6 +377,7 @@ impl Generator {
         b: &dyn ParryShape,
         pos12: &Pose,
         prediction: Real,
+        normals: Normals<'_>,
     ) -> Option<GenManifold> {
         let (pfm1, r1) = a.as_polygonal_feature_map()?;
         let (pfm2, r2) = b.as_polygonal_feature_map()?;
@@ -315,8 +395,14 @@ impl Generator {
         let GJKResult::ClosestPoints(p1, p2_1, dir) = result else {
             return Some(GenManifold::default());
         };
-        let local_n1 = dir;
-        let local_n2 = pos12.rotation.inverse() * -dir;
+        let mut local_n1 = dir;
+        let mut local_n2 = pos12.rotation.inverse() * -dir;
+        // A triangle's internal edges: the normal corrected towards the face, or dropped.
+        if !normals.project_local_normals(pos12, &mut local_n1, &mut local_n2) {
+            return Some(GenManifold::default());
+        }
+        let corrected = normals.0.is_some() || normals.1.is_some();
+        let unconstrained = (p2_1 - p1).dot(dir);
         let [f1, f2] = &mut self.feature;
         pfm1.local_support_feature_toward(local_n1, p1, f1);
         pfm2.local_support_feature_toward(local_n2, pos12.inverse_transform_point(p2_1), f2);
@@ -331,7 +417,7 @@ impl Generator {
             &mut self.scratch,
             false,
         );
-        if self.scratch.points.is_empty() {
+        if self.scratch.points.is_empty() && local_n1 == dir {
             // Features that clip to nothing (a vertex against a face): the GJK points.
             let dist = (p2_1 - p1).dot(local_n1);
             self.scratch.points.push(TrackedContact::new(
@@ -348,7 +434,11 @@ impl Generator {
         };
         for p in &self.scratch.points {
             let dist = p.dist - r1 - r2;
-            if dist <= prediction {
+            // A corrected normal can make a depth far deeper than the shapes' own overlap
+            // (the other shape reaches far along it): such points are dropped, as parry does.
+            let diverged =
+                corrected && unconstrained < 0.0 && p.dist < 0.0 && p.dist < 5.0 * unconstrained;
+            if dist <= prediction && !diverged {
                 m.push(GenPoint {
                     local_a: p.local_p1 + local_n1 * r1,
                     local_b: p.local_p2 + local_n2 * r2,
@@ -360,50 +450,60 @@ impl Generator {
         Some(m)
     }
 
-    /// A height field or mesh `comp` against a convex shape `other` placed at `pos12` in the
-    /// composite's frame: one manifold per touching triangle. `flipped`: the composite is the
-    /// pair's second shape.
-    fn composite(
+    /// A height field or mesh `mesh` against a convex shape `other` placed at `pos12` in the
+    /// mesh's frame: one manifold per touching triangle (its index as the sub-shape), each
+    /// with the triangle's pseudo-normals so that its internal edges make no contacts.
+    fn mesh(
         &mut self,
-        comp: &dyn ParryShape,
+        mesh: &dyn ParryShape,
         other: &dyn ParryShape,
         pos12: &Pose,
         prediction: Real,
-        flipped: bool,
     ) -> bool {
         let local_box = other.compute_aabb(pos12).loosened(prediction);
-        let mut triangles = std::mem::take(&mut self.out);
-        let mut visit = |g: &mut Generator, id: u32, tri: &Triangle| {
-            if let Some(mut m) = g.convex(tri, other, pos12, prediction) {
+        let visit = |g: &mut Generator,
+                     id: u32,
+                     tri: &Triangle,
+                     normals: Option<&dyn NormalConstraints>| {
+            if let Some(mut m) = g.convex(tri, other, pos12, prediction, (normals, None)) {
                 if m.count > 0 {
                     m.sub = (id, 0);
-                    if flipped {
-                        // Computed with the composite first: back to the pair's order.
-                        flip(&mut m, &pos12.inverse());
-                    }
-                    triangles.push(m);
+                    g.out.push(m);
                 }
             }
         };
-        match comp.shape_type() {
+        match mesh.shape_type() {
             ShapeType::HeightField => {
-                let Some(hf) = comp.as_heightfield() else {
+                let Some(hf) = mesh.as_heightfield() else {
                     return false;
                 };
-                hf.map_elements_in_local_aabb(&local_box, &mut |id, tri| visit(self, id, tri));
+                hf.map_elements_in_local_aabb(&local_box, &mut |id, tri| {
+                    let normals = hf.triangle_normal_constraints(id);
+                    visit(
+                        self,
+                        id,
+                        tri,
+                        normals.as_ref().map(|n| n as &dyn NormalConstraints),
+                    );
+                });
             }
             ShapeType::TriMesh => {
-                let Some(mesh) = comp.as_trimesh() else {
+                let Some(trimesh) = mesh.as_trimesh() else {
                     return false;
                 };
-                for id in mesh.bvh().intersect_aabb(&local_box) {
-                    let tri = mesh.triangle(id);
-                    visit(self, id, &tri);
+                for id in trimesh.bvh().intersect_aabb(&local_box) {
+                    let tri = trimesh.triangle(id);
+                    let normals = trimesh.triangle_normal_constraints(id);
+                    visit(
+                        self,
+                        id,
+                        &tri,
+                        normals.as_ref().map(|n| n as &dyn NormalConstraints),
+                    );
                 }
             }
             _ => return false,
         }
-        self.out = triangles;
         true
     }
 }

@@ -2,17 +2,26 @@
 //! (one Kea contact each), generated or moved along with the bodies.
 //!
 //! Manifold cache. When the second collider's pose relative to the first has changed by less
-//! than [`CACHE_DISTANCE`] and [`CACHE_ANGLE`] since the pair's manifolds were generated, they
-//! are not generated again: their points, kept in each collider's own frame, are carried to the
-//! colliders' current poses and the separations measured anew (Jolt's body-pair cache). A pile
-//! at rest then costs a few transforms per contact instead of a clipping test, and keeps its
-//! points (and their warm starts) exactly.
+//! than [`CACHE_DISTANCE`] and [`CACHE_ANGLE`] since the pair's manifolds were generated, and
+//! neither collider has turned by more than [`CACHE_ANGLE`], they are not generated again:
+//! their points, kept in each collider's own frame, are carried to the colliders' current
+//! poses and the separations measured anew (Jolt's body-pair cache). A pile at rest then costs
+//! a few transforms per contact instead of a clipping test, and keeps its points (and their
+//! warm starts) exactly.
+//!
+//! Anchor freezing. While a manifold is reused, its normal keeps its world direction and each
+//! point keeps the world lever arm it had on each body when generated (each body holds the
+//! point at its own place, [`ContactPoint::held_at`]); only the separations follow the
+//! bodies. Re-linearising the arms every step under the large warm-started impulses of a tall
+//! stack is an energy pump that grows its lean until it falls (Rapier 0.36 freezes its arms for
+//! the same reason): with it a 20-box column that leans 2 mm per box topples within 10 s at
+//! the default contact stiffness, without it the column sways and stands.
 
 use crate::collision_world::{ColliderDef, CollisionWorld};
 use crate::pairs::{CachedPoint, ManifoldCache};
 use crate::parry::math::Pose;
 use crate::reduce::reduce;
-use kea::{BodyHandle, ContactPoint, Real, Vec3, MAX_CONTACT_POINTS};
+use kea::{BodyHandle, ContactPoint, Quat, Real, Vec3, MAX_CONTACT_POINTS};
 
 /// Relative displacement below which a pair's manifolds are moved rather than generated, m.
 /// Rapier recycles contacts up to 5 cm; Jolt's body-pair cache stops at 1 mm.
@@ -42,12 +51,29 @@ impl Wanted {
     pub(crate) const NEW: u32 = u32::MAX;
 }
 
-/// Whether a pair's relative pose `now` is close enough to `then` to reuse its manifolds.
-fn cache_holds(then: &Pose, now: &Pose) -> bool {
-    let moved = (now.translation - then.translation).length_squared();
-    // |q₁·q₀| = cos(θ/2) for the rotation θ between them.
-    let turned = now.rotation.dot(then.rotation).abs();
-    moved < CACHE_DISTANCE * CACHE_DISTANCE && turned >= (0.5 * CACHE_ANGLE).cos()
+/// The colliders' world poses when a pair's manifolds were generated.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Generated {
+    pub a: Pose,
+    pub b: Pose,
+}
+
+/// Whether rotation `now` is within `angle` of `then` (`|q₁·q₀| = cos(θ/2)`).
+fn within_angle(then: Quat, now: Quat, angle: Real) -> bool {
+    now.dot(then).abs() >= (0.5 * angle).cos()
+}
+
+/// Whether a pair whose colliders are now at `a` and `b` may reuse the manifolds generated at
+/// `then`: the relative pose barely changed, and neither collider turned much (the frozen
+/// normals and lever arms are world vectors).
+fn cache_holds(then: &Generated, a: &Pose, b: &Pose) -> bool {
+    let relative_then = then.a.inv_mul(&then.b);
+    let relative_now = a.inv_mul(b);
+    let moved = (relative_now.translation - relative_then.translation).length_squared();
+    moved < CACHE_DISTANCE * CACHE_DISTANCE
+        && within_angle(relative_then.rotation, relative_now.rotation, CACHE_ANGLE)
+        && within_angle(then.a.rotation, a.rotation, CACHE_ANGLE)
+        && within_angle(then.b.rotation, b.rotation, CACHE_ANGLE)
 }
 
 impl CollisionWorld {
@@ -87,7 +113,6 @@ impl CollisionWorld {
                 (None, None) => continue,
             };
             let (pose_a, pose_b) = (a.pose, b.pose);
-            let relative = pose_a.inv_mul(&pose_b);
             let p = &mut self.pairs.slots[slot as usize];
             p.flipped = flip;
             let revision = self.materials.revision();
@@ -113,7 +138,7 @@ impl CollisionWorld {
                 refresh,
             };
             if p.generated_at
-                .is_some_and(|then| cache_holds(&then, &relative))
+                .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b))
             {
                 for (k, m) in p.manifolds.iter().enumerate() {
                     self.wanted.push(frame.moved(k as u32, &m.cache));
@@ -122,7 +147,10 @@ impl CollisionWorld {
                 reused += p.manifolds.len() as u32;
                 continue;
             }
-            p.generated_at = Some(relative);
+            p.generated_at = Some(Generated {
+                a: pose_a,
+                b: pose_b,
+            });
             let prediction = self.margin + dt * (a.motion + b.motion);
             let (sa, sb) = (a.def.shared_shape().clone(), b.def.shared_shape().clone());
             if !self
@@ -147,15 +175,19 @@ impl CollisionWorld {
                     .map_or(Wanted::NEW, |k| k as u32);
                 let mut m = ManifoldCache {
                     sub: g.sub,
-                    normal_a: g.normal_a,
+                    normal: pose_a.rotation * g.normal_a,
                     points: [CachedPoint::default(); MAX_CONTACT_POINTS],
                     count: keep.len() as u8,
                 };
                 for (j, &k) in keep.iter().enumerate() {
                     let gp = g.points[k];
+                    let at = (pose_a.transform_point(gp.local_a)
+                        + pose_b.transform_point(gp.local_b))
+                        * 0.5;
                     m.points[j] = CachedPoint {
                         local_a: gp.local_a,
                         local_b: gp.local_b,
+                        arms: [at - pose_a.translation, at - pose_b.translation],
                         id: gp.id,
                     };
                 }
@@ -182,7 +214,8 @@ impl Frame {
     /// Manifold `m` (index `k` of its pair, or [`Wanted::NEW`]) at the colliders' poses now.
     fn moved(&self, k: u32, m: &ManifoldCache) -> Wanted {
         let (pose_a, pose_b) = &self.poses;
-        let n = pose_a.rotation * m.normal_a;
+        // Frozen while reused (module docs); the separations follow the colliders.
+        let n = m.normal;
         let mut w = Wanted {
             pair: self.pair,
             existing: k,
@@ -196,7 +229,15 @@ impl Frame {
         for (cp, out) in m.points[..m.count as usize].iter().zip(w.points.iter_mut()) {
             let wa = pose_a.transform_point(cp.local_a);
             let wb = pose_b.transform_point(cp.local_b);
-            *out = ContactPoint::new((wa + wb) * 0.5, -(wb - wa).dot(n), cp.id);
+            let held_a = pose_a.translation + cp.arms[0];
+            let held_b = pose_b.translation + cp.arms[1];
+            // Body 1 of the contact holds the point first.
+            let (first, second) = if self.flip {
+                (held_b, held_a)
+            } else {
+                (held_a, held_b)
+            };
+            *out = ContactPoint::held_at(first, second, -(wb - wa).dot(n), cp.id);
         }
         w
     }

@@ -6,7 +6,6 @@
 //! deterministic. A hash map finds a pair by its two collider slots when the broad phase
 //! reports it again.
 
-use crate::parry::math::Pose;
 use kea::{ConstraintHandle, Vec3};
 use std::collections::HashMap;
 
@@ -15,6 +14,9 @@ use std::collections::HashMap;
 pub(crate) struct CachedPoint {
     pub local_a: Vec3,
     pub local_b: Vec3,
+    /// The point relative to each collider's origin, world frame, as generated: the lever
+    /// arms frozen while the manifold is reused.
+    pub arms: [Vec3; 2],
     pub id: u32,
 }
 
@@ -24,8 +26,9 @@ pub(crate) struct CachedPoint {
 pub(crate) struct ManifoldCache {
     /// Sub-shapes (triangles of a mesh or height field; 0 otherwise).
     pub sub: (u32, u32),
-    /// The normal in the first collider's frame, from it to the second.
-    pub normal_a: Vec3,
+    /// The normal in the world frame as generated, from the first collider to the second
+    /// (frozen while reused).
+    pub normal: Vec3,
     pub points: [CachedPoint; kea::MAX_CONTACT_POINTS],
     pub count: u8,
 }
@@ -45,8 +48,8 @@ pub(crate) struct PairState {
     /// Collider slots, first < second.
     pub colliders: (u32, u32),
     pub manifolds: Vec<PairManifold>,
-    /// The second collider's pose in the first's frame when the manifolds were generated.
-    pub generated_at: Option<Pose>,
+    /// The colliders' poses when the manifolds were generated.
+    pub generated_at: Option<crate::narrow_phase::Generated>,
     /// Touching last step, and this step.
     pub touching: bool,
     pub touching_now: bool,

@@ -66,6 +66,10 @@ pub struct ContactPoint {
     /// inherits its force as the solver's warm start (collision code passes the features that
     /// made the point; any stable numbering works).
     pub id: u32,
+    /// Where body 2 holds the point, relative to `position` (where body 1 holds it): zero for
+    /// a point both bodies hold at one place. Collision code that keeps each body's lever arm
+    /// fixed while a manifold is reused sets it (see [`ContactPoint::held_at`]).
+    pub to_second: Vec3,
 }
 
 impl ContactPoint {
@@ -76,6 +80,20 @@ impl ContactPoint {
             position,
             penetration,
             id,
+            to_second: Vec3::ZERO,
+        }
+    }
+
+    /// A point that body 1 holds at `first` and body 2 at `second` (world positions a
+    /// fraction of a millimetre to centimetres apart), with a penetration depth along the
+    /// normal and a feature id.
+    #[must_use]
+    pub fn held_at(first: Vec3, second: Vec3, penetration: Real, id: u32) -> Self {
+        Self {
+            position: first,
+            penetration,
+            id,
+            to_second: second - first,
         }
     }
 }
@@ -291,6 +309,49 @@ impl Contact {
         &self.warm[..self.count as usize]
     }
 
+    /// The mean of the points: where the iterative path applies the manifold's friction.
+    #[must_use]
+    pub fn friction_centre(&self) -> Vec3 {
+        let points = self.points();
+        points.iter().map(|p| p.position).sum::<Vec3>() / points.len() as Real
+    }
+
+    /// Point `j`'s offset from the friction centre, in the tangent plane.
+    fn lever(&self, j: usize, centre: Vec3) -> Vec3 {
+        let d = self.points[j].position - centre;
+        d - self.normal * d.dot(self.normal)
+    }
+
+    /// Point friction forces as the manifold's friction: their sum (applied at
+    /// [`Contact::friction_centre`]) and their twist about the normal there.
+    #[must_use]
+    pub(crate) fn gather_friction(&self, forces: &[PointForce]) -> (Vec3, Real) {
+        let c = self.friction_centre();
+        let mut force = Vec3::ZERO;
+        let mut twist = 0.0;
+        for (j, f) in forces.iter().enumerate().take(self.count as usize) {
+            force += f.friction;
+            twist += self.lever(j, c).cross(f.friction).dot(self.normal);
+        }
+        (force, twist)
+    }
+
+    /// Manifold friction (a force at the friction centre and a twist about the normal)
+    /// spread evenly over the points: point `j`'s share. The shares add up to the force,
+    /// and their moments about the centre to the twist.
+    #[must_use]
+    pub(crate) fn spread_friction(&self, force: Vec3, twist: Real, j: usize) -> Vec3 {
+        let k = self.count as usize;
+        let c = self.friction_centre();
+        let spread: Real = (0..k).map(|i| self.lever(i, c).length_squared()).sum();
+        let turn = if spread > Real::EPSILON * Real::EPSILON {
+            self.normal.cross(self.lever(j, c)) * (twist / spread)
+        } else {
+            Vec3::ZERO
+        };
+        force / k as Real + turn
+    }
+
     /// Records the primary friction direction the exact path's rows used in a step, so that a
     /// persistent contact keeps the same friction rows at the next one.
     pub fn remember_direction(&mut self, t1: Vec3) {
@@ -357,7 +418,7 @@ impl Contact {
         let p = point.position;
         let n = self.normal;
         let r1 = p - b1.position;
-        let r2 = p - b2.position;
+        let r2 = p + point.to_second - b2.position;
         let prm = &self.params;
         let jac = |d: Vec3| {
             [

@@ -6,8 +6,16 @@
 //! tangent basis, the friction, restitution, adhesion, slide and slip parameters, and the soft
 //! bias rate. Per point: the anchors `r₁ = p − x₁`, `r₂ = p − x₂` (relative to each centre of
 //! mass, world orientation, fixed for the step), the separation with the anchors' part taken
-//! out (`s = base + n·(Δx₁ − Δx₂) + (Δq₁⁻¹n)·r₁ − (Δq₂⁻¹n)·r₂` in the solve), the effective
-//! masses, the accumulated impulses and their totals over the step.
+//! out (`s = base + n·(Δx₁ − Δx₂) + (Δq₁⁻¹n)·r₁ − (Δq₂⁻¹n)·r₂` in the solve), the normal
+//! masses, the accumulated normal impulses and their totals over the step, and the point's
+//! lever about the friction centre.
+//!
+//! Friction is the manifold's, not each point's (Rapier's "simplified" friction model): one
+//! tangential impulse at the friction centre (the mean of the points), bounded by μ times the
+//! manifold's normal impulse, and one twist impulse about the normal, bounded by μ times the
+//! sum of each point's normal impulse times its lever. Two friction directions and a twist per
+//! manifold instead of two per point: cheaper, and no per-point friction to couple with the
+//! rocking of tall stacks.
 //!
 //! Prepare is two passes: [`ContactBatch::load_lane`] copies each contact's raw data into its
 //! lane (scalar), then [`derive`] computes everything else lane-parallel: anchors' effective
@@ -15,11 +23,13 @@
 //! bounds.
 //!
 //! Effective masses. Normal: `m_n = 1/(1/m₁ + 1/m₂ + (r₁×n)·I₁⁻¹(r₁×n) + (r₂×n)·I₂⁻¹(r₂×n))`.
-//! Friction uses one scalar mass for both tangent directions, `m_t = 2/(K₁₁ + K₂₂)` (the mean
-//! of the two diagonal terms of the tangential block): with it the projected friction impulse
-//! is parallel to the sliding velocity, so friction is isotropic and a sliding box neither
-//! veers nor spins, and the Gauss-Seidel step stays below twice the stiffest direction's, so it
-//! converges. Slip `s` (velocity per force) softens a direction to `1/(1/m_t + s/hs)`.
+//! Friction at the centre uses one scalar mass for both tangent directions,
+//! `m_t = 2/(K₁₁ + K₂₂)` (the mean of the two diagonal terms of the tangential block): with it
+//! the projected friction impulse is parallel to the sliding velocity, so friction is
+//! isotropic and a sliding box neither veers nor spins, and the Gauss-Seidel step stays below
+//! twice the stiffest direction's, so it converges. Twist: `m_τ = 1/(n·I₁⁻¹n + n·I₂⁻¹n)`.
+//! Slip `s` (velocity per force, per point) acts on the manifold as its points in parallel,
+//! `s/k` for `k` points, and softens a direction to `1/(1/m_t + s/(k·hs))`.
 
 use super::super::super::wide::{FloatW, Sym3, Sym3A, V3, V3A};
 use super::super::bodies::{BodyStates, BodyVel};
@@ -37,11 +47,10 @@ pub(crate) struct PointLanes<F: FloatW> {
     /// Normal mass and impulse scale of the soft (biased) solve.
     pub(crate) soft_mass: F::Array,
     pub(crate) soft_impulse: F::Array,
-    /// Tangent mass per direction: one isotropic mass, softened by each direction's slip.
-    pub(crate) tangent_mass: [F::Array; 2],
-    /// Accumulated impulses of the current substep, N·s.
+    /// Distance from the friction centre in the tangent plane (the twist's lever), m.
+    pub(crate) lever: F::Array,
+    /// Accumulated normal impulse of the current substep, N·s.
     pub(crate) normal_impulse: F::Array,
-    pub(crate) tangent_impulse: [F::Array; 2],
     /// Relative normal velocity at the step's start, and its change per substep from gravity
     /// and applied forces (restitution: the approach velocity of a point that starts pushing in
     /// substep k is `relative_velocity + k·forcing`).
@@ -52,7 +61,6 @@ pub(crate) struct PointLanes<F: FloatW> {
     pub(crate) impact_substep: F::Array,
     /// Impulses over the substeps before the last, and the restitution pass's.
     pub(crate) total_normal: F::Array,
-    pub(crate) total_tangent: [F::Array; 2],
     pub(crate) bounce: F::Array,
 }
 
@@ -77,7 +85,8 @@ pub(crate) struct ContactBatch<F: FloatW> {
     pub(crate) tangent: [V3A<F>; 2],
     /// Coulomb coefficient per tangent direction (0 for a box or infinite model).
     pub(crate) mu: [F::Array; 2],
-    /// Constant friction bound per direction, N·s per substep (box model; ∞ when infinite).
+    /// Constant friction bound per direction, N·s per substep: the box model's bound times
+    /// the points (∞ when infinite).
     pub(crate) fixed_limit: [F::Array; 2],
     /// 1 where friction is isotropic Coulomb (bounded by a disc), 0 for per-direction bounds.
     pub(crate) disc: F::Array,
@@ -96,6 +105,20 @@ pub(crate) struct ContactBatch<F: FloatW> {
     pub(crate) raw_extra: F::Array,
     /// 1 where the contact has its own raw softness: a physical spring also in the relax solve.
     pub(crate) spring_relax: F::Array,
+    /// Anchors of the friction centre.
+    pub(crate) r_ca: V3A<F>,
+    pub(crate) r_cb: V3A<F>,
+    /// Tangent mass per direction: one isotropic mass, softened by each direction's slip.
+    pub(crate) tangent_mass: [F::Array; 2],
+    pub(crate) twist_mass: F::Array,
+    /// Constant twist bound, N·m·s per substep (box and infinite models).
+    pub(crate) twist_fixed: F::Array,
+    /// Accumulated friction and twist impulses of the current substep, and over the substeps
+    /// before the last.
+    pub(crate) tangent_impulse: [F::Array; 2],
+    pub(crate) twist_impulse: F::Array,
+    pub(crate) total_tangent: [F::Array; 2],
+    pub(crate) total_twist: F::Array,
     pub(crate) p: [PointLanes<F>; MAX_CONTACT_POINTS],
 }
 
@@ -141,6 +164,7 @@ impl<F: FloatW> ContactBatch<F> {
             v.set_lane(l, Vec3::ZERO);
         }
         for d in 0..2 {
+            *lane(&mut self.tangent_impulse[d], l) = 0.0;
             *lane(&mut self.mu[d], l) = 0.0;
             *lane(&mut self.fixed_limit[d], l) = 0.0;
             *lane(&mut self.slide[d], l) = 0.0;
@@ -156,9 +180,14 @@ impl<F: FloatW> ContactBatch<F> {
             &mut self.impulse_scale,
             &mut self.raw_extra,
             &mut self.spring_relax,
+            &mut self.twist_mass,
+            &mut self.twist_fixed,
+            &mut self.twist_impulse,
         ] {
             *lane(a, l) = 0.0;
         }
+        self.r_ca.set_lane(l, Vec3::ZERO);
+        self.r_cb.set_lane(l, Vec3::ZERO);
         self.clear_points(l, 0);
     }
 
@@ -169,9 +198,7 @@ impl<F: FloatW> ContactBatch<F> {
             p.r_b.set_lane(l, Vec3::ZERO);
             *lane(&mut p.base_separation, l) = 0.0;
             *lane(&mut p.normal_impulse, l) = 0.0;
-            for t in &mut p.tangent_impulse {
-                *lane(t, l) = 0.0;
-            }
+            *lane(&mut p.lever, l) = 0.0;
         }
     }
 
@@ -212,6 +239,10 @@ impl<F: FloatW> ContactBatch<F> {
         // The static world (slot 0) never moves: its anchor can be 0, which keeps the
         // separation exact however far from the origin the contact is.
         let anchor = |p: Vec3, x: Vec3, slot: usize| if slot == 0 { Vec3::ZERO } else { p - x };
+        let centre = contact.friction_centre();
+        self.r_ca.set_lane(l, anchor(centre, xa, la));
+        self.r_cb.set_lane(l, anchor(centre, xb, lb));
+        let mut lever_sum = 0.0;
         for (j, (point, f)) in contact
             .points()
             .iter()
@@ -220,14 +251,33 @@ impl<F: FloatW> ContactBatch<F> {
         {
             let pl = &mut self.p[j];
             let ra = anchor(point.position, xa, la);
-            let rb = anchor(point.position, xb, lb);
+            let rb = anchor(point.position + point.to_second, xb, lb);
             pl.r_a.set_lane(l, ra);
             pl.r_b.set_lane(l, rb);
             *lane(&mut pl.base_separation, l) = -point.penetration - n.dot(ra) + n.dot(rb);
+            let d = point.position - centre;
+            let lever = (d - n * d.dot(n)).length();
+            *lane(&mut pl.lever, l) = lever;
+            lever_sum += lever;
             // The warm start, clamped to this step's bounds by `derive`.
             *lane(&mut pl.normal_impulse, l) = f.normal * k.hs;
-            *lane(&mut pl.tangent_impulse[0], l) = f.friction.dot(t1) * k.hs;
-            *lane(&mut pl.tangent_impulse[1], l) = f.friction.dot(t2) * k.hs;
+        }
+        let (friction, twist) = contact.gather_friction(contact.warm_forces());
+        *lane(&mut self.tangent_impulse[0], l) = friction.dot(t1) * k.hs;
+        *lane(&mut self.tangent_impulse[1], l) = friction.dot(t2) * k.hs;
+        *lane(&mut self.twist_impulse, l) = twist * k.hs;
+        // The points act in parallel: the box model's bound is per point, and so is slip.
+        let points = count as Real;
+        let fixed = 0.5 * (self.fixed_limit[0].as_ref()[l] + self.fixed_limit[1].as_ref()[l]);
+        // A lone point has no lever, so no twist (and 0·∞ must not make a NaN).
+        *lane(&mut self.twist_fixed, l) = if lever_sum > 0.0 {
+            fixed * lever_sum
+        } else {
+            0.0
+        };
+        for d in 0..2 {
+            *lane(&mut self.fixed_limit[d], l) *= points;
+            *lane(&mut self.slip[d], l) /= points;
         }
     }
 
@@ -318,6 +368,9 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcin
     let slip = [F::load(&c.slip[0]), F::load(&c.slip[1])];
     let disc = F::load(&c.disc).gt(F::splat(0.5));
     let mass = |k: F, active: F::Mask| F::select(F::and(active, k.gt(zero)), one / k, zero);
+    let at = |v: V3<F>, w: V3<F>, r: V3<F>| v.add(w.cross(r));
+    // The manifold's warm normal impulse, and its moment arm sum, bound the friction's.
+    let (mut held, mut held_lever) = (zero, zero);
     for (j, p) in c.p.iter_mut().enumerate().take(c.points as usize) {
         let active = count.gt(F::splat(j as Real));
         let ra = p.r_a.load();
@@ -328,13 +381,6 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcin
         let soft_kn = kn + extra;
         F::select(raw, mass(soft_kn, active), normal_mass * mass_scale).store(&mut p.soft_mass);
         F::select(raw, extra * mass(soft_kn, active), impulse_scale).store(&mut p.soft_impulse);
-        let k1 = ma + mb + quad(&ia, ra.cross(t[0])) + quad(&ib, rb.cross(t[0]));
-        let k2 = ma + mb + quad(&ia, ra.cross(t[1])) + quad(&ib, rb.cross(t[1]));
-        let kt = F::splat(0.5) * (k1 + k2);
-        for d in 0..2 {
-            mass(kt + slip[d], active).store(&mut p.tangent_mass[d]);
-        }
-        let at = |v: V3<F>, w: V3<F>, r: V3<F>| v.add(w.cross(r));
         n.dot(at(va, wa, ra).sub(at(vb, wb, rb)))
             .store(&mut p.relative_velocity);
         n.dot(at(fva, fwa, ra).sub(at(fvb, fwb, rb)))
@@ -342,21 +388,45 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcin
         // The warm start, within this step's bounds.
         let pn = F::load(&p.normal_impulse).max(min_normal);
         pn.store(&mut p.normal_impulse);
-        let pos = pn.max(zero);
-        let mut pt = [zero; 2];
-        for d in 0..2 {
-            let limit = mu[d] * pos + fixed[d];
-            pt[d] = F::load(&p.tangent_impulse[d]).min(limit).max(-limit);
-        }
-        let limit = mu[0] * pos;
-        let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
-        let shrink = F::select(F::and(disc, len.gt(limit)), limit / len, one);
-        for d in 0..2 {
-            (pt[d] * shrink).store(&mut p.tangent_impulse[d]);
-            zero.store(&mut p.total_tangent[d]);
-        }
+        let pos = F::select(active, pn.max(zero), zero);
+        held = held + pos;
+        held_lever = held_lever + pos * F::load(&p.lever);
         F::splat(NEVER).store(&mut p.impact_substep);
         zero.store(&mut p.total_normal);
         zero.store(&mut p.bounce);
     }
+    // Friction at the centre: one isotropic mass, each direction softened by its slip.
+    let (rca, rcb) = (c.r_ca.load(), c.r_cb.load());
+    let some = count.gt(zero);
+    let k1 = ma + mb + quad(&ia, rca.cross(t[0])) + quad(&ib, rcb.cross(t[0]));
+    let k2 = ma + mb + quad(&ia, rca.cross(t[1])) + quad(&ib, rcb.cross(t[1]));
+    let kt = F::splat(0.5) * (k1 + k2);
+    for d in 0..2 {
+        mass(kt + slip[d], some).store(&mut c.tangent_mass[d]);
+    }
+    let twisting = count.gt(one);
+    mass(quad(&ia, n) + quad(&ib, n), twisting).store(&mut c.twist_mass);
+    // The friction warm start, within this step's bounds.
+    let mut pt = [zero; 2];
+    for d in 0..2 {
+        let limit = mu[d] * held + fixed[d];
+        pt[d] = F::load(&c.tangent_impulse[d]).min(limit).max(-limit);
+    }
+    let limit = mu[0] * held;
+    let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
+    let shrink = F::select(F::and(disc, len.gt(limit)), limit / len, one);
+    for d in 0..2 {
+        (pt[d] * shrink).store(&mut c.tangent_impulse[d]);
+        zero.store(&mut c.total_tangent[d]);
+    }
+    let twist_limit = F::select(
+        twisting,
+        F::splat(0.5) * (mu[0] + mu[1]) * held_lever + F::load(&c.twist_fixed),
+        zero,
+    );
+    F::load(&c.twist_impulse)
+        .min(twist_limit)
+        .max(-twist_limit)
+        .store(&mut c.twist_impulse);
+    zero.store(&mut c.total_twist);
 }

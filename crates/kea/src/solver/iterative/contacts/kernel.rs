@@ -12,9 +12,12 @@
 //!   ΔPₙ  = −mₙ·mass_scale·(vₙ + bias) − impulse_scale·Pₙ,   Pₙ ← max(Pₙ + ΔPₙ, P_min)
 //! ```
 //!
-//! then friction at the same point with the updated normal impulse: with `vₜ` the tangential
-//! velocity less the conveyor slide, `Pₜ ← Pₜ − mₜ(vₜ + slip·Pₜ)`, projected on the disc
-//! `|Pₜ| ≤ μ·Pₙ` (isotropic Coulomb) or on each direction's own bound. The restitution pass,
+//! Friction is solved in the relax pass only (Rapier's rule: friction that reacts to the bias
+//! velocities pumps the lean of tall stacks until they fall), once per manifold after its
+//! points' normals: first the twist about the normal, `P_τ ← clamp(P_τ − m_τ·n·(ω₁ − ω₂),
+//! ±μ·Σ Pₙ·lever)`, then the friction at the centre: with `vₜ` the tangential velocity there
+//! less the conveyor slide, `Pₜ ← Pₜ − mₜ(vₜ + slip·Pₜ)`, projected on the disc `|Pₜ| ≤ μ·ΣPₙ`
+//! (isotropic Coulomb) or on each direction's own bound. The restitution pass,
 //! once after the substeps, drives the normal velocity of every point that pushed in this step
 //! and approached faster than the threshold to `−e` times its approach velocity: the relative
 //! normal velocity at the step's start plus what gravity and applied forces added up to the
@@ -111,6 +114,13 @@ impl<F: FloatW> Pair<F> {
             .sub(self.vb.add(self.wb.cross(rb)))
     }
 
+    /// Applies angular impulse `l`: `+l` on body 1, `−l` on body 2.
+    #[inline(always)]
+    fn turn(&mut self, m: &Masses<F>, l: V3<F>) {
+        self.wa = self.wa.add(m.ia.mul(l));
+        self.wb = self.wb.sub(m.ib.mul(l));
+    }
+
     /// Applies impulse `p` at the point: `+p` on body 1, `−p` on body 2.
     #[inline(always)]
     fn apply(&mut self, m: &Masses<F>, ra: V3<F>, rb: V3<F>, p: V3<F>) {
@@ -141,11 +151,16 @@ impl<F: FloatW> Masses<F> {
     }
 }
 
-/// Re-applies each point's impulse of the last substep (or step). From the second substep on,
-/// that impulse (the whole impulse of the substep before) is added to the step's totals; the
-/// last substep's is added when the forces are stored.
+/// Re-applies each point's impulse of the last substep (or step), and the manifold's friction
+/// and twist. From the second substep on, those impulses (the whole impulse of the substep
+/// before) are added to the step's totals; the last substep's is added when the forces are
+/// stored.
 #[inline(always)]
-pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: &mut [BodyVel], k: &KernelParams) {
+pub(crate) fn warm_start<F: FloatW>(
+    c: &mut ContactBatch<F>,
+    vel: &mut [BodyVel],
+    k: &KernelParams,
+) {
     let m = Masses::load(c);
     let mut bodies = Pair::load(c, vel);
     let n = c.normal.load();
@@ -153,19 +168,25 @@ pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: &mut [BodyVel]
     let accumulate = k.substep > 0.0;
     for p in c.p.iter_mut().take(c.points as usize) {
         let pn = F::load(&p.normal_impulse);
-        let pt = [
-            F::load(&p.tangent_impulse[0]),
-            F::load(&p.tangent_impulse[1]),
-        ];
         if accumulate {
             (F::load(&p.total_normal) + pn).store(&mut p.total_normal);
-            for d in 0..2 {
-                (F::load(&p.total_tangent[d]) + pt[d]).store(&mut p.total_tangent[d]);
-            }
         }
-        let impulse = n.scale(pn).add(t[0].scale(pt[0])).add(t[1].scale(pt[1]));
-        bodies.apply(&m, p.r_a.load(), p.r_b.load(), impulse);
+        bodies.apply(&m, p.r_a.load(), p.r_b.load(), n.scale(pn));
     }
+    let pt = [
+        F::load(&c.tangent_impulse[0]),
+        F::load(&c.tangent_impulse[1]),
+    ];
+    let twist = F::load(&c.twist_impulse);
+    if accumulate {
+        for d in 0..2 {
+            (F::load(&c.total_tangent[d]) + pt[d]).store(&mut c.total_tangent[d]);
+        }
+        (F::load(&c.total_twist) + twist).store(&mut c.total_twist);
+    }
+    let friction = t[0].scale(pt[0]).add(t[1].scale(pt[1]));
+    bodies.apply(&m, c.r_ca.load(), c.r_cb.load(), friction);
+    bodies.turn(&m, n.scale(twist));
     bodies.store(c, vel);
 }
 
@@ -201,7 +222,8 @@ impl<F: FloatW> Surface<F> {
     }
 }
 
-/// One Gauss-Seidel pass over the batch's points: the biased solve (`use_bias`) or the relax.
+/// One Gauss-Seidel pass over the batch: the biased solve of the normals (`use_bias`), or the
+/// relax of the normals and then the friction.
 #[inline(always)]
 pub(crate) fn solve<F: FloatW>(
     c: &mut ContactBatch<F>,
@@ -219,19 +241,26 @@ pub(crate) fn solve<F: FloatW>(
     let (dpa, na) = gather_delta::<F>(delta, &c.body_a, n);
     let (dpb, nb) = gather_delta::<F>(delta, &c.body_b, n);
     let moved = n.dot(dpa.sub(dpb));
+    let (mut held, mut held_lever) = (F::zero(), F::zero());
     for p in c.p.iter_mut().take(c.points as usize) {
         let ra = p.r_a.load();
         let rb = p.r_b.load();
         let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
-        let normal = solve_normal(p, &surface, &bodies, ra, rb, s, k, use_bias, bouncy);
+        let (normal, total) = solve_normal(p, &surface, &bodies, ra, rb, s, k, use_bias, bouncy);
         bodies.apply(&m, ra, rb, n.scale(normal));
-        let friction = solve_friction(p, &surface, &bodies, ra, rb);
-        bodies.apply(&m, ra, rb, friction);
+        let pushing = total.max(F::zero());
+        held = held + pushing;
+        held_lever = held_lever + pushing * F::load(&p.lever);
+    }
+    if !use_bias {
+        solve_twist(c, &surface, &m, &mut bodies, held_lever);
+        solve_friction(c, &surface, &m, &mut bodies, held);
     }
     bodies.store(c, vel);
 }
 
-/// The normal impulse of one point: updates the point and returns the change to apply.
+/// The normal impulse of one point: updates the point and returns the change to apply and
+/// the new accumulated impulse.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn solve_normal<F: FloatW>(
@@ -244,7 +273,7 @@ fn solve_normal<F: FloatW>(
     k: &KernelParams,
     use_bias: bool,
     bouncy: bool,
-) -> F {
+) -> (F, F) {
     let zero = F::zero();
     let vn = bodies.relative(ra, rb).dot(sf.n);
     let pn = F::load(&p.normal_impulse);
@@ -285,38 +314,53 @@ fn solve_normal<F: FloatW>(
             .min(pushing)
             .store(&mut p.impact_substep);
     }
-    let dn = new - pn;
     new.store(&mut p.normal_impulse);
-    dn
+    (new - pn, new)
 }
 
-/// The friction impulse of one point, bounded by its normal impulse: updates the point and
-/// returns the impulse change to apply (a vector in the tangent plane).
+/// The twist about the normal, bounded by μ·Σ Pₙ·lever.
+#[inline(always)]
+fn solve_twist<F: FloatW>(
+    c: &mut ContactBatch<F>,
+    sf: &Surface<F>,
+    m: &Masses<F>,
+    bodies: &mut Pair<F>,
+    held_lever: F,
+) {
+    let spin = sf.n.dot(bodies.wa.sub(bodies.wb));
+    let old = F::load(&c.twist_impulse);
+    let limit = F::splat(0.5) * (sf.mu[0] + sf.mu[1]) * held_lever + F::load(&c.twist_fixed);
+    let new = (old - F::load(&c.twist_mass) * spin).min(limit).max(-limit);
+    new.store(&mut c.twist_impulse);
+    bodies.turn(m, sf.n.scale(new - old));
+}
+
+/// The friction at the centre, bounded by the manifold's normal impulse `held`.
 #[inline(always)]
 fn solve_friction<F: FloatW>(
-    p: &mut PointLanes<F>,
+    c: &mut ContactBatch<F>,
     sf: &Surface<F>,
-    bodies: &Pair<F>,
-    ra: V3<F>,
-    rb: V3<F>,
-) -> V3<F> {
+    m: &Masses<F>,
+    bodies: &mut Pair<F>,
+    held: F,
+) {
     let zero = F::zero();
     let one = F::splat(1.0);
+    let (ra, rb) = (c.r_ca.load(), c.r_cb.load());
     let dv = bodies.relative(ra, rb);
     let pt = [
-        F::load(&p.tangent_impulse[0]),
-        F::load(&p.tangent_impulse[1]),
+        F::load(&c.tangent_impulse[0]),
+        F::load(&c.tangent_impulse[1]),
     ];
     let r = [
         dv.dot(sf.t[0]) - sf.slide[0] + sf.slip[0] * pt[0],
         dv.dot(sf.t[1]) - sf.slide[1] + sf.slip[1] * pt[1],
     ];
     let trial = [
-        pt[0] - F::load(&p.tangent_mass[0]) * r[0],
-        pt[1] - F::load(&p.tangent_mass[1]) * r[1],
+        pt[0] - F::load(&c.tangent_mass[0]) * r[0],
+        pt[1] - F::load(&c.tangent_mass[1]) * r[1],
     ];
-    let pn = F::load(&p.normal_impulse).max(zero);
-    let limit = [sf.mu[0] * pn + sf.fixed[0], sf.mu[1] * pn + sf.fixed[1]];
+    let limit = [sf.mu[0] * held + sf.fixed[0], sf.mu[1] * held + sf.fixed[1]];
     let len = (trial[0] * trial[0] + trial[1] * trial[1]).sqrt();
     let shrink = F::select(len.gt(limit[0]), limit[0] / len, one);
     let disc = sf.disc.gt(F::splat(0.5));
@@ -325,9 +369,10 @@ fn solve_friction<F: FloatW>(
         let boxed = trial[d].min(limit[d]).max(-limit[d]);
         let clamped = F::select(disc, trial[d] * shrink, boxed);
         dt[d] = clamped - pt[d];
-        clamped.store(&mut p.tangent_impulse[d]);
+        clamped.store(&mut c.tangent_impulse[d]);
     }
-    sf.t[0].scale(dt[0]).add(sf.t[1].scale(dt[1]))
+    let impulse = sf.t[0].scale(dt[0]).add(sf.t[1].scale(dt[1]));
+    bodies.apply(m, ra, rb, impulse);
 }
 
 /// The restitution pass of one batch (module docs). A bounce belongs to the moment of impact:
@@ -397,20 +442,27 @@ fn displace<F: FloatW>(delta: &mut [BodyDelta], idx: &F::Index, write: &F::Index
     }
 }
 
-/// Reads a lane's point back as impulses (normal, tangent 1, tangent 2): the last substep's
-/// (the next step's warm start) and the whole step's (every substep's and the bounce).
-pub(crate) fn lane_impulses<F: FloatW>(p: &PointLanes<F>, l: usize) -> ([Real; 3], [Real; 3]) {
+/// Reads a lane's point back as normal impulses: the last substep's (the next step's warm
+/// start) and the whole step's (every substep's and the bounce).
+pub(crate) fn lane_normal<F: FloatW>(p: &PointLanes<F>, l: usize) -> (Real, Real) {
+    let now = p.normal_impulse.as_ref()[l];
+    (now, p.total_normal.as_ref()[l] + now + p.bounce.as_ref()[l])
+}
+
+/// Reads a lane's manifold friction back as impulses (tangent 1, tangent 2, twist): the last
+/// substep's and the whole step's.
+pub(crate) fn lane_friction<F: FloatW>(c: &ContactBatch<F>, l: usize) -> ([Real; 3], [Real; 3]) {
     let now = [
-        p.normal_impulse.as_ref()[l],
-        p.tangent_impulse[0].as_ref()[l],
-        p.tangent_impulse[1].as_ref()[l],
+        c.tangent_impulse[0].as_ref()[l],
+        c.tangent_impulse[1].as_ref()[l],
+        c.twist_impulse.as_ref()[l],
     ];
     (
         now,
         [
-            p.total_normal.as_ref()[l] + now[0] + p.bounce.as_ref()[l],
-            p.total_tangent[0].as_ref()[l] + now[1],
-            p.total_tangent[1].as_ref()[l] + now[2],
+            c.total_tangent[0].as_ref()[l] + now[0],
+            c.total_tangent[1].as_ref()[l] + now[1],
+            c.total_twist.as_ref()[l] + now[2],
         ],
     )
 }

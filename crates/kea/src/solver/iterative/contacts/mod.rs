@@ -437,15 +437,19 @@ fn store_lanes<F: FloatW>(
             let t = [batch.tangent[0].lane(l), batch.tangent[1].lane(l)];
             let a = batch.body_a.as_ref()[l] as usize;
             let b = batch.body_b.as_ref()[l] as usize;
+            let (now_f, total_f) = kernel::lane_friction(batch, l);
+            let mean_friction = (t[0] * total_f[0] + t[1] * total_f[1]) / h;
+            let end_friction = (t[0] * now_f[0] + t[1] * now_f[1]) / hs;
+            let (mean_twist, end_twist) = (total_f[2] / h, now_f[2] / hs);
             for (j, p) in batch.p.iter().enumerate().take(sc.contact.points().len()) {
-                let (now, total) = kernel::lane_impulses(p, l);
+                let (now, total) = kernel::lane_normal(p, l);
                 let mean = PointForce {
-                    normal: total[0] / h,
-                    friction: (t[0] * total[1] + t[1] * total[2]) / h,
+                    normal: total / h,
+                    friction: sc.contact.spread_friction(mean_friction, mean_twist, j),
                 };
                 let end = PointForce {
-                    normal: now[0] / hs,
-                    friction: (t[0] * now[1] + t[1] * now[2]) / hs,
+                    normal: now / hs,
+                    friction: sc.contact.spread_friction(end_friction, end_twist, j),
                 };
                 sc.contact.set_point_force(j, mean, end);
                 let f = n * mean.normal + mean.friction;
