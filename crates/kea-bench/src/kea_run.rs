@@ -27,7 +27,7 @@ impl KeaScene {
         let n = scene.bodies.len();
         let mut world = World::new(WorldDef {
             max_bodies: n + 1,
-            max_constraints: 8 * n + scene.joints.len() + 64,
+            max_constraints: 16 * n + scene.joints.len() + 64,
             ..Default::default()
         })
         .expect("world");
@@ -101,11 +101,13 @@ impl KeaScene {
         }
     }
 
-    pub fn step(&mut self) {
+    /// One step; the error, if Kea refused it.
+    pub fn step(&mut self) -> Result<(), String> {
         self.last = self
             .collision
             .step(&mut self.world, 1.0 / 60.0)
-            .expect("kea step");
+            .map_err(|e| e.to_string())?;
+        Ok(())
     }
 
     /// Largest joint gap now, m.
@@ -144,16 +146,26 @@ impl KeaScene {
 /// Builds `scene`, settles it, times its steps; returns ms/step and the quality figure.
 pub fn run(scene: &Scene) -> Outcome {
     let mut s = KeaScene::build(scene);
-    for _ in 0..scene.settle {
-        s.step();
+    let mut failed = None;
+    for k in 0..scene.settle {
+        if let Err(e) = s.step() {
+            failed = Some(format!("settling step {k}: {e}"));
+            break;
+        }
     }
     let mut gap: f64 = 0.0;
     let mut stages = [Duration::ZERO; 3];
     let mut total = Duration::ZERO;
-    for _ in 0..scene.steps {
+    let mut steps = 0;
+    while steps < scene.steps && failed.is_none() {
         let t = Instant::now();
-        s.step();
+        let stepped = s.step();
         total += t.elapsed();
+        if let Err(e) = stepped {
+            failed = Some(format!("step {steps}: {e}"));
+            break;
+        }
+        steps += 1;
         if scene.quality == Quality::JointGap {
             gap = gap.max(s.joint_gap());
         }
@@ -161,7 +173,8 @@ pub fn run(scene: &Scene) -> Outcome {
             *t += d;
         }
     }
-    let ms = total.as_secs_f64() * 1e3 / scene.steps as f64;
+    let steps = steps.max(1) as f64;
+    let ms = total.as_secs_f64() * 1e3 / steps;
     let quality = match scene.quality {
         Quality::Displacement => s.displacement(),
         Quality::Energy => s.energy(),
@@ -170,6 +183,7 @@ pub fn run(scene: &Scene) -> Outcome {
     Outcome {
         ms,
         quality,
-        stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / scene.steps as f64),
+        stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / steps),
+        failed,
     }
 }

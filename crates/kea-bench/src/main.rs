@@ -16,7 +16,7 @@ mod scenes;
 use scenes::{Quality, Scene};
 
 /// One timed run of one scene in one engine.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Outcome {
     /// Time per step, ms.
     pub ms: f64,
@@ -24,6 +24,8 @@ pub struct Outcome {
     pub quality: f64,
     /// Kea's stage times per step, ms: solver, broad phase, narrow phase.
     pub stages_ms: [f64; 3],
+    /// Why the run stopped early (the engine refused a step), if it did.
+    pub failed: Option<String>,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -109,6 +111,10 @@ fn main() {
         let k = median(kea.iter().map(|o| o.ms).collect());
         let r = median(rapier.iter().map(|o| o.ms).collect());
         let kq = kea.last().map_or(0.0, |o| o.quality);
+        let kea_quality = match kea.iter().find_map(|o| o.failed.as_ref()) {
+            Some(why) => format!("**failed** at {why}"),
+            None => quality(scene.quality, kq),
+        };
         let rq = rapier.last().map_or(0.0, |o| o.quality);
         let stage = |i: usize| median(kea.iter().map(|o| o.stages_ms[i]).collect());
         println!(
@@ -119,7 +125,7 @@ fn main() {
             k,
             0.5 * spread(&kea.iter().map(|o| o.ms).collect::<Vec<_>>()),
             r / k,
-            quality(scene.quality, kq),
+            kea_quality,
             quality(scene.quality, rq),
             stage(0),
             stage(1),

@@ -165,5 +165,6 @@ pub fn run(scene: &Scene) -> Outcome {
         ms: total.as_secs_f64() * 1e3 / scene.steps as f64,
         quality,
         stages_ms: [0.0; 3],
+        failed: None,
     }
 }
