@@ -98,6 +98,17 @@ impl ContactPoint {
     }
 }
 
+/// A manifold's friction centre and its points' levers about it (see
+/// [`Contact::friction_centre`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrictionFrame {
+    pub(crate) centre: Vec3,
+    /// Each point's offset from the centre in the tangent plane.
+    pub(crate) levers: [Vec3; MAX_CONTACT_POINTS],
+    /// The sum of the levers' squared lengths.
+    pub(crate) spread: Real,
+}
+
 /// The force a contact applied at one point in the last step, on body 1 (body 2 gets the
 /// opposite).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -244,6 +255,7 @@ impl Contact {
         }
         for p in points {
             check_vec3("points[].position", p.position)?;
+            check_vec3("points[].to_second", p.to_second)?;
             check_finite("points[].penetration", p.penetration)?;
         }
         let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
@@ -316,40 +328,58 @@ impl Contact {
         points.iter().map(|p| p.position).sum::<Vec3>() / points.len() as Real
     }
 
-    /// Point `j`'s offset from the friction centre, in the tangent plane.
-    fn lever(&self, j: usize, centre: Vec3) -> Vec3 {
-        let d = self.points[j].position - centre;
-        d - self.normal * d.dot(self.normal)
+    /// The friction centre and each point's offset from it in the tangent plane.
+    #[must_use]
+    pub(crate) fn friction_frame(&self) -> FrictionFrame {
+        let centre = self.friction_centre();
+        let mut levers = [Vec3::ZERO; MAX_CONTACT_POINTS];
+        let mut spread = 0.0;
+        for (lever, p) in levers.iter_mut().zip(self.points()) {
+            let d = p.position - centre;
+            *lever = d - self.normal * d.dot(self.normal);
+            spread += lever.length_squared();
+        }
+        FrictionFrame {
+            centre,
+            levers,
+            spread,
+        }
     }
 
-    /// Point friction forces as the manifold's friction: their sum (applied at
-    /// [`Contact::friction_centre`]) and their twist about the normal there.
+    /// Point friction forces as the manifold's friction: their sum (applied at the friction
+    /// centre) and their twist about the normal there.
     #[must_use]
-    pub(crate) fn gather_friction(&self, forces: &[PointForce]) -> (Vec3, Real) {
-        let c = self.friction_centre();
+    pub(crate) fn gather_friction(&self, frame: &FrictionFrame, forces: &[PointForce]) -> (Vec3, Real) {
         let mut force = Vec3::ZERO;
         let mut twist = 0.0;
-        for (j, f) in forces.iter().enumerate().take(self.count as usize) {
+        for (f, lever) in forces.iter().zip(&frame.levers).take(self.count as usize) {
             force += f.friction;
-            twist += self.lever(j, c).cross(f.friction).dot(self.normal);
+            twist += lever.cross(f.friction).dot(self.normal);
         }
         (force, twist)
     }
 
     /// Manifold friction (a force at the friction centre and a twist about the normal)
-    /// spread evenly over the points: point `j`'s share. The shares add up to the force,
+    /// spread evenly over the points: each point's share. The shares add up to the force,
     /// and their moments about the centre to the twist.
     #[must_use]
-    pub(crate) fn spread_friction(&self, force: Vec3, twist: Real, j: usize) -> Vec3 {
+    pub(crate) fn spread_friction(
+        &self,
+        frame: &FrictionFrame,
+        force: Vec3,
+        twist: Real,
+    ) -> [Vec3; MAX_CONTACT_POINTS] {
         let k = self.count as usize;
-        let c = self.friction_centre();
-        let spread: Real = (0..k).map(|i| self.lever(i, c).length_squared()).sum();
-        let turn = if spread > Real::EPSILON * Real::EPSILON {
-            self.normal.cross(self.lever(j, c)) * (twist / spread)
+        let turn = if frame.spread > Real::EPSILON * Real::EPSILON {
+            twist / frame.spread
         } else {
-            Vec3::ZERO
+            0.0
         };
-        force / k as Real + turn
+        let mut out = [Vec3::ZERO; MAX_CONTACT_POINTS];
+        for (o, lever) in out.iter_mut().zip(&frame.levers).take(k) {
+            *o = force / k as Real + self.normal.cross(*lever) * turn;
+        }
+        out
     }
 
     /// Records the primary friction direction the exact path's rows used in a step, so that a

@@ -239,9 +239,9 @@ impl<F: FloatW> ContactBatch<F> {
         // The static world (slot 0) never moves: its anchor can be 0, which keeps the
         // separation exact however far from the origin the contact is.
         let anchor = |p: Vec3, x: Vec3, slot: usize| if slot == 0 { Vec3::ZERO } else { p - x };
-        let centre = contact.friction_centre();
-        self.r_ca.set_lane(l, anchor(centre, xa, la));
-        self.r_cb.set_lane(l, anchor(centre, xb, lb));
+        let frame = contact.friction_frame();
+        self.r_ca.set_lane(l, anchor(frame.centre, xa, la));
+        self.r_cb.set_lane(l, anchor(frame.centre, xb, lb));
         let mut lever_sum = 0.0;
         for (j, (point, f)) in contact
             .points()
@@ -255,14 +255,13 @@ impl<F: FloatW> ContactBatch<F> {
             pl.r_a.set_lane(l, ra);
             pl.r_b.set_lane(l, rb);
             *lane(&mut pl.base_separation, l) = -point.penetration - n.dot(ra) + n.dot(rb);
-            let d = point.position - centre;
-            let lever = (d - n * d.dot(n)).length();
+            let lever = frame.levers[j].length();
             *lane(&mut pl.lever, l) = lever;
             lever_sum += lever;
             // The warm start, clamped to this step's bounds by `derive`.
             *lane(&mut pl.normal_impulse, l) = f.normal * k.hs;
         }
-        let (friction, twist) = contact.gather_friction(contact.warm_forces());
+        let (friction, twist) = contact.gather_friction(&frame, contact.warm_forces());
         *lane(&mut self.tangent_impulse[0], l) = friction.dot(t1) * k.hs;
         *lane(&mut self.tangent_impulse[1], l) = friction.dot(t2) * k.hs;
         *lane(&mut self.twist_impulse, l) = twist * k.hs;
