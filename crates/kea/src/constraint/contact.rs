@@ -349,7 +349,11 @@ impl Contact {
     /// Point friction forces as the manifold's friction: their sum (applied at the friction
     /// centre) and their twist about the normal there.
     #[must_use]
-    pub(crate) fn gather_friction(&self, frame: &FrictionFrame, forces: &[PointForce]) -> (Vec3, Real) {
+    pub(crate) fn gather_friction(
+        &self,
+        frame: &FrictionFrame,
+        forces: &[PointForce],
+    ) -> (Vec3, Real) {
         let mut force = Vec3::ZERO;
         let mut twist = 0.0;
         for (f, lever) in forces.iter().zip(&frame.levers).take(self.count as usize) {

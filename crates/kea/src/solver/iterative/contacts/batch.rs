@@ -233,7 +233,8 @@ impl<F: FloatW> ContactBatch<F> {
         self.normal.set_lane(l, n);
         self.tangent[0].set_lane(l, t1);
         self.tangent[1].set_lane(l, t2);
-        self.load_surface(l, contact, k);
+        let fixed_side = !states.writable[la] || !states.writable[lb];
+        self.load_surface(l, contact, k, fixed_side);
 
         let (xa, xb) = positions;
         // The static world (slot 0) never moves: its anchor can be 0, which keeps the
@@ -281,7 +282,7 @@ impl<F: FloatW> ContactBatch<F> {
     }
 
     /// The surface parameters and softness of lane `l`.
-    fn load_surface(&mut self, l: usize, contact: &Contact, k: &PrepareParams) {
+    fn load_surface(&mut self, l: usize, contact: &Contact, k: &PrepareParams, fixed_side: bool) {
         let prm = contact.params();
         let directions = match prm.contact_type {
             crate::ContactType::Frictionless => 0,
@@ -327,6 +328,12 @@ impl<F: FloatW> ContactBatch<F> {
                 ..SoftCoefficients::RIGID
             },
             None if prm.softness == Some(0.0) => SoftCoefficients::RIGID,
+            // Against something that cannot move, the spring is twice as fast (Rapier does the
+            // same): floors and walls hold piles firmly, and the step stays stable since only
+            // one body answers.
+            None if fixed_side => {
+                Spring::new(2.0 * k.spring.hertz, k.spring.damping_ratio).coefficients(k.hs)
+            }
             None => k.spring.coefficients(k.hs),
         };
         *lane(&mut self.bias_rate, l) = c.bias_rate;

@@ -13,8 +13,8 @@
 //! ```
 //!
 //! Friction is solved in the relax pass only (Rapier's rule: friction that reacts to the bias
-//! velocities pumps the lean of tall stacks until they fall), once per manifold after its
-//! points' normals: first the twist about the normal, `P_τ ← clamp(P_τ − m_τ·n·(ω₁ − ω₂),
+//! velocities pumps the lean of tall stacks until they fall), once per manifold between two
+//! passes over its points' normals: first the twist about the normal, `P_τ ← clamp(P_τ − m_τ·n·(ω₁ − ω₂),
 //! ±μ·Σ Pₙ·lever)`, then the friction at the centre: with `vₜ` the tangential velocity there
 //! less the conveyor slide, `Pₜ ← Pₜ − mₜ(vₜ + slip·Pₜ)`, projected on the disc `|Pₜ| ≤ μ·ΣPₙ`
 //! (isotropic Coulomb) or on each direction's own bound. The restitution pass,
@@ -255,6 +255,16 @@ pub(crate) fn solve<F: FloatW>(
     if !use_bias {
         solve_twist(c, &surface, &m, &mut bodies, held_lever);
         solve_friction(c, &surface, &m, &mut bodies, held);
+        // Friction acts in the contact plane, below (or above) the centres of mass: the
+        // normals answer its torque at once, or a box that stops sliding ends the step
+        // rocking on its leading edge.
+        for p in c.p.iter_mut().take(c.points as usize) {
+            let ra = p.r_a.load();
+            let rb = p.r_b.load();
+            let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
+            let (normal, _) = solve_normal(p, &surface, &bodies, ra, rb, s, k, false, bouncy);
+            bodies.apply(&m, ra, rb, n.scale(normal));
+        }
     }
     bodies.store(c, vel);
 }

@@ -442,7 +442,9 @@ fn store_lanes<F: FloatW>(
             let end_friction = (t[0] * now_f[0] + t[1] * now_f[1]) / hs;
             let (mean_twist, end_twist) = (total_f[2] / h, now_f[2] / hs);
             let frame = sc.contact.friction_frame();
-            let mean_shares = sc.contact.spread_friction(&frame, mean_friction, mean_twist);
+            let mean_shares = sc
+                .contact
+                .spread_friction(&frame, mean_friction, mean_twist);
             let end_shares = sc.contact.spread_friction(&frame, end_friction, end_twist);
             for (j, p) in batch.p.iter().enumerate().take(sc.contact.points().len()) {
                 let (now, total) = kernel::lane_normal(p, l);
