@@ -204,6 +204,7 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             max_exact_rows: r.max_exact_rows,
             max_exact_bodies: r.max_exact_bodies,
             hysteresis: r.hysteresis,
+            mass_ratio: r.mass_ratio,
         },
         iterative: IterativeParams {
             substeps: it.substeps,

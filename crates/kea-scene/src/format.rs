@@ -139,6 +139,9 @@ pub struct RoutingSpec {
     pub max_exact_bodies: u32,
     /// An iterative island goes back to exact below this fraction of the limits, in (0, 1].
     pub hysteresis: Real,
+    /// A small island of contacts only goes exact when a contact joins masses differing by
+    /// more than this ratio (≥ 1; a very large number: never).
+    pub mass_ratio: Real,
 }
 
 impl Default for RoutingSpec {
@@ -148,6 +151,7 @@ impl Default for RoutingSpec {
             max_exact_rows: d.max_exact_rows,
             max_exact_bodies: d.max_exact_bodies,
             hysteresis: d.hysteresis,
+            mass_ratio: d.mass_ratio,
         }
     }
 }

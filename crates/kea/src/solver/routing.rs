@@ -1,7 +1,9 @@
 //! Hybrid routing: which path solves each island.
 //!
 //! By structure first: an island of contacts only (a pile, a box on the floor, balls in a box)
-//! goes to the iterative path, whose contact solver is built for exactly that. An island with
+//! goes to the iterative path, whose contact solver is built for exactly that, unless it is
+//! small and its contacts join bodies of very different masses (a 1 kg box under a 100 kg
+//! one): the soft step crushes the light body, a direct solve holds it. An island with
 //! joints goes to the exact solver when small, where pivoting is cheap and its answer is the
 //! reference, and to the iterative solver when big, whose cost grows only linearly. An island
 //! that was iterative last step returns to exact only once it is clearly small again (below
@@ -51,6 +53,10 @@ pub struct Routing {
     /// An island that was iterative goes back to exact only below `hysteresis ×` the limits,
     /// in (0, 1]. Default 0.75.
     pub hysteresis: Real,
+    /// An island of contacts only goes to the exact path when a contact joins two bodies whose
+    /// masses differ by more than this ratio, and the island has at most `max_exact_bodies`
+    /// bodies and `4 × max_exact_rows` rows. At least 1; default 10; infinity never.
+    pub mass_ratio: Real,
 }
 
 impl Default for Routing {
@@ -60,6 +66,7 @@ impl Default for Routing {
             max_exact_rows: 64,
             max_exact_bodies: 32,
             hysteresis: 0.75,
+            mass_ratio: 10.0,
         }
     }
 }
@@ -72,6 +79,13 @@ impl Routing {
                 arg: "hysteresis",
                 value: format!("{}", self.hysteresis),
                 expected: "must be in (0, 1]",
+            });
+        }
+        if !(self.mass_ratio >= 1.0) {
+            return Err(KeaError::OutOfRange {
+                arg: "mass_ratio",
+                value: format!("{}", self.mass_ratio),
+                expected: "must be at least 1 (infinity: never)",
             });
         }
         Ok(())
@@ -143,19 +157,45 @@ pub(crate) fn choose(
     if prefer_exact {
         return SolverPath::Exact;
     }
-    if islands.blocks(k).is_empty() {
-        // Contacts only: the contact solver's work.
-        return SolverPath::Iterative;
-    }
     let scale = if was_iterative {
         routing.hysteresis
     } else {
         1.0
     };
     let fits = |n: u32, max: u32| n as Real <= max as Real * scale;
+    if islands.blocks(k).is_empty() {
+        // Contacts only: the contact solver's work, unless masses differ too much for it.
+        let small =
+            fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
+        if small && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
+            return SolverPath::Exact;
+        }
+        return SolverPath::Iterative;
+    }
     if fits(rows, routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies) {
         SolverPath::Exact
     } else {
         SolverPath::Iterative
     }
+}
+
+/// The largest ratio of the masses of two bodies joined by a contact of island `k` (bodies
+/// that cannot move do not count).
+fn mass_ratio(
+    islands: &Islands,
+    k: usize,
+    contacts: &[SolverContact],
+    bodies: &[SolverBody],
+) -> Real {
+    let mut worst: Real = 1.0;
+    for &c in islands.contacts(k) {
+        let [Some(a), Some(b)] = contacts[c as usize].bodies else {
+            continue;
+        };
+        let (ia, ib) = (bodies[a as usize].inv_mass, bodies[b as usize].inv_mass);
+        if ia > 0.0 && ib > 0.0 {
+            worst = worst.max(ia / ib).max(ib / ia);
+        }
+    }
+    worst
 }
