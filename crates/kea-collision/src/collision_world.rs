@@ -125,6 +125,8 @@ pub struct CollisionWorld {
     /// Pairs to forget this step (their boxes parted, or the filter now refuses them).
     pub(crate) dropped: Vec<u32>,
     pub(crate) wanted: Vec<Wanted>,
+    /// The manifolds generated this step, as cached (the `Wanted` that made them index here).
+    pub(crate) generated: Vec<crate::pairs::ManifoldCache>,
     pub(crate) events: Vec<ContactEvent>,
     pub(crate) pending_events: Vec<ContactEvent>,
     /// Body pairs joined by an enabled joint, sorted; rebuilt each update, and last update's.
@@ -180,6 +182,7 @@ impl CollisionWorld {
             new_pairs: Vec::new(),
             dropped: Vec::new(),
             wanted: Vec::new(),
+            generated: Vec::new(),
             generator: Generator::default(),
             reduce_scratch: (Vec::with_capacity(16), Vec::with_capacity(16)),
             stats: CollisionStats::default(),
@@ -286,6 +289,9 @@ impl CollisionWorld {
         }
         if self.wanted.capacity() < pairs {
             self.wanted.reserve(pairs - self.wanted.len());
+        }
+        if self.generated.capacity() < pairs {
+            self.generated.reserve(pairs - self.generated.len());
         }
         for v in [&mut self.events, &mut self.pending_events] {
             if v.capacity() < pairs {

@@ -40,8 +40,10 @@ pub(crate) struct Wanted {
     pub bodies: (BodyHandle, Option<BodyHandle>),
     pub normal: Vec3,
     pub points: [ContactPoint; MAX_CONTACT_POINTS],
-    /// The manifold as kept for the cache.
-    pub cache: ManifoldCache,
+    pub count: u8,
+    /// The manifold as generated this step (an index into the narrow phase's `generated`), or
+    /// [`Wanted::KEPT`] for a reused one, whose cache stays as it is.
+    pub cache: u32,
     /// The pair's parameters changed (or are new): the contact must take them.
     pub refresh: bool,
 }
@@ -49,6 +51,8 @@ pub(crate) struct Wanted {
 impl Wanted {
     /// A manifold the pair does not have yet.
     pub(crate) const NEW: u32 = u32::MAX;
+    /// A reused manifold: its cache does not change.
+    pub(crate) const KEPT: u32 = u32::MAX;
 }
 
 /// The colliders' world poses when a pair's manifolds were generated.
@@ -81,6 +85,7 @@ impl CollisionWorld {
     /// with the pairs to forget.
     pub(crate) fn narrow_phase(&mut self, dt: Real) {
         self.wanted.clear();
+        self.generated.clear();
         self.dropped.clear();
         let (mut manifolds, mut reused) = (0u32, 0u32);
         for slot in 0..self.pairs.slots.len() as u32 {
@@ -141,7 +146,8 @@ impl CollisionWorld {
                 .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b))
             {
                 for (k, m) in p.manifolds.iter().enumerate() {
-                    self.wanted.push(frame.moved(k as u32, &m.cache));
+                    self.wanted
+                        .push(frame.moved(k as u32, &m.cache, Wanted::KEPT));
                 }
                 manifolds += p.manifolds.len() as u32;
                 reused += p.manifolds.len() as u32;
@@ -191,7 +197,9 @@ impl CollisionWorld {
                         id: gp.id,
                     };
                 }
-                self.wanted.push(frame.moved(existing, &m));
+                self.wanted
+                    .push(frame.moved(existing, &m, self.generated.len() as u32));
+                self.generated.push(m);
                 manifolds += 1;
             }
         }
@@ -212,7 +220,7 @@ struct Frame {
 
 impl Frame {
     /// Manifold `m` (index `k` of its pair, or [`Wanted::NEW`]) at the colliders' poses now.
-    fn moved(&self, k: u32, m: &ManifoldCache) -> Wanted {
+    fn moved(&self, k: u32, m: &ManifoldCache, cache: u32) -> Wanted {
         let (pose_a, pose_b) = &self.poses;
         // Frozen while reused (module docs); the separations follow the colliders.
         let n = m.normal;
@@ -223,7 +231,8 @@ impl Frame {
             // Kea's normal points from body 2 to body 1; parry's from the first shape.
             normal: if self.flip { n } else { -n },
             points: [ContactPoint::default(); MAX_CONTACT_POINTS],
-            cache: *m,
+            count: m.count,
+            cache,
             refresh: self.refresh,
         };
         for (cp, out) in m.points[..m.count as usize].iter().zip(w.points.iter_mut()) {

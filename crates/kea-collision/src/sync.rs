@@ -61,12 +61,14 @@ impl CollisionWorld {
             let t = d - w.normal * d.dot(w.normal);
             (t.length() > 1.0e-2).then(|| t.normalize())
         });
-        let points = &w.points[..w.cache.count as usize];
+        let points = &w.points[..w.count as usize];
         p.touching_now |= points.iter().any(|q| q.penetration > -touch);
         match p.manifolds.get_mut(w.existing as usize) {
             Some(m) if w.existing != Wanted::NEW && world.contact(m.handle).is_ok() => {
                 let c = world.contact_mut(m.handle)?;
-                c.set_normal(w.normal)?;
+                if w.cache != Wanted::KEPT || c.normal() != w.normal {
+                    c.set_normal(w.normal)?;
+                }
                 c.set_points(points)?;
                 if w.refresh {
                     c.set_params(params)?;
@@ -74,7 +76,9 @@ impl CollisionWorld {
                 if direction.is_some() || c.direction().is_some() {
                     c.set_direction(direction)?;
                 }
-                m.cache = w.cache;
+                if let Some(g) = self.generated.get(w.cache as usize) {
+                    m.cache = *g;
+                }
                 m.seen = true;
             }
             _ => {
@@ -82,14 +86,17 @@ impl CollisionWorld {
                 c.set_params(params)?;
                 c.set_direction(direction)?;
                 let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
+                let cache = self.generated.get(w.cache as usize).copied();
                 if let Some(m) = p.manifolds.get_mut(w.existing as usize) {
                     // Its old contact went away with a body: a new one in its place.
                     m.handle = handle;
-                    m.cache = w.cache;
+                    if let Some(g) = cache {
+                        m.cache = g;
+                    }
                     m.seen = true;
                 } else {
                     p.manifolds.push(PairManifold {
-                        cache: w.cache,
+                        cache: cache.unwrap_or_default(),
                         handle,
                         seen: true,
                     });

@@ -258,6 +258,13 @@ impl Contact {
             check_vec3("points[].to_second", p.to_second)?;
             check_finite("points[].penetration", p.penetration)?;
         }
+        let same_ids = points.len() == self.count as usize
+            && points.iter().zip(self.points()).all(|(p, q)| p.id == q.id);
+        if same_ids {
+            // The same points moved (a kept manifold): the forces stay where they are.
+            self.points[..points.len()].copy_from_slice(points);
+            return Ok(());
+        }
         let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
         let mut warm = [PointForce::default(); MAX_CONTACT_POINTS];
         for (i, p) in points.iter().enumerate() {
@@ -304,6 +311,13 @@ impl Contact {
         let n = forces.len().min(self.count as usize);
         self.forces[..n].copy_from_slice(&forces[..n]);
         self.warm[..n].copy_from_slice(&forces[..n]);
+    }
+
+    /// Takes the forces a solver recorded on `solved`, a copy of this contact.
+    pub(crate) fn take_forces(&mut self, solved: &Contact) {
+        self.forces = solved.forces;
+        self.warm = solved.warm;
+        self.last_direction = solved.last_direction;
     }
 
     /// Records one point's mean force over a step and its force at the step's end (the warm

@@ -525,10 +525,14 @@ impl World {
             let ConstraintKind::Contact(c) = &mut e.kind else {
                 continue;
             };
-            *c = sc.contact;
+            c.take_forces(&sc.contact);
             let (t1, t2) = c.tangent_basis();
             let first = s.contact_lambda.len() as u32;
             let mut reaction = [Reaction::default(); 2];
+            let centres = e.bodies.map(|b| {
+                b.and_then(|h| self.bodies.get(h).ok())
+                    .map(|x| x.position())
+            });
             for (p, f) in c.points().iter().zip(c.forces()) {
                 s.contact_lambda.extend_from_slice(&[
                     f.normal,
@@ -536,13 +540,13 @@ impl World {
                     f.friction.dot(t2),
                 ]);
                 let force = c.normal() * f.normal + f.friction;
-                for (side, body) in e.bodies.iter().enumerate() {
-                    let Some(x) = body.and_then(|h| self.bodies.get(h).ok()) else {
+                for (side, centre) in centres.iter().enumerate() {
+                    let Some(x) = centre else {
                         continue;
                     };
                     let sign = if side == 0 { 1.0 } else { -1.0 };
                     reaction[side].force += force * sign;
-                    reaction[side].torque += (p.position - x.position()).cross(force) * sign;
+                    reaction[side].torque += (p.position - *x).cross(force) * sign;
                 }
             }
             s.contact_rows

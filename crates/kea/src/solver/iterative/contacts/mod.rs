@@ -385,7 +385,12 @@ fn build<F: FloatW>(
         for b in &mut lanes.batches[used..used + batches] {
             b.points = 0;
         }
-        for (i, &o) in order[next..next + count].iter().enumerate() {
+        let colour = &order[next..next + count];
+        for (i, &o) in colour.iter().enumerate() {
+            // Colour order visits the contacts out of order: fetch a few ahead.
+            if let Some(&ahead) = colour.get(i + PREFETCH_AHEAD) {
+                prefetch(&contacts[entries[ahead as usize].index as usize]);
+            }
             let e = &entries[o as usize];
             let c = &contacts[e.index as usize];
             lanes.batches[used + i / F::LANES].load_lane(
@@ -418,6 +423,26 @@ fn build<F: FloatW>(
     lanes.colour_start.push(used as u32);
 }
 
+/// How many contacts ahead the loaders fetch.
+const PREFETCH_AHEAD: usize = 6;
+
+/// Asks the processor to bring `x` into cache (a hint: nothing happens elsewhere than x86-64).
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let p = (x as *const T).cast::<i8>();
+        for line in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch never faults, and `p + line` stays inside `x`.
+            unsafe {
+                std::arch::x86_64::_mm_prefetch(p.add(line), std::arch::x86_64::_MM_HINT_T0);
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
 fn store_lanes<F: FloatW>(
     lanes: &Lanes<F>,
     contacts: &mut [SolverContact],
@@ -426,7 +451,14 @@ fn store_lanes<F: FloatW>(
     h: Real,
     hs: Real,
 ) {
-    for batch in &lanes.batches {
+    for (b, batch) in lanes.batches.iter().enumerate() {
+        if let Some(next) = lanes.batches.get(b + 1) {
+            for &index in next.contact.as_ref() {
+                if let Some(c) = contacts.get(index as usize) {
+                    prefetch(c);
+                }
+            }
+        }
         for l in 0..F::LANES {
             let index = batch.contact.as_ref()[l];
             if index == u32::MAX {
