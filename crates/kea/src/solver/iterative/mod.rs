@@ -197,6 +197,8 @@ impl IterativeWorkspace {
             inv_hs: 1.0 / hs,
             max_push: it.max_correction_speed,
             substep: 0.0,
+            closing: false,
+            friction_in_solve: it.relax_iterations == 0,
             h,
             hs,
         };
@@ -214,7 +216,8 @@ impl IterativeWorkspace {
             }
             self.states.integrate_positions(bodies, hs);
             self.rows.advance_clock(hs);
-            for _ in 0..it.relax_iterations {
+            for r in 0..it.relax_iterations {
+                kernel.closing = sub + 1 == n_sub && r + 1 == it.relax_iterations;
                 self.rows
                     .sweep(&mut self.states, hs, false, it.max_correction_speed);
                 self.contacts.run(Stage::Relax, &mut self.states, &kernel);

@@ -39,6 +39,10 @@ pub(crate) struct KernelParams {
     pub(crate) max_push: Real,
     /// Index of the current substep (0 for the first).
     pub(crate) substep: Real,
+    /// The last relax pass of the step (its normals answer the friction's torque again).
+    pub(crate) closing: bool,
+    /// No relax pass: the biased solve also solves friction.
+    pub(crate) friction_in_solve: bool,
     /// Step and substep, s.
     pub(crate) h: Real,
     pub(crate) hs: Real,
@@ -252,13 +256,13 @@ pub(crate) fn solve<F: FloatW>(
         held = held + pushing;
         held_lever = held_lever + pushing * F::load(&p.lever);
     }
-    if !use_bias {
+    if !use_bias || k.friction_in_solve {
         solve_twist(c, &surface, &m, &mut bodies, held_lever);
         solve_friction(c, &surface, &m, &mut bodies, held);
-        // Friction acts in the contact plane, below (or above) the centres of mass: the
-        // normals answer its torque at once, or a box that stops sliding ends the step
-        // rocking on its leading edge.
-        for p in c.p.iter_mut().take(c.points as usize) {
+        // Friction acts in the contact plane, below (or above) the centres of mass: the next
+        // substep's normals answer its torque, and after the last one a second pass does, or
+        // a box that stops sliding ends the step rocking on its leading edge.
+        for p in c.p.iter_mut().take(if k.closing { c.points as usize } else { 0 }) {
             let ra = p.r_a.load();
             let rb = p.r_b.load();
             let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
