@@ -8,6 +8,12 @@ use kea::{
 use kea_collision::{ColliderDef, CollisionWorld, Shape as KeaShape};
 use std::time::{Duration, Instant};
 
+/// A Kea real as `f64` (the identity when Kea is built in `f64`).
+#[allow(clippy::useless_conversion)]
+fn wide(x: Real) -> f64 {
+    f64::from(x)
+}
+
 fn v(a: [f32; 3]) -> Vec3 {
     Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real)
 }
@@ -118,19 +124,19 @@ impl KeaScene {
         };
         self.joints
             .iter()
-            .map(|&(a, pa, b, pb)| (at(a, pa) - at(Some(b), pb)).length() as f64)
+            .map(|&(a, pa, b, pb)| wide((at(a, pa) - at(Some(b), pb)).length()))
             .fold(0.0, f64::max)
     }
 
     pub fn displacement(&self) -> f64 {
         self.bodies
             .iter()
-            .map(|&(h, p0)| (self.world.body(h).expect("body").position() - p0).length() as f64)
+            .map(|&(h, p0)| wide((self.world.body(h).expect("body").position() - p0).length()))
             .fold(0.0, f64::max)
     }
 
     pub fn energy(&self) -> f64 {
-        self.world.kinetic_energy() as f64
+        wide(self.world.kinetic_energy())
     }
 
     /// The last step's stage times: solver, broad phase, narrow phase.

@@ -161,7 +161,7 @@ impl Spring {
     #[must_use]
     pub fn from_softness(s: Softness, effective_mass: Real, h: Real) -> Option<Self> {
         let ok = s.epsilon > 0.0 && s.gamma > 0.0 && s.gamma <= 1.0 && effective_mass > 0.0;
-        if !ok || !(h > 0.0) {
+        if !ok || h.is_nan() || h <= 0.0 {
             return None;
         }
         // k = γ/(ε h²) = m ω², d = (1 − γ)/(ε h) = 2 ζ m ω.

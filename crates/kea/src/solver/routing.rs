@@ -81,7 +81,7 @@ impl Routing {
                 expected: "must be in (0, 1]",
             });
         }
-        if !(self.mass_ratio >= 1.0) {
+        if self.mass_ratio.is_nan() || self.mass_ratio < 1.0 {
             return Err(KeaError::OutOfRange {
                 arg: "mass_ratio",
                 value: format!("{}", self.mass_ratio),

@@ -407,22 +407,21 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcin
     let k1 = ma + mb + quad(&ia, rca.cross(t[0])) + quad(&ib, rcb.cross(t[0]));
     let k2 = ma + mb + quad(&ia, rca.cross(t[1])) + quad(&ib, rcb.cross(t[1]));
     let kt = F::splat(0.5) * (k1 + k2);
-    for d in 0..2 {
-        mass(kt + slip[d], some).store(&mut c.tangent_mass[d]);
+    for (m, s) in c.tangent_mass.iter_mut().zip(slip) {
+        mass(kt + s, some).store(m);
     }
     let twisting = count.gt(one);
     mass(quad(&ia, n) + quad(&ib, n), twisting).store(&mut c.twist_mass);
     // The friction warm start, within this step's bounds.
-    let mut pt = [zero; 2];
-    for d in 0..2 {
+    let pt: [F; 2] = std::array::from_fn(|d| {
         let limit = mu[d] * held + fixed[d];
-        pt[d] = F::load(&c.tangent_impulse[d]).min(limit).max(-limit);
-    }
+        F::load(&c.tangent_impulse[d]).min(limit).max(-limit)
+    });
     let limit = mu[0] * held;
     let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
     let shrink = F::select(F::and(disc, len.gt(limit)), limit / len, one);
-    for d in 0..2 {
-        (pt[d] * shrink).store(&mut c.tangent_impulse[d]);
+    for (d, p) in pt.iter().enumerate() {
+        (*p * shrink).store(&mut c.tangent_impulse[d]);
         zero.store(&mut c.total_tangent[d]);
     }
     let twist_limit = F::select(

@@ -183,8 +183,8 @@ pub(crate) fn warm_start<F: FloatW>(
     ];
     let twist = F::load(&c.twist_impulse);
     if accumulate {
-        for d in 0..2 {
-            (F::load(&c.total_tangent[d]) + pt[d]).store(&mut c.total_tangent[d]);
+        for (total, p) in c.total_tangent.iter_mut().zip(pt) {
+            (F::load(total) + p).store(total);
         }
         (F::load(&c.total_twist) + twist).store(&mut c.total_twist);
     }
@@ -262,7 +262,10 @@ pub(crate) fn solve<F: FloatW>(
         // Friction acts in the contact plane, below (or above) the centres of mass: the next
         // substep's normals answer its torque, and after the last one a second pass does, or
         // a box that stops sliding ends the step rocking on its leading edge.
-        for p in c.p.iter_mut().take(if k.closing { c.points as usize } else { 0 }) {
+        for p in
+            c.p.iter_mut()
+                .take(if k.closing { c.points as usize } else { 0 })
+        {
             let ra = p.r_a.load();
             let rb = p.r_b.load();
             let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
