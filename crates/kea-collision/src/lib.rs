@@ -39,7 +39,7 @@ mod sync;
 mod tessellate;
 
 pub use collision_world::{
-    ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy, FAT_MARGIN,
+    ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy, FAT_LOOKAHEAD, FAT_MARGIN,
 };
 pub use error::{CollisionError, CollisionResult};
 pub use events::{ContactEvent, ContactEventKind};
