@@ -1,6 +1,6 @@
 //! `kea-bench`: Kea and Rapier on the same scenes, one after the other in one process.
 //!
-//! For each scene, both engines build it from one description ([`scenes`]), step it at 60 Hz
+//! For each scene, both engines build it from one description ([`mod@scenes`]), step it at 60 Hz
 //! on one thread (sleeping off, except in the sleeping scene), and are timed over several
 //! runs, alternating engines so that a machine whose speed drifts treats both alike. The table
 //! gives the median ms/step of each, Rapier's time over Kea's (above 1: Kea is faster), and a
