@@ -7,6 +7,7 @@
 //! reports it again.
 
 use kea::{ConstraintHandle, Vec3};
+use smallvec::SmallVec;
 use std::collections::HashMap;
 
 /// One point of a manifold as generated, in each collider's own frame.
@@ -47,7 +48,9 @@ pub(crate) struct PairManifold {
 pub(crate) struct PairState {
     /// Collider slots, first < second.
     pub colliders: (u32, u32),
-    pub manifolds: Vec<PairManifold>,
+    /// Its manifolds: one inline (a pair of convex shapes has one), more on the heap (a shape
+    /// against a mesh, a compound): a pair that starts touching allocates nothing.
+    pub manifolds: SmallVec<[PairManifold; 1]>,
     /// The colliders' poses when the manifolds were generated.
     pub generated_at: Option<crate::narrow_phase::Generated>,
     /// Touching last step, and this step.

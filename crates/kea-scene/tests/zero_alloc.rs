@@ -1,0 +1,85 @@
+//! Every demo scene, once warm, steps (collision included) without touching the heap: its
+//! bodies keep colliding, waking, sleeping and sliding, its pairs and contacts come and go,
+//! and not one allocation happens.
+
+use kea::Real;
+use kea_scene::{build, Scene};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct CountingAllocator;
+thread_local! {
+    // Per thread: the test harness runs other tests beside this one.
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; only counts on the side.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: the caller's contract is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as above.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        // SAFETY: as above.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+fn count() {
+    let _ = COUNTING.try_with(|c| {
+        if c.get() {
+            ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        }
+    });
+}
+
+#[global_allocator]
+static ALLOCATOR: CountingAllocator = CountingAllocator;
+
+fn allocations_in(f: impl FnOnce()) -> usize {
+    ALLOCATIONS.with(|a| a.set(0));
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.with(|a| a.get())
+}
+
+const DT: Real = 1.0 / 60.0;
+
+#[test]
+fn every_demo_scene_steps_warm_without_allocating() {
+    let dir = format!("{}/../../scenes", env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "demo scenes in {dir}: {names:?}");
+    let mut failures = Vec::new();
+    for path in names {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut built = build(&Scene::from_json(&text).unwrap()).unwrap();
+        // Warm: the scene has found the contacts it makes and the sizes it needs.
+        for _ in 0..240 {
+            built.step(DT).unwrap();
+        }
+        let n = allocations_in(|| {
+            for _ in 0..240 {
+                built.step(DT).unwrap();
+            }
+        });
+        eprintln!("{}: {n} allocations over 240 warm steps", path.display());
+        if n > 0 {
+            failures.push(format!("{}: {n}", path.display()));
+        }
+    }
+    assert!(failures.is_empty(), "warm steps allocated: {failures:?}");
+}
