@@ -135,6 +135,20 @@ impl KeaScene {
             .fold(0.0, f64::max)
     }
 
+    /// A hash of every body's position and orientation bits (equal runs give equal hashes).
+    pub fn state_hash(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for &(b, _) in &self.bodies {
+            let body = self.world.body(b).expect("body");
+            let (p, q) = (body.position(), body.orientation());
+            for x in [p.x, p.y, p.z, q.x, q.y, q.z, q.w] {
+                x.to_bits().hash(&mut h);
+            }
+        }
+        h.finish()
+    }
+
     pub fn energy(&self) -> f64 {
         wide(self.world.kinetic_energy())
     }
@@ -189,6 +203,7 @@ pub fn run(scene: &Scene) -> Outcome {
     Outcome {
         ms,
         quality,
+        hash: s.state_hash(),
         stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / steps),
         failed,
     }

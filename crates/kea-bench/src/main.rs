@@ -7,7 +7,10 @@
 //! quality figure per scene: the largest displacement of any body (stacks that should stand),
 //! the final kinetic energy (balls that should settle) or the largest joint gap (chains).
 //!
-//! `cargo run --release -p kea-bench [-- [--runs N] [--quick] [FILTER]]`
+//! With the `parallel` feature a second table times Kea on one thread and on every core, and
+//! checks that both end in the same bits.
+//!
+//! `cargo run --release -p kea-bench [--features parallel] [-- [--runs N] [--quick] [FILTER]]`
 
 mod kea_run;
 mod rapier_run;
@@ -26,6 +29,8 @@ pub struct Outcome {
     pub stages_ms: [f64; 3],
     /// Why the run stopped early (the engine refused a step), if it did.
     pub failed: Option<String>,
+    /// A hash of the final state (Kea's; 0 for Rapier).
+    pub hash: u64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -130,6 +135,43 @@ fn main() {
             stage(0),
             stage(1),
             stage(2),
+        );
+    }
+    #[cfg(feature = "parallel")]
+    threads(runs, quick, &filter);
+}
+
+/// Kea on one thread against Kea on every core, scene by scene.
+#[cfg(feature = "parallel")]
+fn threads(runs: usize, quick: bool, filter: &str) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("thread pool")
+    };
+    let (one, all) = (pool(1), pool(cores));
+    println!("\nKea on 1 thread and on {cores} (the `parallel` feature): median of {runs} runs\n");
+    println!("| scene | 1 thread ms/step | {cores} threads ms/step | speed-up | same bits |");
+    println!("|---|---|---|---|---|");
+    for scene in scenes(quick)
+        .into_iter()
+        .filter(|s| s.name.contains(filter))
+    {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for _ in 0..runs {
+            a.push(one.install(|| kea_run::run(&scene)));
+            b.push(all.install(|| kea_run::run(&scene)));
+        }
+        let t1 = median(a.iter().map(|o| o.ms).collect());
+        let tn = median(b.iter().map(|o| o.ms).collect());
+        let same = a.iter().chain(&b).all(|o| o.hash == a[0].hash);
+        println!(
+            "| {} | {t1:.3} | {tn:.3} | {:.2} | {} |",
+            scene.name,
+            t1 / tn,
+            if same { "yes" } else { "**no**" }
         );
     }
 }

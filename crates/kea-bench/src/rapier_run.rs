@@ -163,6 +163,7 @@ pub fn run(scene: &Scene) -> Outcome {
     };
     Outcome {
         ms: total.as_secs_f64() * 1e3 / scene.steps as f64,
+        hash: 0,
         quality,
         stages_ms: [0.0; 3],
         failed: None,

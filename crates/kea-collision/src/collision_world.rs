@@ -5,9 +5,8 @@
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::error::{check_finite, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
-use crate::manifold_gen::Generator;
 use crate::material::{MaterialId, MaterialTable};
-use crate::narrow_phase::Wanted;
+use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
 use crate::pairs::Pairs;
 use crate::parry::math::Pose;
 use crate::shape::Shape;
@@ -122,11 +121,10 @@ pub struct CollisionWorld {
     /// Colliders whose fat box changed this step (they look for new pairs).
     pub(crate) moved: Vec<u32>,
     pub(crate) new_pairs: Vec<(u32, u32)>,
-    /// Pairs to forget this step (their boxes parted, or the filter now refuses them).
-    pub(crate) dropped: Vec<u32>,
-    pub(crate) wanted: Vec<Wanted>,
-    /// The manifolds generated this step, as cached (the `Wanted` that made them index here).
-    pub(crate) generated: Vec<crate::pairs::ManifoldCache>,
+    /// The narrow phase's chunks of pairs: what each wants this step.
+    pub(crate) workers: Vec<NarrowWorker>,
+    /// Workers in use this step (`pairs / PAIR_CHUNK`, rounded up).
+    pub(crate) active_workers: usize,
     pub(crate) events: Vec<ContactEvent>,
     pub(crate) pending_events: Vec<ContactEvent>,
     /// Body pairs joined by an enabled joint, sorted; rebuilt each update, and last update's.
@@ -134,8 +132,6 @@ pub struct CollisionWorld {
     previously_jointed: Vec<(BodyHandle, BodyHandle)>,
     /// Joints whose bodies may still collide.
     colliding_joints: Vec<ConstraintHandle>,
-    pub(crate) generator: Generator,
-    pub(crate) reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     /// What the last update did.
     pub(crate) stats: CollisionStats,
     /// The strategy and margin the pairs' manifolds were generated with: a change makes every
@@ -180,11 +176,8 @@ impl CollisionWorld {
             tree: DynamicTree::new(),
             moved: Vec::new(),
             new_pairs: Vec::new(),
-            dropped: Vec::new(),
-            wanted: Vec::new(),
-            generated: Vec::new(),
-            generator: Generator::default(),
-            reduce_scratch: (Vec::with_capacity(16), Vec::with_capacity(16)),
+            workers: Vec::new(),
+            active_workers: 0,
             stats: CollisionStats::default(),
             generated_with: (ContactStrategy::default(), 0.01),
         }
@@ -279,19 +272,18 @@ impl CollisionWorld {
                 v.reserve(colliders - v.len());
             }
         }
-        for v in [&mut self.moved, &mut self.dropped] {
-            if v.capacity() < colliders {
-                v.reserve(colliders - v.len());
-            }
+        if self.moved.capacity() < colliders {
+            self.moved.reserve(colliders - self.moved.len());
         }
         if self.new_pairs.capacity() < pairs {
             self.new_pairs.reserve(pairs - self.new_pairs.len());
         }
-        if self.wanted.capacity() < pairs {
-            self.wanted.reserve(pairs - self.wanted.len());
+        let chunks = pairs.div_ceil(PAIR_CHUNK);
+        if self.workers.len() < chunks {
+            self.workers.resize_with(chunks, NarrowWorker::default);
         }
-        if self.generated.capacity() < pairs {
-            self.generated.reserve(pairs - self.generated.len());
+        for w in &mut self.workers {
+            w.reserve(PAIR_CHUNK);
         }
         for v in [&mut self.events, &mut self.pending_events] {
             if v.capacity() < pairs {

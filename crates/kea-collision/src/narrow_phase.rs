@@ -17,8 +17,10 @@
 //! the same reason): with it a 20-box column that leans 2 mm per box topples within 10 s at
 //! the default contact stiffness, without it the column sways and stands.
 
-use crate::collision_world::{ColliderDef, CollisionWorld};
-use crate::pairs::{CachedPoint, ManifoldCache};
+use crate::collision_world::{ColliderDef, CollisionWorld, Slot};
+use crate::manifold_gen::Generator;
+use crate::material::MaterialTable;
+use crate::pairs::{CachedPoint, ManifoldCache, PairState};
 use crate::parry::math::Pose;
 use crate::reduce::reduce;
 use kea::{BodyHandle, ContactPoint, Quat, Real, Vec3, MAX_CONTACT_POINTS};
@@ -100,139 +102,225 @@ fn cache_holds(then: &Generated, a: &Pose, b: &Pose) -> bool {
         && within_angle(then.b.rotation, b.rotation, CACHE_ANGLE)
 }
 
+/// Pairs one narrow-phase worker takes (one rayon task with the `parallel` feature). The
+/// generator keeps nothing from one pair to the next, so the chunking changes no result.
+pub(crate) const PAIR_CHUNK: usize = 512;
+
+/// The narrow phase's work on one chunk of pair slots: what it found, and its scratch. Kept
+/// between steps so that a warm step allocates nothing.
+#[derive(Default)]
+pub(crate) struct NarrowWorker {
+    /// The manifolds the chunk's pairs want, in slot order.
+    pub wanted: Vec<Wanted>,
+    /// The manifolds generated this step, as cached (a `Wanted::cache` indexes here).
+    pub generated: Vec<ManifoldCache>,
+    /// Pairs to forget (their boxes parted, or the filter now refuses them).
+    pub dropped: Vec<u32>,
+    generator: Generator,
+    reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
+    manifolds: u32,
+    reused: u32,
+}
+
+/// What every worker reads.
+struct Shared<'a> {
+    slots: &'a [Slot],
+    jointed: &'a [(BodyHandle, BodyHandle)],
+    materials: &'a MaterialTable,
+    margin: Real,
+    max_points: usize,
+    dt: Real,
+}
+
 impl CollisionWorld {
-    /// Fills `wanted` with the manifolds of every pair that can move this step, and `dropped`
-    /// with the pairs to forget.
+    /// Fills the workers with the manifolds of every pair that can move this step and with
+    /// the pairs to forget, chunk by chunk (on all cores with the `parallel` feature).
     pub(crate) fn narrow_phase(&mut self, dt: Real) {
+        let chunks = self.pairs.slots.len().div_ceil(PAIR_CHUNK);
+        if self.workers.len() < chunks {
+            self.workers.resize_with(chunks, NarrowWorker::default);
+        }
+        self.active_workers = chunks;
+        let shared = Shared {
+            slots: &self.slots,
+            jointed: &self.jointed,
+            materials: &self.materials,
+            margin: self.margin,
+            max_points: self.strategy.max_points.clamp(1, MAX_CONTACT_POINTS),
+            dt,
+        };
+        let work = |(k, (pairs, worker)): (usize, (&mut [PairState], &mut NarrowWorker))| {
+            worker.run(&shared, (k * PAIR_CHUNK) as u32, pairs);
+        };
+        #[cfg(feature = "parallel")]
+        {
+            use rayon::prelude::*;
+            self.pairs
+                .slots
+                .par_chunks_mut(PAIR_CHUNK)
+                .zip(self.workers.par_iter_mut())
+                .enumerate()
+                .for_each(work);
+        }
+        #[cfg(not(feature = "parallel"))]
+        self.pairs
+            .slots
+            .chunks_mut(PAIR_CHUNK)
+            .zip(self.workers.iter_mut())
+            .enumerate()
+            .for_each(work);
+        let workers = &self.workers[..chunks];
+        self.stats.manifolds = workers.iter().map(|w| w.manifolds).sum();
+        self.stats.reused_manifolds = workers.iter().map(|w| w.reused).sum();
+    }
+}
+
+impl NarrowWorker {
+    /// Reserves room for a chunk's pairs.
+    pub(crate) fn reserve(&mut self, pairs: usize) {
+        for_capacity(&mut self.wanted, pairs);
+        for_capacity(&mut self.generated, pairs);
+        for_capacity(&mut self.dropped, pairs);
+    }
+
+    /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
+    fn run(&mut self, shared: &Shared<'_>, first: u32, pairs: &mut [PairState]) {
         self.wanted.clear();
         self.generated.clear();
         self.dropped.clear();
-        let (mut manifolds, mut reused) = (0u32, 0u32);
-        for slot in 0..self.pairs.slots.len() as u32 {
+        self.manifolds = 0;
+        self.reused = 0;
+        for i in 0..pairs.len() {
             // Pairs reach into colliders and manifolds all over memory: fetch a few ahead.
-            if let Some(ahead) = self.pairs.slots.get(slot as usize + PREFETCH_AHEAD) {
-                prefetch(&self.slots[ahead.colliders.0 as usize]);
-                prefetch(&self.slots[ahead.colliders.1 as usize]);
+            if let Some(ahead) = pairs.get(i + PREFETCH_AHEAD) {
+                prefetch(&shared.slots[ahead.colliders.0 as usize]);
+                prefetch(&shared.slots[ahead.colliders.1 as usize]);
                 if let Some(m) = ahead.manifolds.first() {
                     prefetch(m);
                 }
             }
-            let p = &self.pairs.slots[slot as usize];
-            if !p.alive {
-                continue;
-            }
-            let (ia, ib) = p.colliders;
-            let (Some(a), Some(b)) = (
-                &self.slots[ia as usize].collider,
-                &self.slots[ib as usize].collider,
-            ) else {
-                self.dropped.push(slot);
-                continue;
-            };
-            if !a.fat.overlaps(&b.fat) || !should_collide(&self.jointed, &a.def, &b.def) {
-                self.pairs.slots[slot as usize].resting = false;
-                self.dropped.push(slot);
-                continue;
-            }
-            let resting = a.still && b.still;
-            self.pairs.slots[slot as usize].resting = resting;
-            if resting {
-                continue; // asleep or static: its contacts stay as they are
-            }
-            // Body 1 of a Kea contact must be a body; the normal points from body 2 to body 1.
-            let (body1, body2, flip) = match (a.def.body, b.def.body) {
-                (Some(x), y) => (x, y, false),
-                (None, Some(y)) => (y, None, true),
-                (None, None) => continue,
-            };
-            let (pose_a, pose_b) = (a.pose, b.pose);
-            let p = &mut self.pairs.slots[slot as usize];
-            p.flipped = flip;
-            let revision = self.materials.revision();
-            let refresh = p.params_revision != revision;
-            if refresh {
-                let (m1, m2) = if flip {
-                    (b.def.material, a.def.material)
-                } else {
-                    (a.def.material, b.def.material)
-                };
-                let Ok(pair) = self.materials.pair_contact(m1, m2) else {
-                    continue;
-                };
-                p.params = pair.params;
-                p.direction = pair.friction_direction;
-                p.params_revision = revision;
-            }
-            let frame = Frame {
-                pair: slot,
-                bodies: (body1, body2),
-                flip,
-                poses: (pose_a, pose_b),
-                refresh,
-            };
-            if p.generated_at
-                .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b))
-            {
-                for (k, m) in p.manifolds.iter().enumerate() {
-                    self.wanted
-                        .push(frame.moved(k as u32, &m.cache, Wanted::KEPT));
-                }
-                manifolds += p.manifolds.len() as u32;
-                reused += p.manifolds.len() as u32;
-                continue;
-            }
-            p.generated_at = Some(Generated {
-                a: pose_a,
-                b: pose_b,
-            });
-            let prediction = self.margin + dt * (a.motion + b.motion);
-            let (sa, sb) = (a.def.shared_shape().clone(), b.def.shared_shape().clone());
-            if !self
-                .generator
-                .generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
-            {
-                continue; // a pair of shapes that cannot collide (two meshes) gets no contacts
-            }
-            let max_points = self.strategy.max_points.clamp(1, MAX_CONTACT_POINTS);
-            let (points, keep) = &mut self.reduce_scratch;
-            for g in &self.generator.out {
-                points.clear();
-                for gp in g.points() {
-                    let wa = pose_a.transform_point(gp.local_a);
-                    points.push((wa, -gp.dist));
-                }
-                reduce(points, max_points, keep);
-                let existing = self.pairs.slots[slot as usize]
-                    .manifolds
-                    .iter()
-                    .position(|m| m.cache.sub == g.sub)
-                    .map_or(Wanted::NEW, |k| k as u32);
-                let mut m = ManifoldCache {
-                    sub: g.sub,
-                    normal: pose_a.rotation * g.normal_a,
-                    points: [CachedPoint::default(); MAX_CONTACT_POINTS],
-                    count: keep.len() as u8,
-                };
-                for (j, &k) in keep.iter().enumerate() {
-                    let gp = g.points[k];
-                    let at = (pose_a.transform_point(gp.local_a)
-                        + pose_b.transform_point(gp.local_b))
-                        * 0.5;
-                    m.points[j] = CachedPoint {
-                        local_a: gp.local_a,
-                        local_b: gp.local_b,
-                        arms: [at - pose_a.translation, at - pose_b.translation],
-                        id: gp.id,
-                    };
-                }
-                self.wanted
-                    .push(frame.moved(existing, &m, self.generated.len() as u32));
-                self.generated.push(m);
-                manifolds += 1;
-            }
+            self.pair(shared, first + i as u32, &mut pairs[i]);
         }
-        self.stats.manifolds = manifolds;
-        self.stats.reused_manifolds = reused;
+    }
+
+    /// The narrow phase of pair `slot`.
+    fn pair(&mut self, shared: &Shared<'_>, slot: u32, p: &mut PairState) {
+        if !p.alive {
+            return;
+        }
+        let (ia, ib) = p.colliders;
+        let (Some(a), Some(b)) = (
+            &shared.slots[ia as usize].collider,
+            &shared.slots[ib as usize].collider,
+        ) else {
+            self.dropped.push(slot);
+            return;
+        };
+        if !a.fat.overlaps(&b.fat) || !should_collide(shared.jointed, &a.def, &b.def) {
+            p.resting = false;
+            self.dropped.push(slot);
+            return;
+        }
+        let resting = a.still && b.still;
+        p.resting = resting;
+        if resting {
+            return; // asleep or static: its contacts stay as they are
+        }
+        // Body 1 of a Kea contact must be a body; the normal points from body 2 to body 1.
+        let (body1, body2, flip) = match (a.def.body, b.def.body) {
+            (Some(x), y) => (x, y, false),
+            (None, Some(y)) => (y, None, true),
+            (None, None) => return,
+        };
+        let (pose_a, pose_b) = (a.pose, b.pose);
+        p.flipped = flip;
+        let revision = shared.materials.revision();
+        let refresh = p.params_revision != revision;
+        if refresh {
+            let (m1, m2) = if flip {
+                (b.def.material, a.def.material)
+            } else {
+                (a.def.material, b.def.material)
+            };
+            let Ok(pair) = shared.materials.pair_contact(m1, m2) else {
+                return;
+            };
+            p.params = pair.params;
+            p.direction = pair.friction_direction;
+            p.params_revision = revision;
+        }
+        let frame = Frame {
+            pair: slot,
+            bodies: (body1, body2),
+            flip,
+            poses: (pose_a, pose_b),
+            refresh,
+        };
+        if p.generated_at
+            .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b))
+        {
+            for (k, m) in p.manifolds.iter().enumerate() {
+                self.wanted
+                    .push(frame.moved(k as u32, &m.cache, Wanted::KEPT));
+            }
+            self.manifolds += p.manifolds.len() as u32;
+            self.reused += p.manifolds.len() as u32;
+            return;
+        }
+        p.generated_at = Some(Generated {
+            a: pose_a,
+            b: pose_b,
+        });
+        let prediction = shared.margin + shared.dt * (a.motion + b.motion);
+        let (sa, sb) = (a.def.shared_shape(), b.def.shared_shape());
+        if !self
+            .generator
+            .generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
+        {
+            return; // a pair of shapes that cannot collide (two meshes) gets no contacts
+        }
+        let (points, keep) = &mut self.reduce_scratch;
+        for g in &self.generator.out {
+            points.clear();
+            for gp in g.points() {
+                let wa = pose_a.transform_point(gp.local_a);
+                points.push((wa, -gp.dist));
+            }
+            reduce(points, shared.max_points, keep);
+            let existing = p
+                .manifolds
+                .iter()
+                .position(|m| m.cache.sub == g.sub)
+                .map_or(Wanted::NEW, |k| k as u32);
+            let mut m = ManifoldCache {
+                sub: g.sub,
+                normal: pose_a.rotation * g.normal_a,
+                points: [CachedPoint::default(); MAX_CONTACT_POINTS],
+                count: keep.len() as u8,
+            };
+            for (j, &k) in keep.iter().enumerate() {
+                let gp = g.points[k];
+                let at =
+                    (pose_a.transform_point(gp.local_a) + pose_b.transform_point(gp.local_b)) * 0.5;
+                m.points[j] = CachedPoint {
+                    local_a: gp.local_a,
+                    local_b: gp.local_b,
+                    arms: [at - pose_a.translation, at - pose_b.translation],
+                    id: gp.id,
+                };
+            }
+            self.wanted
+                .push(frame.moved(existing, &m, self.generated.len() as u32));
+            self.generated.push(m);
+            self.manifolds += 1;
+        }
+    }
+}
+
+/// Grows `v`'s capacity to at least `n`.
+fn for_capacity<T>(v: &mut Vec<T>, n: usize) {
+    if v.capacity() < n {
+        v.reserve(n - v.len());
     }
 }
 

@@ -6,8 +6,8 @@
 use crate::collision_world::{handle_of, CollisionWorld};
 use crate::error::CollisionResult;
 use crate::events::{ContactEvent, ContactEventKind};
-use crate::narrow_phase::Wanted;
-use crate::pairs::PairManifold;
+use crate::narrow_phase::{NarrowWorker, Wanted};
+use crate::pairs::{ManifoldCache, PairManifold};
 use kea::{Contact, World};
 
 impl CollisionWorld {
@@ -15,21 +15,11 @@ impl CollisionWorld {
     /// nothing in `world` has changed.
     pub(crate) fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
         self.check_capacity(world)?;
-        for k in 0..self.dropped.len() {
-            let slot = self.dropped[k];
-            self.drop_pair(world, slot);
-        }
-        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
-            let keep = p.resting;
-            for m in &mut p.manifolds {
-                m.seen = keep;
-            }
-            p.touching_now = keep && p.touching;
-        }
-        for i in 0..self.wanted.len() {
-            let w = self.wanted[i];
-            self.apply_one(world, &w)?;
-        }
+        // The workers stay out of `self` while their findings are applied.
+        let workers = std::mem::take(&mut self.workers);
+        let applied = self.apply_found(world, &workers[..self.active_workers]);
+        self.workers = workers;
+        applied?;
         // Destroy the manifolds no longer generated.
         for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
             p.manifolds.retain(|m| {
@@ -43,7 +33,32 @@ impl CollisionWorld {
         Ok(())
     }
 
-    fn apply_one(&mut self, world: &mut World, w: &Wanted) -> CollisionResult<()> {
+    /// Forgets the dropped pairs and writes the wanted manifolds, chunk after chunk.
+    fn apply_found(&mut self, world: &mut World, workers: &[NarrowWorker]) -> CollisionResult<()> {
+        for &slot in workers.iter().flat_map(|w| &w.dropped) {
+            self.drop_pair(world, slot);
+        }
+        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+            let keep = p.resting;
+            for m in &mut p.manifolds {
+                m.seen = keep;
+            }
+            p.touching_now = keep && p.touching;
+        }
+        for w in workers {
+            for wanted in &w.wanted {
+                self.apply_one(world, wanted, &w.generated)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn apply_one(
+        &mut self,
+        world: &mut World,
+        w: &Wanted,
+        generated: &[ManifoldCache],
+    ) -> CollisionResult<()> {
         let touch = self.touch_distance;
         let (ia, ib) = self.pairs.slots[w.pair as usize].colliders;
         let (Some(a), Some(b)) = (
@@ -76,7 +91,7 @@ impl CollisionWorld {
                 if direction.is_some() || c.direction().is_some() {
                     c.set_direction(direction)?;
                 }
-                if let Some(g) = self.generated.get(w.cache as usize) {
+                if let Some(g) = generated.get(w.cache as usize) {
                     m.cache = *g;
                 }
                 m.seen = true;
@@ -86,7 +101,7 @@ impl CollisionWorld {
                 c.set_params(params)?;
                 c.set_direction(direction)?;
                 let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
-                let cache = self.generated.get(w.cache as usize).copied();
+                let cache = generated.get(w.cache as usize).copied();
                 if let Some(m) = p.manifolds.get_mut(w.existing as usize) {
                     // Its old contact went away with a body: a new one in its place.
                     m.handle = handle;
@@ -131,7 +146,10 @@ impl CollisionWorld {
         let live = |m: &PairManifold| world.contact(m.handle).is_ok();
         let mut creations = 0;
         let mut refreshed = 0;
-        for w in &self.wanted {
+        for w in self.workers[..self.active_workers]
+            .iter()
+            .flat_map(|k| &k.wanted)
+        {
             let p = &self.pairs.slots[w.pair as usize];
             match p.manifolds.get(w.existing as usize) {
                 Some(m) if w.existing != Wanted::NEW && live(m) => refreshed += 1,

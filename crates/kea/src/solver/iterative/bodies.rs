@@ -15,6 +15,7 @@
 
 use super::super::integrate::{advance_rotation, BodyScratch, Rotation};
 use super::super::{reserve, SolverBody, SolverParams};
+use super::super::wide::Records;
 use crate::math::{Mat3, Quat, Real, Vec3};
 
 /// Marks a body with no local slot.
@@ -65,24 +66,21 @@ impl BodyDelta {
 const _: () = assert!(std::mem::size_of::<BodyVel>() == 8 * std::mem::size_of::<Real>());
 const _: () = assert!(std::mem::size_of::<BodyDelta>() == 8 * std::mem::size_of::<Real>());
 
-/// The states as records of 8 reals: `[v.x, v.y, v.z, ω.x, ω.y, ω.z, _, _]`.
-pub(crate) fn vel_records(vel: &[BodyVel]) -> &[[Real; 8]] {
-    // SAFETY: `BodyVel` is `repr(C)`, 8 reals and nothing else (asserted above), and its
-    // alignment is at least that of `Real`.
-    unsafe { std::slice::from_raw_parts(vel.as_ptr().cast(), vel.len()) }
+/// The states as records of 8 reals, `[v.x, v.y, v.z, ω.x, ω.y, ω.z, _, _]`, for the lanes of
+/// one colour.
+pub(crate) fn vel_records(vel: &mut [BodyVel]) -> Records<'_> {
+    // SAFETY: `BodyVel` is `repr(C)`, 8 reals and nothing else (asserted above), its alignment
+    // is at least that of `Real`, and every bit pattern is a valid `BodyVel`.
+    Records::new(unsafe { std::slice::from_raw_parts_mut(vel.as_mut_ptr().cast(), vel.len()) })
 }
 
-/// [`vel_records`], mutable.
-pub(crate) fn vel_records_mut(vel: &mut [BodyVel]) -> &mut [[Real; 8]] {
-    // SAFETY: as for `vel_records`; every bit pattern is a valid `BodyVel`.
-    unsafe { std::slice::from_raw_parts_mut(vel.as_mut_ptr().cast(), vel.len()) }
-}
-
-/// The deltas as records of 8 reals: `[dp.x, dp.y, dp.z, _, dq.x, dq.y, dq.z, dq.w]`.
-pub(crate) fn delta_records(delta: &[BodyDelta]) -> &[[Real; 8]] {
+/// The deltas as records of 8 reals, `[dp.x, dp.y, dp.z, _, dq.x, dq.y, dq.z, dq.w]`.
+pub(crate) fn delta_records(delta: &mut [BodyDelta]) -> Records<'_> {
     // SAFETY: `BodyDelta` is `repr(C)`: a `Vec3`, one `Real` and a `Quat`, 8 reals with no
-    // padding (asserted above).
-    unsafe { std::slice::from_raw_parts(delta.as_ptr().cast(), delta.len()) }
+    // padding (asserted above); every bit pattern is valid.
+    Records::new(unsafe {
+        std::slice::from_raw_parts_mut(delta.as_mut_ptr().cast(), delta.len())
+    })
 }
 
 /// How a body's velocity is damped every substep, precomputed.
@@ -293,42 +291,60 @@ impl BodyStates {
 
     /// Substep stage 1: damping, gravity and applied forces on every body that can be pushed.
     pub(crate) fn integrate_velocities(&mut self) {
-        for (vel, ((f, d), &writable)) in self
-            .vel
-            .iter_mut()
-            .zip(self.forcing.iter().zip(&self.damping).zip(&self.writable))
-        {
-            if !writable {
-                continue;
+        let step = |(vel, ((forcing, damping), writable)): VelocityChunk<'_>| {
+            for (vel, ((f, d), &writable)) in vel
+                .iter_mut()
+                .zip(forcing.iter().zip(damping).zip(writable))
+            {
+                if !writable {
+                    continue;
+                }
+                let mut w = vel.w;
+                if let Some(a) = d.angular {
+                    w = a * w;
+                }
+                vel.v = vel.v * d.linear + f.v;
+                vel.w = w + f.w;
             }
-            let mut w = vel.w;
-            if let Some(a) = d.angular {
-                w = a * w;
-            }
-            vel.v = vel.v * d.linear + f.v;
-            vel.w = w + f.w;
+        };
+        #[cfg(feature = "parallel")]
+        if self.vel.len() >= 2 * BODY_CHUNK {
+            use rayon::prelude::*;
+            let c = BODY_CHUNK;
+            self.vel
+                .par_chunks_mut(c)
+                .zip(
+                    self.forcing
+                        .par_chunks(c)
+                        .zip(self.damping.par_chunks(c))
+                        .zip(self.writable.par_chunks(c)),
+                )
+                .for_each(step);
+            return;
         }
+        step((&mut self.vel, ((&self.forcing, &self.damping), &self.writable)));
     }
 
     /// Substep stage 4: every body (kinematic ones included) moves by `hs` at its velocity;
     /// bodies with mass turn keeping their angular momentum.
     pub(crate) fn integrate_positions(&mut self, bodies: &[SolverBody], hs: Real) {
-        for l in 1..self.len() {
-            let g = self.global[l] as usize;
-            let vel = &mut self.vel[l];
-            let delta = &mut self.delta[l];
-            self.dx_sub[l] = delta.dp;
-            self.dtheta_sub[l] = self.dtheta[l];
-            delta.dp += hs * vel.v;
-            self.dtheta[l] += hs * vel.w;
-            let (q, w) =
-                advance_rotation(&bodies[g], self.rotation[l], self.orientation[l], vel.w, hs);
-            self.orientation[l] = q;
-            delta.dq = (q * self.orientation0[l].inverse()).normalize();
-            if self.writable[l] {
-                vel.w = w;
-            }
-        }
+        // Slot 0 is the static world.
+        let Some(n) = self.len().checked_sub(1) else {
+            return;
+        };
+        let moving = Moving {
+            vel: &mut self.vel[1..],
+            delta: &mut self.delta[1..],
+            dx_sub: &mut self.dx_sub[1..],
+            dtheta: &mut self.dtheta[1..],
+            dtheta_sub: &mut self.dtheta_sub[1..],
+            orientation: &mut self.orientation[1..],
+            global: &self.global[1..n + 1],
+            rotation: &self.rotation[1..],
+            orientation0: &self.orientation0[1..],
+            writable: &self.writable[1..],
+        };
+        moving.advance(bodies, hs);
     }
 
     /// Writes the new state of every body that can be pushed back to the solver's array and
@@ -354,5 +370,101 @@ impl BodyStates {
             b.orientation = self.orientation[l];
             scratch.integrated[g] = true;
         }
+    }
+}
+
+/// Bodies one thread integrates at a time with the `parallel` feature. Each body's result is
+/// its own, so every thread count gives the same bits.
+#[cfg(feature = "parallel")]
+const BODY_CHUNK: usize = 512;
+
+/// Velocities, forcing, damping and writability of a run of bodies.
+type VelocityChunk<'a> = (
+    &'a mut [BodyVel],
+    ((&'a [BodyVel], &'a [Damping]), &'a [bool]),
+);
+
+/// The states a run of bodies changes when they move (the fields of [`BodyStates`]).
+struct Moving<'a> {
+    vel: &'a mut [BodyVel],
+    delta: &'a mut [BodyDelta],
+    dx_sub: &'a mut [Vec3],
+    dtheta: &'a mut [Vec3],
+    dtheta_sub: &'a mut [Vec3],
+    orientation: &'a mut [Quat],
+    global: &'a [u32],
+    rotation: &'a [Rotation],
+    orientation0: &'a [Quat],
+    writable: &'a [bool],
+}
+
+impl<'a> Moving<'a> {
+    /// Moves every body by `hs` (see [`BodyStates::integrate_positions`]), on all cores with
+    /// the `parallel` feature.
+    fn advance(self, bodies: &[SolverBody], hs: Real) {
+        #[cfg(feature = "parallel")]
+        if self.global.len() >= 2 * BODY_CHUNK {
+            let mid = self.global.len() / 2;
+            let (a, b) = self.split(mid);
+            rayon::join(|| a.advance(bodies, hs), || b.advance(bodies, hs));
+            return;
+        }
+        for l in 0..self.global.len() {
+            let g = self.global[l] as usize;
+            let vel = &mut self.vel[l];
+            let delta = &mut self.delta[l];
+            self.dx_sub[l] = delta.dp;
+            self.dtheta_sub[l] = self.dtheta[l];
+            delta.dp += hs * vel.v;
+            self.dtheta[l] += hs * vel.w;
+            let (q, w) =
+                advance_rotation(&bodies[g], self.rotation[l], self.orientation[l], vel.w, hs);
+            self.orientation[l] = q;
+            delta.dq = (q * self.orientation0[l].inverse()).normalize();
+            if self.writable[l] {
+                vel.w = w;
+            }
+        }
+    }
+
+    /// The bodies before `mid` and those from it on.
+    #[cfg(feature = "parallel")]
+    fn split(self, mid: usize) -> (Self, Self) {
+        let (vel, vel2) = self.vel.split_at_mut(mid);
+        let (delta, delta2) = self.delta.split_at_mut(mid);
+        let (dx_sub, dx_sub2) = self.dx_sub.split_at_mut(mid);
+        let (dtheta, dtheta2) = self.dtheta.split_at_mut(mid);
+        let (dtheta_sub, dtheta_sub2) = self.dtheta_sub.split_at_mut(mid);
+        let (orientation, orientation2) = self.orientation.split_at_mut(mid);
+        let (global, global2) = self.global.split_at(mid);
+        let (rotation, rotation2) = self.rotation.split_at(mid);
+        let (orientation0, orientation02) = self.orientation0.split_at(mid);
+        let (writable, writable2) = self.writable.split_at(mid);
+        (
+            Moving {
+                vel,
+                delta,
+                dx_sub,
+                dtheta,
+                dtheta_sub,
+                orientation,
+                global,
+                rotation,
+                orientation0,
+                writable,
+            },
+            Moving {
+                vel: vel2,
+                delta: delta2,
+                dx_sub: dx_sub2,
+                dtheta: dtheta2,
+                dtheta_sub: dtheta_sub2,
+                orientation: orientation2,
+                global: global2,
+                rotation: rotation2,
+                orientation0: orientation02,
+                writable: writable2,
+            },
+        )
     }
 }

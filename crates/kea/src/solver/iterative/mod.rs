@@ -192,7 +192,7 @@ impl IterativeWorkspace {
             gamma: params.gamma,
         };
         self.contacts
-            .prepare(contacts, bodies, &self.states, it.simd, &prepare);
+            .prepare(contacts, bodies, &mut self.states, it.simd, &prepare);
         let mut kernel = KernelParams {
             inv_hs: 1.0 / hs,
             max_push: it.max_correction_speed,

@@ -75,10 +75,10 @@ pub(crate) trait FloatW:
     /// Loads one record of 8 reals per lane, transposed: field `k` of `records[idx[l]]` in lane
     /// `l` of `out[k]` (the body states the contact kernels gather).
     #[inline(always)]
-    fn gather8(records: &[[Real; 8]], idx: &Self::Index) -> [Self; 8] {
+    fn gather8(records: Records<'_>, idx: &Self::Index) -> [Self; 8] {
         let mut a: [Self::Array; 8] = Default::default();
         for (l, &i) in idx.as_ref().iter().enumerate() {
-            let r = &records[i as usize];
+            let r = records.get(i);
             for k in 0..8 {
                 a[k].as_mut()[l] = r[k];
             }
@@ -87,17 +87,14 @@ pub(crate) trait FloatW:
     }
     /// The inverse of [`FloatW::gather8`] for the lanes whose `write` is not 0.
     #[inline(always)]
-    fn scatter8(records: &mut [[Real; 8]], idx: &Self::Index, write: &Self::Index, v: [Self; 8]) {
+    fn scatter8(records: Records<'_>, idx: &Self::Index, write: &Self::Index, v: [Self; 8]) {
         let mut a: [Self::Array; 8] = Default::default();
         for k in 0..8 {
             v[k].store(&mut a[k]);
         }
         for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
             if ok != 0 {
-                let r = &mut records[i as usize];
-                for k in 0..8 {
-                    r[k] = a[k].as_ref()[l];
-                }
+                records.set(i, std::array::from_fn(|k| a[k].as_ref()[l]));
             }
         }
     }
@@ -294,6 +291,8 @@ mod x86;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use x86::{Narrow, Wide};
 
+mod records;
+pub(crate) use records::Records;
 mod vectors;
 pub(crate) use vectors::{Sym3, Sym3A, V3, V3A};
 
@@ -346,7 +345,7 @@ mod tests {
     }
 
     fn check_gather<F: FloatW>() {
-        let records: Vec<[Real; 8]> = (0..20)
+        let mut records: Vec<[Real; 8]> = (0..20)
             .map(|i| std::array::from_fn(|k| (i * 8 + k) as Real))
             .collect();
         let mut idx = F::Index::default();
@@ -355,10 +354,10 @@ mod tests {
             *i = (3 * l as u32 + 1) % 20;
             *w = (l % 2) as u32;
         }
-        let g = F::gather8(&records, &idx);
+        let g = F::gather8(Records::new(&mut records), &idx);
         let mut out = records.clone();
         let doubled = g.map(|x| x + x);
-        F::scatter8(&mut out, &idx, &write, doubled);
+        F::scatter8(Records::new(&mut out), &idx, &write, doubled);
         for (l, &i) in idx.as_ref().iter().enumerate() {
             for k in 0..8 {
                 let mut a = F::Array::default();

@@ -1,6 +1,6 @@
 //! The x86-64 packs in `f32`: 4 lanes in SSE2, 8 in AVX2.
 
-use super::FloatW;
+use super::{FloatW, Records};
 use std::arch::x86_64::*;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -167,22 +167,21 @@ impl FloatW for Wide {
         unsafe { _mm256_movemask_ps(m) != 0 }
     }
     #[inline(always)]
-    fn gather8(records: &[[f32; 8]], idx: &[u32; 8]) -> [Self; 8] {
-        // SAFETY: AVX detected; every record holds 8 floats.
+    fn gather8(records: Records<'_>, idx: &[u32; 8]) -> [Self; 8] {
+        // SAFETY: AVX detected; every record holds 8 floats; no other lane writes them.
         unsafe {
-            let r: [__m256; 8] =
-                std::array::from_fn(|l| _mm256_loadu_ps(records[idx[l] as usize].as_ptr()));
+            let r: [__m256; 8] = std::array::from_fn(|l| _mm256_loadu_ps(records.ptr(idx[l])));
             transpose8(r).map(Self)
         }
     }
     #[inline(always)]
-    fn scatter8(records: &mut [[f32; 8]], idx: &[u32; 8], write: &[u32; 8], v: [Self; 8]) {
-        // SAFETY: AVX detected; every record holds 8 floats.
+    fn scatter8(records: Records<'_>, idx: &[u32; 8], write: &[u32; 8], v: [Self; 8]) {
+        // SAFETY: AVX detected; every record holds 8 floats; only this lane writes it.
         unsafe {
             let rows = transpose8(v.map(|x| x.0));
             for l in 0..8 {
                 if write[l] != 0 {
-                    _mm256_storeu_ps(records[idx[l] as usize].as_mut_ptr(), rows[l]);
+                    _mm256_storeu_ps(records.ptr_mut(idx[l]), rows[l]);
                 }
             }
         }

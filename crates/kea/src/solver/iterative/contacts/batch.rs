@@ -31,8 +31,8 @@
 //! Slip `s` (velocity per force, per point) acts on the manifold as its points in parallel,
 //! `s/k` for `k` points, and softens a direction to `1/(1/m_t + s/(k·hs))`.
 
-use super::super::super::wide::{FloatW, Sym3, Sym3A, V3, V3A};
-use super::super::bodies::{BodyStates, BodyVel};
+use super::super::super::wide::{FloatW, Records, Sym3, Sym3A, V3, V3A};
+use super::super::bodies::BodyStates;
 use super::kernel::gather_vel;
 use crate::constraint::{Contact, FrictionModel, SoftCoefficients, Spring, MAX_CONTACT_POINTS};
 use crate::math::{Real, Vec3};
@@ -353,7 +353,7 @@ fn quad<F: FloatW>(inv_inertia: &Sym3<F>, a: V3<F>) -> F {
 /// The derived data of a loaded batch, lane-parallel (module docs). `vel` are the bodies'
 /// velocities at the step's start; `forcing` what gravity and applied forces add per substep.
 #[inline(always)]
-pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: &[BodyVel], forcing: &[BodyVel]) {
+pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forcing: Records<'_>) {
     let zero = F::zero();
     let one = F::splat(1.0);
     let (ma, mb) = (F::load(&c.inv_mass_a), F::load(&c.inv_mass_b));

@@ -26,8 +26,7 @@
 //! late bounces without the speed gravity added meanwhile), and the points of a manifold that
 //! lands flat bounce alike (none sees the others' impulses).
 
-use super::super::super::wide::{FloatW, V3};
-use super::super::bodies::{delta_records, vel_records, vel_records_mut, BodyDelta, BodyVel};
+use super::super::super::wide::{FloatW, Records, V3};
 use super::batch::{ContactBatch, PointLanes, NEVER};
 use crate::math::Real;
 
@@ -50,15 +49,15 @@ pub(crate) struct KernelParams {
 
 /// Velocity and spin of each lane's body.
 #[inline(always)]
-pub(crate) fn gather_vel<F: FloatW>(vel: &[BodyVel], idx: &F::Index) -> (V3<F>, V3<F>) {
-    let r = F::gather8(vel_records(vel), idx);
+pub(crate) fn gather_vel<F: FloatW>(vel: Records<'_>, idx: &F::Index) -> (V3<F>, V3<F>) {
+    let r = F::gather8(vel, idx);
     (V3::new(r[0], r[1], r[2]), V3::new(r[3], r[4], r[5]))
 }
 
 /// Writes velocity and spin back to the lanes' bodies that may be written.
 #[inline(always)]
 fn scatter_vel<F: FloatW>(
-    vel: &mut [BodyVel],
+    vel: Records<'_>,
     idx: &F::Index,
     write: &F::Index,
     v: V3<F>,
@@ -66,7 +65,7 @@ fn scatter_vel<F: FloatW>(
 ) {
     let zero = F::zero();
     F::scatter8(
-        vel_records_mut(vel),
+        vel,
         idx,
         write,
         [v.x, v.y, v.z, w.x, w.y, w.z, zero, zero],
@@ -76,8 +75,8 @@ fn scatter_vel<F: FloatW>(
 /// Each lane body's displacement since the step began, and the contact normal seen in the
 /// frame that turned with it (`Δq⁻¹ n`).
 #[inline(always)]
-fn gather_delta<F: FloatW>(delta: &[BodyDelta], idx: &F::Index, n: V3<F>) -> (V3<F>, V3<F>) {
-    let r = F::gather8(delta_records(delta), idx);
+fn gather_delta<F: FloatW>(delta: Records<'_>, idx: &F::Index, n: V3<F>) -> (V3<F>, V3<F>) {
+    let r = F::gather8(delta, idx);
     let dp = V3::new(r[0], r[1], r[2]);
     let u = V3::new(r[4], r[5], r[6]);
     let w = r[7];
@@ -98,14 +97,14 @@ struct Pair<F> {
 
 impl<F: FloatW> Pair<F> {
     #[inline(always)]
-    fn load(c: &ContactBatch<F>, vel: &[BodyVel]) -> Self {
+    fn load(c: &ContactBatch<F>, vel: Records<'_>) -> Self {
         let (va, wa) = gather_vel::<F>(vel, &c.body_a);
         let (vb, wb) = gather_vel::<F>(vel, &c.body_b);
         Self { va, wa, vb, wb }
     }
 
     #[inline(always)]
-    fn store(self, c: &ContactBatch<F>, vel: &mut [BodyVel]) {
+    fn store(self, c: &ContactBatch<F>, vel: Records<'_>) {
         scatter_vel(vel, &c.body_a, &c.write_a, self.va, self.wa);
         scatter_vel(vel, &c.body_b, &c.write_b, self.vb, self.wb);
     }
@@ -162,7 +161,7 @@ impl<F: FloatW> Masses<F> {
 #[inline(always)]
 pub(crate) fn warm_start<F: FloatW>(
     c: &mut ContactBatch<F>,
-    vel: &mut [BodyVel],
+    vel: Records<'_>,
     k: &KernelParams,
 ) {
     let m = Masses::load(c);
@@ -231,8 +230,8 @@ impl<F: FloatW> Surface<F> {
 #[inline(always)]
 pub(crate) fn solve<F: FloatW>(
     c: &mut ContactBatch<F>,
-    vel: &mut [BodyVel],
-    delta: &[BodyDelta],
+    vel: Records<'_>,
+    delta: Records<'_>,
     k: &KernelParams,
     use_bias: bool,
 ) {
@@ -399,8 +398,8 @@ fn solve_friction<F: FloatW>(
 #[inline(always)]
 pub(crate) fn restitution<F: FloatW>(
     c: &mut ContactBatch<F>,
-    vel: &mut [BodyVel],
-    delta: &mut [BodyDelta],
+    vel: Records<'_>,
+    delta: Records<'_>,
     k: &KernelParams,
 ) {
     let e = F::load(&c.restitution);
@@ -444,17 +443,18 @@ pub(crate) fn restitution<F: FloatW>(
 
 /// Adds a displacement to the lanes' bodies that may be written.
 #[inline(always)]
-fn displace<F: FloatW>(delta: &mut [BodyDelta], idx: &F::Index, write: &F::Index, d: V3<F>) {
+fn displace<F: FloatW>(delta: Records<'_>, idx: &F::Index, write: &F::Index, d: V3<F>) {
     let mut a: [F::Array; 3] = Default::default();
     d.x.store(&mut a[0]);
     d.y.store(&mut a[1]);
     d.z.store(&mut a[2]);
     for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
         if ok != 0 {
-            let s = &mut delta[i as usize];
-            s.dp.x += a[0].as_ref()[l];
-            s.dp.y += a[1].as_ref()[l];
-            s.dp.z += a[2].as_ref()[l];
+            let mut s = delta.get(i);
+            for k in 0..3 {
+                s[k] += a[k].as_ref()[l];
+            }
+            delta.set(i, s);
         }
     }
 }

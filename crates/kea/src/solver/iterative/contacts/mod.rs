@@ -13,9 +13,9 @@ mod batch;
 mod kernel;
 
 use super::super::integrate::BodyScratch;
-use super::super::wide::{FloatW, SimdLevel};
+use super::super::wide::{FloatW, Records, SimdLevel};
 use super::super::{reserve, SolverBody, SolverContact};
-use super::bodies::{BodyDelta, BodyStates, BodyVel};
+use super::bodies::{delta_records, vel_records, BodyStates};
 use super::graph::{Colouring, COLOURS, OVERFLOW};
 use crate::constraint::PointForce;
 use crate::math::{to_f64, Real, Vec3};
@@ -54,65 +54,120 @@ pub(crate) enum Stage {
     Restitution,
 }
 
+/// Runs `stage` over `batches`.
+#[inline(always)]
+fn run_batches<F: FloatW>(
+    batches: &mut [ContactBatch<F>],
+    stage: Stage,
+    vel: Records<'_>,
+    delta: Records<'_>,
+    k: &KernelParams,
+) {
+    for c in batches {
+        match stage {
+            Stage::WarmStart => kernel::warm_start(c, vel, k),
+            Stage::Solve => kernel::solve(c, vel, delta, k, true),
+            Stage::Relax => kernel::solve(c, vel, delta, k, false),
+            Stage::Restitution => kernel::restitution(c, vel, delta, k),
+        }
+    }
+}
+
+/// Computes the derived data of `batches` (see `batch`).
+#[inline(always)]
+fn derive_batches<F: FloatW>(batches: &mut [ContactBatch<F>], vel: Records<'_>, forcing: Records<'_>) {
+    for c in batches {
+        batch::derive(c, vel, forcing);
+    }
+}
+
+/// [`run_batches`] for 8 lanes (4 in `f64`), compiled for AVX2.
+///
+/// # Safety
+/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_batches_wide(
+    batches: &mut [ContactBatch<Wide>],
+    stage: Stage,
+    vel: Records<'_>,
+    delta: Records<'_>,
+    k: &KernelParams,
+) {
+    run_batches(batches, stage, vel, delta, k);
+}
+
+/// [`derive_batches`] for 8 lanes (4 in `f64`), compiled for AVX2.
+///
+/// # Safety
+/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn derive_batches_wide(
+    batches: &mut [ContactBatch<Wide>],
+    vel: Records<'_>,
+    forcing: Records<'_>,
+) {
+    derive_batches(batches, vel, forcing);
+}
+
+/// Batches one thread takes at a time with the `parallel` feature; smaller colours run on
+/// the calling thread. A batch's result does not depend on which thread ran it, so every
+/// thread count gives bit-identical results.
+#[cfg(feature = "parallel")]
+const CHUNK: usize = 16;
+
+/// Calls `f` on `batches` in chunks, on all cores with the `parallel` feature. The batches
+/// must share no writable body (one colour), or `f` must write no body.
+#[inline(always)]
+fn for_each_chunk<F: FloatW>(
+    batches: &mut [ContactBatch<F>],
+    f: impl Fn(&mut [ContactBatch<F>]) + Sync + Send,
+) {
+    #[cfg(feature = "parallel")]
+    if batches.len() >= 2 * CHUNK {
+        use rayon::prelude::*;
+        batches.par_chunks_mut(CHUNK).for_each(f);
+        return;
+    }
+    f(batches);
+}
+
 impl<F: FloatW> Lanes<F> {
     fn bytes(&self) -> usize {
         self.batches.capacity() * std::mem::size_of::<ContactBatch<F>>()
             + self.colour_start.capacity() * 4
     }
 
-    /// Computes every batch's derived data (see `batch`).
-    #[inline(always)]
-    fn derive(&mut self, vel: &[BodyVel], forcing: &[BodyVel]) {
-        for c in &mut self.batches {
-            batch::derive(c, vel, forcing);
-        }
+    /// Computes every batch's derived data with `derive` (bodies are only read).
+    fn derive(
+        &mut self,
+        vel: Records<'_>,
+        forcing: Records<'_>,
+        derive: fn(&mut [ContactBatch<F>], Records<'_>, Records<'_>),
+    ) {
+        for_each_chunk(&mut self.batches, |b| derive(b, vel, forcing));
     }
 
-    /// Runs one stage over every batch, colour after colour.
-    #[inline(always)]
+    /// Runs one stage over every batch with `run`, colour after colour (the batches of a
+    /// colour side by side).
     fn run(
         &mut self,
         stage: Stage,
-        vel: &mut [BodyVel],
-        delta: &mut [BodyDelta],
+        vel: Records<'_>,
+        delta: Records<'_>,
         k: &KernelParams,
+        run: BatchRunner<F>,
     ) {
-        for c in &mut self.batches {
-            match stage {
-                Stage::WarmStart => kernel::warm_start(c, vel, k),
-                Stage::Solve => kernel::solve(c, vel, delta, k, true),
-                Stage::Relax => kernel::solve(c, vel, delta, k, false),
-                Stage::Restitution => kernel::restitution(c, vel, delta, k),
-            }
+        for c in 0..self.colour_start.len().saturating_sub(1) {
+            let range = self.colour_start[c] as usize..self.colour_start[c + 1] as usize;
+            for_each_chunk(&mut self.batches[range], |b| run(b, stage, vel, delta, k));
         }
     }
 }
 
-/// The 8-lane (4 in `f64`) stage, compiled for AVX2.
-///
-/// # Safety
-/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn run_wide(
-    lanes: &mut Lanes<Wide>,
-    stage: Stage,
-    vel: &mut [BodyVel],
-    delta: &mut [BodyDelta],
-    k: &KernelParams,
-) {
-    lanes.run(stage, vel, delta, k);
-}
-
-/// [`Lanes::derive`] for 8 lanes (4 in `f64`), compiled for AVX2.
-///
-/// # Safety
-/// Only call where AVX2 and FMA were detected ([`SimdLevel::detect`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn derive_wide(lanes: &mut Lanes<Wide>, vel: &[BodyVel], forcing: &[BodyVel]) {
-    lanes.derive(vel, forcing);
-}
+/// A stage over some batches, compiled for one lane width.
+type BatchRunner<F> = fn(&mut [ContactBatch<F>], Stage, Records<'_>, Records<'_>, &KernelParams);
 
 /// The contact solver's workspace.
 #[derive(Debug, Default)]
@@ -204,7 +259,7 @@ impl ContactSolver {
         &mut self,
         contacts: &[SolverContact],
         bodies: &[SolverBody],
-        states: &BodyStates,
+        states: &mut BodyStates,
         level: SimdLevel,
         k: &PrepareParams,
     ) {
@@ -306,29 +361,37 @@ impl ContactSolver {
                 k,
             ),
         }
-        let (vel, forcing) = (&states.vel[..], &states.forcing[..]);
-        self.overflow.derive(vel, forcing);
+        let (vel, forcing) = (
+            vel_records(&mut states.vel),
+            vel_records(&mut states.forcing),
+        );
+        self.overflow.derive(vel, forcing, derive_batches);
         match self.level {
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
-            SimdLevel::Wide => unsafe { derive_wide(&mut self.wide, vel, forcing) },
+            SimdLevel::Wide => self.wide.derive(vel, forcing, |b, v, f| {
+                // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
+                unsafe { derive_batches_wide(b, v, f) }
+            }),
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Narrow => self.narrow.derive(vel, forcing),
-            _ => self.scalar.derive(vel, forcing),
+            SimdLevel::Narrow => self.narrow.derive(vel, forcing, derive_batches),
+            _ => self.scalar.derive(vel, forcing, derive_batches),
         }
     }
 
     /// Runs one stage: the overflow, then every colour.
     pub(crate) fn run(&mut self, stage: Stage, states: &mut BodyStates, k: &KernelParams) {
-        let (vel, delta) = (&mut states.vel[..], &mut states.delta[..]);
-        self.overflow.run(stage, vel, delta, k);
+        let (vel, delta) = (vel_records(&mut states.vel), delta_records(&mut states.delta));
+        // The overflow's contacts share bodies: one at a time, on this thread.
+        run_batches(&mut self.overflow.batches, stage, vel, delta, k);
         match self.level {
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
-            SimdLevel::Wide => unsafe { run_wide(&mut self.wide, stage, vel, delta, k) },
+            SimdLevel::Wide => self.wide.run(stage, vel, delta, k, |b, s, v, d, k| {
+                // SAFETY: `level` is `Wide` only where AVX2 and FMA were detected.
+                unsafe { run_batches_wide(b, s, v, d, k) }
+            }),
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Narrow => self.narrow.run(stage, vel, delta, k),
-            _ => self.scalar.run(stage, vel, delta, k),
+            SimdLevel::Narrow => self.narrow.run(stage, vel, delta, k, run_batches),
+            _ => self.scalar.run(stage, vel, delta, k, run_batches),
         }
     }
 
