@@ -108,7 +108,6 @@ pub(crate) const PAIR_CHUNK: usize = 512;
 
 /// The narrow phase's work on one chunk of pair slots: what it found, and its scratch. Kept
 /// between steps so that a warm step allocates nothing.
-#[derive(Default)]
 pub(crate) struct NarrowWorker {
     /// The manifolds the chunk's pairs want, in slot order.
     pub wanted: Vec<Wanted>,
@@ -120,6 +119,22 @@ pub(crate) struct NarrowWorker {
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     manifolds: u32,
     reused: u32,
+}
+
+impl Default for NarrowWorker {
+    /// A worker with room for a chunk of pairs with one manifold each, so that a worker added
+    /// when pairs grow allocates nothing more once its pairs settle.
+    fn default() -> Self {
+        Self {
+            wanted: Vec::with_capacity(PAIR_CHUNK),
+            generated: Vec::with_capacity(PAIR_CHUNK),
+            dropped: Vec::with_capacity(PAIR_CHUNK),
+            generator: Generator::default(),
+            reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
+            manifolds: 0,
+            reused: 0,
+        }
+    }
 }
 
 /// What every worker reads.

@@ -74,7 +74,12 @@ pub(crate) struct PairState {
 #[derive(Debug, Default)]
 pub(crate) struct Pairs {
     pub slots: Vec<PairState>,
+    /// Free slots whose manifolds are inline, and those that keep heap room for several: a
+    /// pair that may have several manifolds takes one of the latter first, so that pairs
+    /// coming and going in a warm world stop allocating once every slot has the room its
+    /// kind of pair needs.
     free: Vec<u32>,
+    free_spilled: Vec<u32>,
     map: HashMap<(u32, u32), u32>,
 }
 
@@ -84,8 +89,10 @@ impl Pairs {
         if self.slots.capacity() < n {
             self.slots.reserve(n - self.slots.len());
         }
-        if self.free.capacity() < n {
-            self.free.reserve(n - self.free.len());
+        for free in [&mut self.free, &mut self.free_spilled] {
+            if free.capacity() < n {
+                free.reserve(n - free.len());
+            }
         }
         if self.map.capacity() < n {
             self.map.reserve(n - self.map.len());
@@ -97,9 +104,15 @@ impl Pairs {
         self.map.get(&key).copied()
     }
 
-    /// Adds the pair `key`; returns its slot.
-    pub(crate) fn insert(&mut self, key: (u32, u32)) -> u32 {
-        let slot = match self.free.pop() {
+    /// Adds the pair `key` (`multi`: a compound or mesh pair, which may have several
+    /// manifolds); returns its slot.
+    pub(crate) fn insert(&mut self, key: (u32, u32), multi: bool) -> u32 {
+        let reused = if multi {
+            self.free_spilled.pop().or_else(|| self.free.pop())
+        } else {
+            self.free.pop().or_else(|| self.free_spilled.pop())
+        };
+        let slot = match reused {
             Some(s) => s,
             None => {
                 self.slots.push(PairState::default());
@@ -130,7 +143,11 @@ impl Pairs {
         p.alive = false;
         p.manifolds.clear();
         self.map.remove(&p.colliders);
-        self.free.push(slot);
+        if p.manifolds.spilled() {
+            self.free_spilled.push(slot);
+        } else {
+            self.free.push(slot);
+        }
     }
 
     /// Live pairs with their slots, in slot order.

@@ -97,7 +97,14 @@ impl CollisionWorld {
             if !should_collide(&self.jointed, &a.def, &b.def) {
                 continue;
             }
-            self.pairs.insert(key);
+            let multi = [a, b].iter().any(|c| {
+                use crate::parry::shape::ShapeType;
+                matches!(
+                    c.def.shared_shape().shape_type(),
+                    ShapeType::Compound | ShapeType::TriMesh | ShapeType::HeightField
+                )
+            });
+            self.pairs.insert(key, multi);
             added += 1;
         }
         self.stats.new_pairs = added;

@@ -5,14 +5,13 @@
 use kea::Real;
 use kea_scene::{build, Scene};
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 struct CountingAllocator;
-thread_local! {
-    // Per thread: the test harness runs other tests beside this one.
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
+// On every thread (the `parallel` feature's workers too); this file holds one test, so nothing
+// else runs beside it.
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 
 // SAFETY: forwards to the system allocator; only counts on the side.
 unsafe impl GlobalAlloc for CountingAllocator {
@@ -33,22 +32,20 @@ unsafe impl GlobalAlloc for CountingAllocator {
 }
 
 fn count() {
-    let _ = COUNTING.try_with(|c| {
-        if c.get() {
-            ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        }
-    });
+    if COUNTING.load(Ordering::Relaxed) {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
 }
 
 #[global_allocator]
 static ALLOCATOR: CountingAllocator = CountingAllocator;
 
 fn allocations_in(f: impl FnOnce()) -> usize {
-    ALLOCATIONS.with(|a| a.set(0));
-    COUNTING.with(|c| c.set(true));
+    ALLOCATIONS.store(0, Ordering::SeqCst);
+    COUNTING.store(true, Ordering::SeqCst);
     f();
-    COUNTING.with(|c| c.set(false));
-    ALLOCATIONS.with(|a| a.get())
+    COUNTING.store(false, Ordering::SeqCst);
+    ALLOCATIONS.load(Ordering::SeqCst)
 }
 
 const DT: Real = 1.0 / 60.0;
@@ -63,9 +60,24 @@ fn every_demo_scene_steps_warm_without_allocating() {
         .collect();
     names.sort();
     assert!(names.len() >= 10, "demo scenes in {dir}: {names:?}");
+    // With threads, the steps run inside a pool, where rayon's fork-join allocates nothing
+    // (a call from outside a pool goes through rayon's injector queue, which allocates a block
+    // every 63 calls).
+    #[cfg(feature = "parallel")]
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    #[cfg(feature = "parallel")]
+    pool.install(|| check_scenes(&names));
+    #[cfg(not(feature = "parallel"))]
+    check_scenes(&names);
+}
+
+fn check_scenes(names: &[std::path::PathBuf]) {
     let mut failures = Vec::new();
     for path in names {
-        let text = std::fs::read_to_string(&path).unwrap();
+        let text = std::fs::read_to_string(path).unwrap();
         let mut built = build(&Scene::from_json(&text).unwrap()).unwrap();
         // Warm: the scene has found the contacts it makes and the sizes it needs.
         for _ in 0..240 {

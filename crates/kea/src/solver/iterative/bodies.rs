@@ -14,8 +14,8 @@
 //! enters the contacts' relative velocity and separation.
 
 use super::super::integrate::{advance_rotation, BodyScratch, Rotation};
-use super::super::{reserve, SolverBody, SolverParams};
 use super::super::wide::Records;
+use super::super::{reserve, SolverBody, SolverParams};
 use crate::math::{Mat3, Quat, Real, Vec3};
 
 /// Marks a body with no local slot.
@@ -78,9 +78,7 @@ pub(crate) fn vel_records(vel: &mut [BodyVel]) -> Records<'_> {
 pub(crate) fn delta_records(delta: &mut [BodyDelta]) -> Records<'_> {
     // SAFETY: `BodyDelta` is `repr(C)`: a `Vec3`, one `Real` and a `Quat`, 8 reals with no
     // padding (asserted above); every bit pattern is valid.
-    Records::new(unsafe {
-        std::slice::from_raw_parts_mut(delta.as_mut_ptr().cast(), delta.len())
-    })
+    Records::new(unsafe { std::slice::from_raw_parts_mut(delta.as_mut_ptr().cast(), delta.len()) })
 }
 
 /// How a body's velocity is damped every substep, precomputed.
@@ -322,7 +320,10 @@ impl BodyStates {
                 .for_each(step);
             return;
         }
-        step((&mut self.vel, ((&self.forcing, &self.damping), &self.writable)));
+        step((
+            &mut self.vel,
+            ((&self.forcing, &self.damping), &self.writable),
+        ));
     }
 
     /// Substep stage 4: every body (kinematic ones included) moves by `hs` at its velocity;

@@ -22,6 +22,7 @@
 
 mod bodies;
 mod contacts;
+mod disjoint;
 mod graph;
 mod rows;
 

@@ -43,12 +43,14 @@ impl<'a> Records<'a> {
     }
 
     /// A pointer to record `i` for a 256-bit load (bounds checked).
+    #[cfg_attr(any(feature = "f64", not(target_arch = "x86_64")), allow(dead_code))]
     #[inline(always)]
     pub(crate) fn ptr(&self, i: u32) -> *const Real {
         self.rows[i as usize].get().cast()
     }
 
     /// A pointer to record `i` for a 256-bit store (bounds checked).
+    #[cfg_attr(any(feature = "f64", not(target_arch = "x86_64")), allow(dead_code))]
     #[inline(always)]
     pub(crate) fn ptr_mut(&self, i: u32) -> *mut Real {
         self.rows[i as usize].get().cast()

@@ -56,20 +56,9 @@ pub(crate) fn gather_vel<F: FloatW>(vel: Records<'_>, idx: &F::Index) -> (V3<F>,
 
 /// Writes velocity and spin back to the lanes' bodies that may be written.
 #[inline(always)]
-fn scatter_vel<F: FloatW>(
-    vel: Records<'_>,
-    idx: &F::Index,
-    write: &F::Index,
-    v: V3<F>,
-    w: V3<F>,
-) {
+fn scatter_vel<F: FloatW>(vel: Records<'_>, idx: &F::Index, write: &F::Index, v: V3<F>, w: V3<F>) {
     let zero = F::zero();
-    F::scatter8(
-        vel,
-        idx,
-        write,
-        [v.x, v.y, v.z, w.x, w.y, w.z, zero, zero],
-    );
+    F::scatter8(vel, idx, write, [v.x, v.y, v.z, w.x, w.y, w.z, zero, zero]);
 }
 
 /// Each lane body's displacement since the step began, and the contact normal seen in the
@@ -159,11 +148,7 @@ impl<F: FloatW> Masses<F> {
 /// before) are added to the step's totals; the last substep's is added when the forces are
 /// stored.
 #[inline(always)]
-pub(crate) fn warm_start<F: FloatW>(
-    c: &mut ContactBatch<F>,
-    vel: Records<'_>,
-    k: &KernelParams,
-) {
+pub(crate) fn warm_start<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, k: &KernelParams) {
     let m = Masses::load(c);
     let mut bodies = Pair::load(c, vel);
     let n = c.normal.load();

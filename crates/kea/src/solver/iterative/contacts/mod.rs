@@ -16,6 +16,7 @@ use super::super::integrate::BodyScratch;
 use super::super::wide::{FloatW, Records, SimdLevel};
 use super::super::{reserve, SolverBody, SolverContact};
 use super::bodies::{delta_records, vel_records, BodyStates};
+use super::disjoint::Disjoint;
 use super::graph::{Colouring, COLOURS, OVERFLOW};
 use crate::constraint::PointForce;
 use crate::math::{to_f64, Real, Vec3};
@@ -75,7 +76,11 @@ fn run_batches<F: FloatW>(
 
 /// Computes the derived data of `batches` (see `batch`).
 #[inline(always)]
-fn derive_batches<F: FloatW>(batches: &mut [ContactBatch<F>], vel: Records<'_>, forcing: Records<'_>) {
+fn derive_batches<F: FloatW>(
+    batches: &mut [ContactBatch<F>],
+    vel: Records<'_>,
+    forcing: Records<'_>,
+) {
     for c in batches {
         batch::derive(c, vel, forcing);
     }
@@ -117,20 +122,24 @@ unsafe fn derive_batches_wide(
 #[cfg(feature = "parallel")]
 const CHUNK: usize = 16;
 
-/// Calls `f` on `batches` in chunks, on all cores with the `parallel` feature. The batches
-/// must share no writable body (one colour), or `f` must write no body.
+/// Calls `f(first, chunk)` on `batches` in chunks (`first`: the chunk's index of its first
+/// batch), on all cores with the `parallel` feature. The batches must share no writable body
+/// (one colour), or `f` must write no body.
 #[inline(always)]
 fn for_each_chunk<F: FloatW>(
     batches: &mut [ContactBatch<F>],
-    f: impl Fn(&mut [ContactBatch<F>]) + Sync + Send,
+    f: impl Fn(usize, &mut [ContactBatch<F>]) + Sync + Send,
 ) {
     #[cfg(feature = "parallel")]
     if batches.len() >= 2 * CHUNK {
         use rayon::prelude::*;
-        batches.par_chunks_mut(CHUNK).for_each(f);
+        batches
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(i, chunk)| f(i * CHUNK, chunk));
         return;
     }
-    f(batches);
+    f(0, batches);
 }
 
 impl<F: FloatW> Lanes<F> {
@@ -146,7 +155,7 @@ impl<F: FloatW> Lanes<F> {
         forcing: Records<'_>,
         derive: fn(&mut [ContactBatch<F>], Records<'_>, Records<'_>),
     ) {
-        for_each_chunk(&mut self.batches, |b| derive(b, vel, forcing));
+        for_each_chunk(&mut self.batches, |_, b| derive(b, vel, forcing));
     }
 
     /// Runs one stage over every batch with `run`, colour after colour (the batches of a
@@ -161,7 +170,9 @@ impl<F: FloatW> Lanes<F> {
     ) {
         for c in 0..self.colour_start.len().saturating_sub(1) {
             let range = self.colour_start[c] as usize..self.colour_start[c + 1] as usize;
-            for_each_chunk(&mut self.batches[range], |b| run(b, stage, vel, delta, k));
+            for_each_chunk(&mut self.batches[range], |_, b| {
+                run(b, stage, vel, delta, k)
+            });
         }
     }
 }
@@ -380,7 +391,10 @@ impl ContactSolver {
 
     /// Runs one stage: the overflow, then every colour.
     pub(crate) fn run(&mut self, stage: Stage, states: &mut BodyStates, k: &KernelParams) {
-        let (vel, delta) = (vel_records(&mut states.vel), delta_records(&mut states.delta));
+        let (vel, delta) = (
+            vel_records(&mut states.vel),
+            delta_records(&mut states.delta),
+        );
         // The overflow's contacts share bodies: one at a time, on this thread.
         run_batches(&mut self.overflow.batches, stage, vel, delta, k);
         match self.level {
@@ -398,20 +412,20 @@ impl ContactSolver {
     /// Writes every point's forces back to its contact (mean over the step, and the last
     /// substep's as the next warm start) and adds them to the bodies' constraint forces.
     pub(crate) fn store(
-        &self,
+        &mut self,
         contacts: &mut [SolverContact],
         states: &BodyStates,
         scratch: &mut BodyScratch,
         h: Real,
         hs: Real,
     ) {
-        store_lanes(&self.overflow, contacts, states, scratch, h, hs);
+        store_lanes(&mut self.overflow, contacts, states, scratch, h, hs);
         match self.level {
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Wide => store_lanes(&self.wide, contacts, states, scratch, h, hs),
+            SimdLevel::Wide => store_lanes(&mut self.wide, contacts, states, scratch, h, hs),
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Narrow => store_lanes(&self.narrow, contacts, states, scratch, h, hs),
-            _ => store_lanes(&self.scalar, contacts, states, scratch, h, hs),
+            SimdLevel::Narrow => store_lanes(&mut self.narrow, contacts, states, scratch, h, hs),
+            _ => store_lanes(&mut self.scalar, contacts, states, scratch, h, hs),
         }
     }
 }
@@ -427,7 +441,7 @@ fn build<F: FloatW>(
     overflow: bool,
     contacts: &[SolverContact],
     states: &BodyStates,
-    position: &dyn Fn(u32) -> Vec3,
+    position: &(dyn Fn(u32) -> Vec3 + Sync),
     k: &PrepareParams,
 ) {
     lanes.colour_start.clear();
@@ -445,40 +459,43 @@ fn build<F: FloatW>(
         if lanes.batches.len() < used + batches {
             lanes.batches.resize_with(used + batches, Default::default);
         }
-        for b in &mut lanes.batches[used..used + batches] {
-            b.points = 0;
-        }
         let colour = &order[next..next + count];
-        for (i, &o) in colour.iter().enumerate() {
-            // Colour order visits the contacts out of order: fetch a few ahead.
-            if let Some(&ahead) = colour.get(i + PREFETCH_AHEAD) {
-                prefetch(&contacts[entries[ahead as usize].index as usize]);
-            }
-            let e = &entries[o as usize];
-            let c = &contacts[e.index as usize];
-            lanes.batches[used + i / F::LANES].load_lane(
-                i % F::LANES,
-                e.index,
-                &c.contact,
-                (e.a, e.b),
-                (position(e.a), position(e.b)),
-                states,
-                k,
-            );
-        }
-        for (b, batch) in lanes.batches[used..used + batches].iter_mut().enumerate() {
-            for l in 0..F::LANES {
-                let i = b * F::LANES + l;
-                if i >= count {
-                    batch.clear_lane(l);
-                } else {
-                    let n = entries[order[next + i] as usize].points as usize;
-                    if n < batch.points as usize {
-                        batch.clear_points(l, n);
+        // Each batch is filled from its own contacts: the colour's batches side by side.
+        for_each_chunk(&mut lanes.batches[used..used + batches], |first, chunk| {
+            for (b, batch) in chunk.iter_mut().enumerate() {
+                let start = (first + b) * F::LANES;
+                let mine = &colour[start..(start + F::LANES).min(count)];
+                batch.points = 0;
+                for (l, &o) in mine.iter().enumerate() {
+                    // Colour order visits the contacts out of order: fetch a few ahead.
+                    if let Some(&ahead) = colour.get(start + l + PREFETCH_AHEAD) {
+                        prefetch(&contacts[entries[ahead as usize].index as usize]);
+                    }
+                    let e = &entries[o as usize];
+                    let c = &contacts[e.index as usize];
+                    batch.load_lane(
+                        l,
+                        e.index,
+                        &c.contact,
+                        (e.a, e.b),
+                        (position(e.a), position(e.b)),
+                        states,
+                        k,
+                    );
+                }
+                for l in 0..F::LANES {
+                    match mine.get(l) {
+                        None => batch.clear_lane(l),
+                        Some(&o) => {
+                            let n = entries[o as usize].points as usize;
+                            if n < batch.points as usize {
+                                batch.clear_points(l, n);
+                            }
+                        }
                     }
                 }
             }
-        }
+        });
         next += count;
         used += batches;
     }
@@ -506,53 +523,37 @@ fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
+/// Writes the forces of `lanes`' contacts back (on all cores with the `parallel` feature),
+/// then adds them to the bodies' constraint forces (on this thread: bodies are shared).
 fn store_lanes<F: FloatW>(
-    lanes: &Lanes<F>,
+    lanes: &mut Lanes<F>,
     contacts: &mut [SolverContact],
     states: &BodyStates,
     scratch: &mut BodyScratch,
     h: Real,
     hs: Real,
 ) {
-    for (b, batch) in lanes.batches.iter().enumerate() {
-        if let Some(next) = lanes.batches.get(b + 1) {
-            for &index in next.contact.as_ref() {
-                if let Some(c) = contacts.get(index as usize) {
-                    prefetch(c);
+    {
+        let shared = Disjoint::new(contacts);
+        for_each_chunk(&mut lanes.batches, |_, chunk| {
+            for batch in chunk.iter() {
+                for (l, &index) in batch.contact.as_ref().iter().enumerate() {
+                    // SAFETY: every contact was filed once, into one lane of one batch.
+                    unsafe { shared.with(index as usize, |sc| write_back(batch, l, sc, h, hs)) };
                 }
             }
-        }
+        });
+    }
+    for batch in &lanes.batches {
+        let n = batch.normal;
         for l in 0..F::LANES {
-            let index = batch.contact.as_ref()[l];
-            if index == u32::MAX {
-                continue;
-            }
-            let sc = &mut contacts[index as usize];
-            let n = batch.normal.lane(l);
-            let t = [batch.tangent[0].lane(l), batch.tangent[1].lane(l)];
+            let Some(sc) = contacts.get(batch.contact.as_ref()[l] as usize) else {
+                continue; // an empty lane
+            };
             let a = batch.body_a.as_ref()[l] as usize;
             let b = batch.body_b.as_ref()[l] as usize;
-            let (now_f, total_f) = kernel::lane_friction(batch, l);
-            let mean_friction = (t[0] * total_f[0] + t[1] * total_f[1]) / h;
-            let end_friction = (t[0] * now_f[0] + t[1] * now_f[1]) / hs;
-            let (mean_twist, end_twist) = (total_f[2] / h, now_f[2] / hs);
-            let frame = sc.contact.friction_frame();
-            let mean_shares = sc
-                .contact
-                .spread_friction(&frame, mean_friction, mean_twist);
-            let end_shares = sc.contact.spread_friction(&frame, end_friction, end_twist);
-            for (j, p) in batch.p.iter().enumerate().take(sc.contact.points().len()) {
-                let (now, total) = kernel::lane_normal(p, l);
-                let mean = PointForce {
-                    normal: total / h,
-                    friction: mean_shares[j],
-                };
-                let end = PointForce {
-                    normal: now / hs,
-                    friction: end_shares[j],
-                };
-                sc.contact.set_point_force(j, mean, end);
-                let f = n * mean.normal + mean.friction;
+            for (p, mean) in batch.p.iter().zip(sc.contact.forces()) {
+                let f = n.lane(l) * mean.normal + mean.friction;
                 for (slot, r, sign) in [(a, p.r_a.lane(l), 1.0), (b, p.r_b.lane(l), -1.0)] {
                     if states.writable[slot] {
                         let g = states.global[slot] as usize;
@@ -562,5 +563,39 @@ fn store_lanes<F: FloatW>(
                 }
             }
         }
+    }
+}
+
+/// Writes lane `l`'s forces to its contact: the mean over the step, and the last substep's as
+/// the next warm start.
+#[inline(always)]
+fn write_back<F: FloatW>(
+    batch: &ContactBatch<F>,
+    l: usize,
+    sc: &mut SolverContact,
+    h: Real,
+    hs: Real,
+) {
+    let t = [batch.tangent[0].lane(l), batch.tangent[1].lane(l)];
+    let (now_f, total_f) = kernel::lane_friction(batch, l);
+    let mean_friction = (t[0] * total_f[0] + t[1] * total_f[1]) / h;
+    let end_friction = (t[0] * now_f[0] + t[1] * now_f[1]) / hs;
+    let (mean_twist, end_twist) = (total_f[2] / h, now_f[2] / hs);
+    let frame = sc.contact.friction_frame();
+    let mean_shares = sc
+        .contact
+        .spread_friction(&frame, mean_friction, mean_twist);
+    let end_shares = sc.contact.spread_friction(&frame, end_friction, end_twist);
+    for (j, p) in batch.p.iter().enumerate().take(sc.contact.points().len()) {
+        let (now, total) = kernel::lane_normal(p, l);
+        let mean = PointForce {
+            normal: total / h,
+            friction: mean_shares[j],
+        };
+        let end = PointForce {
+            normal: now / hs,
+            friction: end_shares[j],
+        };
+        sc.contact.set_point_force(j, mean, end);
     }
 }
