@@ -443,7 +443,14 @@ impl CollisionWorld {
         self.update_contacts(world, dt)?;
         let mut stats = world.step(dt)?;
         stats.collision = self.stats;
-        for state in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+        // A resting pair's bodies did not move: its contacts kept their forces, and the pair
+        // its impulse.
+        for state in self
+            .pairs
+            .slots
+            .iter_mut()
+            .filter(|p| p.alive && !p.resting)
+        {
             let force: Vec3 = state
                 .manifolds
                 .iter()

@@ -214,7 +214,15 @@ impl NarrowWorker {
                     prefetch(m);
                 }
             }
-            self.pair(shared, first + i as u32, &mut pairs[i]);
+            let p = &mut pairs[i];
+            self.pair(shared, first + i as u32, p);
+            // A resting pair keeps its manifolds and its touching; the others' are found anew
+            // when the wanted manifolds are applied.
+            let keep = p.resting;
+            for m in &mut p.manifolds {
+                m.seen = keep;
+            }
+            p.touching_now = keep && p.touching;
         }
     }
 

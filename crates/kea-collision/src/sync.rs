@@ -20,16 +20,7 @@ impl CollisionWorld {
         let applied = self.apply_found(world, &workers[..self.active_workers]);
         self.workers = workers;
         applied?;
-        // Destroy the manifolds no longer generated.
-        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
-            p.manifolds.retain(|m| {
-                if !m.seen {
-                    let _ = world.destroy_constraint(m.handle); // may be gone with its body
-                }
-                m.seen
-            });
-        }
-        self.record_events();
+        self.record_events(world);
         Ok(())
     }
 
@@ -37,13 +28,6 @@ impl CollisionWorld {
     fn apply_found(&mut self, world: &mut World, workers: &[NarrowWorker]) -> CollisionResult<()> {
         for &slot in workers.iter().flat_map(|w| &w.dropped) {
             self.drop_pair(world, slot);
-        }
-        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
-            let keep = p.resting;
-            for m in &mut p.manifolds {
-                m.seen = keep;
-            }
-            p.touching_now = keep && p.touching;
         }
         for w in workers {
             for wanted in &w.wanted {
@@ -156,6 +140,10 @@ impl CollisionWorld {
                 _ => creations += 1,
             }
         }
+        // Cheap bound first: nothing destroyed, every new manifold a new contact.
+        if world.constraint_count() + creations <= world.constraint_capacity() {
+            return Ok(());
+        }
         let kept: usize = self
             .pairs
             .slots
@@ -182,10 +170,19 @@ impl CollisionWorld {
         Ok(())
     }
 
-    fn record_events(&mut self) {
+    /// Destroys the manifolds no longer generated, and records the pairs' events.
+    fn record_events(&mut self, world: &mut World) {
         self.events.clear();
         self.events.append(&mut self.pending_events);
         for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
+            if !p.resting {
+                p.manifolds.retain(|m| {
+                    if !m.seen {
+                        let _ = world.destroy_constraint(m.handle); // may be gone with its body
+                    }
+                    m.seen
+                });
+            }
             let now = p.touching_now;
             let kind = match (p.touching, now) {
                 (false, true) => Some(ContactEventKind::Began),

@@ -120,6 +120,18 @@ impl World {
         let n = self.bodies.slot_count();
         let s = &mut self.scratch;
         s.sleep_sets.reset(n);
+        let (ft, tt) = (self.dem.force_threshold, self.dem.torque_threshold);
+        let active = |b: &crate::body::Body| {
+            let pushed = b.force.length() > ft || b.torque.length() > tt;
+            b.enabled && (!b.sleeping || pushed)
+        };
+        if !(0..n).any(|slot| self.bodies.at(slot).is_some_and(active)) {
+            // All asleep and unpushed: nothing wakes, nothing to group (a sleeping pile costs
+            // a pass over its bodies, not over its contacts).
+            s.wake.clear();
+            s.wake.resize(n, false);
+            return;
+        }
         for slot in 0..self.constraints.slot_count() {
             let Some(c) = self.constraints.at(slot) else {
                 continue;
@@ -140,13 +152,11 @@ impl World {
         }
         s.island_flag.clear();
         s.island_flag.resize(n, 0.0);
-        let (ft, tt) = (self.dem.force_threshold, self.dem.torque_threshold);
         for slot in 0..n {
             let Some(b) = self.bodies.at(slot) else {
                 continue;
             };
-            let pushed = b.force.length() > ft || b.torque.length() > tt;
-            if b.enabled && (!b.sleeping || pushed) {
+            if active(b) {
                 let r = s.sleep_sets.find(slot as u32) as usize;
                 s.island_flag[r] = 1.0;
             }
