@@ -100,7 +100,12 @@ fn main() {
             _ => filter = a,
         }
     }
-    println!("Kea vs Rapier 0.36 (defaults), dt 1/60, one thread: median of {runs} runs");
+    let engines = if cfg!(feature = "parallel") {
+        "Kea on every core (the `parallel` feature), Rapier on one thread"
+    } else {
+        "one thread"
+    };
+    println!("Kea vs Rapier 0.36 (defaults), dt 1/60, {engines}: median of {runs} runs");
     println!("Machine: {}\n", machine());
     println!("| scene | Rapier ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
     println!("|---|---|---|---|---|---|---|");

@@ -439,7 +439,21 @@ impl CollisionWorld {
 
     /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
     /// The step's statistics include this update's ([`StepStats::collision`]).
+    ///
+    /// With the `parallel` feature, a step of a big world called from outside rayon's pool
+    /// runs on one of its threads (so its parallel sections do not each wait to be handed
+    /// over); see [`kea::PARALLEL_MIN_BODIES`].
     pub fn step(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
+        #[cfg(feature = "parallel")]
+        if rayon::current_thread_index().is_none() && world.body_count() >= kea::PARALLEL_MIN_BODIES
+        {
+            return rayon::join(|| self.step_here(world, dt), || ()).0;
+        }
+        self.step_here(world, dt)
+    }
+
+    /// [`CollisionWorld::step`] on the calling thread.
+    fn step_here(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
         self.update_contacts(world, dt)?;
         let mut stats = world.step(dt)?;
         stats.collision = self.stats;

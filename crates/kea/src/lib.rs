@@ -44,7 +44,9 @@ pub use solver::{
     IslandReport, IterativeParams, Reaction, Routing, SimdLevel, Solver, SolverBody, SolverContact,
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
-pub use world::{CollisionStats, DemMode, DemSettings, StepStats, World, WorldDef};
+pub use world::{
+    CollisionStats, DemMode, DemSettings, StepStats, World, WorldDef, PARALLEL_MIN_BODIES,
+};
 
 /// The README's tour, compiled and run as a doctest so that it stays true.
 #[cfg(doctest)]

@@ -12,7 +12,7 @@ mod sleep;
 mod step;
 
 pub use sleep::{DemMode, DemSettings};
-pub use step::{CollisionStats, StepStats, PROJECTION_TOLERANCE};
+pub use step::{CollisionStats, StepStats, PARALLEL_MIN_BODIES, PROJECTION_TOLERANCE};
 
 use crate::body::{Body, BodyDef};
 use crate::constraint::{Row, Spring};

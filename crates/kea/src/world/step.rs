@@ -73,6 +73,11 @@ pub struct StepStats {
     pub collision: CollisionStats,
 }
 
+/// With the `parallel` feature, the body count from which a step called from outside rayon's
+/// pool moves onto one of its threads: handing a step over costs tens of microseconds, which
+/// a smaller world does not win back (its work is too small to split anyway).
+pub const PARALLEL_MIN_BODIES: usize = 256;
+
 impl World {
     /// Advances the world by `dt` seconds (the guide's `MdtWorldStep`). Any finite `dt > 0` is
     /// allowed and it may change from step to step.
@@ -82,6 +87,17 @@ impl World {
     /// constraint that wrote a NaN row) and the world is unchanged: nothing is committed until
     /// the solver has accepted every row.
     pub fn step(&mut self, dt: Real) -> KeaResult<StepStats> {
+        // With threads, a big world's step called from outside rayon's pool runs on one of its
+        // threads (so its parallel sections do not each wait to be handed over).
+        #[cfg(feature = "parallel")]
+        if rayon::current_thread_index().is_none() && self.body_count() >= PARALLEL_MIN_BODIES {
+            return rayon::join(|| self.step_here(dt), || ()).0;
+        }
+        self.step_here(dt)
+    }
+
+    /// [`World::step`] on the calling thread.
+    fn step_here(&mut self, dt: Real) -> KeaResult<StepStats> {
         check_positive("dt", dt)?;
         let t0 = Instant::now();
         let params = self.solver_params(dt);
