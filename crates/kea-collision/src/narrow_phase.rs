@@ -77,29 +77,46 @@ fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
-/// The colliders' world poses when a pair's manifolds were generated.
+/// The colliders' world poses when a pair's manifolds were generated, and the second's pose
+/// in the first's frame then.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Generated {
     pub a: Pose,
     pub b: Pose,
+    pub relative: Pose,
 }
 
-/// Whether rotation `now` is within `angle` of `then` (`|q₁·q₀| = cos(θ/2)`).
-fn within_angle(then: Quat, now: Quat, angle: Real) -> bool {
-    now.dot(then).abs() >= (0.5 * angle).cos()
+impl Generated {
+    fn new(a: Pose, b: Pose) -> Self {
+        Self {
+            a,
+            b,
+            relative: a.inv_mul(&b),
+        }
+    }
+}
+
+/// `cos(CACHE_ANGLE / 2)`: rotations whose quaternions' dot product is at least this are
+/// within [`CACHE_ANGLE`] of each other (`|q₁·q₀| = cos(θ/2)`).
+fn cos_half_cache_angle() -> Real {
+    (0.5 * CACHE_ANGLE).cos()
+}
+
+/// Whether rotation `now` is within the angle whose half has cosine `cos_half` of `then`.
+fn within_angle(then: Quat, now: Quat, cos_half: Real) -> bool {
+    now.dot(then).abs() >= cos_half
 }
 
 /// Whether a pair whose colliders are now at `a` and `b` may reuse the manifolds generated at
 /// `then`: the relative pose barely changed, and neither collider turned much (the frozen
 /// normals and lever arms are world vectors).
-fn cache_holds(then: &Generated, a: &Pose, b: &Pose) -> bool {
-    let relative_then = then.a.inv_mul(&then.b);
+fn cache_holds(then: &Generated, a: &Pose, b: &Pose, cos_half: Real) -> bool {
     let relative_now = a.inv_mul(b);
-    let moved = (relative_now.translation - relative_then.translation).length_squared();
+    let moved = (relative_now.translation - then.relative.translation).length_squared();
     moved < CACHE_DISTANCE * CACHE_DISTANCE
-        && within_angle(relative_then.rotation, relative_now.rotation, CACHE_ANGLE)
-        && within_angle(then.a.rotation, a.rotation, CACHE_ANGLE)
-        && within_angle(then.b.rotation, b.rotation, CACHE_ANGLE)
+        && within_angle(then.relative.rotation, relative_now.rotation, cos_half)
+        && within_angle(then.a.rotation, a.rotation, cos_half)
+        && within_angle(then.b.rotation, b.rotation, cos_half)
 }
 
 /// Pairs one narrow-phase worker takes (one rayon task with the `parallel` feature). The
@@ -145,6 +162,7 @@ struct Shared<'a> {
     margin: Real,
     max_points: usize,
     dt: Real,
+    cos_half: Real,
 }
 
 impl CollisionWorld {
@@ -163,6 +181,7 @@ impl CollisionWorld {
             margin: self.margin,
             max_points: self.strategy.max_points.clamp(1, MAX_CONTACT_POINTS),
             dt,
+            cos_half: cos_half_cache_angle(),
         };
         let work = |(k, (pairs, worker)): (usize, (&mut [PairState], &mut NarrowWorker))| {
             worker.run(&shared, (k * PAIR_CHUNK) as u32, pairs);
@@ -280,7 +299,7 @@ impl NarrowWorker {
             refresh,
         };
         if p.generated_at
-            .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b))
+            .is_some_and(|then| cache_holds(&then, &pose_a, &pose_b, shared.cos_half))
         {
             for (k, m) in p.manifolds.iter().enumerate() {
                 self.wanted
@@ -290,10 +309,7 @@ impl NarrowWorker {
             self.reused += p.manifolds.len() as u32;
             return;
         }
-        p.generated_at = Some(Generated {
-            a: pose_a,
-            b: pose_b,
-        });
+        p.generated_at = Some(Generated::new(pose_a, pose_b));
         let prediction = shared.margin + shared.dt * (a.motion + b.motion);
         let (sa, sb) = (a.def.shared_shape(), b.def.shared_shape());
         if !self
