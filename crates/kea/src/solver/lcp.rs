@@ -249,10 +249,17 @@ fn solve_free_block(
         }
         ws.rhs[k] = s;
     }
+    // Regularise by growing shifts, 1e-10 to 1e4 of the largest diagonal (8 tries); a matrix
+    // that needs more, or holds a non-finite number, is hopeless.
     let mut shift = 0.0;
     let mut regularised = false;
-    loop {
+    let mut factored = false;
+    for _ in 0..=REGULARISATION_TRIES {
+        if !diag_max.is_finite() {
+            break;
+        }
         if cholesky(a, n, &ws.free, &mut ws.factor, shift, diag_max) {
+            factored = true;
             break;
         }
         regularised = true;
@@ -261,13 +268,13 @@ fn solve_free_block(
         } else {
             shift * 100.0
         };
-        if shift > diag_max.max(1.0) * 1.0e3 {
-            // Hopeless (NaN input): leave the free unknowns at zero.
-            for &i in &ws.free {
-                x[i] = 0.0;
-            }
-            return true;
+    }
+    if !factored {
+        // Leave the free unknowns at zero: no force rather than a wild one.
+        for &i in &ws.free {
+            x[i] = 0.0;
         }
+        return true;
     }
     // Forward and back substitution with L (m×m, row-major lower triangle).
     let l = &ws.factor;
@@ -291,6 +298,9 @@ fn solve_free_block(
     }
     regularised
 }
+
+/// Shifts tried before a free block is given up as hopeless.
+const REGULARISATION_TRIES: usize = 8;
 
 /// Cholesky factor of `A_FF + shift·I` into `out` (m×m). False if a pivot is not clearly
 /// positive (relative to the largest diagonal of the whole matrix).
