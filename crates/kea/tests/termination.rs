@@ -86,7 +86,10 @@ fn two_redundant_joints_on_one_body_never_produce_nan() {
                 world.step(1.0 / 60.0).unwrap();
                 let p = world.body(b).unwrap().position();
                 assert!(p.is_finite(), "{mode:?}, ε {eps}: {p}");
-                assert!((p.length() - 1.0).abs() < 0.05, "{mode:?}, ε {eps}: joint gave: {p}");
+                assert!(
+                    (p.length() - 1.0).abs() < 0.05,
+                    "{mode:?}, ε {eps}: joint gave: {p}"
+                );
             }
         }
     }

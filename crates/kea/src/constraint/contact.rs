@@ -486,9 +486,15 @@ impl Contact {
         let gap = -point.penetration;
         if gap > 0.0 {
             // Speculative point: the bodies may close the whole gap this step, no more.
+            normal.gamma = Some(1.0);
+            if prm.max_adhesive_force == 0.0 {
+                // Rigid (up to the bounce rows' regularisation), so that a fast body of any
+                // mass stops at the surface: a soft row lets it overshoot by v·h·ε/(1/m + ε).
+                normal.softness = Some(BOUNCE_SOFTNESS);
+                normal.spring = None;
+            }
             // Adhesion still acts across the gap: a held adhesive contact opens slightly
             // under load (softness), and the guide's sticky contacts fail exactly there.
-            normal.gamma = Some(1.0);
         }
         let approach = -(b1.velocity_at(p) - b2.velocity_at(p)).dot(n);
         let hits_this_step = gap <= 0.0 || approach * ctx.dt > gap;
