@@ -224,6 +224,11 @@ impl CollisionWorld {
             None => self.slots.len() as u32,
         };
         self.reserve_for(self.slots.len() + 1);
+        if is_multi_manifold(&def) {
+            // Its pairs may hold several manifolds each: slots with room for them, made now
+            // rather than when a body first reaches it in a warm step.
+            self.pairs.reserve_multi(MULTI_PAIRS_PER_COLLIDER);
+        }
         let leaf = self.tree.insert(fat, index);
         let collider = Collider {
             def,
@@ -574,6 +579,19 @@ impl ColliderDef {
     pub(crate) fn shared_shape(&self) -> &crate::parry::shape::SharedShape {
         &self.shape.shared
     }
+}
+
+/// Pair slots with room for several manifolds made ready for each compound, mesh or height
+/// field collider added.
+const MULTI_PAIRS_PER_COLLIDER: usize = 8;
+
+/// Whether a collider's pairs may hold several manifolds (compounds, meshes, height fields).
+pub(crate) fn is_multi_manifold(def: &ColliderDef) -> bool {
+    use crate::parry::shape::ShapeType;
+    matches!(
+        def.shared_shape().shape_type(),
+        ShapeType::Compound | ShapeType::TriMesh | ShapeType::HeightField
+    )
 }
 
 /// The collider's pose in the world: its body's pose times its offset.

@@ -70,6 +70,9 @@ pub(crate) struct PairState {
     pub params_revision: u64,
 }
 
+/// Manifolds a pre-made multi-manifold slot has room for.
+const MULTI_MANIFOLDS: usize = 16;
+
 /// The live pairs (module docs).
 #[derive(Debug, Default)]
 pub(crate) struct Pairs {
@@ -96,6 +99,17 @@ impl Pairs {
         }
         if self.map.capacity() < n {
             self.map.reserve(n - self.map.len());
+        }
+    }
+
+    /// Makes `n` free slots with heap room for [`MULTI_MANIFOLDS`] manifolds each, for pairs
+    /// that may have several (a compound's, a mesh's).
+    pub(crate) fn reserve_multi(&mut self, n: usize) {
+        for _ in 0..n {
+            let mut p = PairState::default();
+            p.manifolds.reserve_exact(MULTI_MANIFOLDS);
+            self.free_spilled.push(self.slots.len() as u32);
+            self.slots.push(p);
         }
     }
 

@@ -2,7 +2,9 @@
 //! up the colliders whose fat box moved for new pairs (see `broad_phase`).
 
 use crate::broad_phase::Aabb;
-use crate::collision_world::{collider_pose, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN};
+use crate::collision_world::{
+    collider_pose, is_multi_manifold, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN,
+};
 
 use crate::narrow_phase::should_collide;
 use kea::{Real, Vec3, World};
@@ -97,13 +99,7 @@ impl CollisionWorld {
             if !should_collide(&self.jointed, &a.def, &b.def) {
                 continue;
             }
-            let multi = [a, b].iter().any(|c| {
-                use crate::parry::shape::ShapeType;
-                matches!(
-                    c.def.shared_shape().shape_type(),
-                    ShapeType::Compound | ShapeType::TriMesh | ShapeType::HeightField
-                )
-            });
+            let multi = is_multi_manifold(&a.def) || is_multi_manifold(&b.def);
             self.pairs.insert(key, multi);
             added += 1;
         }

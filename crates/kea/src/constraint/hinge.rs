@@ -11,7 +11,7 @@
 //! as the hinge turns less than half a turn per step.
 
 use super::ball::write_anchor_rows;
-use super::joint::{rate, wrap_angle, write_alignment_rows};
+use super::joint::{rate, spin_axle, wrap_angle, write_alignment_rows};
 use super::{Jacobian, Limit, RowContext, RowWriter};
 use crate::math::{orthonormal_basis, Real, Vec3};
 
@@ -98,7 +98,11 @@ impl Hinge {
         write_anchor_rows(b1, b2, a1, a2, out);
         let u1 = b1.vector_to_world(self.local_axis1);
         let u2 = b2.vector_to_world(self.local_axis2);
-        write_alignment_rows(u1, u2, out);
+        // The free axis: a spinning body's own axle when it has one (see `RowBody`).
+        let free = spin_axle(b1, u1)
+            .or_else(|| spin_axle(b2, u2))
+            .unwrap_or(u2);
+        write_alignment_rows(u1, u2, free, out);
         let (angle, rate) = self.angle_and_rate(ctx);
         self.limit
             .write_rows(angle, rate, self.angle_jacobian(u2), ctx.dt, out);

@@ -35,14 +35,16 @@ pub fn write_orientation_rows(b1: &RowBody, b2: &RowBody, q_rel: Quat, out: &mut
     }
 }
 
-/// Two rows keeping `u1` (body 1's axis, world) parallel to `u2` (body 2's, world).
+/// Two rows keeping `u1` (body 1's axis, world) parallel to `u2` (body 2's, world), about the
+/// two directions perpendicular to `free` (the axis left free: normally `u2`; a spinning
+/// body's own axle when it has a fast-spin axis, see [`spin_axle`]).
 ///
 /// The error is the rotation vector taking `u2` to `u1` (angle times unit axis), not the cross
 /// product: the cross product's length, sin θ, falls back to zero as the axes turn past 90°
 /// towards anti-parallel, which would make a hinge folded back on itself a false rest state
 /// that stabilisation holds instead of undoing.
-pub fn write_alignment_rows(u1: Vec3, u2: Vec3, out: &mut RowWriter<'_>) {
-    let (p, q) = orthonormal_basis(u2);
+pub fn write_alignment_rows(u1: Vec3, u2: Vec3, free: Vec3, out: &mut RowWriter<'_>) {
+    let (p, q) = orthonormal_basis(free);
     let cross = u2.cross(u1);
     let sin = cross.length();
     let angle = sin.atan2(u2.dot(u1));
@@ -112,4 +114,13 @@ pub fn wrap_angle(x: Real) -> Real {
         y += two_pi;
     }
     y
+}
+
+/// The body's fast-spin axis when it is (nearly) the joint axis `u` it carries, oriented
+/// along `u`: the free axis its joint should leave it.
+#[must_use]
+pub fn spin_axle(b: &RowBody, u: Vec3) -> Option<Vec3> {
+    let a = b.fast_spin_axis?;
+    let c = a.dot(u);
+    (c.abs() > 0.9).then(|| if c > 0.0 { a } else { -a })
 }

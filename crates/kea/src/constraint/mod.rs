@@ -57,6 +57,10 @@ pub struct RowBody {
     pub free_angular_velocity: Vec3,
     /// False for the static world or a disabled body: it does not move.
     pub dynamic: bool,
+    /// The body's fast-spin axis in the world frame, if it has one: joints that leave it free
+    /// (a wheel's hinge) take their free axis from it, so the spin never leaks into sideways
+    /// rotation.
+    pub fast_spin_axis: Option<Vec3>,
 }
 
 impl RowBody {
@@ -69,6 +73,7 @@ impl RowBody {
         free_linear_velocity: Vec3::ZERO,
         free_angular_velocity: Vec3::ZERO,
         dynamic: false,
+        fast_spin_axis: None,
     };
 
     /// A fixed body at a pose (a disabled body).

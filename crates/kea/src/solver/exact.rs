@@ -557,6 +557,7 @@ pub(crate) fn row_body(b: Option<u32>, bodies: &[SolverBody], scratch: &BodyScra
         free_linear_velocity: scratch.free_linear[b as usize],
         free_angular_velocity: scratch.free_angular[b as usize],
         dynamic: !body.is_fixed(),
+        fast_spin_axis: body.fast_spin_axis.map(|a| body.orientation * a),
     }
 }
 

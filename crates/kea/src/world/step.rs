@@ -237,6 +237,7 @@ impl World {
             free_linear_velocity: b.linear_velocity + h * (self.gravity + b.inv_mass * b.force),
             free_angular_velocity: b.angular_velocity + h * (inv_iw * b.torque),
             dynamic: true,
+            fast_spin_axis: b.fast_spin_axis.map(|a| b.orientation * a),
         };
         (rb, Some(solver_index))
     }
