@@ -238,6 +238,13 @@ impl<'a> RowWriter<'a> {
         }
     }
 
+    /// Gives every row of the current constraint without its own γ the relaxation `gamma`.
+    pub(crate) fn set_default_gamma(&mut self, gamma: Real) {
+        for r in &mut self.rows[self.start..] {
+            r.gamma.get_or_insert(gamma);
+        }
+    }
+
     /// Number of rows written for the current constraint.
     #[must_use]
     pub fn len(&self) -> usize {

@@ -2,7 +2,7 @@
 //! back per constraint.
 
 use super::SolverPath;
-use crate::constraint::Contact;
+use crate::constraint::{Contact, RowContext, RowWriter};
 use crate::math::{Mat3, Quat, Real, Vec3};
 
 /// One body as the solver sees it (the guide's `MdtKeaBody` and `MdtKeaTransformation`).
@@ -116,4 +116,12 @@ pub struct Reaction {
     pub force: Vec3,
     /// Torque about the body's centre of mass, N·m.
     pub torque: Vec3,
+}
+
+/// Writes a constraint block's rows again at the bodies' present states: what lets the
+/// iterative path re-linearise joints inside its substeps (the world's joints answer it). A
+/// block whose rows change in number or kind since the step began keeps its step-start rows.
+pub trait RowSource: Sync {
+    /// Writes block `block`'s rows for the bodies in `ctx` (the block's two bodies, in order).
+    fn rewrite(&self, block: usize, ctx: &RowContext, out: &mut RowWriter<'_>);
 }

@@ -56,7 +56,7 @@ mod stats;
 mod validate;
 mod wide;
 
-pub use inputs::{ConstraintBlock, Reaction, SolverBody, SolverContact};
+pub use inputs::{ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact};
 pub use iterative::IterativeParams;
 pub use params::{SolverParams, DEFAULT_CONTACT_SPRING};
 pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
@@ -172,6 +172,27 @@ impl Solver {
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
     ) -> KeaResult<SolverStats> {
+        self.step_with_source(
+            bodies, blocks, rows, contacts, params, lambda, reactions, None,
+        )
+    }
+
+    /// [`Solver::step`], with `source` writing the blocks' rows again at each substep of the
+    /// iterative path (joints re-linearised at the present poses, so fast rotation inside a
+    /// step does not tear them). Row counts and kinds must not depend on the poses for a
+    /// block to be re-written; one whose rows change keeps those of the step's start.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step_with_source(
+        &mut self,
+        bodies: &mut [SolverBody],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        contacts: &mut [SolverContact],
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+        source: Option<&dyn RowSource>,
+    ) -> KeaResult<SolverStats> {
         validate_inputs(bodies, blocks, rows, contacts, params, lambda, reactions)?;
         let mut stats = SolverStats::default();
         let before = self.memory_used();
@@ -260,6 +281,7 @@ impl Solver {
                 params,
                 lambda,
                 reactions,
+                source,
             );
             for &k in &self.iterative_islands {
                 let r = &mut self.reports[k as usize];

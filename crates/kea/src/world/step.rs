@@ -8,13 +8,14 @@
 //!   write_back       new states to bodies, forces to constraints, accumulators cleared
 //! ```
 
-use super::constraint_entry::ConstraintKind;
+use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
+use crate::handle::{Arena, ConstraintHandle};
 use crate::math::{wide, Real, Vec3};
 use crate::solver::{
-    ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams, SolverStats,
+    ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams, SolverStats,
 };
 use std::time::{Duration, Instant};
 
@@ -115,7 +116,11 @@ impl World {
         let s = &mut self.scratch;
         s.reactions.clear();
         s.reactions.resize(s.blocks.len(), [Reaction::default(); 2]);
-        let solver_stats = self.solver.step(
+        let source = JointSource {
+            constraints: &self.constraints,
+            block_constraint: &s.block_constraint,
+        };
+        let solver_stats = self.solver.step_with_source(
             &mut s.solver_bodies,
             &s.blocks,
             &s.rows,
@@ -123,6 +128,7 @@ impl World {
             &params,
             &mut s.lambda,
             &mut s.reactions,
+            Some(&source),
         );
         let solver_stats = match solver_stats {
             Ok(stats) => stats,
@@ -590,6 +596,29 @@ fn line_up_lambda(s: &mut super::StepScratch) {
                 _ => 0.0,
             };
             s.projection_lambda.push(l);
+        }
+    }
+}
+
+/// The world's joints as a [`RowSource`]: block k is constraint `block_constraint[k]`, written
+/// again at the poses the solver gives (joints re-linearised inside the substeps).
+struct JointSource<'a> {
+    constraints: &'a Arena<ConstraintEntry, ConstraintHandle>,
+    block_constraint: &'a [u32],
+}
+
+impl RowSource for JointSource<'_> {
+    fn rewrite(&self, block: usize, ctx: &RowContext, out: &mut RowWriter<'_>) {
+        let Some(entry) = self
+            .block_constraint
+            .get(block)
+            .and_then(|&slot| self.constraints.at(slot as usize))
+        else {
+            return;
+        };
+        entry.kind.write_rows(ctx, out);
+        if let Some(g) = entry.gamma {
+            out.set_default_gamma(g);
         }
     }
 }

@@ -109,6 +109,8 @@ pub(crate) struct BodyStates {
     pub(crate) dtheta: Vec<Vec3>,
     pub(crate) dtheta_sub: Vec<Vec3>,
     pub(crate) dx_sub: Vec<Vec3>,
+    /// Displacement when the joint rows were last linearised (zero: at the step's start).
+    pub(crate) relin_dp: Vec<Vec3>,
     orientation0: Vec<Quat>,
     orientation: Vec<Quat>,
     rotation: Vec<Rotation>,
@@ -131,6 +133,7 @@ impl BodyStates {
         reserve(&mut self.dtheta, n);
         reserve(&mut self.dtheta_sub, n);
         reserve(&mut self.dx_sub, n);
+        reserve(&mut self.relin_dp, n);
         reserve(&mut self.orientation0, n);
         reserve(&mut self.orientation, n);
         reserve(&mut self.rotation, n);
@@ -146,7 +149,10 @@ impl BodyStates {
             + self.inv_mass.capacity() * size_of::<Real>()
             + self.inv_inertia.capacity() * size_of::<Mat3>()
             + self.writable.capacity()
-            + (self.dtheta.capacity() + self.dtheta_sub.capacity() + self.dx_sub.capacity())
+            + (self.dtheta.capacity()
+                + self.dtheta_sub.capacity()
+                + self.dx_sub.capacity()
+                + self.relin_dp.capacity())
                 * size_of::<Vec3>()
             + (self.orientation0.capacity() + self.orientation.capacity()) * size_of::<Quat>()
             + self.rotation.capacity() * size_of::<Rotation>()
@@ -162,7 +168,7 @@ impl BodyStates {
                 + 9
                 + size_of::<Real>()
                 + size_of::<Mat3>()
-                + 3 * size_of::<Vec3>()
+                + 4 * size_of::<Vec3>()
                 + 2 * size_of::<Quat>()
                 + size_of::<Rotation>()
                 + size_of::<BodyVel>()
@@ -183,6 +189,7 @@ impl BodyStates {
         self.dtheta.clear();
         self.dtheta_sub.clear();
         self.dx_sub.clear();
+        self.relin_dp.clear();
         self.orientation0.clear();
         self.orientation.clear();
         self.rotation.clear();
@@ -219,6 +226,7 @@ impl BodyStates {
         self.dtheta.push(Vec3::ZERO);
         self.dtheta_sub.push(Vec3::ZERO);
         self.dx_sub.push(Vec3::ZERO);
+        self.relin_dp.push(Vec3::ZERO);
         self.orientation0.push(q);
         self.orientation.push(q);
         self.rotation.push(rotation);
@@ -227,6 +235,18 @@ impl BodyStates {
             linear: 1.0,
             angular: None,
         });
+    }
+
+    /// Records the present displacements as the joint rows' new linearisation point.
+    pub(crate) fn mark_linearisation(&mut self) {
+        for (r, d) in self.relin_dp.iter_mut().zip(&self.delta) {
+            *r = d.dp;
+        }
+    }
+
+    /// Local body `l`'s orientation now.
+    pub(crate) fn orientation_now(&self, l: usize) -> Quat {
+        self.orientation[l]
     }
 
     /// Number of local slots (the static world included).

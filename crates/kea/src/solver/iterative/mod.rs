@@ -29,7 +29,7 @@ mod rows;
 use super::integrate::BodyScratch;
 use super::island::Islands;
 use super::wide::SimdLevel;
-use super::{ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams};
+use super::{ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams};
 use crate::constraint::Row;
 use crate::error::{check_positive, KeaError, KeaResult};
 use crate::math::{from_f64, Real};
@@ -156,6 +156,7 @@ impl IterativeWorkspace {
         params: &SolverParams,
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
+        source: Option<&dyn RowSource>,
     ) -> IterativeReport {
         let it = &params.iterative;
         let h = params.dt;
@@ -206,6 +207,11 @@ impl IterativeWorkspace {
 
         for sub in 0..n_sub {
             kernel.substep = sub as Real;
+            if let (Some(source), true) = (source, sub > 0) {
+                // Joints at the present poses (the step's start rows served the first).
+                self.rows
+                    .relinearise(source, blocks, bodies, &mut self.states, params);
+            }
             self.states.integrate_velocities();
             self.rows.warm_start(&mut self.states);
             self.contacts

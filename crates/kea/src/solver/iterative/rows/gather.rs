@@ -150,8 +150,17 @@ impl JointRows {
             for l in &mut self.lever[base as usize..] {
                 *l = lever;
             }
+            let blocks_before = self.eq_start.len();
             self.make_block(base as usize, rows, blk);
             self.make_pairs(base as usize, rows);
+            self.blk_global.push(k);
+            self.blk_base.push(base);
+            self.blk_count.push(blk.row_count);
+            self.blk_eq.push(if self.eq_start.len() > blocks_before {
+                blocks_before as u32
+            } else {
+                NONE
+            });
         }
         // Warm-start impulses must respect their bounds.
         for i in 0..self.row_global.len() {
@@ -182,20 +191,7 @@ impl JointRows {
         if m < 2 || (blk.bodies[0].is_some() && blk.bodies[0] == blk.bodies[1]) {
             return;
         }
-        let mut k = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
-        for a in 0..m {
-            for b in 0..m {
-                let (i, j) = (idx[a], idx[b]);
-                let mut s = self.ja_lin[i].dot(self.ma_lin[j])
-                    + self.ja_ang[i].dot(self.ma_ang[j])
-                    + self.jb_lin[i].dot(self.mb_lin[j])
-                    + self.jb_ang[i].dot(self.mb_ang[j]);
-                if a == b {
-                    s += self.extra[i];
-                }
-                k[a][b] = wide(s);
-            }
-        }
+        let mut k = block_matrix(self, &idx[..m]);
         let Some(inv) = invert(&mut k, m) else { return };
         self.eq_start.push(self.eq_rows.len() as u32);
         self.eq_len.push(m as u32);
@@ -258,6 +254,24 @@ impl JointRows {
     }
 }
 
+/// `J M⁻¹ Jᵀ + E` of the rows `idx` (at most [`MAX_BLOCK`]), in `f64`.
+pub(super) fn block_matrix(rows: &JointRows, idx: &[usize]) -> [[f64; MAX_BLOCK]; MAX_BLOCK] {
+    let mut k = [[0.0f64; MAX_BLOCK]; MAX_BLOCK];
+    for (a, &i) in idx.iter().enumerate() {
+        for (b, &j) in idx.iter().enumerate() {
+            let mut s = rows.ja_lin[i].dot(rows.ma_lin[j])
+                + rows.ja_ang[i].dot(rows.ma_ang[j])
+                + rows.jb_lin[i].dot(rows.mb_lin[j])
+                + rows.jb_ang[i].dot(rows.mb_ang[j]);
+            if a == b {
+                s += rows.extra[i];
+            }
+            k[a][b] = wide(s);
+        }
+    }
+    k
+}
+
 /// Damping ratio of the implicit softening of hard rows in the biased solve.
 const HARD_DAMPING_RATIO: Real = 10.0;
 
@@ -280,7 +294,7 @@ pub(super) fn hard_softening(rate: Real, hs: Real) -> (Real, Real) {
 /// Inverse of the leading `m×m` block of `k` by Gauss-Jordan elimination with partial pivoting;
 /// `None` if it is singular.
 #[allow(clippy::needless_range_loop)]
-fn invert(
+pub(super) fn invert(
     k: &mut [[f64; MAX_BLOCK]; MAX_BLOCK],
     m: usize,
 ) -> Option<[[f64; MAX_BLOCK]; MAX_BLOCK]> {

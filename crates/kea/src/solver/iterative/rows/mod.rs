@@ -26,15 +26,17 @@
 //! own bound (the exact path's pyramid). Rows are swept in constraint order (deterministic);
 //! each row's λ of the last step warm-starts it.
 //!
-//! Known limits: Jacobians stay those of the step's start through the substeps, so a jointed
-//! pair tumbling fast feels a small spurious moment, and a long chain whipped at 60 Hz comes
-//! apart; use the exact path, with position projection, for those.
+//! Re-linearisation: given a [`RowSource`](crate::solver::RowSource) (the world gives one),
+//! every joint's rows are written again at the present poses from the second substep on
+//! (`relinearise`), so fast rotation inside a step does not tear joints; without one (the
+//! immediate-mode solver), Jacobians stay those of the step's start.
 //!
 //! [`Spring`]: crate::constraint::Spring
 
 #![allow(clippy::needless_range_loop)] // small dense blocks read best with indices
 
 mod gather;
+mod relinearise;
 mod sweep;
 
 use super::super::integrate::BodyScratch;
@@ -101,6 +103,13 @@ pub(crate) struct JointRows {
     pair_kinv: Vec<[Real; 4]>,
     /// Velocities before the restitution pass, per local body.
     before_bounce: Vec<(Vec3, Vec3)>,
+    // Per gathered constraint block: its index, first row here, row count and equality block
+    // (for re-linearising it), and the rows a re-linearisation writes.
+    blk_global: Vec<u32>,
+    blk_base: Vec<u32>,
+    blk_count: Vec<u32>,
+    blk_eq: Vec<u32>,
+    fresh: Vec<Row>,
 }
 
 impl JointRows {
@@ -116,9 +125,14 @@ impl JointRows {
             &mut self.eq_kstart,
             &mut self.pair_of,
             &mut self.pair_second,
+            &mut self.blk_global,
+            &mut self.blk_base,
+            &mut self.blk_count,
+            &mut self.blk_eq,
         ] {
             reserve(v, rows);
         }
+        reserve(&mut self.fresh, 4 * MAX_BLOCK);
         for v in [
             &mut self.ja_lin,
             &mut self.ja_ang,
@@ -168,8 +182,10 @@ impl JointRows {
             + self.eq_rows.capacity()
             + self.eq_kstart.capacity()
             + self.pair_of.capacity()
-            + self.pair_second.capacity())
+            + self.pair_second.capacity()
+            + 4 * self.blk_global.capacity())
             * 4
+            + self.fresh.capacity() * std::mem::size_of::<Row>()
             + 8 * self.ja_lin.capacity() * v3
             + 14 * self.diag.capacity() * r
             + self.flags.capacity()
@@ -182,7 +198,9 @@ impl JointRows {
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        rows * (40 + 8 * v3 + (18 + MAX_BLOCK) * r + 2) + (bodies + 1) * 2 * v3
+        rows * (56 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
+            + (bodies + 1) * 2 * v3
+            + 4 * MAX_BLOCK * std::mem::size_of::<Row>()
     }
 
     /// Number of rows gathered.
@@ -233,7 +251,11 @@ impl JointRows {
             eq_kinv,
             pair_of,
             pair_second,
-            pair_kinv
+            pair_kinv,
+            blk_global,
+            blk_base,
+            blk_count,
+            blk_eq
         );
     }
 

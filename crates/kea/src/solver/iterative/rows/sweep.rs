@@ -79,7 +79,11 @@ impl JointRows {
         if a == NONE || b == NONE {
             return (Vec3::ZERO, Vec3::ZERO);
         }
-        let half = 0.5 * (states.delta[a as usize].dp - states.delta[b as usize].dp);
+        let (a, b) = (a as usize, b as usize);
+        // Since the rows were last linearised (the step's start, or a substep's).
+        let half = 0.5
+            * ((states.delta[a].dp - states.relin_dp[a])
+                - (states.delta[b].dp - states.relin_dp[b]));
         let lever = self.lever[i];
         if half.length_squared() > 0.01 * lever * lever {
             // Moved more than a tenth of the lever: the linearisation is gone; do not shift.
