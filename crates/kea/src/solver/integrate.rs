@@ -205,6 +205,27 @@ fn rotate_free(b: &SolverBody, rule: Rotation, q: Quat, w_step: Vec3, h: Real) -
     (from_dquat(q1), from_f64(w_new))
 }
 
+/// Angular velocity after `h` of a body of world inertia `iw` turning at `w` under its
+/// gyroscopic torque alone: one Newton step of `I(ω⁺ − ω) + h ω⁺ × I ω⁺ = 0` from `ω⁺ = ω`
+/// (implicit, so it cannot feed energy into a fast spin; Catto 2015), in `f64`.
+pub(crate) fn gyroscopic_step(iw: &Mat3, w: Vec3, h: Real) -> Vec3 {
+    let (i, w0, h) = (to_dmat3(iw), to_f64(w), wide(h));
+    let l = i * w0;
+    let skew = |v: DVec3| {
+        DMat3::from_cols(
+            DVec3::new(0.0, v.z, -v.y),
+            DVec3::new(-v.z, 0.0, v.x),
+            DVec3::new(v.y, -v.x, 0.0),
+        )
+    };
+    let jacobian = i + h * (skew(w0) * i - skew(l));
+    let det = jacobian.determinant();
+    if !det.is_finite() || det.abs() <= 1.0e-300 {
+        return w;
+    }
+    from_f64(w0 - jacobian.inverse() * (h * w0.cross(l)))
+}
+
 /// Torque-free rotation over `h` of a body whose principal frame is at `qp` with principal
 /// moments `d`, carrying world angular momentum `l` (see the module docs).
 fn split_rotation(mut qp: DQuat, l: DVec3, d: DVec3, h: f64) -> DQuat {

@@ -13,7 +13,7 @@
 //! or kinematic bodies that contacts touch get a read-only slot as well, so that their motion
 //! enters the contacts' relative velocity and separation.
 
-use super::super::integrate::{advance_rotation, BodyScratch, Rotation};
+use super::super::integrate::{advance_rotation, gyroscopic_step, BodyScratch, Rotation};
 use super::super::wide::Records;
 use super::super::{reserve, SolverBody, SolverParams};
 use crate::math::{Mat3, Quat, Real, Vec3};
@@ -88,6 +88,9 @@ struct Damping {
     linear: Real,
     /// `(I_w + hs·d_ω)⁻¹ I_w`, when the body has angular damping.
     angular: Option<Mat3>,
+    /// World inertia (at the step's start) of a body whose inertia is not isotropic: its
+    /// gyroscopic torque is taken implicitly every substep (see `local`).
+    gyroscopic: Option<Mat3>,
 }
 
 /// The iterative path's bodies (module docs).
@@ -234,6 +237,7 @@ impl BodyStates {
         self.damping.push(Damping {
             linear: 1.0,
             angular: None,
+            gyroscopic: None,
         });
     }
 
@@ -274,6 +278,17 @@ impl BodyStates {
         self.local_of[g as usize] = local;
         let inv_iw = scratch.inv_inertia_world[g as usize];
         let writable = !b.is_fixed();
+        // A body held in an iterative island turns at its angular velocity, its gyroscopic
+        // torque taken implicitly in the velocities: carrying `L` through the rotation (the
+        // free body's rule) hands the joints a sideways spin every substep, which a link
+        // spinning fast about its own axis (a whipped chain's) turns into a blow-up.
+        let (rotation, gyroscopic) = match Rotation::of(b) {
+            Rotation::Free { .. } if writable => {
+                let r = Mat3::from_quat(b.orientation);
+                (Rotation::Isotropic, Some(r * b.inertia * r.transpose()))
+            }
+            rule => (rule, None),
+        };
         self.push_slot(
             g,
             BodyVel::new(b.linear_velocity, b.angular_velocity),
@@ -281,7 +296,7 @@ impl BodyStates {
             inv_iw,
             writable,
             b.orientation,
-            Rotation::of(b),
+            rotation,
         );
         if writable {
             let gravity = if b.inv_mass > 0.0 {
@@ -302,13 +317,14 @@ impl BodyStates {
             *self.damping.last_mut().expect("just pushed") = Damping {
                 linear: 1.0 / (1.0 + hs * b.linear_damping * b.inv_mass),
                 angular: angular_damping,
+                gyroscopic,
             };
         }
         local
     }
 
     /// Substep stage 1: damping, gravity and applied forces on every body that can be pushed.
-    pub(crate) fn integrate_velocities(&mut self) {
+    pub(crate) fn integrate_velocities(&mut self, hs: Real) {
         let step = |(vel, ((forcing, damping), writable)): VelocityChunk<'_>| {
             for (vel, ((f, d), &writable)) in vel
                 .iter_mut()
@@ -320,6 +336,9 @@ impl BodyStates {
                 let mut w = vel.w;
                 if let Some(a) = d.angular {
                     w = a * w;
+                }
+                if let Some(iw) = &d.gyroscopic {
+                    w = gyroscopic_step(iw, w, hs);
                 }
                 vel.v = vel.v * d.linear + f.v;
                 vel.w = w + f.w;

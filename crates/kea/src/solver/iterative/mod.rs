@@ -212,7 +212,7 @@ impl IterativeWorkspace {
                 self.rows
                     .relinearise(source, blocks, bodies, &mut self.states, params);
             }
-            self.states.integrate_velocities();
+            self.states.integrate_velocities(hs);
             self.rows.warm_start(&mut self.states);
             self.contacts
                 .run(Stage::WarmStart, &mut self.states, &kernel);
