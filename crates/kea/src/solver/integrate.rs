@@ -11,6 +11,11 @@
 //! energy), and the intermediate-axis flip happens. The new angular velocity is
 //! `ω = I_w(q⁺)⁻¹ L`. An isotropic body rotates by the exact `exp(h ω)` directly.
 //!
+//! Bodies in iterative islands are the exception: they turn by `exp(hs ω)` with ω kept, their
+//! gyroscopic torque taken implicitly in the velocities each substep ([`gyroscopic_step`];
+//! see `iterative::bodies`), because carrying `L` through the rotation hands their joints a
+//! sideways spin every substep.
+//!
 //! Fast spin. With a fast-spin axis `a` (body frame), the component of ω along `a` is applied
 //! as its own exact finite rotation first and the rest of ω after it (the guide's `fastSpin`:
 //! a wheel keeps its axle exactly however fast it spins); `ω` is then re-expressed at the new
