@@ -31,26 +31,17 @@ impl JointRows {
             let base = self.row_global.len() as u32;
             for g in blk.first_row..blk.first_row + blk.row_count {
                 let row = &rows[g as usize];
-                let mut kinematic = 0.0;
                 let mut local = [NONE; 2];
-                let mut jm = [(Vec3::ZERO, Vec3::ZERO); 2];
-                let mut diag = 0.0;
                 for s in 0..2 {
-                    let Some(b) = blk.bodies[s] else { continue };
-                    let body = &bodies[b as usize];
-                    let j = row.jacobian[s];
-                    if body.is_fixed() {
-                        // A kinematic body: its motion is a constant target offset.
-                        kinematic += j.linear.dot(body.linear_velocity)
-                            + j.angular.dot(body.angular_velocity);
-                        continue;
+                    match blk.bodies[s] {
+                        Some(b) if !bodies[b as usize].is_fixed() => {
+                            local[s] = states.local(Some(b), bodies, scratch, params, hs);
+                        }
+                        _ => {}
                     }
-                    local[s] = states.local(Some(b), bodies, scratch, params, hs);
-                    let ml = j.linear * body.inv_mass;
-                    let ma = scratch.inv_inertia_world[b as usize] * j.angular;
-                    diag += j.linear.dot(ml) + j.angular.dot(ma);
-                    jm[s] = (ml, ma);
                 }
+                let (kinematic, jm, mut diag) =
+                    row_masses(row, blk, bodies, |b| scratch.inv_inertia_world[b as usize]);
                 // Two slots on the same body add their cross terms.
                 if local[0] != NONE && local[0] == local[1] {
                     diag += 2.0
@@ -252,6 +243,34 @@ impl JointRows {
             i += 2;
         }
     }
+}
+
+/// A row's mass data on its block's bodies: the velocity term of its kinematic bodies (a
+/// constant target offset), `M⁻¹Jᵀ` per body, and `J M⁻¹ Jᵀ` (without the cross terms of a row
+/// whose two slots are one body). `inv_inertia` gives a solver body's world inverse inertia.
+pub(super) fn row_masses(
+    row: &Row,
+    blk: &ConstraintBlock,
+    bodies: &[SolverBody],
+    inv_inertia: impl Fn(u32) -> crate::math::Mat3,
+) -> (Real, [(Vec3, Vec3); 2], Real) {
+    let mut kinematic = 0.0;
+    let mut jm = [(Vec3::ZERO, Vec3::ZERO); 2];
+    let mut diag = 0.0;
+    for s in 0..2 {
+        let Some(b) = blk.bodies[s] else { continue };
+        let body = &bodies[b as usize];
+        let j = row.jacobian[s];
+        if body.is_fixed() {
+            kinematic += j.linear.dot(body.linear_velocity) + j.angular.dot(body.angular_velocity);
+            continue;
+        }
+        let ml = j.linear * body.inv_mass;
+        let ma = inv_inertia(b) * j.angular;
+        diag += j.linear.dot(ml) + j.angular.dot(ma);
+        jm[s] = (ml, ma);
+    }
+    (kinematic, jm, diag)
 }
 
 /// `J M⁻¹ Jᵀ + E` of the rows `idx` (at most [`MAX_BLOCK`]), in `f64`.

@@ -8,10 +8,10 @@
 //! (a block whose rows change in number or kind keeps its step-start rows).
 
 use super::super::bodies::{BodyStates, NONE};
-use super::gather::{block_matrix, invert};
+use super::gather::{block_matrix, invert, row_masses};
 use super::{JointRows, MAX_BLOCK};
 use crate::constraint::{Row, RowBody, RowContext, RowWriter};
-use crate::math::{rotate_by_vector, Real, Vec3};
+use crate::math::{rotate_by_vector, Real};
 use crate::solver::{ConstraintBlock, RowSource, SolverBody, SolverParams};
 
 impl JointRows {
@@ -112,25 +112,16 @@ impl JointRows {
         bodies: &[SolverBody],
         states: &BodyStates,
     ) {
-        let mut kinematic = 0.0;
-        let mut jm = [(Vec3::ZERO, Vec3::ZERO); 2];
-        let mut diag = 0.0;
+        let (kinematic, jm, mut diag) = row_masses(row, blk, bodies, |g| {
+            states.inv_inertia[states.local_of[g as usize] as usize]
+        });
+        // How far the row's bodies moved along it since the step began.
         let mut moved = 0.0;
-        for s in 0..2 {
-            let Some(g) = blk.bodies[s] else { continue };
-            let body = &bodies[g as usize];
-            let j = row.jacobian[s];
-            if body.is_fixed() {
-                kinematic +=
-                    j.linear.dot(body.linear_velocity) + j.angular.dot(body.angular_velocity);
-                continue;
+        for (s, l) in [(0, self.row_a[i]), (1, self.row_b[i])] {
+            if l != NONE {
+                let (j, l) = (row.jacobian[s], l as usize);
+                moved += j.linear.dot(states.delta[l].dp) + j.angular.dot(states.dtheta[l]);
             }
-            let l = states.local_of[g as usize] as usize;
-            let ml = j.linear * body.inv_mass;
-            let ma = states.inv_inertia[l] * j.angular;
-            diag += j.linear.dot(ml) + j.angular.dot(ma);
-            jm[s] = (ml, ma);
-            moved += j.linear.dot(states.delta[l].dp) + j.angular.dot(states.dtheta[l]);
         }
         if self.row_a[i] != NONE && self.row_a[i] == self.row_b[i] {
             diag +=
