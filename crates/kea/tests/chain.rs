@@ -1,8 +1,11 @@
 //! A 100-link ball-joint chain (links 0.1 m apart, 0.1 kg) pinned at one end and released
 //! horizontal at dt = 1/60: a hard whip, the tip passing 20 m/s. Routed exact, with rigid
 //! joints (ε = 1e-4) and position projection (Newton passes until every joint is closed to
-//! 1 µm, at most 8), every joint gap stays under 1 mm; forced iterative, the gap is reported
-//! (the fast path does not promise it).
+//! 1 µm, at most 8), every joint gap stays under 1 mm. Forced iterative, the joints are
+//! re-linearised at every substep and the gap stays under 25 cm (17 cm measured; it tore by
+//! metres when the Jacobians were frozen for the step). The whipped chain (100 capsule
+//! links of 0.5 m, default settings) holds under 50 cm for 10 s (34 cm measured; the goal is
+//! 1 mm).
 
 mod common;
 use common::world_on;
@@ -88,10 +91,46 @@ fn exact_whip_keeps_every_joint_closed() {
 }
 
 #[test]
-fn iterative_whip_gap_is_reported() {
+fn iterative_whip_stays_within_a_quarter_metre() {
     let (gap, ms, stats) = whip(SolverMode::Iterative, 5.0);
     eprintln!("iterative: largest joint gap {gap:e} m over 5 s, {ms:.2} ms/step (test build)");
     assert_eq!(stats.solver.iterative_islands, 1);
-    // Reported, not held to any bound: the projection is an exact-path pass.
-    assert!(gap.is_finite());
+    assert!(gap < 0.25, "iterative: joint gap {gap} m");
+}
+
+#[test]
+fn a_whipped_chain_of_capsules_holds_with_default_settings() {
+    // 100 links 0.5 m long, 1 kg, capsule inertia (thin about their own axis), pinned at one
+    // end and released horizontal; default world and routing; the tip passes 50 m/s.
+    let (length, radius): (Real, Real) = (0.5, 0.05);
+    let mut world = World::with_capacity(LINKS, LINKS).unwrap();
+    let axis_x = kea::Quat::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real);
+    let mut prev = None;
+    let mut joints = Vec::new();
+    for i in 0..LINKS {
+        let link = world
+            .create_body(&BodyDef {
+                mass: 1.0,
+                inertia: inertia::solid_capsule(1.0, radius, 0.5 * length).unwrap(),
+                position: Vec3::new((i as Real + 0.5) * length, 0.0, 0.0),
+                orientation: axis_x,
+                ..Default::default()
+            })
+            .unwrap();
+        let anchor = Vec3::new(i as Real * length, 0.0, 0.0);
+        joints.push(world.create_ball_joint(link, prev, anchor).unwrap());
+        prev = Some(link);
+    }
+    let (mut worst, mut fastest): (Real, Real) = (0.0, 0.0);
+    for _ in 0..600 {
+        world.step(1.0 / 60.0).unwrap();
+        for (_, b) in world.bodies() {
+            assert!(b.position().is_finite(), "the chain blew up");
+            fastest = fastest.max(b.linear_velocity().length());
+        }
+        worst = worst.max(max_gap(&world, &joints));
+    }
+    eprintln!("whipped capsule chain: largest joint gap {worst:e} m over 10 s, tip up to {fastest:.0} m/s");
+    assert!(fastest > 30.0, "not much of a whip: {fastest} m/s");
+    assert!(worst < 0.5, "joint gap {worst} m");
 }
