@@ -52,25 +52,27 @@ fn wheel_misalignment(mode: kea::SolverMode, spin: Real, fast_spin: bool) -> Rea
 
 #[test]
 fn a_wheel_spinning_on_a_turning_chassis_stays_on_its_axle() {
-    // The exact path (and the default routing, which sends this small island there) holds a
-    // 300 rad/s wheel to its axle within 3.2 mrad (it tore off, 1.5 rad, before the hinge took
-    // its free axis from the wheel's fast-spin axle; issue 11 asks for 1 mrad). The iterative
-    // path freezes the hinge's Jacobians through the substeps, so a fast spin leaks into
-    // sideways rotation there: printed, not held yet.
+    // The iterative path re-linearises the hinge at every substep and holds a 300 rad/s wheel
+    // to 16 µrad. The exact path (and the default routing, which sends this small island
+    // there) has one linearisation per step: 3.2 mrad (it tore off, 1.5 rad, before the hinge
+    // took its free axis from the wheel's fast-spin axle; issue 11 asks for 1 mrad).
     for mode in [
+        kea::SolverMode::Iterative,
         kea::SolverMode::Exact,
         kea::SolverMode::Hybrid,
-        kea::SolverMode::Iterative,
     ] {
         for spin in [10.0, 100.0, 300.0] {
             let worst = wheel_misalignment(mode, spin, true);
             eprintln!("{mode:?}, spin {spin} rad/s: worst misalignment {worst:.2e} rad");
-            if false {
-                assert!(
-                    worst < 1.0e-3,
-                    "{mode:?}, {spin} rad/s: misalignment {worst}"
-                );
-            }
+            let bound = if mode == kea::SolverMode::Iterative {
+                1.0e-3
+            } else {
+                4.0e-3
+            };
+            assert!(
+                worst < bound,
+                "{mode:?}, {spin} rad/s: misalignment {worst}"
+            );
         }
     }
 }
@@ -119,13 +121,15 @@ fn gyroscope(mode: kea::SolverMode, spin: Real) -> (Real, Real, Real, Real) {
 }
 
 #[test]
-#[ignore = "known failure (issue 11): the spin decays from 100 to 8 rad/s in 4 s and the disk falls"]
+#[ignore = "known failure (issue 11): exact, the spin decays from 100 to 8 rad/s in 4 s and the disk falls; iterative, it precesses 3.7% slow and gains 14% spin"]
 fn a_gyroscope_keeps_its_spin_and_precesses_at_mgr_over_i_omega() {
-    for mode in PATHS {
-        let (rate, expected, spin, lowest) = gyroscope(mode, 100.0);
+    let runs = PATHS.map(|mode| (mode, gyroscope(mode, 100.0)));
+    for (mode, (rate, expected, spin, lowest)) in runs {
         eprintln!(
             "{mode:?}: precession {rate:.4} rad/s (mgr/Iω = {expected:.4}), spin {spin:.2} rad/s, lowest axle {lowest:.4} rad"
         );
+    }
+    for (mode, (rate, expected, spin, lowest)) in runs {
         assert!(
             ((rate - expected) / expected).abs() < 0.01,
             "{mode:?}: {rate} vs {expected}"
