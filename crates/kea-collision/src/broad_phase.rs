@@ -13,6 +13,7 @@
 //! rotations on the way up, so its height stays logarithmic whatever the insertion order.
 //! Everything is deterministic: same operations in the same order, same tree, same pairs.
 
+use crate::capacity::reserve_total;
 use kea::{Real, Vec3};
 
 const NULL: u32 = u32::MAX;
@@ -104,15 +105,9 @@ impl DynamicTree {
     /// Reserves room for `leaves` leaves.
     pub(crate) fn reserve(&mut self, leaves: usize) {
         let nodes = 2 * leaves;
-        if self.nodes.capacity() < nodes {
-            self.nodes.reserve(nodes - self.nodes.len());
-        }
-        if self.free.capacity() < nodes {
-            self.free.reserve(nodes - self.free.len());
-        }
-        if self.stack.capacity() < 64 {
-            self.stack.reserve(64);
-        }
+        reserve_total(&mut self.nodes, nodes);
+        reserve_total(&mut self.free, nodes);
+        reserve_total(&mut self.stack, 64);
     }
 
     fn allocate(&mut self, node: Node) -> u32 {

@@ -3,6 +3,7 @@
 //! contacts.
 
 use crate::broad_phase::{Aabb, DynamicTree};
+use crate::capacity::reserve_total;
 use crate::error::{check_finite, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
@@ -266,23 +267,14 @@ impl CollisionWorld {
     }
 
     fn reserve_for(&mut self, colliders: usize) {
-        if self.slots.capacity() < colliders {
-            self.slots.reserve(colliders - self.slots.len());
-        }
-        self.tree.reserve(colliders);
         let pairs = 8 * colliders;
+        reserve_total(&mut self.slots, colliders);
+        self.tree.reserve(colliders);
         self.pairs.reserve(pairs);
-        for v in [&mut self.jointed, &mut self.previously_jointed] {
-            if v.capacity() < colliders {
-                v.reserve(colliders - v.len());
-            }
-        }
-        if self.moved.capacity() < colliders {
-            self.moved.reserve(colliders - self.moved.len());
-        }
-        if self.new_pairs.capacity() < pairs {
-            self.new_pairs.reserve(pairs - self.new_pairs.len());
-        }
+        reserve_total(&mut self.jointed, colliders);
+        reserve_total(&mut self.previously_jointed, colliders);
+        reserve_total(&mut self.moved, colliders);
+        reserve_total(&mut self.new_pairs, pairs);
         let chunks = pairs.div_ceil(PAIR_CHUNK);
         if self.workers.len() < chunks {
             self.workers.resize_with(chunks, NarrowWorker::default);
@@ -290,11 +282,8 @@ impl CollisionWorld {
         for w in &mut self.workers {
             w.reserve(PAIR_CHUNK);
         }
-        for v in [&mut self.events, &mut self.pending_events] {
-            if v.capacity() < pairs {
-                v.reserve(pairs - v.len());
-            }
-        }
+        reserve_total(&mut self.events, pairs);
+        reserve_total(&mut self.pending_events, pairs);
     }
 
     /// Removes a collider and destroys the contacts it had in `world`.

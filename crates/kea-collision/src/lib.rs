@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 mod broad_phase;
+mod capacity;
 mod collision_world;
 mod error;
 mod events;

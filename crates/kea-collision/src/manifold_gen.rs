@@ -235,24 +235,17 @@ impl Generator {
         match (ta, tb) {
             (ShapeType::Ball, ShapeType::Ball) => {
                 let (b1, b2) = (a.as_ball()?, b.as_ball()?);
-                self.scratch.clear();
-                contact_manifold_ball_ball(pos12, b1, b2, prediction, &mut self.scratch);
-                Some(self.take_scratch(prediction))
+                Some(self.generated(prediction, |m| {
+                    contact_manifold_ball_ball(pos12, b1, b2, prediction, m)
+                }))
             }
             (_, ShapeType::Ball) => {
                 let ball = b.as_ball()?;
-                self.scratch.clear();
-                contact_manifold_convex_ball(
-                    pos12,
-                    a,
-                    ball,
-                    normals.0,
-                    normals.1,
-                    prediction,
-                    &mut self.scratch,
-                    false,
-                );
-                Some(self.take_scratch(prediction))
+                Some(self.generated(prediction, |m| {
+                    contact_manifold_convex_ball(
+                        pos12, a, ball, normals.0, normals.1, prediction, m, false,
+                    )
+                }))
             }
             (ShapeType::Ball, _) => {
                 let mut m =
@@ -267,41 +260,32 @@ impl Generator {
                 Some(m)
             }
             (ShapeType::Cuboid, ShapeType::Cuboid) => {
-                self.scratch.clear();
-                contact_manifold_cuboid_cuboid(
-                    pos12,
-                    a.as_cuboid()?,
-                    b.as_cuboid()?,
-                    prediction,
-                    &mut self.scratch,
-                );
-                Some(self.take_scratch(prediction))
+                let (c1, c2) = (a.as_cuboid()?, b.as_cuboid()?);
+                Some(self.generated(prediction, |m| {
+                    contact_manifold_cuboid_cuboid(pos12, c1, c2, prediction, m)
+                }))
             }
             (ShapeType::Capsule, ShapeType::Capsule) => {
-                self.scratch.clear();
-                contact_manifold_capsule_capsule(
-                    pos12,
-                    a.as_capsule()?,
-                    b.as_capsule()?,
-                    prediction,
-                    &mut self.scratch,
-                );
-                Some(self.take_scratch(prediction))
+                let (c1, c2) = (a.as_capsule()?, b.as_capsule()?);
+                Some(self.generated(prediction, |m| {
+                    contact_manifold_capsule_capsule(pos12, c1, c2, prediction, m)
+                }))
             }
             (ShapeType::Cuboid, ShapeType::Triangle) => {
-                self.scratch.clear();
-                contact_manifold_cuboid_triangle(
-                    pos12,
-                    &pos12.inverse(),
-                    a.as_cuboid()?,
-                    b.as_triangle()?,
-                    normals.0,
-                    normals.1,
-                    prediction,
-                    &mut self.scratch,
-                    false,
-                );
-                Some(self.take_scratch(prediction))
+                let (cuboid, triangle) = (a.as_cuboid()?, b.as_triangle()?);
+                Some(self.generated(prediction, |m| {
+                    contact_manifold_cuboid_triangle(
+                        pos12,
+                        &pos12.inverse(),
+                        cuboid,
+                        triangle,
+                        normals.0,
+                        normals.1,
+                        prediction,
+                        m,
+                        false,
+                    )
+                }))
             }
             (ShapeType::Triangle, ShapeType::Cuboid) => {
                 let mut m =
@@ -311,6 +295,18 @@ impl Generator {
             }
             _ => self.pfm_pfm(a, b, pos12, prediction, normals),
         }
+    }
+
+    /// Runs one of parry's generators (`run`) on the cleared scratch manifold and takes its
+    /// points closer than `prediction` (see the module docs for why it is cleared).
+    fn generated(
+        &mut self,
+        prediction: Real,
+        run: impl FnOnce(&mut ContactManifold<(), ()>),
+    ) -> GenManifold {
+        self.scratch.clear();
+        run(&mut self.scratch);
+        self.take_scratch(prediction)
     }
 
     /// Copies the scratch manifold's points closer than `prediction` out (parry's frames are

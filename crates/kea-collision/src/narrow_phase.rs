@@ -17,6 +17,7 @@
 //! the same reason): with it a 20-box column that leans 2 mm per box topples within 10 s at
 //! the default contact stiffness, without it the column sways and stands.
 
+use crate::capacity::reserve_total;
 use crate::collision_world::{ColliderDef, CollisionWorld, Slot};
 use crate::manifold_gen::Generator;
 use crate::material::MaterialTable;
@@ -212,9 +213,9 @@ impl CollisionWorld {
 impl NarrowWorker {
     /// Reserves room for a chunk's pairs.
     pub(crate) fn reserve(&mut self, pairs: usize) {
-        for_capacity(&mut self.wanted, pairs);
-        for_capacity(&mut self.generated, pairs);
-        for_capacity(&mut self.dropped, pairs);
+        reserve_total(&mut self.wanted, pairs);
+        reserve_total(&mut self.generated, pairs);
+        reserve_total(&mut self.dropped, pairs);
     }
 
     /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
@@ -353,13 +354,6 @@ impl NarrowWorker {
             self.generated.push(m);
             self.manifolds += 1;
         }
-    }
-}
-
-/// Grows `v`'s capacity to at least `n`.
-fn for_capacity<T>(v: &mut Vec<T>, n: usize) {
-    if v.capacity() < n {
-        v.reserve(n - v.len());
     }
 }
 

@@ -6,6 +6,7 @@
 //! deterministic. A hash map finds a pair by its two collider slots when the broad phase
 //! reports it again.
 
+use crate::capacity::reserve_total;
 use kea::{ConstraintHandle, Vec3};
 use smallvec::SmallVec;
 use std::collections::HashMap;
@@ -89,14 +90,9 @@ pub(crate) struct Pairs {
 impl Pairs {
     /// Reserves room for `n` pairs.
     pub(crate) fn reserve(&mut self, n: usize) {
-        if self.slots.capacity() < n {
-            self.slots.reserve(n - self.slots.len());
-        }
-        for free in [&mut self.free, &mut self.free_spilled] {
-            if free.capacity() < n {
-                free.reserve(n - free.len());
-            }
-        }
+        reserve_total(&mut self.slots, n);
+        reserve_total(&mut self.free, n);
+        reserve_total(&mut self.free_spilled, n);
         if self.map.capacity() < n {
             self.map.reserve(n - self.map.len());
         }

@@ -125,22 +125,9 @@ impl JointRows {
                 self.total.push(0.0);
                 self.in_block.push(false);
                 self.pair_of.push(NONE);
-                let lin = row.jacobian[0]
-                    .linear
-                    .length()
-                    .max(row.jacobian[1].linear.length());
-                let ang = row.jacobian[0]
-                    .angular
-                    .length()
-                    .max(row.jacobian[1].angular.length());
-                self.lever.push(if lin > 0.0 { ang / lin } else { 0.0 });
+                self.lever.push(row_lever(row));
             }
-            let lever = self.lever[base as usize..]
-                .iter()
-                .fold(0.0 as Real, |m, &l| m.max(l));
-            for l in &mut self.lever[base as usize..] {
-                *l = lever;
-            }
+            self.share_lever(base as usize..self.lever.len());
             let blocks_before = self.eq_start.len();
             self.make_block(base as usize, rows, blk);
             self.make_pairs(base as usize, rows);
@@ -158,6 +145,14 @@ impl JointRows {
             let (lo, hi) = self.bounds(i);
             self.impulse[i] = self.impulse[i].clamp(lo, hi);
         }
+    }
+
+    /// Gives every row of one constraint (`rows`) the longest lever among them.
+    pub(super) fn share_lever(&mut self, rows: std::ops::Range<usize>) {
+        let lever = self.lever[rows.clone()]
+            .iter()
+            .fold(0.0 as Real, |m, &l| m.max(l));
+        self.lever[rows].fill(lever);
     }
 
     /// Groups a constraint's unbounded rows (2 to 6 of them) into one block and stores the
@@ -271,6 +266,18 @@ pub(super) fn row_masses(
         jm[s] = (ml, ma);
     }
     (kinematic, jm, diag)
+}
+
+/// A row's lever `|J_ang| / |J_lin|` (the longest of its two bodies'; 0 for an angular row).
+pub(super) fn row_lever(row: &Row) -> Real {
+    let [j1, j2] = row.jacobian;
+    let lin = j1.linear.length().max(j2.linear.length());
+    let ang = j1.angular.length().max(j2.angular.length());
+    if lin > 0.0 {
+        ang / lin
+    } else {
+        0.0
+    }
 }
 
 /// `J M⁻¹ Jᵀ + E` of the rows `idx` (at most [`MAX_BLOCK`]), in `f64`.

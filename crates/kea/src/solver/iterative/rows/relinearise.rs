@@ -8,7 +8,7 @@
 //! (a block whose rows change in number or kind keeps its step-start rows).
 
 use super::super::bodies::{BodyStates, NONE};
-use super::gather::{block_matrix, invert, row_masses};
+use super::gather::{block_matrix, invert, row_lever, row_masses};
 use super::{JointRows, MAX_BLOCK};
 use crate::constraint::{Row, RowBody, RowContext, RowWriter};
 use crate::math::{rotate_by_vector, Real};
@@ -24,6 +24,9 @@ impl JointRows {
         states: &mut BodyStates,
         params: &SolverParams,
     ) {
+        if self.blk_global.is_empty() {
+            return; // contacts only: nothing to write again, no base to move
+        }
         states.mark_linearisation();
         let mut fresh = std::mem::take(&mut self.fresh);
         for b in 0..self.blk_global.len() {
@@ -53,12 +56,7 @@ impl JointRows {
             for (j, row) in fresh.iter().enumerate() {
                 self.refresh_row(base + j, row, blk, bodies, states);
             }
-            let lever = self.lever[base..base + count]
-                .iter()
-                .fold(0.0 as Real, |m, &l| m.max(l));
-            for l in &mut self.lever[base..base + count] {
-                *l = lever;
-            }
+            self.share_lever(base..base + count);
             if self.blk_eq[b] != NONE {
                 self.refresh_block(self.blk_eq[b] as usize);
             }
@@ -141,15 +139,7 @@ impl JointRows {
         // as of the step's start, while the kinematic bodies were written where they are now.
         // Through the usual tracking (module docs) that takes:
         self.xi0[i] = row.xi - kinematic * self.elapsed - moved;
-        let lin = row.jacobian[0]
-            .linear
-            .length()
-            .max(row.jacobian[1].linear.length());
-        let ang = row.jacobian[0]
-            .angular
-            .length()
-            .max(row.jacobian[1].angular.length());
-        self.lever[i] = if lin > 0.0 { ang / lin } else { 0.0 };
+        self.lever[i] = row_lever(row);
     }
 
     /// The inverse of equality block `e` from its rows' present Jacobians (kept if singular).
