@@ -37,7 +37,7 @@ fn column(mode: SolverMode) -> (Real, Real, f64) {
             stacked[i - 1].update_on_box(&mut world, boxes[i], HALF, 0.02, params);
         }
         let stats = world.step(h).unwrap();
-        assert_eq!(stats.solver.islands, 1);
+        assert_eq!(stats.solver.islands, 1, "{mode:?} {:?}", stats.solver);
     }
     let ms = start.elapsed().as_secs_f64() * 1000.0 / 300.0;
     let top = world.body(boxes[N - 1]).unwrap().position();

@@ -1,0 +1,188 @@
+//! The exact path for islands with contacts or Coulomb friction: the dense `A`, solved by the
+//! dense boxed LCP (`lcp_dense`) with the friction bounds iterated around it. Contact piles
+//! with redundant points are hard for principal pivoting, and this loop, one full LCP per set
+//! of bounds, is the one their tests and scenes were tuned on (the block-sparse pivoting with
+//! friction inside is tested but not yet as robust there); contact graphs also change every
+//! few steps, where the sparse analysis pays off on graphs that last. Islands of joints alone
+//! take the block-sparse path, whose cost is linear in a tree's rows.
+
+use super::lcp_dense::{self as lcp, Bound, LcpWorkspace};
+use super::pivoting::FrictionLink;
+use super::IslandRow;
+use crate::solver::{SolverParams, SolverStats};
+
+/// A dense island system and its LCP workspace.
+#[derive(Debug, Default)]
+pub(crate) struct DenseIsland {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    x: Vec<f64>,
+    w: Vec<f64>,
+    links: Vec<FrictionLink>,
+    state: Vec<Bound>,
+    lcp: LcpWorkspace,
+}
+
+impl DenseIsland {
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        (self.a.capacity()
+            + self.b.capacity()
+            + self.lo.capacity()
+            + self.hi.capacity()
+            + self.x.capacity()
+            + self.w.capacity())
+            * 8
+            + self.links.capacity() * std::mem::size_of::<FrictionLink>()
+            + self.state.capacity()
+            + self.lcp.bytes()
+    }
+
+    /// Fills `A = J M⁻¹ Jᵀ` for the rows (no softness on the diagonal yet).
+    pub(crate) fn fill(&mut self, rows: &[IslandRow], links: &[FrictionLink]) {
+        let n = rows.len();
+        self.links.clear();
+        self.links.extend_from_slice(&links[..n]);
+        self.a.clear();
+        self.a.resize(n * n, 0.0);
+        for i in 0..n {
+            let ri = rows[i];
+            for j in i..n {
+                let rj = &rows[j];
+                let mut s = 0.0;
+                for si in 0..2 {
+                    let Some(bi) = ri.bodies[si] else { continue };
+                    for sj in 0..2 {
+                        if rj.bodies[sj] == Some(bi) {
+                            s += ri.jac[2 * si].dot(rj.mj[2 * sj])
+                                + ri.jac[2 * si + 1].dot(rj.mj[2 * sj + 1]);
+                        }
+                    }
+                }
+                self.a[i * n + j] = s;
+                self.a[j * n + i] = s;
+            }
+        }
+    }
+
+    /// Row `i`'s diagonal entry.
+    pub(crate) fn diagonal(&self, i: usize) -> f64 {
+        self.a[i * self.links.len() + i]
+    }
+
+    /// Adds `v` to row `i`'s diagonal entry.
+    pub(crate) fn add_diagonal(&mut self, i: usize, v: f64) {
+        let n = self.links.len();
+        self.a[i * n + i] += v;
+    }
+
+    /// Solves the BLCP with Coulomb bounds iterated outside the pivoting: solve, re-set the
+    /// bounds from the normal forces, solve again while they move (at most
+    /// `max_friction_passes` times); the answer goes to `x`.
+    pub(crate) fn solve_with_friction(
+        &mut self,
+        b: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        x: &mut [f64],
+        params: &SolverParams,
+        stats: &mut SolverStats,
+    ) {
+        let n = self.links.len();
+        self.b.clear();
+        self.b.extend_from_slice(b);
+        self.lo.clear();
+        self.hi.clear();
+        for i in 0..n {
+            // First pass: friction unbounded, the sticking guess.
+            let (l, h) = match self.links[i] {
+                Some(_) => (f64::NEG_INFINITY, f64::INFINITY),
+                None => (lo[i], hi[i]),
+            };
+            self.lo.push(l);
+            self.hi.push(h);
+        }
+        for v in [&mut self.x, &mut self.w] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.state.clear();
+        self.state.resize(n, Bound::Free);
+        lcp::initial_state(&self.lo, &self.hi, &mut self.state);
+        let has_friction = self.links.iter().any(Option::is_some);
+        let (mut singular, mut cycled, mut capped) = (false, false, false);
+        let mut friction_converged = !has_friction;
+        for _pass in 0..params.max_friction_passes {
+            let rep = lcp::solve(
+                n,
+                &self.a,
+                &self.b,
+                &self.lo,
+                &self.hi,
+                &mut self.x,
+                &mut self.w,
+                &mut self.state,
+                &mut self.lcp,
+                params.max_lcp_iterations,
+            );
+            stats.friction_passes += 1;
+            stats.lcp_iterations += rep.iterations;
+            stats.pivots += rep.pivots;
+            singular |= rep.singular;
+            cycled = rep.cycled;
+            capped = rep.capped && !rep.converged;
+            if !has_friction {
+                break;
+            }
+            let mut moved = false;
+            for i in 0..n {
+                if let Some((normal, mu)) = self.links[i] {
+                    let bound = mu * self.x[normal as usize].max(0.0);
+                    if (bound - self.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
+                        || self.hi[i].is_infinite()
+                    {
+                        moved = true;
+                    }
+                    self.lo[i] = -bound;
+                    self.hi[i] = bound;
+                }
+            }
+            if !moved {
+                friction_converged = true;
+                break;
+            }
+        }
+        if !friction_converged {
+            // The last solve used the previous bounds: clamp friction to the final ones so the
+            // Coulomb cone is never exceeded, and report.
+            for i in 0..n {
+                if self.links[i].is_some() {
+                    self.x[i] = self.x[i].clamp(self.lo[i], self.hi[i]);
+                }
+            }
+            stats.friction_unconverged_islands += 1;
+            log::warn!(
+                "kea: Coulomb friction bounds still moving after {} re-solves",
+                params.max_friction_passes
+            );
+        }
+        if singular {
+            stats.singular_islands += 1;
+            log::warn!("kea: singular constraint system ({n} rows) regularised: redundant constraints with too small epsilon?");
+        }
+        if cycled {
+            stats.cycled_islands += 1;
+            log::warn!("kea: LCP pivoting cycle detected ({n} rows)");
+        }
+        if capped {
+            stats.capped_islands += 1;
+            log::warn!(
+                "kea: LCP iteration cap {} reached ({n} rows)",
+                params.max_lcp_iterations
+            );
+        }
+        x.copy_from_slice(&self.x);
+    }
+}

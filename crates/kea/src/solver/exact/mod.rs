@@ -1,0 +1,839 @@
+//! The exact island solve: assemble the island's system `A + εI` and `b` in `f64` as a
+//! block-sparse matrix, solve the boxed LCP with Coulomb friction inside, and hand the forces
+//! back.
+//!
+//! Assembly. Rows come in blocks (a joint's, a contact's); for rows i, j and each dynamic body
+//! k their blocks share, `A_ij += J_ik · M_k⁻¹ J_jkᵀ` with `M_k⁻¹ = diag(1/m_k, I_w,k⁻¹)`; then
+//! `A_ii += ε_i + s_i/h` (softness and slip) and `b_i = (c_i − γ_i·xi_i/h − J_i·v_f)/h`. Only
+//! blocks that share a body couple, so `A` is sparse: [`pattern`] orders the blocks so that
+//! factorising creates little or no fill (none for a tree), [`factor`] factorises, and
+//! [`pivoting`] solves the LCP over that fixed structure, warm started from last step's forces.
+//! A chain or a ragdoll costs time linear in its rows.
+//!
+//! Coulomb. A friction row linked to a normal row gets bounds `±μ·max(λₙ, 0)`, re-set inside
+//! the pivoting from each solve's normal forces (see [`pivoting`]); a row without a warm
+//! normal force starts unbounded (the sticking guess).
+
+mod dense;
+mod factor;
+mod lcp_dense;
+mod pattern;
+mod pivoting;
+
+use super::integrate::BodyScratch;
+use super::{
+    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams,
+    SolverStats,
+};
+use crate::constraint::{
+    Contact, PointForce, Row, RowBody, RowContext, RowWriter, Spring, MAX_CONTACT_POINTS,
+};
+use crate::math::{to_f64, wide, DVec3, Real};
+use factor::Layout;
+use pattern::{BlockBodies, Pattern, PatternCache};
+use pivoting::{Bound, FrictionLink, LcpWorkspace, Limits, System, Unknowns};
+
+/// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct IslandRow {
+    pub(crate) global: u32,
+    pub(crate) bodies: [Option<u32>; 2],
+    pub(crate) jac: [DVec3; 4],
+    pub(crate) mj: [DVec3; 4],
+}
+
+/// Workspace for island solves; grows to the largest island seen.
+#[derive(Debug, Default)]
+pub(crate) struct ExactWorkspace {
+    /// An island's joint rows and its contacts' rows together, with their blocks, forces,
+    /// warm-start guesses and reactions (contacts reach the exact path as contacts and are
+    /// written as rows here).
+    mixed_rows: Vec<Row>,
+    mixed_blocks: Vec<ConstraintBlock>,
+    mixed_order: Vec<u32>,
+    mixed_lambda: Vec<Real>,
+    mixed_guess: Vec<Real>,
+    mixed_reactions: Vec<[Reaction; 2]>,
+    rows: Vec<IslandRow>,
+    /// The island's blocks: first row, row count, the dynamic bodies they touch (island-local
+    /// numbers) and, per local body, the blocks that touch it and in which slot.
+    block_first: Vec<u32>,
+    block_size: Vec<u32>,
+    block_key: Vec<BlockBodies>,
+    block_position: Vec<u32>,
+    local_body: Vec<u32>,
+    island_bodies: Vec<u32>,
+    body_start: Vec<u32>,
+    body_entries: Vec<(u32, u8)>,
+    patterns: PatternCache,
+    layout: Layout,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    x: Vec<f64>,
+    w: Vec<f64>,
+    links: Vec<FrictionLink>,
+    state: Vec<Bound>,
+    lcp: LcpWorkspace,
+    dense: dense::DenseIsland,
+    /// The island being solved has contacts (and so takes the dense path).
+    with_contacts: bool,
+}
+
+/// Values of the block-sparse system a row is budgeted for in [`ExactWorkspace::bytes_for`]:
+/// its own block's row (up to 12) and the rows of the blocks it couples to (a few).
+const VALUES_PER_ROW: usize = 48;
+
+impl ExactWorkspace {
+    /// Reserves room for islands of `island_rows` rows, joints and contacts together.
+    pub(crate) fn reserve_mixed(&mut self, island_rows: usize) {
+        let n = island_rows;
+        reserve(&mut self.mixed_rows, n);
+        reserve(&mut self.mixed_blocks, n);
+        reserve(&mut self.mixed_order, n);
+        reserve(&mut self.mixed_lambda, n);
+        reserve(&mut self.mixed_guess, n);
+        reserve(&mut self.mixed_reactions, n);
+    }
+
+    pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
+        let n = island_rows;
+        reserve(&mut self.rows, n);
+        for v in [
+            &mut self.b,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.x,
+            &mut self.w,
+        ] {
+            reserve(v, n);
+        }
+        reserve(&mut self.links, n);
+        reserve(&mut self.state, n);
+    }
+
+    pub(crate) fn bytes(&self) -> usize {
+        self.mixed_rows.capacity() * std::mem::size_of::<Row>()
+            + self.mixed_blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
+            + self.mixed_order.capacity() * 4
+            + (self.mixed_lambda.capacity() + self.mixed_guess.capacity())
+                * std::mem::size_of::<Real>()
+            + self.mixed_reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+            + self.rows.capacity() * std::mem::size_of::<IslandRow>()
+            + (self.block_first.capacity()
+                + self.block_size.capacity()
+                + self.block_position.capacity()
+                + self.local_body.capacity()
+                + self.island_bodies.capacity()
+                + self.body_start.capacity())
+                * 4
+            + self.block_key.capacity() * std::mem::size_of::<BlockBodies>()
+            + self.body_entries.capacity() * 8
+            + self.a.capacity() * 8
+            + (self.b.capacity()
+                + self.lo.capacity()
+                + self.hi.capacity()
+                + self.x.capacity()
+                + self.w.capacity())
+                * 8
+            + self.links.capacity() * std::mem::size_of::<FrictionLink>()
+            + self.state.capacity()
+            + self.lcp.bytes()
+            + self.dense.bytes()
+    }
+
+    /// An estimate of the bytes islands of up to `largest_island` rows need (a tree's system
+    /// is about [`VALUES_PER_ROW`] values a row; a pile with loops may need more).
+    pub(crate) fn bytes_for(largest_island: usize, _rows: usize) -> usize {
+        let n = largest_island;
+        n * (std::mem::size_of::<IslandRow>()
+            + std::mem::size_of::<Row>()
+            + std::mem::size_of::<ConstraintBlock>()
+            + 4
+            + 2 * std::mem::size_of::<Real>()
+            + std::mem::size_of::<[Reaction; 2]>())
+            + n * 6 * 4
+            + n * std::mem::size_of::<BlockBodies>()
+            + n * 8
+            + 2 * n * VALUES_PER_ROW * 8
+            + 6 * n * 8
+            + n * std::mem::size_of::<FrictionLink>()
+            + n
+            // The dense path of islands with friction.
+            + n * n * 8
+            + 6 * n * 8
+            + n * std::mem::size_of::<FrictionLink>()
+            + n
+            + lcp_dense::LcpWorkspace::bytes_for(n)
+    }
+
+    /// Solves one island and accumulates its constraint forces into `scratch`. `lambda` holds
+    /// each row's force of the last step on entry (the warm start) and of this step on return.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_island(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+        stats: &mut SolverStats,
+    ) {
+        let h = wide(params.dt);
+        self.gather(island_blocks, blocks, rows, bodies, scratch, |_| true);
+        let n = self.rows.len();
+        if n == 0 {
+            return;
+        }
+        stats.islands += 1;
+        stats.rows += n as u32;
+        stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
+        self.assemble(rows, scratch, params, h, lambda);
+        self.solve_lcp(params, stats);
+
+        // Forces back to rows, bodies and constraints.
+        for (i, r) in self.rows.iter().enumerate() {
+            let l = self.x[i];
+            lambda[r.global as usize] = l as Real;
+            for s in 0..2 {
+                if let Some(b) = r.bodies[s] {
+                    scratch.constraint_force[b as usize] += r.jac[2 * s] * l;
+                    scratch.constraint_torque[b as usize] += r.jac[2 * s + 1] * l;
+                }
+            }
+        }
+        block_reactions(island_blocks, blocks, rows, lambda, reactions);
+    }
+
+    /// Solves an island of joint blocks and contacts: the contacts write their rows (three
+    /// per point) next to a copy of the joints' rows, the whole is solved as one LCP, and the
+    /// forces go back to the joints' λ and reactions and to each contact point.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_island_with_contacts(
+        &mut self,
+        island_blocks: &[u32],
+        island_contacts: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        contacts: &mut [SolverContact],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        lambda: &mut [Real],
+        reactions: &mut [[Reaction; 2]],
+        stats: &mut SolverStats,
+    ) {
+        if island_contacts.is_empty() {
+            return self.solve_island(
+                island_blocks,
+                blocks,
+                rows,
+                bodies,
+                scratch,
+                params,
+                lambda,
+                reactions,
+                stats,
+            );
+        }
+        let mut mrows = std::mem::take(&mut self.mixed_rows);
+        let mut mblocks = std::mem::take(&mut self.mixed_blocks);
+        let mut order = std::mem::take(&mut self.mixed_order);
+        let mut mlambda = std::mem::take(&mut self.mixed_lambda);
+        let mut mreactions = std::mem::take(&mut self.mixed_reactions);
+        let mut mguess = std::mem::take(&mut self.mixed_guess);
+        mrows.clear();
+        mblocks.clear();
+        mguess.clear();
+        for &k in island_blocks {
+            let blk = blocks[k as usize];
+            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
+            mblocks.push(ConstraintBlock {
+                first_row: mrows.len() as u32,
+                ..blk
+            });
+            mrows.extend_from_slice(&rows[range.clone()]);
+            mguess.extend_from_slice(&lambda[range]);
+        }
+        // A pile's contacts run stiff (see EXACT_CONTACT_STIFFENING); beside joints they keep
+        // the world's spring, the balance the joints' own softness was set against.
+        let contact_spring = if island_blocks.is_empty() {
+            exact_contact_spring(params.contact_spring)
+        } else {
+            params.contact_spring
+        };
+        for &c in island_contacts {
+            let sc = &contacts[c as usize];
+            let ctx = RowContext {
+                bodies: sc.bodies.map(|b| row_body(b, bodies, scratch)),
+                dt: params.dt,
+                epsilon: params.epsilon,
+                gamma: params.gamma,
+                contact_spring,
+            };
+            let first = mrows.len();
+            sc.contact.write_rows(&ctx, &mut RowWriter::new(&mut mrows));
+            warm_contact_rows(&sc.contact, &mrows[first..], &mut mguess);
+            mblocks.push(ConstraintBlock {
+                bodies: sc.bodies,
+                first_row: first as u32,
+                row_count: (mrows.len() - first) as u32,
+            });
+        }
+        order.clear();
+        order.extend(0..mblocks.len() as u32);
+        mlambda.clear();
+        mlambda.extend_from_slice(&mguess);
+        mreactions.clear();
+        mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
+        self.with_contacts = true;
+        self.solve_island(
+            &order,
+            &mblocks,
+            &mrows,
+            bodies,
+            scratch,
+            params,
+            &mut mlambda,
+            &mut mreactions,
+            stats,
+        );
+        self.with_contacts = false;
+        for (i, &k) in island_blocks.iter().enumerate() {
+            let blk = &blocks[k as usize];
+            let from = mblocks[i].first_row as usize;
+            let n = blk.row_count as usize;
+            lambda[blk.first_row as usize..blk.first_row as usize + n]
+                .copy_from_slice(&mlambda[from..from + n]);
+            reactions[k as usize] = mreactions[i];
+        }
+        for (i, &c) in island_contacts.iter().enumerate() {
+            let blk = &mblocks[island_blocks.len() + i];
+            let block_rows =
+                &mrows[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
+            let block_lambda =
+                &mlambda[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
+            store_point_forces(&mut contacts[c as usize].contact, block_rows, block_lambda);
+        }
+        self.mixed_rows = mrows;
+        self.mixed_blocks = mblocks;
+        self.mixed_order = order;
+        self.mixed_lambda = mlambda;
+        self.mixed_reactions = mreactions;
+        self.mixed_guess = mguess;
+    }
+
+    /// Gathers the island's rows that `keep` accepts, block by block, with each block's
+    /// dynamic bodies as island-local numbers (a block left with no row is dropped).
+    fn gather(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &BodyScratch,
+        keep: impl Fn(&Row) -> bool,
+    ) {
+        self.rows.clear();
+        self.links.clear();
+        self.island_bodies.clear();
+        self.block_first.clear();
+        self.block_size.clear();
+        self.block_key.clear();
+        if self.local_body.len() < bodies.len() {
+            self.local_body.resize(bodies.len(), u32::MAX);
+        }
+        for &k in island_blocks {
+            let blk = &blocks[k as usize];
+            let base = self.rows.len() as u32;
+            for g in blk.first_row..blk.first_row + blk.row_count {
+                let row = &rows[g as usize];
+                if !keep(row) {
+                    continue;
+                }
+                let mut ir = IslandRow {
+                    global: g,
+                    bodies: blk.bodies,
+                    ..IslandRow::default()
+                };
+                for s in 0..2 {
+                    if let Some(b) = blk.bodies[s] {
+                        let body = &bodies[b as usize];
+                        let jl = to_f64(row.jacobian[s].linear);
+                        let ja = to_f64(row.jacobian[s].angular);
+                        ir.jac[2 * s] = jl;
+                        ir.jac[2 * s + 1] = ja;
+                        ir.mj[2 * s] = jl * wide(body.inv_mass);
+                        ir.mj[2 * s + 1] =
+                            to_f64(scratch.inv_inertia_world[b as usize] * row.jacobian[s].angular);
+                    }
+                }
+                self.rows.push(ir);
+                self.links.push(
+                    row.friction
+                        .map(|f| (base + u32::from(f.normal_row), wide(f.mu))),
+                );
+            }
+            let size = self.rows.len() as u32 - base;
+            if size == 0 {
+                continue;
+            }
+            let key = blk.bodies.map(|b| match b {
+                Some(b) if !bodies[b as usize].is_fixed() => {
+                    let local = &mut self.local_body[b as usize];
+                    if *local == u32::MAX {
+                        *local = self.island_bodies.len() as u32;
+                        self.island_bodies.push(b);
+                    }
+                    *local
+                }
+                _ => u32::MAX,
+            });
+            self.block_first.push(base);
+            self.block_size.push(size);
+            self.block_key.push(key);
+        }
+        for &b in &self.island_bodies {
+            self.local_body[b as usize] = u32::MAX;
+        }
+    }
+
+    /// Analyses (or recalls) the island's block graph, lays the system out and fills
+    /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows.
+    fn assemble_matrix(&mut self) {
+        let n = self.rows.len();
+        let island_bodies = self.island_bodies.len();
+        let pattern = self
+            .patterns
+            .get(&self.block_key, &self.block_size, island_bodies);
+        self.layout
+            .build(pattern, &self.block_first, &self.block_size);
+        self.block_position.clear();
+        self.block_position.resize(pattern.len(), 0);
+        for (k, &blk) in pattern.order.iter().enumerate() {
+            self.block_position[blk as usize] = k as u32;
+        }
+        self.a.clear();
+        self.a.resize(self.layout.values(), 0.0);
+        for v in [
+            &mut self.b,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.x,
+            &mut self.w,
+        ] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.state.clear();
+        self.state.resize(n, Bound::Free);
+
+        // Blocks by body: each body couples every pair of the blocks that touch it.
+        self.body_start.clear();
+        self.body_start.resize(island_bodies + 1, 0);
+        for key in &self.block_key {
+            for &b in key.iter().filter(|&&b| b != u32::MAX) {
+                self.body_start[b as usize + 1] += 1;
+            }
+        }
+        for i in 0..island_bodies {
+            self.body_start[i + 1] += self.body_start[i];
+        }
+        self.body_entries.clear();
+        self.body_entries
+            .resize(self.body_start[island_bodies] as usize, (0, 0));
+        for (blk, key) in self.block_key.iter().enumerate() {
+            for (slot, &b) in key.iter().enumerate() {
+                if b != u32::MAX {
+                    let at = &mut self.body_start[b as usize];
+                    self.body_entries[*at as usize] = (blk as u32, slot as u8);
+                    *at += 1;
+                }
+            }
+        }
+        // (body_start[b] now holds the end of body b's entries: its start is body_start[b-1].)
+        let blocks = BlockRows {
+            rows: &self.rows,
+            first: &self.block_first,
+            size: &self.block_size,
+            position: &self.block_position,
+        };
+        for b in 0..island_bodies {
+            let start = if b == 0 { 0 } else { self.body_start[b - 1] } as usize;
+            let end = self.body_start[b] as usize;
+            for e in start..end {
+                for f in start..=e {
+                    add_coupling(
+                        pattern,
+                        &self.layout,
+                        &blocks,
+                        &mut self.a,
+                        self.body_entries[e],
+                        self.body_entries[f],
+                    );
+                }
+            }
+        }
+        // M⁻¹Jᵀ is rounded through `Real`, so J_i·(M⁻¹J_j) and J_j·(M⁻¹J_i) differ in their
+        // last bits: mirror each diagonal block's lower triangle so that the matrix the
+        // pivoting multiplies by is exactly the one it factorises.
+        for k in 0..pattern.len() {
+            let (_, s) = self.layout.rows(k);
+            let at = self.layout.offset(k);
+            for i in 0..s {
+                for j in 0..i {
+                    self.a[at + j * s + i] = self.a[at + i * s + j];
+                }
+            }
+        }
+    }
+
+    /// The diagonal entry of island row `i` in `A`.
+    fn diagonal(&self, i: usize) -> f64 {
+        let (at, stride, r) = self.diagonal_index(i);
+        self.a[at + r * stride + r]
+    }
+
+    /// Where island row `i`'s diagonal lives: its block's offset, the block's size, and the
+    /// row's index in it.
+    fn diagonal_index(&self, i: usize) -> (usize, usize, usize) {
+        // Blocks are contiguous and in gathered order: find the one holding row i.
+        let blk = self.block_first.partition_point(|&f| f as usize <= i) - 1;
+        let k = self.block_position[blk] as usize;
+        let (first, size) = self.layout.rows(k);
+        (self.layout.offset(k), size, i - first)
+    }
+
+    /// Adds `v` to island row `i`'s diagonal.
+    fn add_diagonal(&mut self, i: usize, v: f64) {
+        let (at, stride, r) = self.diagonal_index(i);
+        self.a[at + r * stride + r] += v;
+    }
+
+    fn assemble(
+        &mut self,
+        rows: &[Row],
+        scratch: &BodyScratch,
+        params: &SolverParams,
+        h: f64,
+        guess: &[Real],
+    ) {
+        // Islands with friction take the dense path: their contacts come and go, and the
+        // block-sparse analysis is for graphs that last (see `dense`).
+        let friction = self.with_contacts || self.links.iter().any(Option::is_some);
+        let n = self.rows.len();
+        if friction {
+            self.dense.fill(&self.rows, &self.links);
+            for v in [
+                &mut self.b,
+                &mut self.lo,
+                &mut self.hi,
+                &mut self.x,
+                &mut self.w,
+            ] {
+                v.clear();
+                v.resize(n, 0.0);
+            }
+            self.state.clear();
+            self.state.resize(n, Bound::Free);
+        } else {
+            self.assemble_matrix();
+        }
+        for i in 0..n {
+            let ri = self.rows[i];
+            let row = &rows[ri.global as usize];
+            // A spring row's ε is relative to its own effective mass: the diagonal just built.
+            let diag = if friction {
+                self.dense.diagonal(i)
+            } else {
+                self.diagonal(i)
+            };
+            let (eps, gamma) = match row.spring.and_then(|sp| sp.relative_softness(h as Real)) {
+                Some((relative, g)) => (wide(relative) * diag, wide(row.gamma.unwrap_or(g))),
+                None => (
+                    wide(row.softness.unwrap_or(params.epsilon)),
+                    wide(row.gamma.unwrap_or(params.gamma)),
+                ),
+            };
+            if friction {
+                self.dense.add_diagonal(i, eps + wide(row.slip) / h);
+            } else {
+                self.add_diagonal(i, eps + wide(row.slip) / h);
+            }
+            let mut jv = 0.0;
+            for s in 0..2 {
+                if let Some(b) = ri.bodies[s] {
+                    jv += ri.jac[2 * s].dot(to_f64(scratch.free_linear[b as usize]))
+                        + ri.jac[2 * s + 1].dot(to_f64(scratch.free_angular[b as usize]));
+                }
+            }
+            self.b[i] = (wide(row.c) - gamma * wide(row.xi) / h - jv) / h;
+            self.lo[i] = wide(row.lo);
+            self.hi[i] = wide(row.hi);
+        }
+        // Warm start: each row at the set its last force puts it in; friction bounded by the
+        // last normal force, or unbounded (the sticking guess) without one.
+        for i in 0..n {
+            let g = |j: usize| wide(guess[self.rows[j].global as usize]);
+            if let Some((normal, mu)) = self.links[i] {
+                let bound = mu * g(normal as usize).max(0.0);
+                (self.lo[i], self.hi[i]) = if bound > 0.0 {
+                    (-bound, bound)
+                } else {
+                    (f64::NEG_INFINITY, f64::INFINITY)
+                };
+            }
+            self.state[i] = pivoting::state_from_guess(self.lo[i], self.hi[i], g(i));
+        }
+    }
+
+    /// Solves the assembled LCP and reports its outcome. An island with Coulomb friction
+    /// takes the dense path (see [`dense`]); the others the block-sparse one.
+    fn solve_lcp(&mut self, params: &SolverParams, stats: &mut SolverStats) {
+        let n = self.rows.len();
+        if self.with_contacts || self.links.iter().any(Option::is_some) {
+            self.dense
+                .solve_with_friction(&self.b, &self.lo, &self.hi, &mut self.x, params, stats);
+            return;
+        }
+        let pattern = self.patterns.current();
+        let rep = pivoting::solve(
+            &System {
+                pattern,
+                layout: &self.layout,
+                a: &self.a,
+                b: &self.b,
+                links: &self.links,
+            },
+            &mut Unknowns {
+                lo: &mut self.lo,
+                hi: &mut self.hi,
+                x: &mut self.x,
+                w: &mut self.w,
+                state: &mut self.state,
+            },
+            &mut self.lcp,
+            Limits {
+                iterations: params.max_lcp_iterations,
+                bound_updates: params.max_friction_passes,
+            },
+        );
+        stats.friction_passes += rep.bound_updates.max(1);
+        stats.lcp_iterations += rep.iterations;
+        stats.pivots += rep.pivots;
+        if rep.bounds_moving {
+            stats.friction_unconverged_islands += 1;
+            log::warn!(
+                "kea: Coulomb friction bounds still moving after {} updates",
+                params.max_friction_passes
+            );
+        }
+        if rep.singular {
+            stats.singular_islands += 1;
+            log::warn!("kea: singular constraint system ({n} rows) regularised: redundant constraints with too small epsilon?");
+        }
+        if rep.cycled {
+            stats.cycled_islands += 1;
+            log::warn!("kea: LCP pivoting cycle detected ({n} rows)");
+        }
+        if rep.capped && !rep.converged {
+            stats.capped_islands += 1;
+            log::warn!(
+                "kea: LCP iteration cap {} reached ({n} rows)",
+                params.max_lcp_iterations
+            );
+        }
+    }
+
+    /// Position projection of one island: moves its bodies so that each equality row without
+    /// its own softness (a joint) sits where the step's force puts it, by solving
+    /// `(J M⁻¹ Jᵀ + δI) Δ = xi* − xi` for the rows evaluated at the new state and applying
+    /// `Δq = M⁻¹ Jᵀ Δ` to positions and orientations (velocities are left alone: a
+    /// post-stabilisation). With the world's ε a joint is a stiff spring, `k = γ/(ε h²)`, so its
+    /// target is the spring's deflection under the force λ it carried, `xi* = −λ/k`: projecting
+    /// to zero would fight the velocity solve, which keeps that deflection. The displacements are
+    /// accumulated in `scratch` (linear in `constraint_force`, angular in `constraint_torque`)
+    /// for the caller to apply. Returns the largest error it started from.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn project_island(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        bodies: &[SolverBody],
+        scratch: &mut BodyScratch,
+        params: &SolverParams,
+        lambda: &[Real],
+        stats: &mut SolverStats,
+    ) -> f64 {
+        let projectable = |r: &Row| {
+            r.lo == Real::NEG_INFINITY
+                && r.hi == Real::INFINITY
+                && r.friction.is_none()
+                && r.softness.is_none()
+                && r.spring.is_none()
+                && r.gamma != Some(0.0)
+        };
+        self.gather(island_blocks, blocks, rows, bodies, scratch, projectable);
+        let n = self.rows.len();
+        if n == 0 {
+            return 0.0;
+        }
+        self.assemble_matrix();
+        let diag_max = (0..n).fold(0.0f64, |m, i| m.max(self.diagonal(i)));
+        // A light regularisation keeps redundant joints solvable without softening them.
+        let delta = (wide(params.epsilon) * 1.0e-3).max(1.0e-12 * diag_max);
+        let mut worst = 0.0f64;
+        let h = wide(params.dt);
+        for i in 0..n {
+            self.add_diagonal(i, delta);
+            let g = self.rows[i].global as usize;
+            let row = &rows[g];
+            let xi = wide(row.xi);
+            let gamma = wide(row.gamma.unwrap_or(params.gamma));
+            let deflection = if gamma > 0.0 {
+                -wide(params.epsilon) * h * h / gamma * wide(lambda[g])
+            } else {
+                0.0
+            };
+            worst = worst.max(xi.abs());
+            self.b[i] = deflection - xi;
+            self.lo[i] = f64::NEG_INFINITY;
+            self.hi[i] = f64::INFINITY;
+        }
+        self.solve_lcp(params, stats);
+        for (i, r) in self.rows.iter().enumerate() {
+            let d = self.x[i];
+            for s in 0..2 {
+                if let Some(b) = r.bodies[s] {
+                    scratch.constraint_force[b as usize] += r.mj[2 * s] * d;
+                    scratch.constraint_torque[b as usize] += r.mj[2 * s + 1] * d;
+                }
+            }
+        }
+        worst
+    }
+}
+
+/// The row-writing view of solver body `b` (`None`: the static world).
+pub(crate) fn row_body(b: Option<u32>, bodies: &[SolverBody], scratch: &BodyScratch) -> RowBody {
+    let Some(b) = b else {
+        return RowBody::STATIC;
+    };
+    let body = &bodies[b as usize];
+    RowBody {
+        position: body.position,
+        orientation: body.orientation,
+        linear_velocity: body.linear_velocity,
+        angular_velocity: body.angular_velocity,
+        free_linear_velocity: scratch.free_linear[b as usize],
+        free_angular_velocity: scratch.free_angular[b as usize],
+        dynamic: !body.is_fixed(),
+        fast_spin_axis: body.fast_spin_axis.map(|a| body.orientation * a),
+    }
+}
+
+/// Each point's force from the λ of the rows a contact wrote (normal, then its friction rows),
+/// and the primary direction they used.
+fn store_point_forces(contact: &mut Contact, rows: &[Row], lambda: &[Real]) {
+    let per_point = rows.len() / contact.points().len().max(1);
+    let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
+    for (j, f) in forces.iter_mut().enumerate().take(contact.points().len()) {
+        let base = j * per_point;
+        f.normal = lambda[base];
+        for k in 1..per_point {
+            f.friction += rows[base + k].jacobian[0].linear * lambda[base + k];
+        }
+    }
+    contact.set_forces(&forces[..contact.points().len()]);
+    if per_point >= 2 {
+        contact.remember_direction(rows[1].jacobian[0].linear);
+    }
+}
+
+/// How much stiffer the exact path's contacts are than the iterative path's in an island of
+/// contacts only (beside joints, contacts keep the world's spring: a ragdoll's limits, soft
+/// by the guide's ε, would yield to stiffer ground contacts): a direct solve stays stable
+/// however stiff its springs, so it runs them at eight times the frequency (240
+/// Hz by default), and eight times the damping ratio so that a step still removes the same
+/// fraction of a penetration (`hω/(hω + 2ζ)`, the step's γ, stays as it was) rather than
+/// kicking bodies out. Resting, such a contact yields 64 times less: a column of 40 unit boxes
+/// sags under 1 cm, and a 1 kg box under a 100 kg one sinks a millimetre or two, where the
+/// soft step's 30 Hz gives 44 cm and 13 cm.
+pub(crate) const EXACT_CONTACT_STIFFENING: Real = 8.0;
+
+/// The spring of the exact path's contacts for the world's contact spring.
+pub(crate) fn exact_contact_spring(spring: Spring) -> Spring {
+    Spring::new(
+        spring.hertz * EXACT_CONTACT_STIFFENING,
+        spring.damping_ratio,
+    )
+}
+
+/// An island's rows grouped by block, with each block's place in the elimination order.
+struct BlockRows<'a> {
+    rows: &'a [IslandRow],
+    first: &'a [u32],
+    size: &'a [u32],
+    position: &'a [u32],
+}
+
+/// Adds, to `a`, the coupling through one body of block `p` (touching it in slot `sp`) and
+/// block `q` (slot `sq`).
+fn add_coupling(
+    pattern: &Pattern,
+    layout: &Layout,
+    blocks: &BlockRows<'_>,
+    a: &mut [f64],
+    (p, sp): (u32, u8),
+    (q, sq): (u32, u8),
+) {
+    let (p, q) = (p as usize, q as usize);
+    let (pa, pb) = (blocks.position[p] as usize, blocks.position[q] as usize);
+    let (fp, sp_rows) = (blocks.first[p] as usize, blocks.size[p] as usize);
+    let (fq, sq_rows) = (blocks.first[q] as usize, blocks.size[q] as usize);
+    let at = layout.offset(
+        pattern
+            .slot(pa, pb)
+            .expect("coupled blocks are in the pattern"),
+    );
+    let (sp, sq) = (2 * sp as usize, 2 * sq as usize);
+    for i in 0..sp_rows {
+        let ri = &blocks.rows[fp + i];
+        for j in 0..sq_rows {
+            let rj = &blocks.rows[fq + j];
+            let v = ri.jac[sp].dot(rj.mj[sq]) + ri.jac[sp + 1].dot(rj.mj[sq + 1]);
+            if pa == pb {
+                // The same block through its two slots (a block on one body twice) adds the
+                // mirrored term too.
+                a[at + i * sp_rows + j] += v;
+                if sp != sq {
+                    a[at + j * sp_rows + i] += v;
+                }
+            } else if pa > pb {
+                a[at + i * sq_rows + j] += v;
+            } else {
+                a[at + j * sp_rows + i] += v;
+            }
+        }
+    }
+}
+
+/// Each contact row's force of the last step, from the contact's warm forces: the normal force
+/// for a normal row, the friction force along the row's direction for a friction row.
+fn warm_contact_rows(contact: &Contact, rows: &[Row], guess: &mut Vec<Real>) {
+    let warm = contact.warm_forces();
+    let per_point = rows.len() / warm.len().max(1);
+    for (i, row) in rows.iter().enumerate() {
+        let f = warm.get(i / per_point.max(1)).copied().unwrap_or_default();
+        guess.push(if i % per_point.max(1) == 0 {
+            f.normal
+        } else {
+            f.friction.dot(row.jacobian[0].linear)
+        });
+    }
+}
