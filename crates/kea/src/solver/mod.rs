@@ -12,10 +12,11 @@
 //!    which path solved each island, its size and its effort.
 //! 3. **Exact path** per island (`exact`): `(A + εI)λ = b` as a boxed LCP with
 //!    `A = J M⁻¹ Jᵀ` and `b = (c − γ·xi/h − J v_f)/h`, λ in force units, by block principal
-//!    pivoting in `f64` over a block-sparse factorisation whose elimination order keeps trees
-//!    free of fill (a chain or ragdoll costs time linear in its rows), warm started from last
-//!    step's forces. Coulomb bounds `±μλₙ` are re-set from the normal forces inside the
-//!    pivoting. The reference answer.
+//!    pivoting in `f64`. Islands of joints use a block-sparse factorisation whose elimination
+//!    order keeps trees free of fill (a chain costs time linear in its rows), warm started
+//!    from last step's forces; islands with contacts use the dense system, with the Coulomb
+//!    bounds `±μλₙ` iterated: solve, update the bounds from the new normal forces, re-solve
+//!    while they move. The reference answer.
 //! 4. **Iterative path** per island (`iterative`): warm-started projected Gauss-Seidel with
 //!    substeps (Box2D v3's soft step over the same rows): per substep integrate velocities,
 //!    warm start, solve with error correction, integrate positions, relax without it;

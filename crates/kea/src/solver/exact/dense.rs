@@ -6,6 +6,9 @@
 //! few steps, where the sparse analysis pays off on graphs that last. Islands of joints alone
 //! take the block-sparse path, whose cost is linear in a tree's rows.
 
+// Dense kernels over row and block indices read clearest as index loops.
+#![allow(clippy::needless_range_loop)]
+
 use super::lcp_dense::{self as lcp, Bound, LcpWorkspace};
 use super::pivoting::FrictionLink;
 use super::IslandRow;

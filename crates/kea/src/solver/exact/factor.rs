@@ -9,6 +9,9 @@
 //! not clearly positive (redundant rows without softness) is replaced by a small positive one
 //! and reported: the solve stays finite and the redundant direction carries no force.
 
+// Dense kernels over row and block indices read clearest as index loops.
+#![allow(clippy::needless_range_loop)]
+
 use super::pattern::Pattern;
 
 /// Where the blocks of one island's system live.
@@ -200,8 +203,7 @@ fn cholesky_in_place(d: &mut [f64], s: usize, tiny: f64, floor: f64) -> bool {
                 v -= d[i * s + c] * d[j * s + c];
             }
             if i == j {
-                // `!(v > tiny)` also catches NaN.
-                if !(v > tiny) {
+                if v.is_nan() || v <= tiny {
                     v = floor;
                     regularised = true;
                 }

@@ -10,6 +10,9 @@
 //! analysis; [`PatternCache`] keeps the last few so an island whose graph did not change reuses
 //! its analysis.
 
+// Dense kernels over row and block indices read clearest as index loops.
+#![allow(clippy::needless_range_loop)]
+
 /// One block of an island's system as the analysis sees it: the dynamic bodies it touches, as
 /// island-local body numbers (`u32::MAX` for none).
 pub(crate) type BlockBodies = [u32; 2];

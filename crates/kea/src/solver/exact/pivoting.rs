@@ -30,6 +30,9 @@
 //! normal forces give (reported). Every loop is bounded and its outcome reported; nothing
 //! aborts.
 
+// Dense kernels over row and block indices read clearest as index loops.
+#![allow(clippy::needless_range_loop)]
+
 use super::factor::{factorise, multiply, solve as factor_solve, Layout};
 use super::pattern::Pattern;
 
