@@ -336,7 +336,8 @@ fn cholesky(
     true
 }
 
-fn hash_state(state: &[Bound]) -> u64 {
+/// FNV-1a hash of a set pattern, to notice a pattern pivoting has seen before.
+pub(crate) fn hash_state(state: &[Bound]) -> u64 {
     // FNV-1a over the set pattern.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for s in state {

@@ -409,7 +409,7 @@ impl ExactWorkspace {
     /// Analyses (or recalls) the island's block graph, lays the system out and fills
     /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows.
     fn assemble_matrix(&mut self) {
-        let n = self.rows.len();
+        self.size_vectors(self.rows.len());
         let island_bodies = self.island_bodies.len();
         let pattern = self
             .patterns
@@ -423,18 +423,6 @@ impl ExactWorkspace {
         }
         self.a.clear();
         self.a.resize(self.layout.values(), 0.0);
-        for v in [
-            &mut self.b,
-            &mut self.lo,
-            &mut self.hi,
-            &mut self.x,
-            &mut self.w,
-        ] {
-            v.clear();
-            v.resize(n, 0.0);
-        }
-        self.state.clear();
-        self.state.resize(n, Bound::Free);
 
         // Blocks by body: each body couples every pair of the blocks that touch it.
         self.body_start.clear();
@@ -496,6 +484,22 @@ impl ExactWorkspace {
         }
     }
 
+    /// Sizes `b`, the bounds, `x`, `w` and the sets for `n` rows.
+    fn size_vectors(&mut self, n: usize) {
+        for v in [
+            &mut self.b,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.x,
+            &mut self.w,
+        ] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.state.clear();
+        self.state.resize(n, Bound::Free);
+    }
+
     /// The diagonal entry of island row `i` in `A`.
     fn diagonal(&self, i: usize) -> f64 {
         let (at, stride, r) = self.diagonal_index(i);
@@ -532,18 +536,7 @@ impl ExactWorkspace {
         let n = self.rows.len();
         if friction {
             self.dense.fill(&self.rows, &self.links);
-            for v in [
-                &mut self.b,
-                &mut self.lo,
-                &mut self.hi,
-                &mut self.x,
-                &mut self.w,
-            ] {
-                v.clear();
-                v.resize(n, 0.0);
-            }
-            self.state.clear();
-            self.state.resize(n, Bound::Free);
+            self.size_vectors(n);
         } else {
             self.assemble_matrix();
         }

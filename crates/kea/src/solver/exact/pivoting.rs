@@ -34,15 +34,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::factor::{factorise, multiply, solve as factor_solve, Layout};
+use super::lcp_dense::hash_state;
+pub(crate) use super::lcp_dense::Bound;
 use super::pattern::Pattern;
-
-/// Where an index currently sits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Bound {
-    Free,
-    Lower,
-    Upper,
-}
 
 /// What happened in one LCP solve.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -368,16 +362,6 @@ fn solve_free(
         }
     }
     regularised
-}
-
-fn hash_state(state: &[Bound]) -> u64 {
-    // FNV-1a over the set pattern.
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for s in state {
-        h ^= *s as u64 + 1;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
 }
 
 #[cfg(test)]
