@@ -1,5 +1,6 @@
-//! Hybrid routing: small islands exact, big ones iterative, with hysteresis, a per-body request
-//! for the exact path, visible stats; and bad solver settings rejected with nothing changed.
+//! Hybrid routing: small islands of joints exact, big ones split (joints direct inside the
+//! substeps), with hysteresis, a per-body request for the exact path, visible stats; and bad
+//! solver settings rejected with nothing changed.
 
 use kea::{
     BodyDef, BodyHandle, ConstraintHandle, IterativeParams, Real, Routing, SolverMode, SolverPath,
@@ -29,19 +30,30 @@ fn chain(world: &mut World, n: usize, x0: Real) -> (Vec<BodyHandle>, Vec<Constra
 }
 
 #[test]
-fn hybrid_sends_small_islands_exact_and_big_ones_iterative() {
+fn hybrid_sends_small_islands_exact_and_big_ones_split() {
     let mut world = World::with_capacity(64, 64).unwrap();
     chain(&mut world, 3, 0.0); // 9 rows
     chain(&mut world, 30, 5.0); // 90 rows
     let stats = world.step(1.0 / 60.0).unwrap();
     assert_eq!(
-        (stats.solver.exact_islands, stats.solver.iterative_islands),
-        (1, 1)
+        (
+            stats.solver.exact_islands,
+            stats.solver.split_islands,
+            stats.solver.iterative_islands
+        ),
+        (1, 1, 0)
     );
     assert_eq!(
-        (stats.solver.exact_rows, stats.solver.iterative_rows),
-        (9, 90)
+        (
+            stats.solver.exact_rows,
+            stats.solver.split_rows,
+            stats.solver.direct_rows,
+            stats.solver.iterative_rows
+        ),
+        (9, 90, 90, 0)
     );
+    // Two direct solves a substep (biased, relax), four substeps.
+    assert_eq!(stats.solver.direct_solves, 8);
     let reports = world.island_reports();
     assert_eq!(reports.len(), 2);
     assert_eq!(
@@ -50,7 +62,7 @@ fn hybrid_sends_small_islands_exact_and_big_ones_iterative() {
     );
     assert_eq!(
         (reports[1].path, reports[1].rows, reports[1].bodies),
-        (SolverPath::Iterative, 90, 30)
+        (SolverPath::Split, 90, 30)
     );
     assert!(reports[0].iterations >= 1 && reports[1].iterations >= 1);
     assert!(stats.solver.time_solve >= stats.solver.time_solve_exact);
@@ -59,10 +71,10 @@ fn hybrid_sends_small_islands_exact_and_big_ones_iterative() {
 #[test]
 fn an_island_near_the_threshold_does_not_flip() {
     let mut world = World::with_capacity(32, 32).unwrap();
-    let (bodies, joints) = chain(&mut world, 24, 0.0); // 72 rows > 64: iterative
+    let (bodies, joints) = chain(&mut world, 24, 0.0); // 72 rows > 64: split
     world.step(1.0 / 60.0).unwrap();
-    assert_eq!(world.island_reports()[0].path, SolverPath::Iterative);
-    // Shorten to 20 links (60 rows ≤ 64) — but it was iterative, and 60 > 0.75 × 64.
+    assert_eq!(world.island_reports()[0].path, SolverPath::Split);
+    // Shorten to 20 links (60 rows ≤ 64) — but it was split, and 60 > 0.75 × 64.
     for &j in &joints[20..] {
         world.destroy_constraint(j).unwrap();
     }
@@ -73,7 +85,7 @@ fn an_island_near_the_threshold_does_not_flip() {
         world.step(1.0 / 60.0).unwrap();
         assert_eq!(
             world.island_reports()[0].path,
-            SolverPath::Iterative,
+            SolverPath::Split,
             "flipped back too soon"
         );
     }
@@ -90,14 +102,14 @@ fn an_island_near_the_threshold_does_not_flip() {
 }
 
 #[test]
-fn a_body_can_ask_for_the_exact_path_and_the_world_can_force_either() {
+fn a_body_can_ask_for_the_exact_path_and_the_world_can_force_any() {
     let mut world = World::with_capacity(64, 64).unwrap();
     let (bodies, _) = chain(&mut world, 30, 0.0);
     world.body_mut(bodies[7]).unwrap().set_prefer_exact(true);
     assert_eq!(world.step(1.0 / 60.0).unwrap().solver.exact_islands, 1);
     world.body_mut(bodies[7]).unwrap().set_prefer_exact(false);
-    assert_eq!(world.step(1.0 / 60.0).unwrap().solver.iterative_islands, 1);
-    // A small island, forced either way.
+    assert_eq!(world.step(1.0 / 60.0).unwrap().solver.split_islands, 1);
+    // A small island, forced each way.
     let mut small = World::with_capacity(8, 8).unwrap();
     chain(&mut small, 2, 0.0);
     small
@@ -114,6 +126,14 @@ fn a_body_can_ask_for_the_exact_path_and_the_world_can_force_either() {
         })
         .unwrap();
     assert_eq!(small.step(1.0 / 60.0).unwrap().solver.exact_islands, 1);
+    small
+        .set_routing(Routing {
+            mode: SolverMode::Split,
+            ..Default::default()
+        })
+        .unwrap();
+    assert_eq!(small.step(1.0 / 60.0).unwrap().solver.split_islands, 1);
+    assert_eq!(small.island_reports()[0].path, SolverPath::Split);
 }
 
 #[test]

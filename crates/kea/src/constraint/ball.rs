@@ -31,7 +31,8 @@ pub struct BallJoint {
 ///   `φ̇ = (ω₁ − ω₂)·(x (n × (m × o)) − y (n × o))/(x² + y²)`;
 /// * **twist** ρ = rotation of body 1 about its primary axis relative to body 2 (swing-twist
 ///   split of the relative rotation since the limits were set, about body 1's axis);
-///   `ρ̇ ≈ (ω₁ − ω₂)·n`, exact for a twist about an aligned axis.
+///   its rate is `(ω₁ − ω₂)·g` with `g` the swing-twist split's exact gradient (the primary
+///   axis `n` for a pure twist, tilted by a large swing).
 ///
 /// Each coordinate has a [`Limit`]: stops (hard or soft) and, if wanted, a motor.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,6 +89,18 @@ impl BallLimits {
         } else {
             twist
         };
+        // Its rate: with `q̇ = ½ q ⊗ ω_b` (ω_b the relative spin in body 1's frame), ρ̇ = g·ω_b
+        // with g = (w² p + w p×v + (v·p) v)/((v·p)² + w²): the primary axis itself only for a
+        // pure twist. Past a large swing (a shoulder) the primary axis alone stops the wrong
+        // rotation and the twist runs through its stop.
+        let p1 = self.primary1;
+        let (a, w) = (v.dot(p1), q.w);
+        let den = a * a + w * w;
+        let twist_axis = if den > 1.0e-6 {
+            b1.vector_to_world((p1 * (w * w) + p1.cross(v) * w + v * a) / den)
+        } else {
+            n
+        };
         // Cone.
         let axis = m.cross(n);
         let sin = axis.length();
@@ -103,7 +116,7 @@ impl BallLimits {
             Vec3::ZERO
         };
         [
-            (twist, rel.dot(n), jac(n)),
+            (twist, rel.dot(twist_axis), jac(twist_axis)),
             (cone, rel.dot(k), jac(k)),
             (y.atan2(x), rel.dot(g), jac(g)),
         ]

@@ -79,8 +79,9 @@ pub struct Solver {
     iterative: iterative::IterativeWorkspace,
     integ: integrate::BodyScratch,
     reports: Vec<IslandReport>,
-    /// Islands routed to the iterative path this step.
+    /// Islands routed to the iterative path this step, and whether each is split.
     iterative_islands: Vec<u32>,
+    split: Vec<bool>,
 }
 
 /// Bytes of workspace the solver needs for islands of the given row counts, with `bodies` and
@@ -134,6 +135,7 @@ impl Solver {
         self.integ.reserve(bodies);
         reserve(&mut self.reports, bodies);
         reserve(&mut self.iterative_islands, bodies);
+        reserve(&mut self.split, bodies);
     }
 
     /// Bytes of workspace currently held: the high-water mark of what steps have needed (the
@@ -146,6 +148,7 @@ impl Solver {
             + self.integ.bytes()
             + self.reports.capacity() * std::mem::size_of::<IslandReport>()
             + self.iterative_islands.capacity() * 4
+            + self.split.capacity()
     }
 
     /// One report per island of the last step: which path solved it, its size and effort.
@@ -234,6 +237,7 @@ impl Solver {
         self.reports.clear();
         reserve(&mut self.reports, self.islands.count());
         self.iterative_islands.clear();
+        self.split.clear();
         for k in 0..self.islands.count() {
             let path = routing::choose(&params.routing, &self.islands, k, blocks, contacts, bodies);
             let island_rows = self.island_rows(k, blocks, contacts);
@@ -267,6 +271,7 @@ impl Solver {
                 report.pivots = stats.pivots - before.pivots;
             } else {
                 self.iterative_islands.push(k as u32);
+                self.split.push(path == SolverPath::Split);
             }
             self.reports.push(report);
         }
@@ -274,6 +279,7 @@ impl Solver {
             let t = Instant::now();
             let done = self.iterative.solve(
                 &self.iterative_islands,
+                &self.split,
                 &self.islands,
                 blocks,
                 rows,
@@ -285,15 +291,21 @@ impl Solver {
                 reactions,
                 source,
             );
-            for &k in &self.iterative_islands {
+            for (&k, &split) in self.iterative_islands.iter().zip(&self.split) {
                 let r = &mut self.reports[k as usize];
                 r.iterations = done.sweeps;
-                stats.iterative_rows += r.rows;
+                if split {
+                    stats.split_rows += r.rows;
+                } else {
+                    stats.iterative_rows += r.rows;
+                }
                 stats.rows += r.rows;
                 stats.largest_island_rows = stats.largest_island_rows.max(r.rows);
             }
             stats.islands += self.iterative_islands.len() as u32;
-            stats.iterative_islands = self.iterative_islands.len() as u32;
+            stats.split_islands = self.split.iter().filter(|&&s| s).count() as u32;
+            stats.iterative_islands = self.iterative_islands.len() as u32 - stats.split_islands;
+            record_direct(&mut stats, &done.direct);
             stats.iterative_sweeps = done.sweeps;
             stats.colours = done.colours;
             stats.overflow_contacts = done.overflow;
@@ -402,6 +414,35 @@ impl Solver {
             }
         }
         Ok(worst)
+    }
+}
+
+/// The direct solves of split islands in the step's stats, with a warning for each kind of
+/// trouble they met (counted per solve).
+fn record_direct(stats: &mut SolverStats, d: &iterative::DirectReport) {
+    stats.direct_rows = d.rows;
+    stats.direct_solves = d.solves;
+    stats.direct_iterations = d.iterations;
+    stats.lcp_iterations += d.iterations;
+    stats.pivots += d.pivots;
+    stats.singular_islands += d.singular;
+    stats.cycled_islands += d.cycled;
+    stats.capped_islands += d.capped;
+    stats.friction_unconverged_islands += d.bounds_moving;
+    if d.singular > 0 {
+        log::warn!(
+            "kea: singular joint system of split islands ({} rows) regularised in {} solves",
+            d.rows,
+            d.singular
+        );
+    }
+    if d.cycled + d.capped + d.bounds_moving > 0 {
+        log::warn!(
+            "kea: direct joint solves of split islands unconverged ({} cycled, {} capped, {} with moving bounds)",
+            d.cycled,
+            d.capped,
+            d.bounds_moving
+        );
     }
 }
 

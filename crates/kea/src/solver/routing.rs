@@ -4,12 +4,16 @@
 //! goes to the iterative path, whose contact solver is built for exactly that, unless it is
 //! small and its contacts join bodies of very different masses (a 1 kg box under a 100 kg
 //! one): the soft step crushes the light body, a direct solve holds it. An island with
-//! joints goes to the exact solver when small, where pivoting is cheap and its answer is the
-//! reference, and to the iterative solver when big, whose cost grows only linearly. An island
-//! that was iterative last step returns to exact only once it is clearly small again (below
-//! the thresholds times `hysteresis`), so an island near the threshold does not flip every
-//! step. A body can ask for exact solving of its island (vehicles, ragdolls), and the world can
-//! force either path.
+//! joints only goes to the exact solver when small, where pivoting is cheap and its answer is
+//! the reference, and is split when big: its joints solved directly (the exact path's sparse
+//! factorisation, time linear in the rows of a tree) inside the iterative path's substeps,
+//! which follow fast rotation better than one solve a step. An island of joints and contacts
+//! (a ragdoll on the ground, a vehicle on rubble) is split too, its contacts going to the
+//! contact solver. An island that was iterative
+//! or split last step returns to exact only once it is clearly small again (below the
+//! thresholds times `hysteresis`), so an island near the threshold does not flip every step.
+//! A body can ask for exact solving of its island's joints (vehicles, ragdolls: exact when the
+//! island has no contact, split when it has), and the world can force any path.
 
 use super::island::Islands;
 use super::{ConstraintBlock, SolverBody, SolverContact};
@@ -26,6 +30,9 @@ pub enum SolverPath {
     Exact,
     /// The iterative substepping solver.
     Iterative,
+    /// Split: the island's joints solved directly (the exact path's sparse factorisation) inside
+    /// the iterative path's substeps, its contacts by the contact solver around them.
+    Split,
 }
 
 /// How islands are routed.
@@ -38,6 +45,9 @@ pub enum SolverMode {
     Exact,
     /// Every island iterative.
     Iterative,
+    /// Every island with joints split (joints direct inside the substeps, contacts
+    /// iterative); islands of contacts only iterative.
+    Split,
 }
 
 /// Routing settings.
@@ -119,6 +129,13 @@ pub(crate) fn choose(
     match routing.mode {
         SolverMode::Exact => return SolverPath::Exact,
         SolverMode::Iterative => return SolverPath::Iterative,
+        SolverMode::Split => {
+            return if islands.blocks(k).is_empty() {
+                SolverPath::Iterative
+            } else {
+                SolverPath::Split
+            }
+        }
         SolverMode::Hybrid => {}
     }
     let contact_rows: u32 = islands
@@ -149,13 +166,11 @@ pub(crate) fn choose(
         for i in pair.iter().flatten() {
             let body = &bodies[*i as usize];
             if islands.body_island[*i as usize] == k as u32 {
-                was_iterative |= body.last_path == SolverPath::Iterative;
+                was_iterative |=
+                    matches!(body.last_path, SolverPath::Iterative | SolverPath::Split);
                 prefer_exact |= body.prefer_exact;
             }
         }
-    }
-    if prefer_exact {
-        return SolverPath::Exact;
     }
     let scale = if was_iterative {
         routing.hysteresis
@@ -163,19 +178,29 @@ pub(crate) fn choose(
         1.0
     };
     let fits = |n: u32, max: u32| n as Real <= max as Real * scale;
+    let small_contacts =
+        fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
     if islands.blocks(k).is_empty() {
         // Contacts only: the contact solver's work, unless masses differ too much for it.
-        let small =
-            fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
-        if small && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
-            return SolverPath::Exact;
-        }
-        return SolverPath::Iterative;
+        return if small_contacts && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
+            SolverPath::Exact
+        } else {
+            SolverPath::Iterative
+        };
     }
-    if fits(rows, routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies) {
+    if !islands.contacts(k).is_empty() {
+        // Joints among contacts (a ragdoll on the ground, a vehicle on rubble): the joints
+        // solved directly inside the substeps, the contacts by the contact solver.
+        return SolverPath::Split;
+    }
+    // Joints only: small or asked for, one exact solve; big, direct solves in the substeps
+    // (a tree costs its rows either way; substeps follow fast rotation better).
+    if prefer_exact
+        || (fits(rows, routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies))
+    {
         SolverPath::Exact
     } else {
-        SolverPath::Iterative
+        SolverPath::Split
     }
 }
 

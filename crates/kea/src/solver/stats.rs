@@ -29,11 +29,21 @@ pub struct SolverStats {
     pub workspace_grew: bool,
     /// Islands solved by the exact path.
     pub exact_islands: u32,
-    /// Islands solved by the iterative path.
+    /// Islands solved by the iterative path (split islands not included).
     pub iterative_islands: u32,
+    /// Islands split: joints solved directly inside the substeps, contacts iteratively.
+    pub split_islands: u32,
+    /// Rows of split islands, their contacts' included.
+    pub split_rows: u32,
+    /// Joint rows of split islands (solved directly).
+    pub direct_rows: u32,
+    /// Direct solves of split islands' joints (two per substep).
+    pub direct_solves: u32,
+    /// Factorisations of those solves.
+    pub direct_iterations: u32,
     /// Rows solved by the exact path.
     pub exact_rows: u32,
-    /// Rows solved by the iterative path.
+    /// Rows solved by the iterative path (split islands not included).
     pub iterative_rows: u32,
     /// Gauss-Seidel sweeps of the iterative path per step (all its islands at once).
     pub iterative_sweeps: u32,

@@ -23,6 +23,7 @@ mod factor;
 mod lcp_dense;
 mod pattern;
 mod pivoting;
+mod substep;
 
 use super::integrate::BodyScratch;
 use super::{
@@ -35,7 +36,9 @@ use crate::constraint::{
 use crate::math::{to_f64, wide, DVec3, Real};
 use factor::Layout;
 use pattern::{BlockBodies, Pattern, PatternCache};
-use pivoting::{Bound, FrictionLink, LcpWorkspace, Limits, System, Unknowns};
+use pivoting::{Bound, FrictionLink, LcpWorkspace, System, Unknowns};
+pub(crate) use pivoting::{LcpReport, Limits};
+pub(crate) use substep::{SubstepRow, SubstepSystem};
 
 /// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
 #[derive(Debug, Clone, Copy, Default)]

@@ -26,6 +26,7 @@ mod disjoint;
 mod graph;
 mod rows;
 
+use super::exact::{LcpReport, Limits, SubstepSystem};
 use super::integrate::BodyScratch;
 use super::island::Islands;
 use super::wide::SimdLevel;
@@ -108,6 +109,8 @@ pub(crate) struct IterativeWorkspace {
     states: BodyStates,
     rows: JointRows,
     contacts: ContactSolver,
+    /// The split islands' joint rows as one direct system.
+    direct: SubstepSystem,
     /// Blocks of the islands solved here, island after island.
     blocks: Vec<u32>,
 }
@@ -119,6 +122,41 @@ pub(crate) struct IterativeReport {
     pub(crate) colours: u32,
     pub(crate) overflow: u32,
     pub(crate) lanes: u32,
+    /// The direct solves of split islands' joints, summed over the step.
+    pub(crate) direct: DirectReport,
+}
+
+/// What the direct solves of split islands' joint rows did in one step.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct DirectReport {
+    /// Rows in the direct system.
+    pub(crate) rows: u32,
+    /// Solves (two per substep).
+    pub(crate) solves: u32,
+    /// Factorisations over all solves.
+    pub(crate) iterations: u32,
+    /// Pivots over all solves.
+    pub(crate) pivots: u32,
+    /// Solves whose system was singular and regularised.
+    pub(crate) singular: u32,
+    /// Solves that cycled.
+    pub(crate) cycled: u32,
+    /// Solves that hit the iteration cap unconverged.
+    pub(crate) capped: u32,
+    /// Solves whose Coulomb bounds still moved at the cap.
+    pub(crate) bounds_moving: u32,
+}
+
+impl DirectReport {
+    fn add(&mut self, r: LcpReport) {
+        self.solves += 1;
+        self.iterations += r.iterations;
+        self.pivots += r.pivots;
+        self.singular += u32::from(r.singular);
+        self.cycled += u32::from(r.cycled);
+        self.capped += u32::from(r.capped && !r.converged);
+        self.bounds_moving += u32::from(r.bounds_moving);
+    }
 }
 
 impl IterativeWorkspace {
@@ -130,7 +168,11 @@ impl IterativeWorkspace {
     }
 
     pub(crate) fn bytes(&self) -> usize {
-        self.states.bytes() + self.rows.bytes() + self.contacts.bytes() + self.blocks.capacity() * 4
+        self.states.bytes()
+            + self.rows.bytes()
+            + self.contacts.bytes()
+            + self.direct.bytes()
+            + self.blocks.capacity() * 4
     }
 
     pub(crate) fn bytes_for(bodies: usize, rows: usize, contacts: usize) -> usize {
@@ -140,13 +182,15 @@ impl IterativeWorkspace {
             + rows * 4
     }
 
-    /// Solves the islands `islands` (ids in `all`) together and integrates their bodies.
+    /// Solves the islands `islands` (ids in `all`) together and integrates their bodies; the
+    /// joints of those marked in `split` (one flag per island) are solved directly.
     /// `lambda` holds the rows' warm-start forces on input and their forces on output;
     /// contacts carry their warm start and get their forces.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve(
         &mut self,
         islands: &[u32],
+        split: &[bool],
         all: &Islands,
         blocks: &[ConstraintBlock],
         rows: &[Row],
@@ -166,7 +210,7 @@ impl IterativeWorkspace {
         self.rows.begin();
         self.contacts.begin();
         self.blocks.clear();
-        for &k in islands {
+        for (&k, &direct) in islands.iter().zip(split) {
             let k = k as usize;
             self.blocks.extend_from_slice(all.blocks(k));
             self.rows.gather(
@@ -179,6 +223,7 @@ impl IterativeWorkspace {
                 params,
                 hs,
                 lambda,
+                direct,
             );
             for &c in all.contacts(k) {
                 let sc = &contacts[c as usize];
@@ -205,32 +250,68 @@ impl IterativeWorkspace {
             hs,
         };
 
+        let direct = self.rows.has_direct();
+        let limits = Limits {
+            iterations: params.max_lcp_iterations,
+            bound_updates: params.max_friction_passes,
+        };
+        let mut report = DirectReport::default();
+        let max_speed = it.max_correction_speed;
         for sub in 0..n_sub {
             kernel.substep = sub as Real;
-            if let (Some(source), true) = (source, sub > 0) {
-                // Joints at the present poses (the step's start rows served the first).
-                self.rows
-                    .relinearise(source, blocks, bodies, &mut self.states, params);
+            let relinearised = match (source, sub > 0) {
+                (Some(source), true) => {
+                    // Joints at the present poses (the step's start rows served the first).
+                    self.rows
+                        .relinearise(source, blocks, bodies, &mut self.states, params);
+                    true
+                }
+                _ => false,
+            };
+            if direct && (sub == 0 || relinearised) {
+                self.rows.assemble_direct(&self.states, &mut self.direct);
             }
             self.states.integrate_velocities(hs);
             self.rows.warm_start(&mut self.states);
             self.contacts
                 .run(Stage::WarmStart, &mut self.states, &kernel);
             for _ in 0..it.iterations {
-                self.rows
-                    .sweep(&mut self.states, hs, true, it.max_correction_speed);
+                self.rows.sweep(&mut self.states, hs, true, max_speed);
                 self.contacts.run(Stage::Solve, &mut self.states, &kernel);
+            }
+            // Split islands' joints last, so that they hold exactly whatever the contacts did.
+            if direct {
+                let r = self.rows.solve_direct(
+                    &mut self.states,
+                    &mut self.direct,
+                    hs,
+                    true,
+                    max_speed,
+                    limits,
+                );
+                report.add(r);
             }
             self.states.integrate_positions(bodies, hs);
             self.rows.advance_clock(hs);
             for r in 0..it.relax_iterations {
                 kernel.closing = sub + 1 == n_sub && r + 1 == it.relax_iterations;
-                self.rows
-                    .sweep(&mut self.states, hs, false, it.max_correction_speed);
+                self.rows.sweep(&mut self.states, hs, false, max_speed);
                 self.contacts.run(Stage::Relax, &mut self.states, &kernel);
+            }
+            if direct && it.relax_iterations > 0 {
+                let r = self.rows.solve_direct(
+                    &mut self.states,
+                    &mut self.direct,
+                    hs,
+                    false,
+                    max_speed,
+                    limits,
+                );
+                report.add(r);
             }
             self.rows.accumulate();
         }
+        report.rows = self.direct.len() as u32;
         self.contacts
             .run(Stage::Restitution, &mut self.states, &kernel);
         self.rows.restitution(&mut self.states, h);
@@ -260,6 +341,7 @@ impl IterativeWorkspace {
             colours,
             overflow,
             lanes: self.contacts.lanes(),
+            direct: report,
         }
     }
 }

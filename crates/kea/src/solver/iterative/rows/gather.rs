@@ -23,8 +23,10 @@ impl JointRows {
         params: &SolverParams,
         hs: Real,
         warm: &[Real],
+        direct: bool,
     ) {
         let h = params.dt;
+        self.any_direct |= direct && !island_blocks.is_empty();
         let n_sub = params.iterative.substeps as Real;
         for &k in island_blocks {
             let blk = &blocks[k as usize];
@@ -124,6 +126,7 @@ impl JointRows {
                 self.impulse.push(if w.is_finite() { w * hs } else { 0.0 });
                 self.total.push(0.0);
                 self.in_block.push(false);
+                self.direct.push(direct);
                 self.pair_of.push(NONE);
                 self.lever.push(row_lever(row));
             }

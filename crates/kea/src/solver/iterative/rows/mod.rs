@@ -35,6 +35,7 @@
 
 #![allow(clippy::needless_range_loop)] // small dense blocks read best with indices
 
+mod direct;
 mod gather;
 mod relinearise;
 mod sweep;
@@ -110,6 +111,17 @@ pub(crate) struct JointRows {
     blk_count: Vec<u32>,
     blk_eq: Vec<u32>,
     fresh: Vec<Row>,
+    // Rows of split islands, solved directly (`direct`): whether each row is one, its index
+    // in the direct system (or NONE), the system's rows, and its right-hand side, bounds and
+    // impulses.
+    any_direct: bool,
+    direct: Vec<bool>,
+    direct_index: Vec<u32>,
+    direct_rows: Vec<u32>,
+    direct_r: Vec<f64>,
+    direct_lo: Vec<f64>,
+    direct_hi: Vec<f64>,
+    direct_y: Vec<f64>,
 }
 
 impl JointRows {
@@ -129,9 +141,20 @@ impl JointRows {
             &mut self.blk_base,
             &mut self.blk_count,
             &mut self.blk_eq,
+            &mut self.direct_index,
+            &mut self.direct_rows,
         ] {
             reserve(v, rows);
         }
+        for v in [
+            &mut self.direct_r,
+            &mut self.direct_lo,
+            &mut self.direct_hi,
+            &mut self.direct_y,
+        ] {
+            reserve(v, rows);
+        }
+        reserve(&mut self.direct, rows);
         reserve(&mut self.fresh, 4 * MAX_BLOCK);
         for v in [
             &mut self.ja_lin,
@@ -183,8 +206,12 @@ impl JointRows {
             + self.eq_kstart.capacity()
             + self.pair_of.capacity()
             + self.pair_second.capacity()
-            + 4 * self.blk_global.capacity())
+            + 4 * self.blk_global.capacity()
+            + self.direct_index.capacity()
+            + self.direct_rows.capacity())
             * 4
+            + 4 * self.direct_r.capacity() * 8
+            + self.direct.capacity()
             + self.fresh.capacity() * std::mem::size_of::<Row>()
             + 8 * self.ja_lin.capacity() * v3
             + 14 * self.diag.capacity() * r
@@ -198,7 +225,7 @@ impl JointRows {
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        rows * (56 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
+        rows * (56 + 8 + 32 + 1 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
             + (bodies + 1) * 2 * v3
             + 4 * MAX_BLOCK * std::mem::size_of::<Row>()
     }
@@ -212,6 +239,7 @@ impl JointRows {
     pub(crate) fn begin(&mut self) {
         self.elapsed = 0.0;
         self.elapsed_sub = 0.0;
+        self.any_direct = false;
         macro_rules! clear_all {
             ($($v:ident),*) => { $(self.$v.clear();)* };
         }
@@ -255,7 +283,10 @@ impl JointRows {
             blk_global,
             blk_base,
             blk_count,
-            blk_eq
+            blk_eq,
+            direct,
+            direct_index,
+            direct_rows
         );
     }
 

@@ -175,7 +175,14 @@ impl JointRows {
 
     /// The velocity bias of row i for error `xi` (see the module docs).
     #[inline]
-    fn bias(&self, i: usize, xi: Real, hs: Real, use_bias: bool, max_speed: Real) -> Real {
+    pub(super) fn bias(
+        &self,
+        i: usize,
+        xi: Real,
+        hs: Real,
+        use_bias: bool,
+        max_speed: Real,
+    ) -> Real {
         let flags = self.flags[i];
         let unilateral = flags & UNILATERAL != 0;
         if unilateral && xi > 0.0 {
@@ -203,6 +210,9 @@ impl JointRows {
     ) {
         for blk in 0..self.eq_start.len() {
             let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
+            if self.direct[self.eq_rows[start] as usize] {
+                continue;
+            }
             let mut r = [0.0 as Real; MAX_BLOCK];
             for a in 0..m {
                 let i = self.eq_rows[start + a] as usize;
@@ -225,7 +235,7 @@ impl JointRows {
             }
         }
         for i in 0..self.row_global.len() {
-            if self.in_block[i] {
+            if self.in_block[i] || self.direct[i] {
                 continue;
             }
             if self.pair_of[i] != NONE {

@@ -1,0 +1,177 @@
+//! The direct solve of joint rows inside the iterative path's substeps (split islands): the
+//! rows of the island's joints, written at the present poses, as one block-sparse system
+//! `(J M⁻¹ Jᵀ + E) y = b` over the same analysis, factorisation and pivoting as the exact
+//! path, while the island's contacts run in the contact solver around it.
+//!
+//! The caller (the iterative path's joint rows) adds its rows block by block with their
+//! Jacobians and `M⁻¹Jᵀ` and its bodies' slots, calls [`SubstepSystem::assemble`] once per
+//! linearisation, and then solves for the rows' impulses as often as it likes with different
+//! right-hand sides (the biased solve and the relax of a substep share one matrix).
+
+use super::pattern::BlockBodies;
+use super::pivoting::{self, FrictionLink, LcpReport, Limits, System, Unknowns};
+use super::{ExactWorkspace, IslandRow};
+use crate::math::DVec3;
+
+/// A relative compliance added to every row's diagonal: redundant joints (two hinges on one
+/// axis) keep a solvable system, at a stiffness no step can tell from rigid.
+const REGULARISATION: f64 = 1.0e-9;
+
+/// One row handed to the system: its Jacobian and `M⁻¹Jᵀ`, linear then angular, per slot.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SubstepRow {
+    pub(crate) jac: [DVec3; 4],
+    pub(crate) mj: [DVec3; 4],
+    /// Softness and slip on the diagonal, in the system's units.
+    pub(crate) extra: f64,
+    /// A Coulomb row: its normal row (an index into this system) and μ.
+    pub(crate) link: FrictionLink,
+}
+
+/// The system of the split islands' joint rows (see the module docs).
+#[derive(Debug, Default)]
+pub(crate) struct SubstepSystem {
+    ws: ExactWorkspace,
+    extra: Vec<f64>,
+    /// `A·y₀` for the current impulses `y₀`.
+    product: Vec<f64>,
+}
+
+impl SubstepSystem {
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        self.ws.bytes() + (self.extra.capacity() + self.product.capacity()) * 8
+    }
+
+    /// Starts over with no rows, for bodies numbered below `bodies`.
+    pub(crate) fn clear(&mut self, bodies: usize) {
+        let ws = &mut self.ws;
+        for &b in &ws.island_bodies {
+            ws.local_body[b as usize] = u32::MAX;
+        }
+        ws.rows.clear();
+        ws.links.clear();
+        ws.block_first.clear();
+        ws.block_size.clear();
+        ws.block_key.clear();
+        ws.island_bodies.clear();
+        if ws.local_body.len() < bodies {
+            ws.local_body.resize(bodies, u32::MAX);
+        }
+        self.extra.clear();
+    }
+
+    /// Rows in the system.
+    pub(crate) fn len(&self) -> usize {
+        self.ws.rows.len()
+    }
+
+    /// Adds one block of rows acting on the bodies in `slots` (`u32::MAX`: none, or a body
+    /// that cannot move). A block must have at least one row.
+    pub(crate) fn add_block(&mut self, slots: [u32; 2], rows: impl Iterator<Item = SubstepRow>) {
+        let ws = &mut self.ws;
+        let base = ws.rows.len() as u32;
+        for r in rows {
+            ws.rows.push(IslandRow {
+                global: ws.rows.len() as u32,
+                bodies: [None; 2],
+                jac: r.jac,
+                mj: r.mj,
+            });
+            ws.links.push(r.link);
+            self.extra.push(r.extra);
+        }
+        let size = ws.rows.len() as u32 - base;
+        debug_assert!(size > 0, "a block has rows");
+        let key: BlockBodies = slots.map(|s| {
+            if s == u32::MAX {
+                return u32::MAX;
+            }
+            let local = &mut ws.local_body[s as usize];
+            if *local == u32::MAX {
+                *local = ws.island_bodies.len() as u32;
+                ws.island_bodies.push(s);
+            }
+            *local
+        });
+        ws.block_first.push(base);
+        ws.block_size.push(size);
+        ws.block_key.push(key);
+    }
+
+    /// Builds `A = J M⁻¹ Jᵀ + E` for the rows added (their analysis from the cache while the
+    /// blocks' graph is unchanged).
+    pub(crate) fn assemble(&mut self) {
+        let ws = &mut self.ws;
+        if ws.rows.is_empty() {
+            return;
+        }
+        ws.assemble_matrix();
+        for i in 0..ws.rows.len() {
+            let d = ws.diagonal(i);
+            ws.add_diagonal(i, self.extra[i] + REGULARISATION * d);
+        }
+    }
+
+    /// Solves for the impulses `y` within `[lo, hi]` (Coulomb rows: `±μ·y_normal`) such that
+    /// `A (y − y₀) = r`, where `y₀` (in `y` on entry) are the present impulses and `r` the
+    /// rows' residuals; warm started from the sets `y₀` lies in. Leaves the result in `y`.
+    pub(crate) fn solve(
+        &mut self,
+        r: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        y: &mut [f64],
+        limits: Limits,
+    ) -> LcpReport {
+        let ws = &mut self.ws;
+        let n = ws.rows.len();
+        if n == 0 {
+            return LcpReport {
+                converged: true,
+                ..LcpReport::default()
+            };
+        }
+        ws.size_vectors(n);
+        let pattern = ws.patterns.current();
+        self.product.clear();
+        self.product.resize(n, 0.0);
+        super::factor::multiply(pattern, &ws.layout, &ws.a, y, &mut self.product);
+        for i in 0..n {
+            ws.b[i] = r[i] + self.product[i];
+            (ws.lo[i], ws.hi[i]) = match ws.links[i] {
+                Some((normal, mu)) => {
+                    let bound = mu * y[normal as usize].max(0.0);
+                    if bound > 0.0 {
+                        (-bound, bound)
+                    } else {
+                        (f64::NEG_INFINITY, f64::INFINITY)
+                    }
+                }
+                None => (lo[i], hi[i]),
+            };
+            ws.x[i] = y[i];
+            ws.state[i] = pivoting::state_from_guess(ws.lo[i], ws.hi[i], y[i]);
+        }
+        let report = pivoting::solve(
+            &System {
+                pattern,
+                layout: &ws.layout,
+                a: &ws.a,
+                b: &ws.b,
+                links: &ws.links,
+            },
+            &mut Unknowns {
+                lo: &mut ws.lo,
+                hi: &mut ws.hi,
+                x: &mut ws.x,
+                w: &mut ws.w,
+                state: &mut ws.state,
+            },
+            &mut ws.lcp,
+            limits,
+        );
+        y[..n].copy_from_slice(&ws.x[..n]);
+        report
+    }
+}
