@@ -4,8 +4,9 @@
 //! 1 µm, at most 8), every joint gap stays under 1 mm. Forced iterative, the joints are
 //! re-linearised at every substep and the gap stays under 25 cm (17 cm measured; it tore by
 //! metres when the Jacobians were frozen for the step). The whipped chain (100 capsule
-//! links of 0.5 m, default settings) holds under 50 cm for 10 s (34 cm measured; the goal is
-//! 1 mm).
+//! links of 0.5 m, default settings: the island is split, its joints solved directly in every
+//! substep and post-stabilised after the step) holds under 1 mm for 10 s (0.1 mm measured;
+//! up to 11 cm before post-stabilisation).
 
 mod common;
 use common::world_on;
@@ -121,16 +122,17 @@ fn a_whipped_chain_of_capsules_holds_with_default_settings() {
         joints.push(world.create_ball_joint(link, prev, anchor).unwrap());
         prev = Some(link);
     }
-    let (mut worst, mut fastest): (Real, Real) = (0.0, 0.0);
+    let (mut worst, mut fastest, mut drift): (Real, Real, Real) = (0.0, 0.0, 0.0);
     for _ in 0..600 {
-        world.step(1.0 / 60.0).unwrap();
+        let stats = world.step(1.0 / 60.0).unwrap();
+        drift = drift.max(stats.max_joint_error);
         for (_, b) in world.bodies() {
             assert!(b.position().is_finite(), "the chain blew up");
             fastest = fastest.max(b.linear_velocity().length());
         }
         worst = worst.max(max_gap(&world, &joints));
     }
-    eprintln!("whipped capsule chain: largest joint gap {worst:e} m over 10 s, tip up to {fastest:.0} m/s");
+    eprintln!("whipped capsule chain: largest joint gap {worst:e} m over 10 s (before post-stabilisation {drift:e} m), tip up to {fastest:.0} m/s");
     assert!(fastest > 30.0, "not much of a whip: {fastest} m/s");
-    assert!(worst < 0.5, "joint gap {worst} m");
+    assert!(worst < 1.0e-3, "joint gap {worst} m");
 }

@@ -52,8 +52,13 @@ fn hybrid_sends_small_islands_exact_and_big_ones_split() {
         ),
         (9, 90, 90, 0)
     );
-    // Two direct solves a substep (biased, relax), four substeps.
-    assert_eq!(stats.solver.direct_solves, 8);
+    // Two direct solves a substep (biased, relax), four substeps, then up to three
+    // post-stabilisation passes.
+    assert!(
+        (8..=11).contains(&stats.solver.direct_solves),
+        "{}",
+        stats.solver.direct_solves
+    );
     let reports = world.island_reports();
     assert_eq!(reports.len(), 2);
     assert_eq!(

@@ -423,6 +423,7 @@ fn record_direct(stats: &mut SolverStats, d: &iterative::DirectReport) {
     stats.direct_rows = d.rows;
     stats.direct_solves = d.solves;
     stats.direct_iterations = d.iterations;
+    stats.direct_joint_error = d.worst_error;
     stats.lcp_iterations += d.iterations;
     stats.pivots += d.pivots;
     stats.singular_islands += d.singular;

@@ -1,5 +1,6 @@
 //! What the solver did in a step.
 
+use crate::math::Real;
 use std::time::Duration;
 
 /// What the solver did in one step. Warnings are counts of islands, never aborts.
@@ -41,6 +42,9 @@ pub struct SolverStats {
     pub direct_solves: u32,
     /// Factorisations of those solves.
     pub direct_iterations: u32,
+    /// Largest joint error of split islands after the substeps, before post-stabilisation
+    /// (m, or rad for angular rows).
+    pub direct_joint_error: Real,
     /// Rows solved by the exact path.
     pub exact_rows: u32,
     /// Rows solved by the iterative path (split islands not included).

@@ -143,11 +143,12 @@ impl World {
         self.apply_wake();
         self.write_back();
         let t_proj = Instant::now();
-        let max_joint_error = if solver_stats.exact_islands > 0 {
+        let projected = if solver_stats.exact_islands > 0 {
             self.project_positions(&params)
         } else {
             0.0
         };
+        let max_joint_error = projected.max(solver_stats.direct_joint_error);
         self.commit_joints(dt);
         let broken_joints = self.break_overloaded();
         let time_projection = t_proj.elapsed();

@@ -86,6 +86,8 @@ pub(crate) struct ExactWorkspace {
     dense: dense::DenseIsland,
     /// The island being solved has contacts (and so takes the dense path).
     with_contacts: bool,
+    /// Counts assemblies of `a`, so that a factorisation of the same values can be reused.
+    stamp: u64,
 }
 
 /// Values of the block-sparse system a row is budgeted for in [`ExactWorkspace::bytes_for`]:
@@ -426,6 +428,7 @@ impl ExactWorkspace {
         }
         self.a.clear();
         self.a.resize(self.layout.values(), 0.0);
+        self.stamp += 1;
 
         // Blocks by body: each body couples every pair of the blocks that touch it.
         self.body_start.clear();
@@ -608,6 +611,7 @@ impl ExactWorkspace {
                 a: &self.a,
                 b: &self.b,
                 links: &self.links,
+                stamp: self.stamp,
             },
             &mut Unknowns {
                 lo: &mut self.lo,

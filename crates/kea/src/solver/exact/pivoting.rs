@@ -69,6 +69,9 @@ pub(crate) struct System<'a> {
     pub a: &'a [f64],
     pub b: &'a [f64],
     pub links: &'a [FrictionLink],
+    /// Identifies the values of `a`: a factorisation of the same values with the same held
+    /// rows is reused (0: never).
+    pub stamp: u64,
 }
 
 /// The unknowns and their sets: read as the starting guess, left at the solution.
@@ -93,12 +96,17 @@ pub(crate) struct LcpWorkspace {
     factor: Vec<f64>,
     held: Vec<f64>,
     history: [u64; 16],
+    /// What `factor` holds: the stamp of the values and the held rows it was made with, and
+    /// whether it was regularised.
+    factored_stamp: u64,
+    factored_state: Vec<Bound>,
+    factored_singular: bool,
 }
 
 impl LcpWorkspace {
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        (self.factor.capacity() + self.held.capacity()) * 8
+        (self.factor.capacity() + self.held.capacity()) * 8 + self.factored_state.capacity()
     }
 }
 
@@ -131,6 +139,11 @@ pub(crate) fn solve(
     ws.factor.resize(sys.layout.values(), 0.0);
     ws.held.resize(n, 0.0);
     ws.history = [0; 16];
+    let unbounded = sys.links.iter().all(Option::is_none)
+        && u.lo
+            .iter()
+            .zip(u.hi.iter())
+            .all(|(&lo, &hi)| lo == f64::NEG_INFINITY && hi == f64::INFINITY);
     let mut best = usize::MAX;
     let mut block_budget = 3u32;
     let mut fallback = false;
@@ -149,6 +162,12 @@ pub(crate) fn solve(
         }
         settle_states(u);
         report.singular |= solve_free(sys, u, ws, tiny, floor);
+        if unbounded {
+            // Equalities only: the solve is the answer.
+            u.w.fill(0.0);
+            report.converged = true;
+            break;
+        }
         multiply(sys.pattern, sys.layout, sys.a, u.x, u.w);
         for (w, b) in u.w.iter_mut().zip(sys.b) {
             *w -= b;
@@ -320,11 +339,55 @@ fn solve_free(
         };
     }
     // Right-hand side: b − A x_held for the free rows, A_ii·bound for the held ones.
-    multiply(sys.pattern, sys.layout, sys.a, &ws.held, u.x);
-    for i in 0..n {
-        u.x[i] = sys.b[i] - u.x[i];
+    if ws.held[..n].iter().any(|&h| h != 0.0) {
+        multiply(sys.pattern, sys.layout, sys.a, &ws.held, u.x);
+        for i in 0..n {
+            u.x[i] = sys.b[i] - u.x[i];
+        }
+    } else {
+        u.x[..n].copy_from_slice(&sys.b[..n]);
     }
     let is_held = |i: usize| u.state[i] != Bound::Free;
+    for k in 0..sys.pattern.len() {
+        let (fk, sk) = sys.layout.rows(k);
+        let d = sys.layout.offset(k);
+        for r in 0..sk {
+            if is_held(fk + r) {
+                u.x[fk + r] = sys.a[d + r * sk + r] * ws.held[fk + r];
+            }
+        }
+    }
+    let reuse = sys.stamp != 0
+        && ws.factored_stamp == sys.stamp
+        && ws.factored_state.as_slice() == &u.state[..n];
+    if !reuse {
+        ws.factored_singular = factor_held(sys, &u.state[..n], ws, tiny, floor);
+        ws.factored_stamp = sys.stamp;
+        ws.factored_state.clear();
+        ws.factored_state.extend_from_slice(&u.state[..n]);
+    }
+    factor_solve(sys.pattern, sys.layout, &ws.factor, u.x);
+    for i in 0..n {
+        if is_held(i) {
+            u.x[i] = ws.held[i];
+        } else if !u.x[i].is_finite() {
+            // No force rather than a wild one.
+            u.x[i] = 0.0;
+        }
+    }
+    ws.factored_singular
+}
+
+/// Factors `A` with the rows held in `state` replaced by identity rows (their diagonal kept);
+/// returns whether a pivot was regularised.
+fn factor_held(
+    sys: &System<'_>,
+    state: &[Bound],
+    ws: &mut LcpWorkspace,
+    tiny: f64,
+    floor: f64,
+) -> bool {
+    let is_held = |i: usize| state[i] != Bound::Free;
     ws.factor.copy_from_slice(&sys.a[..sys.layout.values()]);
     for k in 0..sys.pattern.len() {
         let (fk, sk) = sys.layout.rows(k);
@@ -334,9 +397,6 @@ fn solve_free(
                 if is_held(fk + r) || is_held(fk + c) {
                     ws.factor[d + r * sk + c] = if r == c { sys.a[d + r * sk + c] } else { 0.0 };
                 }
-            }
-            if is_held(fk + r) {
-                u.x[fk + r] = sys.a[d + r * sk + r] * ws.held[fk + r];
             }
         }
         for (e, &a) in sys.pattern.later(k).iter().enumerate() {
@@ -351,17 +411,7 @@ fn solve_free(
             }
         }
     }
-    let regularised = factorise(sys.pattern, sys.layout, &mut ws.factor, tiny, floor);
-    factor_solve(sys.pattern, sys.layout, &ws.factor, u.x);
-    for i in 0..n {
-        if is_held(i) {
-            u.x[i] = ws.held[i];
-        } else if !u.x[i].is_finite() {
-            // No force rather than a wild one.
-            u.x[i] = 0.0;
-        }
-    }
-    regularised
+    factorise(sys.pattern, sys.layout, &mut ws.factor, tiny, floor)
 }
 
 #[cfg(test)]
@@ -436,6 +486,7 @@ mod tests {
                     a: &a,
                     b: &b,
                     links: &links,
+                    stamp: 0,
                 },
                 &mut Unknowns {
                     lo: &mut lo,
@@ -489,6 +540,7 @@ mod tests {
                 a: &a,
                 b: &[2.0, 2.0],
                 links: &[None, None],
+                stamp: 0,
             },
             &mut Unknowns {
                 lo: &mut lo,

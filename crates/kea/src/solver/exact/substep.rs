@@ -160,6 +160,7 @@ impl SubstepSystem {
                 a: &ws.a,
                 b: &ws.b,
                 links: &ws.links,
+                stamp: ws.stamp,
             },
             &mut Unknowns {
                 lo: &mut ws.lo,

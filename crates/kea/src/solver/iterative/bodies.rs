@@ -16,7 +16,7 @@
 use super::super::integrate::{advance_rotation, gyroscopic_step, BodyScratch, Rotation};
 use super::super::wide::Records;
 use super::super::{reserve, SolverBody, SolverParams};
-use crate::math::{Mat3, Quat, Real, Vec3};
+use crate::math::{rotate_by_vector, Mat3, Quat, Real, Vec3};
 
 /// Marks a body with no local slot.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -246,6 +246,19 @@ impl BodyStates {
         for (r, d) in self.relin_dp.iter_mut().zip(&self.delta) {
             *r = d.dp;
         }
+    }
+
+    /// Moves local body `l` by `dx` and turns it by the rotation vector `dtheta`, leaving its
+    /// velocity alone (a position correction after the substeps).
+    pub(crate) fn displace(&mut self, l: usize, dx: Vec3, dtheta: Vec3) {
+        if !self.writable[l] {
+            return;
+        }
+        self.delta[l].dp += dx;
+        self.dtheta[l] += dtheta;
+        let q = rotate_by_vector(self.orientation[l], dtheta);
+        self.orientation[l] = q;
+        self.delta[l].dq = (q * self.orientation0[l].inverse()).normalize();
     }
 
     /// Local body `l`'s orientation now.

@@ -10,9 +10,11 @@
 //! both passes (their bias in the biased one only), soft rows as the springs they are.
 
 use super::super::bodies::{BodyStates, NONE};
-use super::{JointRows, HARD};
-use crate::math::{to_f64, Real};
+use super::{JointRows, HARD, UNILATERAL};
+use crate::math::{to_f64, Real, Vec3};
 use crate::solver::exact::{LcpReport, Limits, SubstepRow, SubstepSystem};
+
+const DIRECT_RATE: Real = 0.5;
 
 impl JointRows {
     /// Whether any gathered row is solved directly.
@@ -106,7 +108,15 @@ impl JointRows {
             let i = self.direct_rows[s] as usize;
             let soft_relax = !use_bias && self.flags[i] & HARD == 0;
             let (jv, xi) = self.jv_and_error(states, i, soft_relax);
-            let bias = self.bias(i, xi, hs, use_bias, max_speed);
+            let hard_equality = self.flags[i] & HARD != 0
+                && self.lo[i] == Real::NEG_INFINITY
+                && self.hi[i] == Real::INFINITY
+                && self.rate[i] > 0.0;
+            let bias = if use_bias && hard_equality {
+                DIRECT_RATE * xi / hs
+            } else {
+                self.bias(i, xi, hs, use_bias, max_speed)
+            };
             let r = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
             self.direct_r.push(f64::from(r));
             self.direct_lo.push(f64::from(self.lo[i]));
@@ -130,5 +140,77 @@ impl JointRows {
             }
         }
         report
+    }
+
+    /// One post-stabilisation pass (a Newton step on positions): solves
+    /// `(J M⁻¹ Jᵀ) Δ = −xi` for the rigid rows that correct errors (equalities free,
+    /// one-sided stops with `Δ ≥ 0`; others held at zero) and moves the bodies by `M⁻¹ Jᵀ Δ`,
+    /// velocities untouched. The rows must be linearised at the present poses. Returns the
+    /// largest error it started from.
+    pub(crate) fn stabilise(
+        &mut self,
+        states: &mut BodyStates,
+        sys: &mut SubstepSystem,
+        limits: Limits,
+    ) -> (Real, LcpReport) {
+        let n = self.direct_rows.len();
+        self.direct_r.clear();
+        self.direct_lo.clear();
+        self.direct_hi.clear();
+        self.direct_y.clear();
+        let mut worst: Real = 0.0;
+        for s in 0..n {
+            let i = self.direct_rows[s] as usize;
+            let (_, xi) = self.jv_and_error(states, i, false);
+            let corrects = self.flags[i] & HARD != 0 && self.rate[i] > 0.0 && self.link[i] == NONE;
+            let equality = self.lo[i] == Real::NEG_INFINITY && self.hi[i] == Real::INFINITY;
+            let one_sided = self.flags[i] & UNILATERAL != 0;
+            let (lo, hi, r) = if corrects && equality {
+                worst = worst.max(xi.abs());
+                (f64::NEG_INFINITY, f64::INFINITY, -f64::from(xi))
+            } else if corrects && one_sided && xi < 0.0 {
+                worst = worst.max(-xi);
+                (0.0, f64::INFINITY, -f64::from(xi))
+            } else {
+                (0.0, 0.0, 0.0)
+            };
+            self.direct_r.push(r);
+            self.direct_lo.push(lo);
+            self.direct_hi.push(hi);
+            self.direct_y.push(0.0);
+        }
+        let report = sys.solve(
+            &self.direct_r,
+            &self.direct_lo,
+            &self.direct_hi,
+            &mut self.direct_y,
+            limits,
+        );
+        // Each body's move summed over its rows, then made once.
+        self.moves.clear();
+        self.moves.resize(states.len(), (Vec3::ZERO, Vec3::ZERO));
+        for s in 0..n {
+            let d = self.direct_y[s] as Real;
+            if d == 0.0 || !d.is_finite() {
+                continue;
+            }
+            let i = self.direct_rows[s] as usize;
+            for (slot, lin, ang) in [
+                (self.row_a[i], self.ma_lin[i], self.ma_ang[i]),
+                (self.row_b[i], self.mb_lin[i], self.mb_ang[i]),
+            ] {
+                if slot != NONE {
+                    let m = &mut self.moves[slot as usize];
+                    m.0 += lin * d;
+                    m.1 += ang * d;
+                }
+            }
+        }
+        for (l, &(dx, dtheta)) in self.moves.iter().enumerate() {
+            if dx != Vec3::ZERO || dtheta != Vec3::ZERO {
+                states.displace(l, dx, dtheta);
+            }
+        }
+        (worst, report)
     }
 }

@@ -122,6 +122,8 @@ pub(crate) struct JointRows {
     direct_lo: Vec<f64>,
     direct_hi: Vec<f64>,
     direct_y: Vec<f64>,
+    /// Per local body, the move post-stabilisation gives it.
+    moves: Vec<(Vec3, Vec3)>,
 }
 
 impl JointRows {
@@ -191,6 +193,7 @@ impl JointRows {
         reserve(&mut self.eq_kinv, rows * MAX_BLOCK);
         reserve(&mut self.pair_kinv, rows);
         reserve(&mut self.before_bounce, bodies + 1);
+        reserve(&mut self.moves, bodies + 1);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -219,14 +222,14 @@ impl JointRows {
             + self.in_block.capacity()
             + self.eq_kinv.capacity() * r
             + self.pair_kinv.capacity() * 4 * r
-            + self.before_bounce.capacity() * 2 * v3
+            + (self.before_bounce.capacity() + self.moves.capacity()) * 2 * v3
     }
 
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
         rows * (56 + 8 + 32 + 1 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
-            + (bodies + 1) * 2 * v3
+            + (bodies + 1) * 4 * v3
             + 4 * MAX_BLOCK * std::mem::size_of::<Row>()
     }
 

@@ -57,6 +57,9 @@ impl JointRows {
                 self.refresh_row(base + j, row, blk, bodies, states);
             }
             self.share_lever(base..base + count);
+            if self.direct[base] {
+                continue; // solved directly: no block or pair inverses needed
+            }
             if self.blk_eq[b] != NONE {
                 self.refresh_block(self.blk_eq[b] as usize);
             }
