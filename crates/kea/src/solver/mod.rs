@@ -7,8 +7,9 @@
 //!    `ω ← (I + h·d_ω)⁻¹ I ω`), then gravity and applied forces:
 //!    `v_f = v + h(g + f/m)`, `ω_f = ω + h I⁻¹τ` (world-frame inertia at the current orientation).
 //! 2. **Islands.** Bodies coupled by constraints are grouped (`island`); each island is solved
-//!    on its own, by the path [`Routing`] chooses: small islands exact, big ones iterative
-//!    (hybrid, the default, with hysteresis), or all one way. [`Solver::island_reports`] says
+//!    on its own, by the path [`Routing`] chooses: by structure (hybrid, the default, with
+//!    hysteresis: piles iterative, joints with contacts split, small joint islands exact, big
+//!    ones split), or all one way. [`Solver::island_reports`] says
 //!    which path solved each island, its size and its effort.
 //! 3. **Exact path** per island (`exact`): `(A + εI)λ = b` as a boxed LCP with
 //!    `A = J M⁻¹ Jᵀ` and `b = (c − γ·xi/h − J v_f)/h`, λ in force units, by block principal
@@ -23,7 +24,12 @@
 //!    restitution once afterwards. A row's own softness is the same spring as in the exact
 //!    path, re-discretised at the substep; rows without one are rigid and use γ as their rate
 //!    of error reduction. Cost linear in rows.
-//! 5. **Integrate** (`integrate`, exact islands and free bodies): `v⁺ = v_f + h M⁻¹ Jᵀλ`,
+//! 5. **Split islands** (joints among contacts, or big joint islands): in the iterative
+//!    pass, but their joint rows are solved directly every substep (the exact path's
+//!    block-sparse system over rows re-linearised at the present poses), after the contacts, so
+//!    that joints hold exactly what the contacts did; after the substeps, post-stabilisation
+//!    moves the bodies (not their velocities) so that rigid joints close.
+//! 6. **Integrate** (`integrate`, exact islands and free bodies): `v⁺ = v_f + h M⁻¹ Jᵀλ`,
 //!    `x⁺ = x + h v⁺` (semi-implicit first order), orientation by the exact rotation
 //!    `exp(h ω⁺)` (the fast-spin component as its own exact rotation about the body-fixed axis),
 //!    then `ω` is re-expressed at the new orientation so that the angular momentum `I ω` is

@@ -17,8 +17,9 @@
 //!
 //! After the substeps, restitution once (contacts and bouncing stops), then the forces are
 //! stored (contact points keep theirs for the next step's warm start) and the bodies written
-//! back. The substep loop is the place where a direct solve of an island's joints can run in
-//! place of their sweeps (each stage takes the body states and leaves them consistent).
+//! back. Split islands' joint rows skip the sweeps: they are solved directly after the
+//! contacts in both the biased and the relax stage (`rows/direct.rs`), and post-stabilised on
+//! positions after restitution.
 
 mod bodies;
 mod contacts;

@@ -11,7 +11,7 @@
 
 use super::super::bodies::{BodyStates, NONE};
 use super::{JointRows, HARD, UNILATERAL};
-use crate::math::{to_f64, Real, Vec3};
+use crate::math::{to_f64, wide, Real, Vec3};
 use crate::solver::exact::{LcpReport, Limits, SubstepRow, SubstepSystem};
 
 const DIRECT_RATE: Real = 0.5;
@@ -68,13 +68,9 @@ impl JointRows {
                             to_f64(self.mb_lin[i]),
                             to_f64(self.mb_ang[i]),
                         ],
-                        extra: f64::from(self.extra[i]),
-                        link: (self.link[i] != NONE).then(|| {
-                            (
-                                self.direct_index[self.link[i] as usize],
-                                f64::from(self.mu[i]),
-                            )
-                        }),
+                        extra: wide(self.extra[i]),
+                        link: (self.link[i] != NONE)
+                            .then(|| (self.direct_index[self.link[i] as usize], wide(self.mu[i]))),
                     }
                 }),
             );
@@ -118,10 +114,10 @@ impl JointRows {
                 self.bias(i, xi, hs, use_bias, max_speed)
             };
             let r = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
-            self.direct_r.push(f64::from(r));
-            self.direct_lo.push(f64::from(self.lo[i]));
-            self.direct_hi.push(f64::from(self.hi[i]));
-            self.direct_y.push(f64::from(self.impulse[i]));
+            self.direct_r.push(wide(r));
+            self.direct_lo.push(wide(self.lo[i]));
+            self.direct_hi.push(wide(self.hi[i]));
+            self.direct_y.push(wide(self.impulse[i]));
         }
         let report = sys.solve(
             &self.direct_r,
@@ -167,10 +163,10 @@ impl JointRows {
             let one_sided = self.flags[i] & UNILATERAL != 0;
             let (lo, hi, r) = if corrects && equality {
                 worst = worst.max(xi.abs());
-                (f64::NEG_INFINITY, f64::INFINITY, -f64::from(xi))
+                (f64::NEG_INFINITY, f64::INFINITY, -wide(xi))
             } else if corrects && one_sided && xi < 0.0 {
                 worst = worst.max(-xi);
-                (0.0, f64::INFINITY, -f64::from(xi))
+                (0.0, f64::INFINITY, -wide(xi))
             } else {
                 (0.0, 0.0, 0.0)
             };
