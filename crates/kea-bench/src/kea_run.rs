@@ -1,9 +1,10 @@
 //! A scene in Kea (kea + kea-collision), stepped and measured.
 
-use crate::scenes::{Quality, Scene, Shape, Static};
+use crate::scenes::{JointKind, Quality, Scene, Shape, Static};
 use crate::Outcome;
 use kea::{
-    BodyDef, BodyHandle, DemMode, DemSettings, Mat3, Quat, Real, StepStats, Vec3, World, WorldDef,
+    BodyDef, BodyHandle, ConstraintHandle, DemMode, DemSettings, Mat3, Quat, Real, SingleLimit,
+    StepStats, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, Shape as KeaShape};
 use std::time::{Duration, Instant};
@@ -69,6 +70,9 @@ impl KeaScene {
                     KeaShape::capsule(hh as Real, r as Real),
                     Quat::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real),
                 ),
+                Shape::CapsuleY(hh, r) => {
+                    (KeaShape::capsule(hh as Real, r as Real), Quat::IDENTITY)
+                }
             };
             let shape = shape.expect("shape");
             let mp = shape.mass_properties(b.density as Real).expect("mass");
@@ -90,9 +94,7 @@ impl KeaScene {
         for j in &scene.joints {
             let a = j.a.map(|i| bodies[i].0);
             let b = bodies[j.b].0;
-            world
-                .create_ball_joint(b, a, v(j.anchor))
-                .expect("ball joint");
+            add_joint(&mut world, a, b, v(j.anchor), j.kind);
             let local = |h: Option<BodyHandle>| match h {
                 Some(h) => world.body(h).expect("body").point_to_local(v(j.anchor)),
                 None => v(j.anchor),
@@ -161,6 +163,47 @@ impl KeaScene {
             self.last.collision.time_broad_phase,
             self.last.collision.time_narrow_phase,
         ]
+    }
+}
+
+/// Joins body `b` to `a` (or the world) at `anchor` as `kind` says.
+fn add_joint(
+    world: &mut World,
+    a: Option<BodyHandle>,
+    b: BodyHandle,
+    anchor: Vec3,
+    kind: JointKind,
+) -> ConstraintHandle {
+    let hard = |x: f32| SingleLimit::hard(x as Real, 0.0);
+    match kind {
+        JointKind::Ball => world.create_ball_joint(b, a, anchor).expect("ball joint"),
+        JointKind::LimitedBall { axis, cone, twist } => {
+            let h = world.create_ball_joint(b, a, anchor).expect("ball joint");
+            let axis = v(axis);
+            world
+                .set_ball_limit_axes(h, axis, axis.any_orthonormal_vector())
+                .expect("limit axes");
+            let limits = world.ball_limits_mut(h).expect("limits");
+            // The cone angle is never negative: its lower stop is out of reach.
+            limits
+                .cone
+                .set_limits(hard(-1.0), hard(cone))
+                .expect("cone");
+            limits
+                .twist
+                .set_limits(hard(-twist), hard(twist))
+                .expect("twist");
+            h
+        }
+        JointKind::Hinge { axis, lower, upper } => {
+            let h = world.create_hinge(b, a, anchor, v(axis)).expect("hinge");
+            world
+                .hinge_limit_mut(h)
+                .expect("hinge limit")
+                .set_limits(hard(lower), hard(upper))
+                .expect("limits");
+            h
+        }
     }
 }
 

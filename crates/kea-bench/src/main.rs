@@ -60,6 +60,8 @@ fn scenes(quick: bool) -> Vec<Scene> {
         scenes::heavy_light(10, s(600)),
         scenes::sleeping_pyramid(40, s(100)),
         scenes::chain(100, s(600)),
+        scenes::ragdolls(8, s(300)),
+        scenes::ragdolls(32, s(300)),
     ]
 }
 

@@ -1,6 +1,6 @@
 //! A scene in Rapier (rapier3d 0.36, its default parameters), stepped and measured.
 
-use crate::scenes::{Quality, Scene, Shape, Static};
+use crate::scenes::{JointKind, Quality, Scene, Shape, Static};
 use crate::Outcome;
 use rapier3d::prelude::*;
 use std::time::{Duration, Instant};
@@ -51,6 +51,7 @@ impl RapierScene {
                 Shape::Cuboid(h) => ColliderBuilder::cuboid(h[0], h[1], h[2]),
                 Shape::Ball(r) => ColliderBuilder::ball(r),
                 Shape::CapsuleX(hh, r) => ColliderBuilder::capsule_x(hh, r),
+                Shape::CapsuleY(hh, r) => ColliderBuilder::capsule_y(hh, r),
             }
             .density(b.density);
             let h = bodies.insert(
@@ -73,9 +74,32 @@ impl RapierScene {
                     (fixed, anchor)
                 }
             };
-            let joint = SphericalJointBuilder::new()
-                .local_anchor1(local_a)
-                .local_anchor2(local_b);
+            // Jointed bodies do not collide, as in Kea.
+            let joint: GenericJoint = match j.kind {
+                JointKind::Ball => SphericalJointBuilder::new()
+                    .local_anchor1(local_a)
+                    .local_anchor2(local_b)
+                    .contacts_enabled(false)
+                    .into(),
+                JointKind::LimitedBall { axis, cone, twist } => {
+                    // The joint's x axis along the limb: twist about it, swing about the others.
+                    let turn = Rotation::from_rotation_arc(Vector::X, v(axis));
+                    SphericalJointBuilder::new()
+                        .local_frame1(Pose::from_parts(local_a, turn))
+                        .local_frame2(Pose::from_parts(local_b, turn))
+                        .limits(JointAxis::AngX, [-twist, twist])
+                        .limits(JointAxis::AngY, [-cone, cone])
+                        .limits(JointAxis::AngZ, [-cone, cone])
+                        .contacts_enabled(false)
+                        .into()
+                }
+                JointKind::Hinge { axis, lower, upper } => RevoluteJointBuilder::new(v(axis))
+                    .local_anchor1(local_a)
+                    .local_anchor2(local_b)
+                    .limits([lower, upper])
+                    .contacts_enabled(false)
+                    .into(),
+            };
             impulse_joints.insert(a, b, joint, true);
             joints.push((j.a.map(|i| handles[i].0), local_a, b, local_b));
         }

@@ -9,6 +9,8 @@ pub enum Shape {
     Ball(f32),
     /// A capsule along the body's x axis: half length of the segment, radius.
     CapsuleX(f32, f32),
+    /// A capsule along the body's y axis: half length of the segment, radius.
+    CapsuleY(f32, f32),
 }
 
 /// A dynamic body: one shape of uniform density.
@@ -28,12 +30,34 @@ pub enum Static {
     Cuboid { half: [f32; 3], position: [f32; 3] },
 }
 
-/// A ball joint: body `a` (or the world) to body `b` at a world point.
+/// A joint: body `b` to body `a` (or the world) at a world point.
 #[derive(Debug, Clone, Copy)]
-pub struct BallJoint {
+pub struct Joint {
     pub a: Option<usize>,
     pub b: usize,
     pub anchor: [f32; 3],
+    pub kind: JointKind,
+}
+
+/// How a joint bends.
+#[derive(Debug, Clone, Copy)]
+pub enum JointKind {
+    /// A ball joint, free.
+    Ball,
+    /// A ball joint whose body `b` may swing up to `cone` rad away from `axis` (a world unit
+    /// vector along the limb at the start) and twist up to ±`twist` rad about it. Rapier has no
+    /// cone: it gets the two swing angles each limited to ±`cone`.
+    LimitedBall {
+        axis: [f32; 3],
+        cone: f32,
+        twist: f32,
+    },
+    /// A hinge about world `axis`, its angle in `[lower, upper]` rad.
+    Hinge {
+        axis: [f32; 3],
+        lower: f32,
+        upper: f32,
+    },
 }
 
 /// What a scene's quality column reports.
@@ -53,7 +77,7 @@ pub struct Scene {
     pub name: String,
     pub bodies: Vec<Body>,
     pub statics: Vec<Static>,
-    pub joints: Vec<BallJoint>,
+    pub joints: Vec<Joint>,
     /// Bodies may sleep (the sleeping scene); otherwise sleeping is off in both engines.
     pub sleep: bool,
     /// Steps run before timing (the sleeping scene settles and falls asleep).
@@ -183,16 +207,116 @@ pub fn chain(links: usize, steps: usize) -> Scene {
         })
         .collect();
     let joints = (0..links)
-        .map(|i| BallJoint {
+        .map(|i| Joint {
             a: i.checked_sub(1),
             b: i,
             anchor: [i as f32 * length, height, 0.0],
+            kind: JointKind::Ball,
         })
         .collect();
     Scene {
         name: format!("{links}-link chain, released horizontal"),
         bodies,
         statics: Vec::new(),
+        joints,
+        sleep: false,
+        settle: 0,
+        steps,
+        quality: Quality::JointGap,
+    }
+}
+
+/// A ragdoll's parts: name, centre (figure frame, pelvis at the origin), capsule half length
+/// and radius, and whether the capsule lies along x (else along y). Kea's `ragdoll` scene group
+/// has the same figure.
+const RAGDOLL_PARTS: [(&str, [f32; 3], f32, f32, bool); 11] = [
+    ("pelvis", [0.0, 0.0, 0.0], 0.08, 0.1, true),
+    ("torso", [0.0, 0.35, 0.0], 0.12, 0.13, false),
+    ("head", [0.0, 0.8, 0.0], 0.03, 0.1, false),
+    ("left upper arm", [0.27, 0.4, 0.0], 0.1, 0.05, false),
+    ("left lower arm", [0.27, 0.105, 0.0], 0.1, 0.045, false),
+    ("right upper arm", [-0.27, 0.4, 0.0], 0.1, 0.05, false),
+    ("right lower arm", [-0.27, 0.105, 0.0], 0.1, 0.045, false),
+    ("left upper leg", [0.1, -0.28, 0.0], 0.14, 0.07, false),
+    ("left lower leg", [0.1, -0.7, 0.0], 0.15, 0.06, false),
+    ("right upper leg", [-0.1, -0.28, 0.0], 0.14, 0.07, false),
+    ("right lower leg", [-0.1, -0.7, 0.0], 0.15, 0.06, false),
+];
+
+/// The ragdoll's joints: child part, parent part, anchor, and (cone, twist) for a ball joint
+/// or (lower, upper) for a hinge about x.
+const RAGDOLL_JOINTS: [(usize, usize, [f32; 3], bool, f32, f32); 10] = [
+    (1, 0, [0.0, 0.1, 0.0], true, 0.4, 0.3),
+    (2, 1, [0.0, 0.66, 0.0], true, 0.5, 0.5),
+    (3, 1, [0.27, 0.55, 0.0], true, 1.4, 0.6),
+    (5, 1, [-0.27, 0.55, 0.0], true, 1.4, 0.6),
+    (4, 3, [0.27, 0.25, 0.0], false, -2.5, 0.05),
+    (6, 5, [-0.27, 0.25, 0.0], false, -2.5, 0.05),
+    (7, 0, [0.1, -0.07, 0.0], true, 1.0, 0.3),
+    (9, 0, [-0.1, -0.07, 0.0], true, 1.0, 0.3),
+    (8, 7, [0.1, -0.49, 0.0], false, -0.05, 2.4),
+    (10, 9, [-0.1, -0.49, 0.0], false, -0.05, 2.4),
+];
+
+/// `count` ragdolls (11 capsules, 7 limited ball joints and 4 hinges each, density 1,000) dropped
+/// in a row over four steps, at staggered heights so that they land apart in time and on one
+/// another.
+pub fn ragdolls(count: usize, steps: usize) -> Scene {
+    let mut bodies = Vec::new();
+    let mut joints = Vec::new();
+    for r in 0..count {
+        let origin = [
+            -1.5 + 1.0 * (r % 4) as f32,
+            2.5 + 0.6 * r as f32,
+            -0.6 + 0.4 * (r / 4) as f32,
+        ];
+        let at = |p: [f32; 3]| [origin[0] + p[0], origin[1] + p[1], origin[2] + p[2]];
+        let first = bodies.len();
+        for (_, centre, half, radius, lying) in RAGDOLL_PARTS {
+            bodies.push(Body {
+                shape: if lying {
+                    Shape::CapsuleX(half, radius)
+                } else {
+                    Shape::CapsuleY(half, radius)
+                },
+                position: at(centre),
+                density: 1000.0,
+            });
+        }
+        for (child, parent, anchor, ball, p, q) in RAGDOLL_JOINTS {
+            let kind = if ball {
+                // Along the limb: from the anchor to the child's centre.
+                let c = RAGDOLL_PARTS[child].1;
+                let d = [c[0] - anchor[0], c[1] - anchor[1], c[2] - anchor[2]];
+                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                JointKind::LimitedBall {
+                    axis: [d[0] / n, d[1] / n, d[2] / n],
+                    cone: p,
+                    twist: q,
+                }
+            } else {
+                JointKind::Hinge {
+                    axis: [1.0, 0.0, 0.0],
+                    lower: p,
+                    upper: q,
+                }
+            };
+            joints.push(Joint {
+                a: Some(first + parent),
+                b: first + child,
+                anchor: at(anchor),
+                kind,
+            });
+        }
+    }
+    let step = |i: usize| Static::Cuboid {
+        half: [0.5, 0.15 * (i + 1) as f32, 1.5],
+        position: [-1.0 + i as f32, 0.15 * (i + 1) as f32, 0.0],
+    };
+    Scene {
+        name: format!("{count} ragdolls on steps"),
+        bodies,
+        statics: vec![Static::Ground, step(0), step(1), step(2), step(3)],
         joints,
         sleep: false,
         settle: 0,
