@@ -39,6 +39,19 @@ impl KeaScene {
             ..Default::default()
         })
         .expect("world");
+        if let Ok(m) = std::env::var("KEA_BENCH_MODE") {
+            let mode = match m.as_str() {
+                "split" => kea::SolverMode::Split,
+                "exact" => kea::SolverMode::Exact,
+                _ => kea::SolverMode::Iterative,
+            };
+            world
+                .set_routing(kea::Routing {
+                    mode,
+                    ..Default::default()
+                })
+                .unwrap();
+        }
         if scene.sleep {
             world
                 .set_dem(DemSettings {

@@ -11,6 +11,9 @@
 //! checks that both end in the same bits.
 //!
 //! `cargo run --release -p kea-bench [--features parallel] [-- [--runs N] [--quick] [FILTER]]`
+//!
+//! `KEA_BENCH_MODE=exact|split|iterative` forces Kea's routing (default: hybrid), to compare
+//! its paths on the same scenes.
 
 mod kea_run;
 mod rapier_run;

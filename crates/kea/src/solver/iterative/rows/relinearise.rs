@@ -50,20 +50,39 @@ impl JointRows {
                         && r.lo.is_finite() == self.lo[i].is_finite()
                         && r.hi.is_finite() == self.hi[i].is_finite()
                 });
-            if !same_kind {
-                continue;
-            }
-            for (j, row) in fresh.iter().enumerate() {
+            // A block whose rows changed (a limit coming or going) still refreshes its leading
+            // equality rows (a joint writes those first, always the same): its anchors and axes
+            // keep up with the poses, its stops stay as the step began.
+            let refreshed = if same_kind {
+                count
+            } else {
+                fresh
+                    .iter()
+                    .take(count)
+                    .enumerate()
+                    .take_while(|(j, r)| {
+                        let i = base + j;
+                        is_equality(r)
+                            && self.lo[i] == Real::NEG_INFINITY
+                            && self.hi[i] == Real::INFINITY
+                            && self.link[i] == NONE
+                    })
+                    .count()
+            };
+            for (j, row) in fresh.iter().enumerate().take(refreshed) {
                 self.refresh_row(base + j, row, blk, bodies, states);
             }
-            self.share_lever(base..base + count);
+            if refreshed == 0 {
+                continue;
+            }
+            self.share_lever(base..base + refreshed);
             if self.direct[base] {
                 continue; // solved directly: no block or pair inverses needed
             }
             if self.blk_eq[b] != NONE {
                 self.refresh_block(self.blk_eq[b] as usize);
             }
-            for i in base..base + count {
+            for i in base..base + refreshed {
                 if self.pair_of[i] != NONE {
                     self.refresh_pair(self.pair_of[i] as usize, i);
                 }
@@ -173,4 +192,9 @@ impl JointRows {
             self.pair_kinv[p] = [k22 / det, -k12 / det, -k12 / det, k11 / det];
         }
     }
+}
+
+/// A row with no bounds and no friction link: a joint's equality.
+fn is_equality(r: &Row) -> bool {
+    r.lo == Real::NEG_INFINITY && r.hi == Real::INFINITY && r.friction.is_none()
 }
