@@ -106,16 +106,22 @@ pub(crate) fn multiply(
 }
 
 /// Factors `values` (the system, over `pattern` and `layout`) in place into `L`. Pivots not
-/// above `tiny` are replaced by `floor`; returns whether any was.
+/// above `tiny` are replaced by `floor`; returns whether any was. With `only`, just the
+/// positions it marks are factorised: it must mark whole connected components (elimination
+/// never leaves one), whose values are then as if the whole were factorised.
 pub(crate) fn factorise(
     pattern: &Pattern,
     layout: &Layout,
     values: &mut [f64],
     tiny: f64,
     floor: f64,
+    only: Option<&[bool]>,
 ) -> bool {
     let mut regularised = false;
     for k in 0..pattern.len() {
+        if only.is_some_and(|o| !o[k]) {
+            continue;
+        }
         let (_, sk) = layout.rows(k);
         let dk = layout.offset(k);
         regularised |= cholesky_in_place(&mut values[dk..dk + sk * sk], sk, tiny, floor);
@@ -378,7 +384,7 @@ pub(crate) mod tests {
                 );
             }
             let mut f = a.clone();
-            assert!(!factorise(pattern, &layout, &mut f, 1e-13, 1e-9));
+            assert!(!factorise(pattern, &layout, &mut f, 1e-13, 1e-9, None));
             solve(pattern, &layout, &f, &mut rhs);
             for r in 0..n {
                 assert!(

@@ -20,6 +20,7 @@
 
 mod dense;
 mod factor;
+mod held_factor;
 mod lcp_dense;
 mod pattern;
 mod pivoting;

@@ -33,7 +33,8 @@
 // Dense kernels over row and block indices read clearest as index loops.
 #![allow(clippy::needless_range_loop)]
 
-use super::factor::{factorise, multiply, solve as factor_solve, Layout};
+use super::factor::{multiply, solve as factor_solve, Layout};
+use super::held_factor::HeldFactor;
 use super::lcp_dense::hash_state;
 pub(crate) use super::lcp_dense::Bound;
 use super::pattern::Pattern;
@@ -93,20 +94,15 @@ pub(crate) struct Limits {
 /// Scratch memory for [`solve`]; grows to the largest problem seen and is then reused.
 #[derive(Debug, Default)]
 pub(crate) struct LcpWorkspace {
-    factor: Vec<f64>,
+    factor: HeldFactor,
     held: Vec<f64>,
     history: [u64; 16],
-    /// What `factor` holds: the stamp of the values and the held rows it was made with, and
-    /// whether it was regularised.
-    factored_stamp: u64,
-    factored_state: Vec<Bound>,
-    factored_singular: bool,
 }
 
 impl LcpWorkspace {
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        (self.factor.capacity() + self.held.capacity()) * 8 + self.factored_state.capacity()
+        self.factor.bytes() + self.held.capacity() * 8
     }
 }
 
@@ -136,7 +132,6 @@ pub(crate) fn solve(
     let tiny = 1.0e-13 * diag_max.max(1.0e-300);
     let floor = 1.0e-9 * diag_max.max(1.0e-300);
     let tol_w = 1.0e-11 * sys.b.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-    ws.factor.resize(sys.layout.values(), 0.0);
     ws.held.resize(n, 0.0);
     ws.history = [0; 16];
     let unbounded = sys.links.iter().all(Option::is_none)
@@ -357,16 +352,8 @@ fn solve_free(
             }
         }
     }
-    let reuse = sys.stamp != 0
-        && ws.factored_stamp == sys.stamp
-        && ws.factored_state.as_slice() == &u.state[..n];
-    if !reuse {
-        ws.factored_singular = factor_held(sys, &u.state[..n], ws, tiny, floor);
-        ws.factored_stamp = sys.stamp;
-        ws.factored_state.clear();
-        ws.factored_state.extend_from_slice(&u.state[..n]);
-    }
-    factor_solve(sys.pattern, sys.layout, &ws.factor, u.x);
+    let singular = ws.factor.update(sys, &u.state[..n], tiny, floor);
+    factor_solve(sys.pattern, sys.layout, &ws.factor.factor, u.x);
     for i in 0..n {
         if is_held(i) {
             u.x[i] = ws.held[i];
@@ -375,43 +362,7 @@ fn solve_free(
             u.x[i] = 0.0;
         }
     }
-    ws.factored_singular
-}
-
-/// Factors `A` with the rows held in `state` replaced by identity rows (their diagonal kept);
-/// returns whether a pivot was regularised.
-fn factor_held(
-    sys: &System<'_>,
-    state: &[Bound],
-    ws: &mut LcpWorkspace,
-    tiny: f64,
-    floor: f64,
-) -> bool {
-    let is_held = |i: usize| state[i] != Bound::Free;
-    ws.factor.copy_from_slice(&sys.a[..sys.layout.values()]);
-    for k in 0..sys.pattern.len() {
-        let (fk, sk) = sys.layout.rows(k);
-        let d = sys.layout.offset(k);
-        for r in 0..sk {
-            for c in 0..sk {
-                if is_held(fk + r) || is_held(fk + c) {
-                    ws.factor[d + r * sk + c] = if r == c { sys.a[d + r * sk + c] } else { 0.0 };
-                }
-            }
-        }
-        for (e, &a) in sys.pattern.later(k).iter().enumerate() {
-            let (fa, sa) = sys.layout.rows(a as usize);
-            let at = sys.layout.offset(sys.pattern.off_slot(k, e));
-            for r in 0..sa {
-                for c in 0..sk {
-                    if is_held(fa + r) || is_held(fk + c) {
-                        ws.factor[at + r * sk + c] = 0.0;
-                    }
-                }
-            }
-        }
-    }
-    factorise(sys.pattern, sys.layout, &mut ws.factor, tiny, floor)
+    singular
 }
 
 #[cfg(test)]

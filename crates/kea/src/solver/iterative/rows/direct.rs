@@ -141,34 +141,25 @@ impl JointRows {
     /// One post-stabilisation pass (a Newton step on positions): solves
     /// `(J M⁻¹ Jᵀ) Δ = −xi` for the rigid rows that correct errors (equalities free,
     /// one-sided stops with `Δ ≥ 0`; others held at zero) and moves the bodies by `M⁻¹ Jᵀ Δ`,
-    /// velocities untouched. The rows must be linearised at the present poses. Returns the
-    /// largest error it started from.
+    /// velocities untouched. The rows must be linearised at the present poses.
     pub(crate) fn stabilise(
         &mut self,
         states: &mut BodyStates,
         sys: &mut SubstepSystem,
         limits: Limits,
-    ) -> (Real, LcpReport) {
+    ) -> LcpReport {
         let n = self.direct_rows.len();
         self.direct_r.clear();
         self.direct_lo.clear();
         self.direct_hi.clear();
         self.direct_y.clear();
-        let mut worst: Real = 0.0;
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
             let (_, xi) = self.jv_and_error(states, i, false);
-            let corrects = self.flags[i] & HARD != 0 && self.rate[i] > 0.0 && self.link[i] == NONE;
-            let equality = self.lo[i] == Real::NEG_INFINITY && self.hi[i] == Real::INFINITY;
-            let one_sided = self.flags[i] & UNILATERAL != 0;
-            let (lo, hi, r) = if corrects && equality {
-                worst = worst.max(xi.abs());
-                (f64::NEG_INFINITY, f64::INFINITY, -wide(xi))
-            } else if corrects && one_sided && xi < 0.0 {
-                worst = worst.max(-xi);
-                (0.0, f64::INFINITY, -wide(xi))
-            } else {
-                (0.0, 0.0, 0.0)
+            let (lo, hi, r) = match self.correction(i) {
+                Correction::Equality => (f64::NEG_INFINITY, f64::INFINITY, -wide(xi)),
+                Correction::Push if xi < 0.0 => (0.0, f64::INFINITY, -wide(xi)),
+                _ => (0.0, 0.0, 0.0),
             };
             self.direct_r.push(r);
             self.direct_lo.push(lo);
@@ -207,6 +198,50 @@ impl JointRows {
                 states.displace(l, dx, dtheta);
             }
         }
-        (worst, report)
+        report
     }
+
+    /// The largest error post-stabilisation would correct now (module docs of
+    /// [`Self::stabilise`]).
+    pub(crate) fn direct_error(&self, states: &BodyStates) -> Real {
+        let mut worst: Real = 0.0;
+        for &i in &self.direct_rows {
+            let i = i as usize;
+            let correction = self.correction(i);
+            if correction == Correction::None {
+                continue;
+            }
+            let (_, xi) = self.jv_and_error(states, i, false);
+            worst = match correction {
+                Correction::Equality => worst.max(xi.abs()),
+                _ => worst.max(-xi),
+            };
+        }
+        worst
+    }
+
+    /// How post-stabilisation treats row `i`: only rigid rows that correct an error do
+    /// (equalities both ways, one-sided stops only out of penetration).
+    fn correction(&self, i: usize) -> Correction {
+        if self.flags[i] & HARD == 0 || self.rate[i] <= 0.0 || self.link[i] != NONE {
+            Correction::None
+        } else if self.lo[i] == Real::NEG_INFINITY && self.hi[i] == Real::INFINITY {
+            Correction::Equality
+        } else if self.flags[i] & UNILATERAL != 0 {
+            Correction::Push
+        } else {
+            Correction::None
+        }
+    }
+}
+
+/// What post-stabilisation does with a row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Correction {
+    /// Left alone (soft, velocity-only, friction or two-sided bounded rows).
+    None,
+    /// Closed both ways.
+    Equality,
+    /// Pushed out of penetration only.
+    Push,
 }
