@@ -14,7 +14,12 @@ use super::{JointRows, HARD, UNILATERAL};
 use crate::math::{to_f64, wide, Real, Vec3};
 use crate::solver::exact::{LcpReport, Limits, SubstepRow, SubstepSystem};
 
+/// The fraction of a hard equality row's error its biased direct solve removes per substep
+/// (the relax solve then takes the correcting velocity out again).
 const DIRECT_RATE: Real = 0.5;
+
+/// No lever shift: the direct solve's rows are the rows its matrix was built from.
+const NO_SHIFT: (Vec3, Vec3) = (Vec3::ZERO, Vec3::ZERO);
 
 impl JointRows {
     /// Whether any gathered row is solved directly.
@@ -78,6 +83,21 @@ impl JointRows {
         sys.assemble();
     }
 
+    /// Applies impulse `dp` of row `i` with its own Jacobian (no lever shift).
+    fn apply_unshifted(&self, states: &mut BodyStates, i: usize, dp: Real) {
+        let (a, b) = (self.row_a[i], self.row_b[i]);
+        if a != NONE {
+            let vel = &mut states.vel[a as usize];
+            vel.v += self.ma_lin[i] * dp;
+            vel.w += self.ma_ang[i] * dp;
+        }
+        if b != NONE {
+            let vel = &mut states.vel[b as usize];
+            vel.v += self.mb_lin[i] * dp;
+            vel.w += self.mb_ang[i] * dp;
+        }
+    }
+
     /// Row `i` is in the direct system being built (rows come in order, so a normal row
     /// precedes its friction rows).
     fn in_direct(&self, i: usize) -> bool {
@@ -103,7 +123,7 @@ impl JointRows {
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
             let soft_relax = !use_bias && self.flags[i] & HARD == 0;
-            let (jv, xi) = self.jv_and_error(states, i, soft_relax);
+            let (jv, xi) = self.jv_and_error_shifted(states, i, soft_relax, NO_SHIFT);
             let hard_equality = self.flags[i] & HARD != 0
                 && self.lo[i] == Real::NEG_INFINITY
                 && self.hi[i] == Real::INFINITY
@@ -132,7 +152,7 @@ impl JointRows {
             let dp = new - self.impulse[i];
             if dp != 0.0 && dp.is_finite() {
                 self.impulse[i] = new;
-                self.apply(states, i, dp);
+                self.apply_unshifted(states, i, dp);
             }
         }
         report
@@ -155,7 +175,7 @@ impl JointRows {
         self.direct_y.clear();
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
-            let (_, xi) = self.jv_and_error(states, i, false);
+            let (_, xi) = self.jv_and_error_shifted(states, i, false, NO_SHIFT);
             let (lo, hi, r) = match self.correction(i) {
                 Correction::Equality => (f64::NEG_INFINITY, f64::INFINITY, -wide(xi)),
                 Correction::Push if xi < 0.0 => (0.0, f64::INFINITY, -wide(xi)),
@@ -211,7 +231,7 @@ impl JointRows {
             if correction == Correction::None {
                 continue;
             }
-            let (_, xi) = self.jv_and_error(states, i, false);
+            let (_, xi) = self.jv_and_error_shifted(states, i, false, NO_SHIFT);
             worst = match correction {
                 Correction::Equality => worst.max(xi.abs()),
                 _ => worst.max(-xi),

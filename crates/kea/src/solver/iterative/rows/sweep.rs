@@ -133,6 +133,19 @@ impl JointRows {
         i: usize,
         substep_start: bool,
     ) -> (Real, Real) {
+        self.jv_and_error_shifted(states, i, substep_start, self.departures(states, i))
+    }
+
+    /// [`Self::jv_and_error`] with the levers shifted by the bodies' departures `(da, db)`
+    /// (zero: the row's own Jacobian, as a direct solve's matrix has it).
+    #[inline]
+    pub(super) fn jv_and_error_shifted(
+        &self,
+        states: &BodyStates,
+        i: usize,
+        substep_start: bool,
+        (da, db): (Vec3, Vec3),
+    ) -> (Real, Real) {
         let elapsed = if substep_start {
             self.elapsed_sub
         } else {
@@ -153,7 +166,6 @@ impl JointRows {
             }
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
-        let (da, db) = self.departures(states, i);
         let mut jv = 0.0;
         // The error is measured from a reference that moves at the row's target velocity (a
         // path, a kinematic body): over one step this is what the exact path's single solve does.
