@@ -107,9 +107,15 @@ impl SubstepSystem {
             return;
         }
         ws.assemble_matrix();
-        for i in 0..ws.rows.len() {
-            let d = ws.diagonal(i);
-            ws.add_diagonal(i, self.extra[i] + REGULARISATION * d);
+        // Each position's diagonal block holds its rows' diagonals.
+        let pattern = ws.patterns.current();
+        for k in 0..pattern.len() {
+            let (first, size) = ws.layout.rows(k);
+            let at = ws.layout.offset(k);
+            for r in 0..size {
+                let d = &mut ws.a[at + r * size + r];
+                *d += self.extra[first + r] + REGULARISATION * *d;
+            }
         }
     }
 
