@@ -39,18 +39,20 @@ impl KeaScene {
             ..Default::default()
         })
         .expect("world");
-        if let Ok(m) = std::env::var("KEA_BENCH_MODE") {
-            let mode = match m.as_str() {
-                "split" => kea::SolverMode::Split,
-                "exact" => kea::SolverMode::Exact,
-                _ => kea::SolverMode::Iterative,
-            };
+        let forced = match std::env::var("KEA_BENCH_MODE").as_deref() {
+            Ok("split") => Some(kea::SolverMode::Split),
+            Ok("exact") => Some(kea::SolverMode::Exact),
+            Ok("iterative") => Some(kea::SolverMode::Iterative),
+            _ if scene.kea_exact => Some(kea::SolverMode::Exact),
+            _ => None,
+        };
+        if let Some(mode) = forced {
             world
                 .set_routing(kea::Routing {
                     mode,
                     ..Default::default()
                 })
-                .unwrap();
+                .expect("routing");
         }
         if scene.sleep {
             world

@@ -12,8 +12,8 @@
 //!
 //! `cargo run --release -p kea-bench [--features parallel] [-- [--runs N] [--quick] [FILTER]]`
 //!
-//! `KEA_BENCH_MODE=exact|split|iterative` forces Kea's routing (default: hybrid), to compare
-//! its paths on the same scenes.
+//! `KEA_BENCH_MODE=exact|split|iterative` forces Kea's routing (default: hybrid, except the
+//! hanging chain, which measures the exact path), to compare its paths on the same scenes.
 
 mod kea_run;
 mod rapier_run;
@@ -63,6 +63,8 @@ fn scenes(quick: bool) -> Vec<Scene> {
         scenes::heavy_light(10, s(600)),
         scenes::sleeping_pyramid(40, s(100)),
         scenes::chain(100, s(600)),
+        scenes::chain(333, s(300)),
+        scenes::hanging_chain(333, s(300)),
         scenes::ragdolls(8, s(300)),
         scenes::ragdolls(32, s(300)),
     ]

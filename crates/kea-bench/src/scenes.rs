@@ -85,6 +85,8 @@ pub struct Scene {
     /// Steps timed per run.
     pub steps: usize,
     pub quality: Quality,
+    /// Kea solves every island exactly (the exact path's own figure); else default routing.
+    pub kea_exact: bool,
 }
 
 /// A pyramid of unit cubes in the x-y plane: `base` boxes at the bottom, each row half a box
@@ -111,6 +113,7 @@ pub fn pyramid(base: usize, steps: usize) -> Scene {
         settle: 0,
         steps,
         quality: Quality::Displacement,
+        kea_exact: false,
     }
 }
 
@@ -158,6 +161,7 @@ pub fn balls(count: usize, steps: usize) -> Scene {
         settle: 0,
         steps,
         quality: Quality::Energy,
+        kea_exact: false,
     }
 }
 
@@ -179,6 +183,7 @@ pub fn column(n: usize, steps: usize) -> Scene {
         settle: 0,
         steps,
         quality: Quality::Displacement,
+        kea_exact: false,
     }
 }
 
@@ -223,7 +228,29 @@ pub fn chain(links: usize, steps: usize) -> Scene {
         settle: 0,
         steps,
         quality: Quality::JointGap,
+        kea_exact: false,
     }
+}
+
+/// A chain of `links` capsules hanging straight down from a pin at rest (3 rows a joint, so
+/// 333 links make a 999-row island), with Kea forced onto the exact path: what one exact
+/// solve of a big articulated island costs.
+pub fn hanging_chain(links: usize, steps: usize) -> Scene {
+    let mut s = chain(links, steps);
+    let (length, top) = (0.5, links as f32 * 0.5 + 1.0);
+    for (i, b) in s.bodies.iter_mut().enumerate() {
+        b.shape = match b.shape {
+            Shape::CapsuleX(h, r) => Shape::CapsuleY(h, r),
+            other => other,
+        };
+        b.position = [0.0, top - (i as f32 + 0.5) * length, 0.0];
+    }
+    for (i, j) in s.joints.iter_mut().enumerate() {
+        j.anchor = [0.0, top - i as f32 * length, 0.0];
+    }
+    s.name = format!("{links}-link chain hanging, Kea exact");
+    s.kea_exact = true;
+    s
 }
 
 /// A ragdoll's parts: name, centre (figure frame, pelvis at the origin), capsule half length
@@ -322,5 +349,6 @@ pub fn ragdolls(count: usize, steps: usize) -> Scene {
         settle: 0,
         steps,
         quality: Quality::JointGap,
+        kea_exact: false,
     }
 }
