@@ -18,22 +18,21 @@
 // Dense kernels over row and block indices read clearest as index loops.
 #![allow(clippy::needless_range_loop)]
 
+mod contacts;
 mod dense;
 mod factor;
 mod held_factor;
 mod lcp_dense;
 mod pattern;
 mod pivoting;
+mod project;
 mod substep;
 
 use super::integrate::BodyScratch;
 use super::{
-    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams,
-    SolverStats,
+    block_reactions, reserve, ConstraintBlock, Reaction, SolverBody, SolverParams, SolverStats,
 };
-use crate::constraint::{
-    Contact, PointForce, Row, RowBody, RowContext, RowWriter, Spring, MAX_CONTACT_POINTS,
-};
+use crate::constraint::Row;
 use crate::math::{to_f64, wide, DVec3, Real};
 use factor::Layout;
 use pattern::{BlockBodies, Pattern, PatternCache};
@@ -217,124 +216,6 @@ impl ExactWorkspace {
             }
         }
         block_reactions(island_blocks, blocks, rows, lambda, reactions);
-    }
-
-    /// Solves an island of joint blocks and contacts: the contacts write their rows (three
-    /// per point) next to a copy of the joints' rows, the whole is solved as one LCP, and the
-    /// forces go back to the joints' λ and reactions and to each contact point.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn solve_island_with_contacts(
-        &mut self,
-        island_blocks: &[u32],
-        island_contacts: &[u32],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        contacts: &mut [SolverContact],
-        bodies: &[SolverBody],
-        scratch: &mut BodyScratch,
-        params: &SolverParams,
-        lambda: &mut [Real],
-        reactions: &mut [[Reaction; 2]],
-        stats: &mut SolverStats,
-    ) {
-        if island_contacts.is_empty() {
-            return self.solve_island(
-                island_blocks,
-                blocks,
-                rows,
-                bodies,
-                scratch,
-                params,
-                lambda,
-                reactions,
-                stats,
-            );
-        }
-        let mut mrows = std::mem::take(&mut self.mixed_rows);
-        let mut mblocks = std::mem::take(&mut self.mixed_blocks);
-        let mut order = std::mem::take(&mut self.mixed_order);
-        let mut mlambda = std::mem::take(&mut self.mixed_lambda);
-        let mut mreactions = std::mem::take(&mut self.mixed_reactions);
-        let mut mguess = std::mem::take(&mut self.mixed_guess);
-        mrows.clear();
-        mblocks.clear();
-        mguess.clear();
-        for &k in island_blocks {
-            let blk = blocks[k as usize];
-            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
-            mblocks.push(ConstraintBlock {
-                first_row: mrows.len() as u32,
-                ..blk
-            });
-            mrows.extend_from_slice(&rows[range.clone()]);
-            mguess.extend_from_slice(&lambda[range]);
-        }
-        // A pile's contacts run stiff (see EXACT_CONTACT_STIFFENING); beside joints they keep
-        // the world's spring, the balance the joints' own softness was set against.
-        let contact_spring = if island_blocks.is_empty() {
-            exact_contact_spring(params.contact_spring)
-        } else {
-            params.contact_spring
-        };
-        for &c in island_contacts {
-            let sc = &contacts[c as usize];
-            let ctx = RowContext {
-                bodies: sc.bodies.map(|b| row_body(b, bodies, scratch)),
-                dt: params.dt,
-                epsilon: params.epsilon,
-                gamma: params.gamma,
-                contact_spring,
-            };
-            let first = mrows.len();
-            sc.contact.write_rows(&ctx, &mut RowWriter::new(&mut mrows));
-            warm_contact_rows(&sc.contact, &mrows[first..], &mut mguess);
-            mblocks.push(ConstraintBlock {
-                bodies: sc.bodies,
-                first_row: first as u32,
-                row_count: (mrows.len() - first) as u32,
-            });
-        }
-        order.clear();
-        order.extend(0..mblocks.len() as u32);
-        mlambda.clear();
-        mlambda.extend_from_slice(&mguess);
-        mreactions.clear();
-        mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
-        self.with_contacts = true;
-        self.solve_island(
-            &order,
-            &mblocks,
-            &mrows,
-            bodies,
-            scratch,
-            params,
-            &mut mlambda,
-            &mut mreactions,
-            stats,
-        );
-        self.with_contacts = false;
-        for (i, &k) in island_blocks.iter().enumerate() {
-            let blk = &blocks[k as usize];
-            let from = mblocks[i].first_row as usize;
-            let n = blk.row_count as usize;
-            lambda[blk.first_row as usize..blk.first_row as usize + n]
-                .copy_from_slice(&mlambda[from..from + n]);
-            reactions[k as usize] = mreactions[i];
-        }
-        for (i, &c) in island_contacts.iter().enumerate() {
-            let blk = &mblocks[island_blocks.len() + i];
-            let block_rows =
-                &mrows[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
-            let block_lambda =
-                &mlambda[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
-            store_point_forces(&mut contacts[c as usize].contact, block_rows, block_lambda);
-        }
-        self.mixed_rows = mrows;
-        self.mixed_blocks = mblocks;
-        self.mixed_order = order;
-        self.mixed_lambda = mlambda;
-        self.mixed_reactions = mreactions;
-        self.mixed_guess = mguess;
     }
 
     /// Gathers the island's rows that `keep` accepts, block by block, with each block's
@@ -653,130 +534,6 @@ impl ExactWorkspace {
             );
         }
     }
-
-    /// Position projection of one island: moves its bodies so that each equality row without
-    /// its own softness (a joint) sits where the step's force puts it, by solving
-    /// `(J M⁻¹ Jᵀ + δI) Δ = xi* − xi` for the rows evaluated at the new state and applying
-    /// `Δq = M⁻¹ Jᵀ Δ` to positions and orientations (velocities are left alone: a
-    /// post-stabilisation). With the world's ε a joint is a stiff spring, `k = γ/(ε h²)`, so its
-    /// target is the spring's deflection under the force λ it carried, `xi* = −λ/k`: projecting
-    /// to zero would fight the velocity solve, which keeps that deflection. The displacements are
-    /// accumulated in `scratch` (linear in `constraint_force`, angular in `constraint_torque`)
-    /// for the caller to apply. Returns the largest error it started from.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn project_island(
-        &mut self,
-        island_blocks: &[u32],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        bodies: &[SolverBody],
-        scratch: &mut BodyScratch,
-        params: &SolverParams,
-        lambda: &[Real],
-        stats: &mut SolverStats,
-    ) -> f64 {
-        let projectable = |r: &Row| {
-            r.lo == Real::NEG_INFINITY
-                && r.hi == Real::INFINITY
-                && r.friction.is_none()
-                && r.softness.is_none()
-                && r.spring.is_none()
-                && r.gamma != Some(0.0)
-        };
-        self.gather(island_blocks, blocks, rows, bodies, scratch, projectable);
-        let n = self.rows.len();
-        if n == 0 {
-            return 0.0;
-        }
-        self.assemble_matrix();
-        let diag_max = (0..n).fold(0.0f64, |m, i| m.max(self.diagonal(i)));
-        // A light regularisation keeps redundant joints solvable without softening them.
-        let delta = (wide(params.epsilon) * 1.0e-3).max(1.0e-12 * diag_max);
-        let mut worst = 0.0f64;
-        let h = wide(params.dt);
-        for i in 0..n {
-            self.add_diagonal(i, delta);
-            let g = self.rows[i].global as usize;
-            let row = &rows[g];
-            let xi = wide(row.xi);
-            let gamma = wide(row.gamma.unwrap_or(params.gamma));
-            let deflection = if gamma > 0.0 {
-                -wide(params.epsilon) * h * h / gamma * wide(lambda[g])
-            } else {
-                0.0
-            };
-            worst = worst.max(xi.abs());
-            self.b[i] = deflection - xi;
-            self.lo[i] = f64::NEG_INFINITY;
-            self.hi[i] = f64::INFINITY;
-        }
-        self.solve_lcp(params, stats);
-        for (i, r) in self.rows.iter().enumerate() {
-            let d = self.x[i];
-            for s in 0..2 {
-                if let Some(b) = r.bodies[s] {
-                    scratch.constraint_force[b as usize] += r.mj[2 * s] * d;
-                    scratch.constraint_torque[b as usize] += r.mj[2 * s + 1] * d;
-                }
-            }
-        }
-        worst
-    }
-}
-
-/// The row-writing view of solver body `b` (`None`: the static world).
-pub(crate) fn row_body(b: Option<u32>, bodies: &[SolverBody], scratch: &BodyScratch) -> RowBody {
-    let Some(b) = b else {
-        return RowBody::STATIC;
-    };
-    let body = &bodies[b as usize];
-    RowBody {
-        position: body.position,
-        orientation: body.orientation,
-        linear_velocity: body.linear_velocity,
-        angular_velocity: body.angular_velocity,
-        free_linear_velocity: scratch.free_linear[b as usize],
-        free_angular_velocity: scratch.free_angular[b as usize],
-        dynamic: !body.is_fixed(),
-        fast_spin_axis: body.fast_spin_axis.map(|a| body.orientation * a),
-    }
-}
-
-/// Each point's force from the λ of the rows a contact wrote (normal, then its friction rows),
-/// and the primary direction they used.
-fn store_point_forces(contact: &mut Contact, rows: &[Row], lambda: &[Real]) {
-    let per_point = rows.len() / contact.points().len().max(1);
-    let mut forces = [PointForce::default(); MAX_CONTACT_POINTS];
-    for (j, f) in forces.iter_mut().enumerate().take(contact.points().len()) {
-        let base = j * per_point;
-        f.normal = lambda[base];
-        for k in 1..per_point {
-            f.friction += rows[base + k].jacobian[0].linear * lambda[base + k];
-        }
-    }
-    contact.set_forces(&forces[..contact.points().len()]);
-    if per_point >= 2 {
-        contact.remember_direction(rows[1].jacobian[0].linear);
-    }
-}
-
-/// How much stiffer the exact path's contacts are than the iterative path's in an island of
-/// contacts only (beside joints, contacts keep the world's spring: a ragdoll's limits, soft
-/// by the guide's ε, would yield to stiffer ground contacts): a direct solve stays stable
-/// however stiff its springs, so it runs them at eight times the frequency (240
-/// Hz by default), and eight times the damping ratio so that a step still removes the same
-/// fraction of a penetration (`hω/(hω + 2ζ)`, the step's γ, stays as it was) rather than
-/// kicking bodies out. Resting, such a contact yields 64 times less: a column of 40 unit boxes
-/// sags under 1 cm, and a 1 kg box under a 100 kg one sinks a millimetre or two, where the
-/// soft step's 30 Hz gives 44 cm and 13 cm.
-pub(crate) const EXACT_CONTACT_STIFFENING: Real = 8.0;
-
-/// The spring of the exact path's contacts for the world's contact spring.
-pub(crate) fn exact_contact_spring(spring: Spring) -> Spring {
-    Spring::new(
-        spring.hertz * EXACT_CONTACT_STIFFENING,
-        spring.damping_ratio,
-    )
 }
 
 /// An island's rows grouped by block, with each block's place in the elimination order.
@@ -825,20 +582,5 @@ fn add_coupling(
                 a[at + j * sp_rows + i] += v;
             }
         }
-    }
-}
-
-/// Each contact row's force of the last step, from the contact's warm forces: the normal force
-/// for a normal row, the friction force along the row's direction for a friction row.
-fn warm_contact_rows(contact: &Contact, rows: &[Row], guess: &mut Vec<Real>) {
-    let warm = contact.warm_forces();
-    let per_point = rows.len() / warm.len().max(1);
-    for (i, row) in rows.iter().enumerate() {
-        let f = warm.get(i / per_point.max(1)).copied().unwrap_or_default();
-        guess.push(if i % per_point.max(1) == 0 {
-            f.normal
-        } else {
-            f.friction.dot(row.jacobian[0].linear)
-        });
     }
 }
