@@ -200,6 +200,7 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
                 SolverSpec::Hybrid => SolverMode::Hybrid,
                 SolverSpec::Exact => SolverMode::Exact,
                 SolverSpec::Iterative => SolverMode::Iterative,
+                SolverSpec::Split => SolverMode::Split,
             },
             max_exact_rows: r.max_exact_rows,
             max_exact_bodies: r.max_exact_bodies,

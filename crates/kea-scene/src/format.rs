@@ -50,7 +50,7 @@ pub struct WorldSpec {
     pub epsilon: Real,
     /// Error reduction γ.
     pub gamma: Real,
-    /// `"hybrid"`, `"exact"` or `"iterative"`.
+    /// `"hybrid"`, `"exact"`, `"iterative"` or `"split"`.
     pub solver: SolverSpec,
     /// Put resting islands to sleep (the guide's auto-disable).
     pub sleep: bool,
@@ -208,13 +208,16 @@ impl Default for WorldSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SolverSpec {
-    /// Small islands exact, big ones iterative.
+    /// By structure: piles iterative, joints among contacts split, small joint islands exact,
+    /// big ones split.
     #[default]
     Hybrid,
     /// Every island exact.
     Exact,
     /// Every island iterative.
     Iterative,
+    /// Every island with joints split (joints direct inside the substeps, contacts iterative).
+    Split,
 }
 
 /// A named material.
