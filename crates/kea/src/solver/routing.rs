@@ -178,11 +178,11 @@ pub(crate) fn choose(
         1.0
     };
     let fits = |n: u32, max: u32| n as Real <= max as Real * scale;
-    let small_contacts =
-        fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
     if islands.blocks(k).is_empty() {
         // Contacts only: the contact solver's work, unless masses differ too much for it.
-        return if small_contacts && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
+        let small =
+            fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
+        return if small && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
             SolverPath::Exact
         } else {
             SolverPath::Iterative

@@ -35,12 +35,25 @@ pub(crate) struct SubstepSystem {
     extra: Vec<f64>,
     /// `A·y₀` for the current impulses `y₀`.
     product: Vec<f64>,
+    /// One pass's residuals, bounds and impulses (present on entry, solved on return), row by
+    /// row as [`SubstepSystem::push`] gave them.
+    r: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    y: Vec<f64>,
 }
 
 impl SubstepSystem {
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        self.ws.bytes() + (self.extra.capacity() + self.product.capacity()) * 8
+        self.ws.bytes()
+            + (self.extra.capacity()
+                + self.product.capacity()
+                + self.r.capacity()
+                + self.lo.capacity()
+                + self.hi.capacity()
+                + self.y.capacity())
+                * 8
     }
 
     /// Starts over with no rows, for bodies numbered below `bodies`.
@@ -119,18 +132,33 @@ impl SubstepSystem {
         }
     }
 
+    /// Starts a pass: no row's right-hand side given yet.
+    pub(crate) fn begin_pass(&mut self) {
+        self.r.clear();
+        self.lo.clear();
+        self.hi.clear();
+        self.y.clear();
+    }
+
+    /// Gives the next row its residual `r`, bounds `[lo, hi]` and present impulse `y0`.
+    pub(crate) fn push(&mut self, r: f64, lo: f64, hi: f64, y0: f64) {
+        self.r.push(r);
+        self.lo.push(lo);
+        self.hi.push(hi);
+        self.y.push(y0);
+    }
+
+    /// Row `s`'s impulse: as pushed, or as solved after [`SubstepSystem::solve`].
+    pub(crate) fn impulse(&self, s: usize) -> f64 {
+        self.y[s]
+    }
+
     /// Solves for the impulses `y` within `[lo, hi]` (Coulomb rows: `±μ·y_normal`) such that
-    /// `A (y − y₀) = r`, where `y₀` (in `y` on entry) are the present impulses and `r` the
-    /// rows' residuals; warm started from the sets `y₀` lies in. Leaves the result in `y`.
-    pub(crate) fn solve(
-        &mut self,
-        r: &[f64],
-        lo: &[f64],
-        hi: &[f64],
-        y: &mut [f64],
-        limits: Limits,
-    ) -> LcpReport {
+    /// `A (y − y₀) = r`, where `y₀` are the present impulses and `r` the rows' residuals
+    /// given by [`SubstepSystem::push`]; warm started from the sets `y₀` lies in.
+    pub(crate) fn solve(&mut self, limits: Limits) -> LcpReport {
         let ws = &mut self.ws;
+        let (r, lo, hi, y) = (&self.r, &self.lo, &self.hi, &mut self.y);
         let n = ws.rows.len();
         if n == 0 {
             return LcpReport {

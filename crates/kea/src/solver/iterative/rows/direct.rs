@@ -116,39 +116,24 @@ impl JointRows {
         limits: Limits,
     ) -> LcpReport {
         let n = self.direct_rows.len();
-        self.direct_r.clear();
-        self.direct_lo.clear();
-        self.direct_hi.clear();
-        self.direct_y.clear();
+        sys.begin_pass();
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
             let soft_relax = !use_bias && self.flags[i] & HARD == 0;
             let (jv, xi) = self.jv_and_error_shifted(states, i, soft_relax, NO_SHIFT);
-            let hard_equality = self.flags[i] & HARD != 0
-                && self.lo[i] == Real::NEG_INFINITY
-                && self.hi[i] == Real::INFINITY
-                && self.rate[i] > 0.0;
-            let bias = if use_bias && hard_equality {
+            let bias = if use_bias && self.correction(i) == Correction::Equality {
                 DIRECT_RATE * xi / hs
             } else {
                 self.bias(i, xi, hs, use_bias, max_speed)
             };
             let r = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
-            self.direct_r.push(wide(r));
-            self.direct_lo.push(wide(self.lo[i]));
-            self.direct_hi.push(wide(self.hi[i]));
-            self.direct_y.push(wide(self.impulse[i]));
+            let (lo, hi) = (wide(self.lo[i]), wide(self.hi[i]));
+            sys.push(wide(r), lo, hi, wide(self.impulse[i]));
         }
-        let report = sys.solve(
-            &self.direct_r,
-            &self.direct_lo,
-            &self.direct_hi,
-            &mut self.direct_y,
-            limits,
-        );
+        let report = sys.solve(limits);
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
-            let new = self.direct_y[s] as Real;
+            let new = sys.impulse(s) as Real;
             let dp = new - self.impulse[i];
             if dp != 0.0 && dp.is_finite() {
                 self.impulse[i] = new;
@@ -169,10 +154,7 @@ impl JointRows {
         limits: Limits,
     ) -> LcpReport {
         let n = self.direct_rows.len();
-        self.direct_r.clear();
-        self.direct_lo.clear();
-        self.direct_hi.clear();
-        self.direct_y.clear();
+        sys.begin_pass();
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
             let (_, xi) = self.jv_and_error_shifted(states, i, false, NO_SHIFT);
@@ -181,23 +163,14 @@ impl JointRows {
                 Correction::Push if xi < 0.0 => (0.0, f64::INFINITY, -wide(xi)),
                 _ => (0.0, 0.0, 0.0),
             };
-            self.direct_r.push(r);
-            self.direct_lo.push(lo);
-            self.direct_hi.push(hi);
-            self.direct_y.push(0.0);
+            sys.push(r, lo, hi, 0.0);
         }
-        let report = sys.solve(
-            &self.direct_r,
-            &self.direct_lo,
-            &self.direct_hi,
-            &mut self.direct_y,
-            limits,
-        );
+        let report = sys.solve(limits);
         // Each body's move summed over its rows, then made once.
         self.moves.clear();
         self.moves.resize(states.len(), (Vec3::ZERO, Vec3::ZERO));
         for s in 0..n {
-            let d = self.direct_y[s] as Real;
+            let d = sys.impulse(s) as Real;
             if d == 0.0 || !d.is_finite() {
                 continue;
             }

@@ -112,16 +112,11 @@ pub(crate) struct JointRows {
     blk_eq: Vec<u32>,
     fresh: Vec<Row>,
     // Rows of split islands, solved directly (`direct`): whether each row is one, its index
-    // in the direct system (or NONE), the system's rows, and its right-hand side, bounds and
-    // impulses.
+    // in the direct system (or NONE), and the system's rows.
     any_direct: bool,
     direct: Vec<bool>,
     direct_index: Vec<u32>,
     direct_rows: Vec<u32>,
-    direct_r: Vec<f64>,
-    direct_lo: Vec<f64>,
-    direct_hi: Vec<f64>,
-    direct_y: Vec<f64>,
     /// Per local body, the move post-stabilisation gives it.
     moves: Vec<(Vec3, Vec3)>,
 }
@@ -145,14 +140,6 @@ impl JointRows {
             &mut self.blk_eq,
             &mut self.direct_index,
             &mut self.direct_rows,
-        ] {
-            reserve(v, rows);
-        }
-        for v in [
-            &mut self.direct_r,
-            &mut self.direct_lo,
-            &mut self.direct_hi,
-            &mut self.direct_y,
         ] {
             reserve(v, rows);
         }
@@ -213,7 +200,6 @@ impl JointRows {
             + self.direct_index.capacity()
             + self.direct_rows.capacity())
             * 4
-            + 4 * self.direct_r.capacity() * 8
             + self.direct.capacity()
             + self.fresh.capacity() * std::mem::size_of::<Row>()
             + 8 * self.ja_lin.capacity() * v3
