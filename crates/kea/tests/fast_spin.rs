@@ -1,5 +1,6 @@
 //! Fast spin held by joints: a wheel spinning on a turning chassis stays on its axle, and a
-//! gyroscope precesses at mgr/(Iω) while keeping its spin (not yet: ignored, see the test).
+//! gyroscope precesses at mgr/(Iω) while keeping its spin (on the substepped paths and by
+//! default; level at 60 Hz and on the exact path not yet: ignored, see the test).
 //! The hinge takes its free axis from a spinning wheel's own axle (`spin_axle`), so the
 //! fast-spin rotation cannot leak the spin into sideways rotation.
 
@@ -52,15 +53,16 @@ fn wheel_misalignment(mode: kea::SolverMode, spin: Real, fast_spin: bool) -> Rea
 
 #[test]
 fn a_wheel_spinning_on_a_turning_chassis_stays_on_its_axle() {
-    // The iterative path re-linearises the hinge at every substep and holds a 300 rad/s wheel
-    // to 16 µrad. The exact path (and the default routing, which sends this small island
-    // there) has one linearisation per step: 3.2 mrad (it tore off, 1.5 rad, before the hinge
-    // took its free axis from the wheel's fast-spin axle; issue 11 asks for 1 mrad).
+    // The substepped paths re-linearise the hinge at every substep and hold a 300 rad/s wheel
+    // to ~16 µrad; the default routing sends an island with a fast-spinning body there. The
+    // exact path, forced, has one linearisation per step: 3.2 mrad (it tore off, 1.5 rad,
+    // before the hinge took its free axis from the wheel's fast-spin axle).
     let mut runs = Vec::new();
     for mode in [
         kea::SolverMode::Iterative,
-        kea::SolverMode::Exact,
+        kea::SolverMode::Split,
         kea::SolverMode::Hybrid,
+        kea::SolverMode::Exact,
     ] {
         for spin in [10.0, 100.0, 300.0] {
             let worst = wheel_misalignment(mode, spin, true);
@@ -69,10 +71,10 @@ fn a_wheel_spinning_on_a_turning_chassis_stays_on_its_axle() {
         }
     }
     for (mode, spin, worst) in runs {
-        let bound = if mode == kea::SolverMode::Iterative {
-            1.0e-3
-        } else {
+        let bound = if mode == kea::SolverMode::Exact {
             4.0e-3
+        } else {
+            1.0e-3
         };
         assert!(
             worst < bound,
@@ -125,9 +127,15 @@ fn gyroscope(mode: kea::SolverMode, spin: Real) -> (Real, Real, Real, Real) {
 }
 
 #[test]
-#[ignore = "known failure (issue 11): exact, the spin decays from 100 to 8 rad/s in 4 s and the disk falls; iterative, it precesses 3.7% slow and gains 14% spin"]
 fn a_gyroscope_keeps_its_spin_and_precesses_at_mgr_over_i_omega() {
-    let runs = PATHS.map(|mode| (mode, gyroscope(mode, 100.0)));
+    // Default routing (a fast-spinning body sends its island to the substeps) and the
+    // substepped paths forced: the spin is carried exactly, the precession within 1%.
+    let modes = [
+        kea::SolverMode::Hybrid,
+        kea::SolverMode::Iterative,
+        kea::SolverMode::Split,
+    ];
+    let runs = modes.map(|mode| (mode, gyroscope(mode, 100.0)));
     for (mode, (rate, expected, spin, lowest)) in runs {
         eprintln!(
             "{mode:?}: precession {rate:.4} rad/s (mgr/Iω = {expected:.4}), spin {spin:.2} rad/s, lowest axle {lowest:.4} rad"
@@ -137,6 +145,22 @@ fn a_gyroscope_keeps_its_spin_and_precesses_at_mgr_over_i_omega() {
         assert!(
             ((rate - expected) / expected).abs() < 0.01,
             "{mode:?}: {rate} vs {expected}"
+        );
+        assert!((spin - 100.0).abs() < 1.0, "{mode:?}: spin {spin}");
+        // It does not fall: the axle dips no further than its (growing) nutation takes it.
+        assert!(lowest > -0.3, "{mode:?}: the disk fell to {lowest} rad");
+    }
+}
+
+#[test]
+#[ignore = "known failure (issue 11): at 60 Hz the substepped paths' nutation grows from a steady start (axle dips 0.14 rad in 4 s, energy +25% in 20 s); the exact path, one linearisation per step, lets the disk fall"]
+fn a_gyroscope_stays_level_on_both_paths() {
+    for mode in PATHS {
+        let (rate, expected, spin, lowest) = gyroscope(mode, 100.0);
+        eprintln!("{mode:?}: precession {rate:.4} (expected {expected:.4}), spin {spin:.2}, lowest {lowest:.4}");
+        assert!(
+            ((rate - expected) / expected).abs() < 0.01,
+            "{mode:?}: {rate}"
         );
         assert!((spin - 100.0).abs() < 1.0, "{mode:?}: spin {spin}");
         assert!(lowest > -0.05, "{mode:?}: the disk fell to {lowest} rad");

@@ -206,7 +206,14 @@ fn rotate_free(b: &SolverBody, rule: Rotation, q: Quat, w_step: Vec3, h: Real) -
     }
     .normalize();
     let inv_inertia = to_dmat3(&b.inv_inertia);
-    let w_new = q1 * (inv_inertia * (q1.inverse() * l_world));
+    let mut w_new = q1 * (inv_inertia * (q1.inverse() * l_world));
+    if let Some(axis) = b.fast_spin_axis {
+        // The spin rate is carried over exactly: no torque acts about the axle while the body
+        // turns, and read from `L` at the new pose it would take up the rotation's
+        // second-order error about the slow axes (a gyroscope's spin drifted by percents).
+        let (a0, a1) = (q0 * to_f64(axis), q1 * to_f64(axis));
+        w_new += a1 * (w.dot(a0) - w_new.dot(a1));
+    }
     (from_dquat(q1), from_f64(w_new))
 }
 
