@@ -65,7 +65,9 @@ pub struct Routing {
     pub hysteresis: Real,
     /// An island of contacts only goes to the exact path when a contact joins two bodies whose
     /// masses differ by more than this ratio, and the island has at most `max_exact_bodies`
-    /// bodies and `4 × max_exact_rows` rows. At least 1; default 10; infinity never.
+    /// bodies and `4 × max_exact_rows` rows; an island of joints only goes to split islands
+    /// (direct solves in the substeps) when a joint does. At least 1; default 10; infinity
+    /// never.
     pub mass_ratio: Real,
 }
 
@@ -184,7 +186,11 @@ pub(crate) fn choose(
         // Contacts only: the contact solver's work, unless masses differ too much for it.
         let small =
             fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
-        return if small && mass_ratio(islands, k, contacts, bodies) > routing.mass_ratio {
+        let pairs = islands
+            .contacts(k)
+            .iter()
+            .map(|&c| contacts[c as usize].bodies);
+        return if small && mass_ratio(pairs, bodies) > routing.mass_ratio {
             SolverPath::Exact
         } else {
             SolverPath::Iterative
@@ -195,12 +201,17 @@ pub(crate) fn choose(
         // solved directly inside the substeps, the contacts by the contact solver.
         return SolverPath::Split;
     }
-    // Joints only: small or asked for, one exact solve; big, or holding a fast-spinning
-    // body, direct solves in the substeps (a tree costs its rows either way; the substeps'
-    // fresh rows follow fast rotation: a 300 rad/s wheel on a turning chassis keeps its axle
-    // to 16 µrad there, 3 mrad with one linearisation per step).
+    // Joints only: small or asked for, one exact solve; big, holding a fast-spinning body or
+    // joining masses more than `mass_ratio` apart, direct solves in the substeps (a tree
+    // costs its rows either way; the substeps' fresh rows follow fast rotation: a 300 rad/s
+    // wheel on a turning chassis keeps its axle to 0.2 µrad there, 3 mrad with one
+    // linearisation per step; a light chain swinging a 100× heavier end stays closed to
+    // 0.01 mm there, and tears by metres with one).
+    let joint_pairs = islands.blocks(k).iter().map(|&b| blocks[b as usize].bodies);
+    let uneven = mass_ratio(joint_pairs, bodies) > routing.mass_ratio;
     if prefer_exact
         || (!fast_spin
+            && !uneven
             && fits(rows, routing.max_exact_rows)
             && fits(n_bodies, routing.max_exact_bodies))
     {
@@ -210,17 +221,12 @@ pub(crate) fn choose(
     }
 }
 
-/// The largest ratio of the masses of two bodies joined by a contact of island `k` (bodies
-/// that cannot move do not count).
-fn mass_ratio(
-    islands: &Islands,
-    k: usize,
-    contacts: &[SolverContact],
-    bodies: &[SolverBody],
-) -> Real {
+/// The largest ratio of the masses of two bodies joined by one of `pairs` (a contact's or a
+/// joint's; bodies that cannot move do not count).
+fn mass_ratio(pairs: impl Iterator<Item = [Option<u32>; 2]>, bodies: &[SolverBody]) -> Real {
     let mut worst: Real = 1.0;
-    for &c in islands.contacts(k) {
-        let [Some(a), Some(b)] = contacts[c as usize].bodies else {
+    for pair in pairs {
+        let [Some(a), Some(b)] = pair else {
             continue;
         };
         let (ia, ib) = (bodies[a as usize].inv_mass, bodies[b as usize].inv_mass);

@@ -55,7 +55,7 @@ pub struct IterativeParams {
     /// Post-stabilisation passes of split islands after the substeps (0 to 16): Newton steps
     /// on positions that close their rigid joints (rows written again at the bodies' new
     /// poses, bodies moved by `M⁻¹Jᵀ Δ`, velocities untouched, so no energy is injected or
-    /// drained), stopping once every error is below 10 µm. Default 3.
+    /// drained), stopping once every error is below 10 µm. Default 6.
     pub post_stabilisation: u32,
     /// Lane width of the contact solver (default [`SimdLevel::Auto`]: 8 lanes with AVX2, else
     /// 4). Every width gives bit-identical results; narrower ones exist to compare.
@@ -69,7 +69,7 @@ impl Default for IterativeParams {
             iterations: 1,
             relax_iterations: 1,
             max_correction_speed: 3.0,
-            post_stabilisation: 3,
+            post_stabilisation: 6,
             simd: SimdLevel::Auto,
         }
     }

@@ -1,0 +1,123 @@
+//! Issue 11's mass-ratio chain: 20 links of 0.1 kg on ball joints, pinned at one end, carrying
+//! a 10 kg end mass (a 100:1 ratio across one joint), at 60 Hz with default settings. Released
+//! horizontal it swings; started straight down it hangs at rest. By default (routing sends a
+//! joint island with a mass ratio past `Routing::mass_ratio` to split islands) and on split
+//! islands forced, each joint gap stays under 1 mm for 10 s (0.013 mm swinging, 0 hanging).
+//! Forced onto the other paths it does not yet (issue 11; ignored test below): the exact path
+//! (one linearisation per step) tears by 10 m swinging and stretches 1.7 mm hanging (ε); the
+//! iterative path opens 18 cm swinging and blows up hanging.
+
+mod common;
+use common::world_on;
+use kea::{inertia, BodyDef, ConstraintHandle, Real, SolverMode, Vec3, World};
+
+const LINKS: usize = 20;
+const SPACING: Real = 0.1;
+
+/// The chain along `dir` from the pin at the origin; the last body is the heavy end.
+fn chain(mode: SolverMode, dir: Vec3) -> (World, Vec<ConstraintHandle>) {
+    let mut world = world_on(mode, LINKS + 2, LINKS + 2);
+    let mut prev = None;
+    let mut joints = Vec::new();
+    for i in 0..=LINKS {
+        let heavy = i == LINKS;
+        let (mass, radius) = if heavy {
+            (10.0, 0.1)
+        } else {
+            (0.1, 0.5 * SPACING)
+        };
+        let at = dir * ((i as Real + 1.0) * SPACING);
+        let link = world
+            .create_body(&BodyDef {
+                mass,
+                position: at,
+                inertia: inertia::solid_sphere(mass, radius).unwrap(),
+                ..Default::default()
+            })
+            .unwrap();
+        joints.push(
+            world
+                .create_ball_joint(link, prev, at - dir * SPACING)
+                .unwrap(),
+        );
+        prev = Some(link);
+    }
+    (world, joints)
+}
+
+/// Largest distance between the two anchors of any joint.
+fn max_gap(world: &World, joints: &[ConstraintHandle]) -> Real {
+    joints
+        .iter()
+        .map(|&j| {
+            let joint = world.ball_joint(j).unwrap();
+            let [b1, b2] = world.constraint_bodies(j).unwrap();
+            let a1 = world
+                .body(b1.unwrap())
+                .unwrap()
+                .point_to_world(joint.local_anchor1);
+            let a2 = match b2 {
+                Some(b) => world.body(b).unwrap().point_to_world(joint.local_anchor2),
+                None => joint.local_anchor2,
+            };
+            (a1 - a2).length()
+        })
+        .fold(0.0, Real::max)
+}
+
+/// Worst gap over 10 s at 60 Hz, and the heavy end's final speed.
+fn run(mode: SolverMode, dir: Vec3) -> (Real, Real) {
+    let (mut world, joints) = chain(mode, dir);
+    let mut worst: Real = 0.0;
+    for _ in 0..600 {
+        world.step(1.0 / 60.0).unwrap();
+        let gap = max_gap(&world, &joints);
+        assert!(gap.is_finite(), "{mode:?}: non-finite gap");
+        worst = worst.max(gap);
+    }
+    let end = world.constraint_bodies(joints[LINKS]).unwrap()[0].unwrap();
+    (worst, world.body(end).unwrap().linear_velocity().length())
+}
+
+const MODES: [SolverMode; 2] = [SolverMode::Hybrid, SolverMode::Split];
+
+#[test]
+#[ignore = "known failure (issue 11): forced exact tears by 10 m swinging and stretches 1.7 mm hanging; forced iterative opens 18 cm swinging and blows up hanging"]
+fn a_heavy_end_chain_stays_closed_on_the_exact_and_iterative_paths() {
+    for mode in [SolverMode::Exact, SolverMode::Iterative] {
+        for dir in [Vec3::X, -Vec3::Y] {
+            let (gap, _) = run(mode, dir);
+            eprintln!("{mode:?} {dir}: worst gap {:.3} mm", gap * 1e3);
+            assert!(gap < 1.0e-3, "{mode:?} {dir}: gap {gap}");
+        }
+    }
+}
+
+#[test]
+fn a_light_chain_swinging_a_heavy_end_stays_closed_by_default_and_split() {
+    let runs = MODES.map(|mode| (mode, run(mode, Vec3::X)));
+    for (mode, (gap, _)) in runs {
+        eprintln!("{mode:?}: swinging, worst gap {:.3} mm", gap * 1e3);
+    }
+    for (mode, (gap, _)) in runs {
+        assert!(gap < 1.0e-3, "{mode:?}: gap {gap}");
+    }
+}
+
+#[test]
+fn a_light_chain_holding_a_heavy_end_hangs_at_rest_by_default_and_split() {
+    let runs = MODES.map(|mode| (mode, run(mode, -Vec3::Y)));
+    for (mode, (gap, speed)) in runs {
+        eprintln!(
+            "{mode:?}: hanging, worst gap {:.3} mm, end speed {speed:.2e} m/s",
+            gap * 1e3
+        );
+    }
+    for (mode, (gap, speed)) in runs {
+        assert!(gap < 1.0e-3, "{mode:?}: gap {gap}");
+        assert!(
+            speed < 1.0e-3,
+            "{mode:?}: the end still moves at {speed} m/s"
+        );
+    }
+}
