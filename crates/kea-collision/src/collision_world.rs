@@ -4,7 +4,9 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
-use crate::error::{check_finite, CollisionError, CollisionResult};
+use crate::error::{
+    check_finite, check_non_negative, check_positive, CollisionError, CollisionResult,
+};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
 use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
@@ -476,9 +478,15 @@ impl CollisionWorld {
 
     /// Finds the colliding pairs and creates, updates or destroys the world's contacts so they
     /// match this step's contact manifolds. `dt` is the coming step, used to widen the search by
-    /// each body's motion (speculative contacts). On error nothing in `world` has changed.
+    /// each body's motion (speculative contacts) and must be positive; the public settings
+    /// `margin` and `touch_distance` must be finite and not negative. On error nothing in
+    /// `world` or here has changed.
     pub fn update_contacts(&mut self, world: &mut World, dt: Real) -> CollisionResult<()> {
-        check_finite("dt", dt)?;
+        // Checked before anything moves: parry asserts on a negative loosening margin, and a
+        // refused step must leave the contacts as they were.
+        check_positive("dt", dt)?;
+        check_non_negative("margin", self.margin)?;
+        check_non_negative("touch_distance", self.touch_distance)?;
         let t0 = Instant::now();
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);

@@ -58,6 +58,21 @@ pub(crate) fn check_positive(arg: &'static str, v: kea::Real) -> CollisionResult
     }
 }
 
+/// Checks that a number is finite and not negative, naming the argument.
+pub(crate) fn check_non_negative(arg: &'static str, v: kea::Real) -> CollisionResult<()> {
+    check_finite(arg, v)?;
+    if v >= 0.0 {
+        Ok(())
+    } else {
+        Err(kea::KeaError::OutOfRange {
+            arg,
+            value: format!("{v}"),
+            expected: "must be >= 0",
+        }
+        .into())
+    }
+}
+
 /// Checks that every component of a vector is finite, naming the argument.
 pub(crate) fn check_vec3(arg: &'static str, v: kea::Vec3) -> CollisionResult<()> {
     if v.is_finite() {
