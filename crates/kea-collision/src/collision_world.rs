@@ -4,9 +4,7 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
-use crate::error::{
-    check_finite, check_non_negative, check_positive, CollisionError, CollisionResult,
-};
+use crate::error::{check_non_negative, check_positive, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
 use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
