@@ -8,7 +8,7 @@
 //! iterative path opens 18 cm swinging and blows up hanging.
 
 mod common;
-use common::world_on;
+use common::{max_gap, world_on};
 use kea::{inertia, BodyDef, ConstraintHandle, Real, SolverMode, Vec3, World};
 
 const LINKS: usize = 20;
@@ -43,26 +43,6 @@ fn chain(mode: SolverMode, dir: Vec3) -> (World, Vec<ConstraintHandle>) {
         prev = Some(link);
     }
     (world, joints)
-}
-
-/// Largest distance between the two anchors of any joint.
-fn max_gap(world: &World, joints: &[ConstraintHandle]) -> Real {
-    joints
-        .iter()
-        .map(|&j| {
-            let joint = world.ball_joint(j).unwrap();
-            let [b1, b2] = world.constraint_bodies(j).unwrap();
-            let a1 = world
-                .body(b1.unwrap())
-                .unwrap()
-                .point_to_world(joint.local_anchor1);
-            let a2 = match b2 {
-                Some(b) => world.body(b).unwrap().point_to_world(joint.local_anchor2),
-                None => joint.local_anchor2,
-            };
-            (a1 - a2).length()
-        })
-        .fold(0.0, Real::max)
 }
 
 /// Worst gap over 10 s at 60 Hz, and the heavy end's final speed.

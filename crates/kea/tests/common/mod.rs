@@ -193,3 +193,23 @@ impl BoxPlaneContacts {
         self.corners.iter().flatten().copied()
     }
 }
+
+/// Largest distance between the two anchors of any ball joint of `joints`.
+pub fn max_gap(world: &World, joints: &[ConstraintHandle]) -> Real {
+    joints
+        .iter()
+        .map(|&j| {
+            let joint = world.ball_joint(j).unwrap();
+            let [b1, b2] = world.constraint_bodies(j).unwrap();
+            let a1 = world
+                .body(b1.unwrap())
+                .unwrap()
+                .point_to_world(joint.local_anchor1);
+            let a2 = match b2 {
+                Some(b) => world.body(b).unwrap().point_to_world(joint.local_anchor2),
+                None => joint.local_anchor2,
+            };
+            (a1 - a2).length()
+        })
+        .fold(0.0, Real::max)
+}

@@ -117,6 +117,8 @@ pub(crate) struct BodyStates {
     orientation0: Vec<Quat>,
     orientation: Vec<Quat>,
     rotation: Vec<Rotation>,
+    /// Whether any slot turns by the fast-spin rule (kept as slots are pushed).
+    fast_spin: bool,
     /// What each body gains every substep from gravity and applied forces: `hs·(g + f/m)` and
     /// `hs·I⁻¹τ` (laid out as velocities, so the contact solver gathers them alike).
     pub(crate) forcing: Vec<BodyVel>,
@@ -196,6 +198,7 @@ impl BodyStates {
         self.orientation0.clear();
         self.orientation.clear();
         self.rotation.clear();
+        self.fast_spin = false;
         self.forcing.clear();
         self.damping.clear();
         self.push_slot(
@@ -232,6 +235,7 @@ impl BodyStates {
         self.relin_dp.push(Vec3::ZERO);
         self.orientation0.push(q);
         self.orientation.push(q);
+        self.fast_spin |= matches!(rotation, Rotation::FastSpin);
         self.rotation.push(rotation);
         self.forcing.push(BodyVel::ZERO);
         self.damping.push(Damping {
