@@ -4,7 +4,7 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
-use crate::error::{check_non_negative, check_positive, CollisionError, CollisionResult};
+use crate::error::{check_distance, check_positive, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
 use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
@@ -135,6 +135,8 @@ pub struct CollisionWorld {
     colliding_joints: Vec<ConstraintHandle>,
     /// What the last update did.
     pub(crate) stats: CollisionStats,
+    /// Pairs whose manifold failed in the last update (see [`CollisionWorld::failed_pairs`]).
+    pub(crate) failed_pairs: Vec<(ColliderHandle, ColliderHandle)>,
     /// The strategy and margin the pairs' manifolds were generated with: a change makes every
     /// manifold be generated anew.
     generated_with: (ContactStrategy, Real),
@@ -180,6 +182,7 @@ impl CollisionWorld {
             workers: Vec::new(),
             active_workers: 0,
             stats: CollisionStats::default(),
+            failed_pairs: Vec::new(),
             generated_with: (ContactStrategy::default(), 0.01),
         }
     }
@@ -193,9 +196,16 @@ impl CollisionWorld {
     ) -> CollisionResult<ColliderHandle> {
         if let Some(b) = def.body {
             world.body(b)?;
+            if def.shape.kind_name() == "plane" {
+                return Err(kea::KeaError::InvalidState {
+                    operation: "add_collider",
+                    reason: "a plane is unbounded static geometry: give it body None",
+                }
+                .into());
+            }
         }
         self.materials.check(def.material)?;
-        crate::error::check_vec3("offset", def.offset)?;
+        crate::error::check_extent("offset", def.offset)?;
         let len = def.rotation.length();
         if !def.rotation.is_finite() || (len - 1.0).abs() > 1.0e-3 {
             return Err(kea::KeaError::NotUnit {
@@ -483,8 +493,8 @@ impl CollisionWorld {
         // Checked before anything moves: parry asserts on a negative loosening margin, and a
         // refused step must leave the contacts as they were.
         check_positive("dt", dt)?;
-        check_non_negative("margin", self.margin)?;
-        check_non_negative("touch_distance", self.touch_distance)?;
+        check_distance("margin", self.margin)?;
+        check_distance("touch_distance", self.touch_distance)?;
         let t0 = Instant::now();
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);
@@ -509,6 +519,14 @@ impl CollisionWorld {
     #[must_use]
     pub fn stats(&self) -> &CollisionStats {
         &self.stats
+    }
+
+    /// The collider pairs whose contact generation failed inside parry in the last update (a
+    /// panic caught, or a non-finite point). Each got no contacts for that step and is tried
+    /// again the next; the step itself went on. Empty in a healthy world.
+    #[must_use]
+    pub fn failed_pairs(&self) -> &[(ColliderHandle, ColliderHandle)] {
+        &self.failed_pairs
     }
 
     fn get(&self, h: ColliderHandle) -> CollisionResult<&Collider> {

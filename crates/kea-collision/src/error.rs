@@ -25,10 +25,101 @@ pub enum CollisionError {
         /// The handle's generation.
         generation: u32,
     },
+    /// parry panicked inside a query: the query is refused (nothing changed).
+    #[error("`{operation}` failed inside parry on collider {collider}: {message}")]
+    Dependency {
+        /// The query.
+        operation: &'static str,
+        /// The collider being tested (slot index and generation).
+        collider: String,
+        /// parry's panic message.
+        message: String,
+    },
+    /// A query whose work would not be bounded: too many height-field cells along its path.
+    #[error("`{operation}` is too long: {reason}")]
+    QueryTooLong {
+        /// The query.
+        operation: &'static str,
+        /// What makes it too long.
+        reason: String,
+    },
 }
 
 /// Result of a collision call.
 pub type CollisionResult<T> = Result<T, CollisionError>;
+
+/// Smallest and largest size of a shape accepted, m: a radius, a half extent, a half height,
+/// a height field's span. Outside it parry's iterative queries lose their footing (segments of
+/// zero length, supports beyond f32). Points of hulls and meshes, offsets and heights must lie
+/// within the largest size of the origin.
+pub const SIZE_RANGE: (kea::Real, kea::Real) = (1.0e-4, 1.0e5);
+
+/// Largest ratio between the largest and smallest size of one primitive shape.
+pub const MAX_ASPECT: kea::Real = 1.0e6;
+
+/// Checks that a shape size is finite and within [`SIZE_RANGE`], naming the argument.
+pub(crate) fn check_size(arg: &'static str, v: kea::Real) -> CollisionResult<kea::Real> {
+    check_finite(arg, v)?;
+    if (SIZE_RANGE.0..=SIZE_RANGE.1).contains(&v) {
+        Ok(v)
+    } else {
+        Err(kea::KeaError::OutOfRange {
+            arg,
+            value: kea::error::format_real(v),
+            expected: "must be in [1e-4, 1e5] m (kea_collision::SIZE_RANGE)",
+        }
+        .into())
+    }
+}
+
+/// Checks that one primitive's sizes are within [`MAX_ASPECT`] of each other.
+pub(crate) fn check_aspect(arg: &'static str, sizes: &[kea::Real]) -> CollisionResult<()> {
+    let max = sizes.iter().copied().fold(0.0, kea::Real::max);
+    let min = sizes.iter().copied().fold(kea::Real::MAX, kea::Real::min);
+    if max <= min * MAX_ASPECT {
+        Ok(())
+    } else {
+        Err(kea::KeaError::OutOfRange {
+            arg,
+            value: format!("{sizes:?}"),
+            expected: "the largest size must be within 1e6 times the smallest (kea_collision::MAX_ASPECT)",
+        }
+        .into())
+    }
+}
+
+/// Checks that a point of a shape (or an offset, or a distance setting) is finite and within
+/// the largest size of [`SIZE_RANGE`] of the origin, per component.
+pub(crate) fn check_extent(arg: &'static str, v: kea::Vec3) -> CollisionResult<()> {
+    check_vec3(arg, v)?;
+    if v.abs().max_element() <= SIZE_RANGE.1 {
+        Ok(())
+    } else {
+        Err(kea::KeaError::OutOfRange {
+            arg,
+            value: kea::error::format_vec3(v),
+            expected:
+                "every component must be within 1e5 m of the origin (kea_collision::SIZE_RANGE)",
+        }
+        .into())
+    }
+}
+
+/// Checks that a distance setting (margin, touch distance) is finite, not negative and at most
+/// the largest size of [`SIZE_RANGE`].
+pub(crate) fn check_distance(arg: &'static str, v: kea::Real) -> CollisionResult<()> {
+    check_non_negative(arg, v)?;
+    if v <= SIZE_RANGE.1 {
+        Ok(())
+    } else {
+        Err(kea::KeaError::OutOfRange {
+            arg,
+            value: kea::error::format_real(v),
+            expected: "must be in [0, 1e5] m",
+        }
+        .into())
+    }
+}
 
 /// Checks that a number is finite, naming the argument.
 pub(crate) fn check_finite(arg: &'static str, v: kea::Real) -> CollisionResult<()> {
@@ -37,7 +128,7 @@ pub(crate) fn check_finite(arg: &'static str, v: kea::Real) -> CollisionResult<(
     } else {
         Err(kea::KeaError::NonFinite {
             arg,
-            value: format!("{v}"),
+            value: kea::error::format_real(v),
         }
         .into())
     }
@@ -51,7 +142,7 @@ pub(crate) fn check_positive(arg: &'static str, v: kea::Real) -> CollisionResult
     } else {
         Err(kea::KeaError::OutOfRange {
             arg,
-            value: format!("{v}"),
+            value: kea::error::format_real(v),
             expected: "must be > 0",
         }
         .into())
@@ -66,7 +157,7 @@ pub(crate) fn check_non_negative(arg: &'static str, v: kea::Real) -> CollisionRe
     } else {
         Err(kea::KeaError::OutOfRange {
             arg,
-            value: format!("{v}"),
+            value: kea::error::format_real(v),
             expected: "must be >= 0",
         }
         .into())
@@ -80,7 +171,7 @@ pub(crate) fn check_vec3(arg: &'static str, v: kea::Vec3) -> CollisionResult<()>
     } else {
         Err(kea::KeaError::NonFinite {
             arg,
-            value: format!("{v}"),
+            value: kea::error::format_vec3(v),
         }
         .into())
     }

@@ -25,9 +25,11 @@
 
 mod broad_phase;
 mod capacity;
+mod cast_window;
 mod collision_world;
 mod error;
 mod events;
+mod guard;
 mod manifold_gen;
 mod material;
 mod narrow_phase;
@@ -39,10 +41,11 @@ mod shape;
 mod sync;
 mod tessellate;
 
+pub use cast_window::MAX_CAST_CELLS;
 pub use collision_world::{
     ColliderDef, ColliderHandle, CollisionWorld, ContactStrategy, FAT_LOOKAHEAD, FAT_MARGIN,
 };
-pub use error::{CollisionError, CollisionResult};
+pub use error::{CollisionError, CollisionResult, MAX_ASPECT, SIZE_RANGE};
 pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, PairContact, Surface};
 pub use narrow_phase::{CACHE_ANGLE, CACHE_DISTANCE};

@@ -18,7 +18,7 @@
 //! the default contact stiffness, without it the column sways and stands.
 
 use crate::capacity::reserve_total;
-use crate::collision_world::{ColliderDef, CollisionWorld, Slot};
+use crate::collision_world::{handle_of, ColliderDef, CollisionWorld, Slot, WORLD_BOUND};
 use crate::manifold_gen::Generator;
 use crate::material::MaterialTable;
 use crate::pairs::{CachedPoint, ManifoldCache, PairState};
@@ -133,6 +133,9 @@ pub(crate) struct NarrowWorker {
     pub generated: Vec<ManifoldCache>,
     /// Pairs to forget (their boxes parted, or the filter now refuses them).
     pub dropped: Vec<u32>,
+    /// Pairs whose manifold failed this step (parry panicked, or gave a non-finite point):
+    /// they get no contacts this step and are generated again the next.
+    pub failed: Vec<u32>,
     generator: Generator,
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     manifolds: u32,
@@ -147,6 +150,7 @@ impl Default for NarrowWorker {
             wanted: Vec::with_capacity(PAIR_CHUNK),
             generated: Vec::with_capacity(PAIR_CHUNK),
             dropped: Vec::with_capacity(PAIR_CHUNK),
+            failed: Vec::new(),
             generator: Generator::default(),
             reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
             manifolds: 0,
@@ -207,6 +211,14 @@ impl CollisionWorld {
         let workers = &self.workers[..chunks];
         self.stats.manifolds = workers.iter().map(|w| w.manifolds).sum();
         self.stats.reused_manifolds = workers.iter().map(|w| w.reused).sum();
+        self.failed_pairs.clear();
+        for &slot in workers.iter().flat_map(|w| &w.failed) {
+            let (a, b) = self.pairs.slots[slot as usize].colliders;
+            let pair = (handle_of(&self.slots, a), handle_of(&self.slots, b));
+            log::warn!("collision pair {pair:?} failed in parry this step: it has no contacts");
+            self.failed_pairs.push(pair);
+        }
+        self.stats.failed_pairs = self.failed_pairs.len() as u32;
     }
 }
 
@@ -223,6 +235,7 @@ impl NarrowWorker {
         self.wanted.clear();
         self.generated.clear();
         self.dropped.clear();
+        self.failed.clear();
         self.manifolds = 0;
         self.reused = 0;
         for i in 0..pairs.len() {
@@ -311,13 +324,30 @@ impl NarrowWorker {
             return;
         }
         p.generated_at = Some(Generated::new(pose_a, pose_b));
-        let prediction = shared.margin + shared.dt * (a.motion + b.motion);
+        // Bounded so that a runaway body cannot hand parry an infinite (or NaN) margin.
+        let prediction = (shared.margin + shared.dt * (a.motion + b.motion)).min(WORLD_BOUND);
         let (sa, sb) = (a.def.shared_shape(), b.def.shared_shape());
-        if !self
-            .generator
-            .generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
-        {
-            return; // a pair of shapes that cannot collide (two meshes) gets no contacts
+        let generator = &mut self.generator;
+        let generated = crate::guard::guarded(|| {
+            generator.generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
+        });
+        let finite = |g: &crate::manifold_gen::GenManifold| {
+            g.normal_a.is_finite()
+                && g.points()
+                    .iter()
+                    .all(|q| q.local_a.is_finite() && q.local_b.is_finite() && q.dist.is_finite())
+        };
+        match generated {
+            Ok(true) if self.generator.out.iter().all(finite) => {}
+            Ok(false) => return, // a pair of shapes that cannot collide (two meshes)
+            _ => {
+                // Nothing of this pair's output is trusted; its old manifolds go, and it is
+                // generated afresh next step.
+                self.generator.out.clear();
+                p.generated_at = None;
+                self.failed.push(slot);
+                return;
+            }
         }
         let (points, keep) = &mut self.reduce_scratch;
         for g in &self.generator.out {

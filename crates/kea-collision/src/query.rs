@@ -2,10 +2,14 @@
 //! projection, each with a [`QueryFilter`]. Each query tests the colliders whose bounds it can
 //! reach, in slot order, so equal inputs give equal answers.
 
+use crate::cast_window::{height_field_window, Window, MAX_CAST_CELLS};
 use crate::collision_world::{
     collider_pose, handle_of, ColliderDef, ColliderHandle, CollisionWorld,
 };
-use crate::error::{check_finite, check_unit_quat, check_vec3, CollisionResult};
+use crate::error::{
+    check_non_negative, check_unit_quat, check_vec3, CollisionError, CollisionResult,
+};
+use crate::guard::guarded;
 use crate::parry::math::Pose;
 use crate::parry::query::{self, Ray, RayCast, ShapeCastOptions};
 use crate::shape::Shape;
@@ -122,7 +126,7 @@ impl CollisionWorld {
     ) -> CollisionResult<Vec<RayHit>> {
         check_vec3("origin", origin)?;
         check_vec3("direction", direction)?;
-        check_finite("max_distance", max_distance)?;
+        check_non_negative("max_distance", max_distance)?;
         if direction.length_squared() == 0.0 {
             return Err(kea::KeaError::NotUnit {
                 arg: "direction",
@@ -132,21 +136,24 @@ impl CollisionWorld {
             .into());
         }
         let ray = Ray::new(origin, direction);
-        let mut hits: Vec<RayHit> = self
-            .visible(world, filter)
-            .filter_map(|(collider, def, pose)| {
-                let shape = def.shape.shared.as_ref();
+        let mut hits = Vec::new();
+        for (collider, def, pose) in self.visible(world, filter) {
+            let shape = def.shape.shared.as_ref();
+            let hit = guarded(|| {
                 let aabb = shape.compute_aabb(&pose);
                 aabb.cast_local_ray(&ray, max_distance, true)?;
-                let hit = shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true)?;
-                Some(RayHit {
+                shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true)
+            })
+            .map_err(|message| dependency("cast_ray", collider, message))?;
+            if let Some(hit) = hit {
+                hits.push(RayHit {
                     collider,
                     distance: hit.time_of_impact,
                     point: ray.point_at(hit.time_of_impact),
                     normal: hit.normal,
-                })
-            })
-            .collect();
+                });
+            }
+        }
         hits.sort_by(|a, b| {
             a.distance
                 .total_cmp(&b.distance)
@@ -181,15 +188,17 @@ impl CollisionWorld {
     ) -> CollisionResult<bool> {
         check_vec3("origin", origin)?;
         check_vec3("direction", direction)?;
-        check_finite("max_distance", max_distance)?;
+        check_non_negative("max_distance", max_distance)?;
         let ray = Ray::new(origin, direction);
-        Ok(self.visible(world, filter).any(|(_, def, pose)| {
-            def.shape
-                .shared
-                .as_ref()
-                .cast_ray(&pose, &ray, max_distance, true)
-                .is_some()
-        }))
+        for (collider, def, pose) in self.visible(world, filter) {
+            let shape = def.shape.shared.as_ref();
+            let hit = guarded(|| shape.cast_ray(&pose, &ray, max_distance, true))
+                .map_err(|message| dependency("cast_ray_any", collider, message))?;
+            if hit.is_some() {
+                return Ok(true);
+            }
+        }
+        Ok(false)
     }
 
     /// Sweeps a shape along a straight path and returns the first collider it touches.
@@ -209,27 +218,47 @@ impl CollisionWorld {
         let (position, velocity, max_time) = (*position, *velocity, *max_time);
         check_vec3("position", position)?;
         check_vec3("velocity", velocity)?;
-        check_finite("max_time", max_time)?;
+        check_non_negative("max_time", max_time)?;
         let rotation = check_unit_quat("rotation", *rotation)?;
         let pose = Pose::from_parts(position, rotation);
         let mut best: Option<ShapeHit> = None;
         for (collider, def, other) in self.visible(world, filter) {
-            let options = ShapeCastOptions::with_max_time_of_impact(max_time);
-            let Ok(Some(hit)) = query::cast_shapes(
-                &pose,
-                velocity,
-                shape.shared.as_ref(),
-                &other,
-                Vec3::ZERO,
-                def.shape.shared.as_ref(),
-                options,
-            ) else {
+            let target = def.shape.shared.as_ref();
+            let (start, end) = match cast_times(shape, &pose, velocity, max_time, target, &other) {
+                Window::Miss => continue,
+                Window::Times(start, end) => (start, end),
+                Window::TooLong(cells) => {
+                    return Err(CollisionError::QueryTooLong {
+                        operation: "cast_shape",
+                        reason: format!(
+                            "its path crosses {cells:.3e} height-field cells of collider \
+                             {collider:?} (at most {MAX_CAST_CELLS:e}): shorten `max_time`"
+                        ),
+                    })
+                }
+            };
+            let from = Pose::from_parts(position + velocity * start, rotation);
+            let options = ShapeCastOptions::with_max_time_of_impact(end - start);
+            let cast = guarded(|| {
+                query::cast_shapes(
+                    &from,
+                    velocity,
+                    shape.shared.as_ref(),
+                    &other,
+                    Vec3::ZERO,
+                    target,
+                    options,
+                )
+            })
+            .map_err(|message| dependency("cast_shape", collider, message))?;
+            let Ok(Some(hit)) = cast else {
                 continue;
             };
-            if best.is_none_or(|b| hit.time_of_impact < b.time) {
+            let time = start + hit.time_of_impact;
+            if best.is_none_or(|b| time < b.time) {
                 best = Some(ShapeHit {
                     collider,
-                    time: hit.time_of_impact,
+                    time,
                     point: other.transform_point(hit.witness2),
                     normal: other.rotation * hit.normal2,
                 });
@@ -250,19 +279,17 @@ impl CollisionWorld {
         check_vec3("position", position)?;
         let rotation = check_unit_quat("rotation", rotation)?;
         let pose = Pose::from_parts(position, rotation);
-        Ok(self
-            .visible(world, filter)
-            .filter(|(_, def, other)| {
-                query::intersection_test(
-                    &pose,
-                    shape.shared.as_ref(),
-                    other,
-                    def.shape.shared.as_ref(),
-                )
-                .is_ok_and(|i| i.intersecting)
-            })
-            .map(|(h, _, _)| h)
-            .collect())
+        let mut found = Vec::new();
+        for (collider, def, other) in self.visible(world, filter) {
+            let target = def.shape.shared.as_ref();
+            let test =
+                guarded(|| query::intersection_test(&pose, shape.shared.as_ref(), &other, target))
+                    .map_err(|message| dependency("overlaps", collider, message))?;
+            if test.is_ok_and(|i| i.intersecting) {
+                found.push(collider);
+            }
+        }
+        Ok(found)
     }
 
     /// The collider surface nearest to `point` (within `max_distance`).
@@ -274,10 +301,12 @@ impl CollisionWorld {
         filter: QueryFilter,
     ) -> CollisionResult<Option<PointHit>> {
         check_vec3("point", point)?;
-        check_finite("max_distance", max_distance)?;
+        check_non_negative("max_distance", max_distance)?;
         let mut best: Option<PointHit> = None;
         for (collider, def, pose) in self.visible(world, filter) {
-            let p = def.shape.shared.as_ref().project_point(&pose, point, true);
+            let shape = def.shape.shared.as_ref();
+            let p = guarded(|| shape.project_point(&pose, point, true))
+                .map_err(|message| dependency("project_point", collider, message))?;
             let distance = if p.is_inside {
                 0.0
             } else {
@@ -294,4 +323,43 @@ impl CollisionWorld {
         }
         Ok(best)
     }
+}
+
+/// The error of a query that parry panicked in.
+fn dependency(
+    operation: &'static str,
+    collider: ColliderHandle,
+    message: String,
+) -> CollisionError {
+    CollisionError::Dependency {
+        operation,
+        collider: format!("{collider:?}"),
+        message,
+    }
+}
+
+/// The times of a cast that can touch `target`: all of them, unless one of the two shapes is a
+/// height field (see [`height_field_window`]).
+fn cast_times(
+    shape: &Shape,
+    pose: &Pose,
+    velocity: Vec3,
+    max_time: Real,
+    target: &dyn crate::parry::shape::Shape,
+    target_pose: &Pose,
+) -> Window {
+    if let Some(field) = target.as_heightfield() {
+        return height_field_window(
+            field,
+            target_pose,
+            shape.shared.as_ref(),
+            pose,
+            velocity,
+            max_time,
+        );
+    }
+    if let Some(field) = shape.shared.as_heightfield() {
+        return height_field_window(field, pose, target, target_pose, -velocity, max_time);
+    }
+    Window::Times(0.0, max_time)
 }

@@ -2,7 +2,10 @@
 //! can take its mass and inertia from its shapes and a density (the guide's most common mistake,
 //! a wrong inertia, made hard to make).
 
-use crate::error::{check_positive, check_vec3, CollisionError, CollisionResult};
+use crate::error::{
+    check_aspect, check_extent, check_positive, check_size, check_vec3, CollisionError,
+    CollisionResult, SIZE_RANGE,
+};
 use crate::parry::math::Pose;
 use crate::parry::shape::{HeightFieldFlags, SharedShape, TriMesh, TriMeshFlags, TypedShape};
 use crate::parry::utils::Array2;
@@ -23,7 +26,7 @@ impl std::fmt::Debug for Shape {
 impl Shape {
     /// A sphere of `radius` about the origin.
     pub fn sphere(radius: Real) -> CollisionResult<Self> {
-        check_positive("radius", radius)?;
+        check_size("radius", radius)?;
         Ok(Self {
             shared: SharedShape::ball(radius),
         })
@@ -31,9 +34,10 @@ impl Shape {
 
     /// A box with the given half extents, centred on the origin.
     pub fn cuboid(half_extents: Vec3) -> CollisionResult<Self> {
-        check_positive("half_extents.x", half_extents.x)?;
-        check_positive("half_extents.y", half_extents.y)?;
-        check_positive("half_extents.z", half_extents.z)?;
+        check_size("half_extents.x", half_extents.x)?;
+        check_size("half_extents.y", half_extents.y)?;
+        check_size("half_extents.z", half_extents.z)?;
+        check_aspect("half_extents", &half_extents.to_array())?;
         Ok(Self {
             shared: SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
         })
@@ -58,8 +62,9 @@ impl Shape {
     /// A capsule along the y axis: a segment from `-half_height` to `half_height`, swept by
     /// `radius`.
     pub fn capsule(half_height: Real, radius: Real) -> CollisionResult<Self> {
-        check_positive("half_height", half_height)?;
-        check_positive("radius", radius)?;
+        check_size("half_height", half_height)?;
+        check_size("radius", radius)?;
+        check_aspect("half_height and radius", &[half_height, radius])?;
         Ok(Self {
             shared: SharedShape::capsule_y(half_height, radius),
         })
@@ -67,8 +72,9 @@ impl Shape {
 
     /// A cylinder along the y axis.
     pub fn cylinder(half_height: Real, radius: Real) -> CollisionResult<Self> {
-        check_positive("half_height", half_height)?;
-        check_positive("radius", radius)?;
+        check_size("half_height", half_height)?;
+        check_size("radius", radius)?;
+        check_aspect("half_height and radius", &[half_height, radius])?;
         Ok(Self {
             shared: SharedShape::cylinder(half_height, radius),
         })
@@ -76,8 +82,9 @@ impl Shape {
 
     /// A cone along the y axis, apex at `+half_height`, base of `radius` at `-half_height`.
     pub fn cone(half_height: Real, radius: Real) -> CollisionResult<Self> {
-        check_positive("half_height", half_height)?;
-        check_positive("radius", radius)?;
+        check_size("half_height", half_height)?;
+        check_size("radius", radius)?;
+        check_aspect("half_height and radius", &[half_height, radius])?;
         Ok(Self {
             shared: SharedShape::cone(half_height, radius),
         })
@@ -93,7 +100,7 @@ impl Shape {
             )));
         }
         for p in points {
-            check_vec3("points", *p)?;
+            check_extent("points", *p)?;
         }
         let shared = SharedShape::convex_hull(points).ok_or_else(|| {
             CollisionError::DegenerateShape("the convex hull of these points failed".into())
@@ -119,7 +126,7 @@ impl Shape {
             )));
         }
         for v in &vertices {
-            check_vec3("vertices", *v)?;
+            check_extent("vertices", *v)?;
         }
         for (t, tri) in indices.iter().enumerate() {
             if let Some(&i) = tri.iter().find(|&&i| i as usize >= vertices.len()) {
@@ -159,14 +166,22 @@ impl Shape {
                 "a height field needs at least 2×2 samples in equal rows, got {rows} rows"
             )));
         }
-        check_positive("size.x", size.x)?;
-        check_positive("size.y", size.y)?;
-        check_positive("size.z", size.z)?;
+        check_size("size.x", size.x)?;
+        check_size("size.y", size.y)?;
+        check_size("size.z", size.z)?;
         // parry stores the grid column-major.
         let mut data = Vec::with_capacity(rows * cols);
         for c in 0..cols {
             for row in heights {
                 kea_finite("heights", row[c])?;
+                if row[c].abs() > SIZE_RANGE.1 / size.y {
+                    return Err(kea::KeaError::OutOfRange {
+                        arg: "heights",
+                        value: kea::error::format_real(row[c]),
+                        expected: "each sample times size.y must be within 1e5 m of 0",
+                    }
+                    .into());
+                }
                 data.push(row[c]);
             }
         }
@@ -187,7 +202,7 @@ impl Shape {
         }
         let mut list = Vec::with_capacity(parts.len());
         for (i, (offset, rotation, part)) in parts.iter().enumerate() {
-            check_vec3("parts.offset", *offset)?;
+            check_extent("parts.offset", *offset)?;
             let rotation = crate::error::check_unit_quat("parts.rotation", *rotation)?;
             if !part.shared.is_convex() {
                 return Err(CollisionError::DegenerateShape(format!(

@@ -11,16 +11,24 @@ use crate::pairs::{ManifoldCache, PairManifold};
 use kea::{Contact, World};
 
 impl CollisionWorld {
-    /// Writes the wanted manifolds into the world, after checking that they fit. On error
-    /// nothing in `world` has changed.
+    /// Writes the wanted manifolds into the world. A new manifold that finds the world's
+    /// constraint capacity full is left out (counted in the statistics, and tried again next
+    /// step) rather than stopping the world.
     pub(crate) fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
-        self.check_capacity(world)?;
+        self.stats.dropped_manifolds = 0;
         // The workers stay out of `self` while their findings are applied.
         let workers = std::mem::take(&mut self.workers);
         let applied = self.apply_found(world, &workers[..self.active_workers]);
         self.workers = workers;
         applied?;
         self.record_events(world);
+        if self.stats.dropped_manifolds > 0 {
+            log::warn!(
+                "{} contact manifolds left out: the world holds at most {} constraints",
+                self.stats.dropped_manifolds,
+                world.max_constraints()
+            );
+        }
         Ok(())
     }
 
@@ -80,6 +88,10 @@ impl CollisionWorld {
                 }
                 m.seen = true;
             }
+            _ if world.constraint_count() >= world.max_constraints() => {
+                self.stats.dropped_manifolds += 1;
+                p.generated_at = None; // generated again next step, when room may be free
+            }
             _ => {
                 let mut c = Contact::with_points(w.normal, points)?;
                 c.set_params(params)?;
@@ -123,51 +135,6 @@ impl CollisionWorld {
             });
         }
         self.pairs.remove(slot);
-    }
-
-    /// Refuses, before anything changes, an update whose new contacts would not fit.
-    fn check_capacity(&self, world: &World) -> CollisionResult<()> {
-        let live = |m: &PairManifold| world.contact(m.handle).is_ok();
-        let mut creations = 0;
-        let mut refreshed = 0;
-        for w in self.workers[..self.active_workers]
-            .iter()
-            .flat_map(|k| &k.wanted)
-        {
-            let p = &self.pairs.slots[w.pair as usize];
-            match p.manifolds.get(w.existing as usize) {
-                Some(m) if w.existing != Wanted::NEW && live(m) => refreshed += 1,
-                _ => creations += 1,
-            }
-        }
-        // Cheap bound first: nothing destroyed, every new manifold a new contact.
-        if world.constraint_count() + creations <= world.constraint_capacity() {
-            return Ok(());
-        }
-        let kept: usize = self
-            .pairs
-            .slots
-            .iter()
-            .filter(|p| p.alive && p.resting)
-            .map(|p| p.manifolds.iter().filter(|m| live(m)).count())
-            .sum();
-        let ours: usize = self
-            .pairs
-            .slots
-            .iter()
-            .filter(|p| p.alive)
-            .map(|p| p.manifolds.iter().filter(|m| live(m)).count())
-            .sum();
-        let destroyed = ours - refreshed - kept;
-        let after = world.constraint_count() - destroyed + creations;
-        if after > world.constraint_capacity() {
-            return Err(kea::KeaError::CapacityExceeded {
-                what: "constraints (collision asked for more contacts)",
-                capacity: world.constraint_capacity(),
-            }
-            .into());
-        }
-        Ok(())
     }
 
     /// Destroys the manifolds no longer generated, and records the pairs' events.

@@ -66,7 +66,14 @@ fn a_bad_dt_is_refused_before_anything_changes() {
 
 #[test]
 fn bad_public_settings_are_refused_before_anything_changes() {
-    for value in [-1.0e-3, -1.0, Real::NAN, Real::NEG_INFINITY, Real::INFINITY] {
+    for value in [
+        -1.0e-3,
+        -1.0,
+        1.0e30,
+        Real::NAN,
+        Real::NEG_INFINITY,
+        Real::INFINITY,
+    ] {
         for setting in ["margin", "touch_distance"] {
             let (mut world, mut collision) = resting_box();
             let before = fingerprint(&world);

@@ -218,6 +218,12 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             kea::Spring::new(s.hertz, s.damping_ratio)
         }),
         projection_iterations: w.projection_iterations,
+        speed_limits: w
+            .speed_limits
+            .map_or(defaults.speed_limits, |s| kea::SpeedLimits {
+                linear: s.linear,
+                angular: s.angular,
+            }),
     })
 }
 

@@ -82,6 +82,20 @@ pub struct WorldSpec {
     /// Softness of contacts without their own, mass-independent (default: kea's).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_spring: Option<SpringSpec>,
+    /// Speeds beyond which an island is quarantined as runaway (default: kea's, 1e4 m/s and
+    /// 1e4 rad/s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_limits: Option<SpeedLimitsSpec>,
+}
+
+/// Runaway speeds (`kea::SpeedLimits`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedLimitsSpec {
+    /// Largest linear speed, m/s (> 0).
+    pub linear: Real,
+    /// Largest angular speed, rad/s (> 0).
+    pub angular: Real,
 }
 
 /// A mass-independent spring (`kea::Spring`): frequency, Hz, and damping ratio.
@@ -200,6 +214,7 @@ impl Default for WorldSpec {
             routing: None,
             iterative: None,
             contact_spring: None,
+            speed_limits: None,
         }
     }
 }

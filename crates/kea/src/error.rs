@@ -109,6 +109,38 @@ pub enum KeaError {
     },
 }
 
+/// A number as an error message shows it: plain in the everyday range, in scientific notation
+/// beyond it (`1e-40`, not forty zeros).
+#[must_use]
+pub fn format_real(x: Real) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1.0e-4..1.0e7).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// A vector as an error message shows it (see [`format_real`]).
+#[must_use]
+pub fn format_vec3(v: Vec3) -> String {
+    format!(
+        "[{}, {}, {}]",
+        format_real(v.x),
+        format_real(v.y),
+        format_real(v.z)
+    )
+}
+
+fn format_mat3(m: &Mat3) -> String {
+    format!(
+        "[{}, {}, {}]",
+        format_vec3(m.x_axis),
+        format_vec3(m.y_axis),
+        format_vec3(m.z_axis)
+    )
+}
+
 /// Shorthand for results of this crate.
 pub type KeaResult<T> = Result<T, KeaError>;
 
@@ -121,7 +153,7 @@ pub(crate) fn check_finite(arg: &'static str, x: Real) -> KeaResult<Real> {
     } else {
         Err(KeaError::NonFinite {
             arg,
-            value: format!("{x}"),
+            value: format_real(x),
         })
     }
 }
@@ -134,7 +166,7 @@ pub(crate) fn check_non_negative(arg: &'static str, x: Real) -> KeaResult<Real> 
     } else {
         Err(KeaError::OutOfRange {
             arg,
-            value: format!("{x}"),
+            value: format_real(x),
             expected: "must be >= 0",
         })
     }
@@ -148,7 +180,7 @@ pub(crate) fn check_positive(arg: &'static str, x: Real) -> KeaResult<Real> {
     } else {
         Err(KeaError::OutOfRange {
             arg,
-            value: format!("{x}"),
+            value: format_real(x),
             expected: "must be > 0",
         })
     }
@@ -161,7 +193,7 @@ pub(crate) fn check_vec3(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
     } else {
         Err(KeaError::NonFinite {
             arg,
-            value: format!("{v}"),
+            value: format_vec3(v),
         })
     }
 }
@@ -176,7 +208,7 @@ pub(crate) fn check_unit(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
     } else {
         Err(KeaError::NotUnit {
             arg,
-            value: format!("{v}"),
+            value: format_vec3(v),
             length: crate::math::wide(len),
         })
     }
@@ -203,31 +235,76 @@ pub(crate) fn check_quat(arg: &'static str, q: Quat) -> KeaResult<Quat> {
     }
 }
 
-/// Checks that an inertia tensor is finite, symmetric and positive definite.
-pub(crate) fn check_inertia(arg: &'static str, m: Mat3) -> KeaResult<Mat3> {
+/// Smallest and largest body mass accepted, kg. Outside this range `1/m`, or the products the
+/// solver forms from it (`m v²`, `J M⁻¹ Jᵀ`), leave the range of f32.
+pub const MASS_RANGE: (Real, Real) = (1.0e-9, 1.0e12);
+
+/// Smallest and largest diagonal entry accepted in an inertia tensor, kg·m² (see
+/// [`MASS_RANGE`]).
+pub const INERTIA_RANGE: (Real, Real) = (1.0e-20, 1.0e20);
+
+/// Checks that a mass is finite and within [`MASS_RANGE`].
+pub(crate) fn check_mass(arg: &'static str, mass: Real) -> KeaResult<Real> {
+    check_positive(arg, mass)?;
+    if !(MASS_RANGE.0..=MASS_RANGE.1).contains(&mass) {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: format_real(mass),
+            expected: "must be in [1e-9, 1e12] kg (kea::error::MASS_RANGE)",
+        });
+    }
+    Ok(mass)
+}
+
+/// Checks that an inertia tensor is finite, symmetric, positive definite and of a size within
+/// [`INERTIA_RANGE`]; returns its symmetric part and that part's inverse (finite).
+pub(crate) fn check_inertia(arg: &'static str, m: Mat3) -> KeaResult<(Mat3, Mat3)> {
     let bad = |reason| KeaError::BadInertia {
         arg,
-        value: format!("{m}"),
+        value: format_mat3(&m),
         reason,
     };
     if !is_finite_mat3(&m) {
         return Err(bad("it has a NaN or infinite entry"));
     }
-    let scale = m.x_axis.x.abs().max(m.y_axis.y.abs()).max(m.z_axis.z.abs());
-    let tol = 1.0e-4 * scale.max(Real::MIN_POSITIVE);
-    let asym = (m.x_axis.y - m.y_axis.x)
+    let diagonal = Vec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z);
+    if diagonal.min_element() <= 0.0 {
+        return Err(bad("it is not positive definite"));
+    }
+    let scale = diagonal.max_element();
+    if !(INERTIA_RANGE.0..=INERTIA_RANGE.1).contains(&scale) {
+        return Err(bad(
+            "its largest diagonal entry must be in [1e-20, 1e20] kg·m² (kea::error::INERTIA_RANGE)",
+        ));
+    }
+    // Work on the tensor scaled to a unit diagonal, so that neither the determinant nor the
+    // inverse overflows or underflows at the ends of the range.
+    let unit = m * (1.0 / scale);
+    let asym = (unit.x_axis.y - unit.y_axis.x)
         .abs()
-        .max((m.x_axis.z - m.z_axis.x).abs())
-        .max((m.y_axis.z - m.z_axis.y).abs());
-    if asym > tol {
+        .max((unit.x_axis.z - unit.z_axis.x).abs())
+        .max((unit.y_axis.z - unit.z_axis.y).abs());
+    if asym > 1.0e-4 {
         return Err(bad("it is not symmetric"));
     }
+    let unit = (unit + unit.transpose()) * 0.5;
     // Sylvester's criterion: every leading principal minor is positive.
-    let m1 = m.x_axis.x;
-    let m2 = m.x_axis.x * m.y_axis.y - m.x_axis.y * m.y_axis.x;
-    let m3 = m.determinant();
+    let m1 = unit.x_axis.x;
+    let m2 = unit.x_axis.x * unit.y_axis.y - unit.x_axis.y * unit.y_axis.x;
+    let m3 = unit.determinant();
     if !(m1 > 0.0 && m2 > 0.0 && m3 > 0.0) {
         return Err(bad("it is not positive definite"));
     }
-    Ok(m)
+    let symmetric = (m + m.transpose()) * 0.5;
+    // The plain inverse where the determinant is a normal number (as the immediate-mode
+    // solver computes it, so both agree bit for bit); the scaled one near the range's ends.
+    let inverse = if symmetric.determinant().is_normal() {
+        symmetric.inverse()
+    } else {
+        unit.inverse() * (1.0 / scale)
+    };
+    if !is_finite_mat3(&inverse) {
+        return Err(bad("its inverse is not finite (too nearly singular)"));
+    }
+    Ok((symmetric, inverse))
 }

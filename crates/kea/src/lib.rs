@@ -45,7 +45,8 @@ pub use solver::{
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
 pub use world::{
-    CollisionStats, DemMode, DemSettings, StepStats, World, WorldDef, PARALLEL_MIN_BODIES,
+    CollisionStats, DemMode, DemSettings, QuarantineEvent, QuarantineReason, SpeedLimits,
+    StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
 };
 
 /// The README's tour, compiled and run as a doctest so that it stays true.

@@ -7,8 +7,7 @@
 pub mod inertia;
 
 use crate::error::{
-    check_inertia, check_non_negative, check_positive, check_quat, check_unit, check_vec3,
-    KeaResult,
+    check_inertia, check_mass, check_non_negative, check_quat, check_unit, check_vec3, KeaResult,
 };
 use crate::math::{Mat3, Mat4, Quat, Real, Vec3};
 use crate::solver::SolverPath;
@@ -18,7 +17,7 @@ use crate::solver::SolverPath;
 /// enabled, no damping, no fast-spin axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyDef {
-    /// Mass in kg (> 0).
+    /// Mass in kg, within [`crate::error::MASS_RANGE`].
     pub mass: Real,
     /// Inertia tensor about the centre of mass, in the body frame (symmetric positive definite).
     pub inertia: Mat3,
@@ -96,6 +95,8 @@ pub struct Body {
     pub(crate) rest_time: Real,
     pub(crate) prefer_exact: bool,
     pub(crate) last_path: SolverPath,
+    /// Frozen by the world's quarantine (and disabled) until cleared.
+    pub(crate) quarantined: bool,
 }
 
 impl Body {
@@ -124,9 +125,10 @@ impl Body {
             rest_time: 0.0,
             prefer_exact: def.prefer_exact,
             last_path: SolverPath::None,
+            quarantined: false,
         };
         // Validate everything before building, so a bad field reports its own name.
-        check_positive("mass", def.mass)?;
+        check_mass("mass", def.mass)?;
         check_inertia("inertia", def.inertia)?;
         check_vec3("position", def.position)?;
         check_quat("orientation", def.orientation)?;
@@ -158,6 +160,12 @@ impl Body {
     #[must_use]
     pub fn inertia(&self) -> Mat3 {
         self.inertia
+    }
+    /// Inverse of the inertia tensor, body frame (computed once when the inertia is set, on
+    /// the tensor scaled to a unit diagonal, so it is finite over the whole accepted range).
+    #[must_use]
+    pub fn inverse_inertia(&self) -> Mat3 {
+        self.inv_inertia
     }
     /// Inertia tensor in the world frame, `R I Rᵀ`.
     #[must_use]
@@ -283,20 +291,20 @@ impl Body {
         self.orientation.inverse() * (world - self.position)
     }
 
-    /// Sets the mass (finite, > 0).
+    /// Sets the mass, kg (within [`crate::error::MASS_RANGE`]).
     pub fn set_mass(&mut self, mass: Real) -> KeaResult<()> {
-        check_positive("mass", mass)?;
+        check_mass("mass", mass)?;
         self.mass = mass;
         self.inv_mass = 1.0 / mass;
         Ok(())
     }
-    /// Sets the body-frame inertia tensor (symmetric positive definite).
+    /// Sets the body-frame inertia tensor (symmetric positive definite, diagonal within
+    /// [`crate::error::INERTIA_RANGE`]).
     pub fn set_inertia(&mut self, inertia: Mat3) -> KeaResult<()> {
-        check_inertia("inertia", inertia)?;
-        // Store the symmetric part: the check allows round-off asymmetry.
-        let inertia = (inertia + inertia.transpose()) * 0.5;
+        // The symmetric part is stored: the check allows round-off asymmetry.
+        let (inertia, inverse) = check_inertia("inertia", inertia)?;
         self.inertia = inertia;
-        self.inv_inertia = inertia.inverse();
+        self.inv_inertia = inverse;
         Ok(())
     }
     /// Sets the position of the centre of mass.
@@ -345,8 +353,17 @@ impl Body {
         Ok(())
     }
     /// Enables or disables the body (a disabled body is fixed in place).
+    ///
+    /// Enabling a quarantined body releases it from quarantine.
     pub fn set_enabled(&mut self, enabled: bool) {
         self.enabled = enabled;
+        self.quarantined &= !enabled;
+    }
+    /// Whether the world's quarantine froze (and disabled) this body after a step that blew
+    /// up its island (see [`crate::World::quarantine_report`]).
+    #[must_use]
+    pub fn is_quarantined(&self) -> bool {
+        self.quarantined
     }
     /// Sets the user's data.
     pub fn set_user_data(&mut self, data: u64) {

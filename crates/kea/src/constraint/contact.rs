@@ -314,6 +314,12 @@ impl Contact {
     }
 
     /// Takes the forces a solver recorded on `solved`, a copy of this contact.
+    /// Whether every point's mean and end-of-step force is finite.
+    pub(crate) fn forces_finite(&self) -> bool {
+        let finite = |f: &PointForce| f.normal.is_finite() && f.friction.is_finite();
+        self.forces.iter().chain(&self.warm).all(finite)
+    }
+
     pub(crate) fn take_forces(&mut self, solved: &Contact) {
         self.forces = solved.forces;
         self.warm = solved.warm;

@@ -8,9 +8,11 @@
 mod constraint_entry;
 mod constraints;
 mod joints;
+mod quarantine;
 mod sleep;
 mod step;
 
+pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
 pub use sleep::{DemMode, DemSettings};
 pub use step::{CollisionStats, StepStats, PARALLEL_MIN_BODIES, PROJECTION_TOLERANCE};
 
@@ -28,9 +30,9 @@ use constraint_entry::ConstraintEntry;
 /// Parameters of a new world. Every tunable says its unit, normal value and range.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorldDef {
-    /// Most bodies the world can hold (≥ 1).
+    /// Most bodies the world can hold (1 to [`MAX_CAPACITY`]).
     pub max_bodies: usize,
-    /// Most constraints (joints + contacts) the world can hold (≥ 1).
+    /// Most constraints (joints + contacts) the world can hold (1 to [`MAX_CAPACITY`]).
     pub max_constraints: usize,
     /// Rows of the largest island to reserve solver memory for up front. The exact solver's
     /// memory grows as rows², so this is a hint, not a limit: bigger islands grow the workspace
@@ -63,6 +65,9 @@ pub struct WorldDef {
     /// stretch the projection would fight. 4 passes keep a 100-link chain whipped at 60 Hz
     /// closed to 1 mm (`tests/chain.rs`).
     pub projection_iterations: u32,
+    /// Speeds beyond which an island is quarantined as runaway (see
+    /// [`World::quarantine_report`]).
+    pub speed_limits: SpeedLimits,
 }
 
 impl Default for WorldDef {
@@ -81,6 +86,7 @@ impl Default for WorldDef {
             routing: Routing::default(),
             iterative: IterativeParams::default(),
             projection_iterations: 0,
+            speed_limits: SpeedLimits::default(),
         }
     }
 }
@@ -121,6 +127,9 @@ struct StepScratch {
     step_layout: Vec<(u32, u32, u32)>,
     /// The step's λ lined up with the rows a projection pass gathers.
     projection_lambda: Vec<Real>,
+    /// Islands of the step's solver bodies, and which roots are bad, for quarantine.
+    quarantine_sets: crate::union_find::UnionFind,
+    quarantine_root: Vec<bool>,
 }
 
 /// A simulated world.
@@ -138,6 +147,11 @@ pub struct World {
     routing: Routing,
     iterative: IterativeParams,
     projection_iterations: u32,
+    speed_limits: SpeedLimits,
+    /// Islands quarantined and not yet cleared.
+    quarantine: Vec<QuarantineEvent>,
+    /// While quarantining: each new event's island root, and whether it has its reason.
+    quarantine_roots: Vec<(u32, bool)>,
     solver: Solver,
     scratch: StepScratch,
     time: f64,
@@ -164,20 +178,8 @@ const ROWS_PER_CONSTRAINT: usize = 6;
 impl World {
     /// Creates a world, reserving storage for its capacities (the guide's `MdtWorldCreate`).
     pub fn new(def: WorldDef) -> KeaResult<Self> {
-        if def.max_bodies == 0 {
-            return Err(KeaError::OutOfRange {
-                arg: "max_bodies",
-                value: "0".into(),
-                expected: "must be >= 1",
-            });
-        }
-        if def.max_constraints == 0 {
-            return Err(KeaError::OutOfRange {
-                arg: "max_constraints",
-                value: "0".into(),
-                expected: "must be >= 1",
-            });
-        }
+        check_capacity("max_bodies", def.max_bodies)?;
+        check_capacity("max_constraints", def.max_constraints)?;
         check_vec3("gravity", def.gravity)?;
         let params = crate::solver::SolverParams {
             dt: 1.0,
@@ -194,11 +196,14 @@ impl World {
         params.validate()?;
         def.dem.validate()?;
         check_projection(def.projection_iterations)?;
+        def.speed_limits.validate()?;
         let id = next_world_id();
         let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
         let island_rows = def.max_island_rows.min(rows);
         let mut sleep_sets = crate::union_find::UnionFind::default();
         sleep_sets.reserve(def.max_bodies);
+        let mut quarantine_sets = crate::union_find::UnionFind::default();
+        quarantine_sets.reserve(def.max_bodies);
         let scratch = StepScratch {
             solver_bodies: Vec::with_capacity(def.max_bodies),
             slot_to_solver: Vec::with_capacity(def.max_bodies),
@@ -220,6 +225,8 @@ impl World {
             broken: Vec::with_capacity(def.max_constraints),
             step_layout: Vec::with_capacity(def.max_constraints),
             projection_lambda: Vec::with_capacity(rows),
+            quarantine_sets,
+            quarantine_root: Vec::with_capacity(def.max_bodies),
         };
         Ok(Self {
             id,
@@ -235,6 +242,9 @@ impl World {
             routing: def.routing,
             iterative: def.iterative,
             projection_iterations: def.projection_iterations,
+            speed_limits: def.speed_limits,
+            quarantine: Vec::new(),
+            quarantine_roots: Vec::new(),
             solver: Solver::with_capacity(
                 def.max_bodies,
                 def.max_constraints,
@@ -477,6 +487,22 @@ impl World {
             .map(|(_, b)| b.kinetic_energy())
             .sum()
     }
+}
+
+/// Largest capacity a world accepts for bodies or for constraints. Storage is reserved up
+/// front (a constraint reserves room for six rows), so a million constraints already take
+/// about a gigabyte.
+pub const MAX_CAPACITY: usize = 1 << 20;
+
+fn check_capacity(arg: &'static str, capacity: usize) -> KeaResult<()> {
+    if !(1..=MAX_CAPACITY).contains(&capacity) {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: capacity.to_string(),
+            expected: "must be in 1..=1048576 (kea::world::MAX_CAPACITY)",
+        });
+    }
+    Ok(())
 }
 
 fn check_projection(iterations: u32) -> KeaResult<()> {

@@ -13,7 +13,7 @@ use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
 use crate::handle::{Arena, ConstraintHandle};
-use crate::math::{wide, Real, Vec3};
+use crate::math::{is_finite3, wide, Real, Vec3};
 use crate::solver::{
     ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams, SolverStats,
 };
@@ -39,6 +39,12 @@ pub struct CollisionStats {
     /// Of those, manifolds moved with their bodies instead of generated again (the pair
     /// barely moved relative to itself).
     pub reused_manifolds: u32,
+    /// Pairs whose manifold failed inside the collision library this step (they got no
+    /// contacts; the step went on).
+    pub failed_pairs: u32,
+    /// Manifolds left out because the world's constraint capacity was full (they are tried
+    /// again next step).
+    pub dropped_manifolds: u32,
 }
 
 /// What one [`World::step`] did: counts, solver warnings and per-stage times.
@@ -65,6 +71,10 @@ pub struct StepStats {
     /// Breakable constraints that broke in this step (they are now disabled; see
     /// [`World::broken_last_step`]).
     pub broken_joints: u32,
+    /// Bodies quarantined by this step: their islands blew up (non-finite, or faster than the
+    /// world's [`crate::SpeedLimits`]) and were put back to their state before the step and
+    /// frozen (see [`World::quarantine_report`]).
+    pub quarantined_bodies: u32,
     /// Largest error of a rigid joint row after the velocity step, before projection (0 when no
     /// projection ran).
     pub max_joint_error: Real,
@@ -139,7 +149,9 @@ impl World {
             }
         };
         let t3 = Instant::now();
-        // The step succeeded: from here on the world changes.
+        // The step succeeded: from here on the world changes. Islands that blew up go back to
+        // where they were, frozen.
+        let quarantined_bodies = self.quarantine_bad_islands();
         self.apply_wake();
         self.write_back();
         let t_proj = Instant::now();
@@ -175,6 +187,7 @@ impl World {
             time_projection,
             max_joint_error,
             broken_joints,
+            quarantined_bodies,
             time_total: t4 - t0,
             collision: CollisionStats::default(),
         })
@@ -410,6 +423,9 @@ impl World {
             for (i, sb) in s.solver_bodies.iter().enumerate() {
                 let slot = s.solver_to_slot[i] as usize;
                 let b = self.bodies.at_mut(slot).expect("simulated bodies are live");
+                if b.quarantined || !(is_finite3(sb.position) && sb.orientation.is_finite()) {
+                    continue; // frozen, or a pass that failed for this body
+                }
                 b.position = sb.position;
                 b.orientation = sb.orientation;
                 b.update_transform();

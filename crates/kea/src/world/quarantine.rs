@@ -1,0 +1,248 @@
+//! Quarantine: after the solver, before anything is committed, each island is checked. An island
+//! with a non-finite state or force, or a body faster than the world's limits, is put back to
+//! its state before the step and frozen (disabled), and reported by body handles; the other
+//! islands step on. The user reads the report and clears the quarantine when ready.
+
+use super::constraint_entry::ConstraintKind;
+use super::World;
+use crate::error::{check_positive, KeaResult};
+use crate::handle::BodyHandle;
+use crate::math::{is_finite3, Real};
+use crate::solver::SolverBody;
+
+/// The speeds beyond which a body counts as runaway (see [`World::set_speed_limits`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedLimits {
+    /// Largest linear speed, m/s. Default 1e4 (thirty times the speed of sound).
+    pub linear: Real,
+    /// Largest angular speed, rad/s. Default 1e4.
+    pub angular: Real,
+}
+
+impl Default for SpeedLimits {
+    fn default() -> Self {
+        Self {
+            linear: 1.0e4,
+            angular: 1.0e4,
+        }
+    }
+}
+
+impl SpeedLimits {
+    pub(crate) fn validate(&self) -> KeaResult<()> {
+        check_positive("speed_limits.linear", self.linear)?;
+        check_positive("speed_limits.angular", self.angular)?;
+        Ok(())
+    }
+}
+
+/// Why an island was quarantined.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum QuarantineReason {
+    /// A body's state, or a constraint's force, became NaN or infinite.
+    NonFinite,
+    /// A body went faster than [`SpeedLimits`]: its linear (m/s) and angular (rad/s) speed.
+    Runaway {
+        /// Linear speed the step would have given, m/s.
+        linear: Real,
+        /// Angular speed the step would have given, rad/s.
+        angular: Real,
+    },
+}
+
+/// One island taken out of the simulation by a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QuarantineEvent {
+    /// The step that failed (the world's step count before it).
+    pub step: u64,
+    /// What was wrong with the first bad body found.
+    pub reason: QuarantineReason,
+    /// Every body of the island, now disabled at its state before that step.
+    pub bodies: Vec<BodyHandle>,
+}
+
+impl World {
+    /// The islands quarantined since the last [`World::clear_quarantine`], oldest first.
+    #[must_use]
+    pub fn quarantine_report(&self) -> &[QuarantineEvent] {
+        &self.quarantine
+    }
+
+    /// Releases every quarantined body (enables it again, at the state it was frozen in, which
+    /// is the state before the step that failed) and empties the report. Returns how many bodies
+    /// were released. Bodies destroyed meanwhile are skipped.
+    pub fn clear_quarantine(&mut self) -> usize {
+        let mut released = 0;
+        for event in std::mem::take(&mut self.quarantine) {
+            for h in event.bodies {
+                if let Ok(b) = self.bodies.get_mut(h) {
+                    if b.quarantined {
+                        b.quarantined = false;
+                        b.enabled = true;
+                        b.wake();
+                        released += 1;
+                    }
+                }
+            }
+        }
+        released
+    }
+
+    /// The speeds beyond which an island is quarantined as runaway.
+    #[must_use]
+    pub fn speed_limits(&self) -> SpeedLimits {
+        self.speed_limits
+    }
+
+    /// Sets the runaway speeds (both finite and > 0).
+    pub fn set_speed_limits(&mut self, limits: SpeedLimits) -> KeaResult<()> {
+        limits.validate()?;
+        self.speed_limits = limits;
+        Ok(())
+    }
+
+    /// Checks the solver's results island by island; quarantines the bad ones (their solver
+    /// bodies get their state before the step back, their constraints their previous forces).
+    /// Returns how many bodies it quarantined. Costs one pass over the bodies when all is well.
+    pub(super) fn quarantine_bad_islands(&mut self) -> u32 {
+        let limits = self.speed_limits;
+        let s = &mut self.scratch;
+        let all_well = s
+            .solver_bodies
+            .iter()
+            .all(|b| body_trouble(b, &limits).is_none())
+            && s.lambda.iter().all(|l| l.is_finite())
+            && s.contacts.iter().all(|c| c.contact.forces_finite());
+        if all_well {
+            return 0;
+        }
+        // Islands of this step: bodies joined by the constraints that took part.
+        let n = s.solver_bodies.len();
+        let sets = &mut s.quarantine_sets;
+        sets.reset(n);
+        let joined = s
+            .blocks
+            .iter()
+            .map(|b| b.bodies)
+            .chain(s.contacts.iter().map(|c| c.bodies));
+        for bodies in joined {
+            if let [Some(a), Some(b)] = bodies {
+                sets.union(a, b);
+            }
+        }
+        // Mark the roots of bad islands: a bad body, a non-finite joint force or contact force.
+        let roots = &mut s.quarantine_root;
+        roots.clear();
+        roots.resize(n, false);
+        let mut mark = |bodies: [Option<u32>; 2], sets: &mut crate::union_find::UnionFind| {
+            for &i in bodies.iter().flatten() {
+                roots[sets.find(i) as usize] = true;
+            }
+        };
+        for i in 0..n as u32 {
+            if body_trouble(&s.solver_bodies[i as usize], &limits).is_some() {
+                mark([Some(i), None], sets);
+            }
+        }
+        for b in &s.blocks {
+            let rows = b.first_row as usize..(b.first_row + b.row_count) as usize;
+            if s.lambda[rows].iter().any(|l| !l.is_finite()) {
+                mark(b.bodies, sets);
+            }
+        }
+        for c in &s.contacts {
+            if !c.contact.forces_finite() {
+                mark(c.bodies, sets);
+            }
+        }
+        let bad = |i: u32, sets: &mut crate::union_find::UnionFind| roots[sets.find(i) as usize];
+        // Constraints of bad islands keep their forces of the last step.
+        for (k, b) in s.blocks.iter().enumerate() {
+            if b.bodies.iter().flatten().any(|&i| bad(i, sets)) {
+                let rows = b.first_row as usize..(b.first_row + b.row_count) as usize;
+                s.lambda[rows].fill(0.0);
+                s.reactions[k] = Default::default();
+            }
+        }
+        for (c, &slot) in s.contacts.iter_mut().zip(&s.contact_constraint) {
+            if c.bodies.iter().flatten().any(|&i| bad(i, sets)) {
+                if let Some(ConstraintKind::Contact(old)) =
+                    self.constraints.at(slot as usize).map(|e| &e.kind)
+                {
+                    c.contact = *old;
+                }
+            }
+        }
+        // Bodies of bad islands: their state before the step, frozen; one event per island.
+        let mut quarantined = 0;
+        let first_event = self.quarantine.len();
+        for i in 0..n as u32 {
+            if !bad(i, sets) {
+                continue;
+            }
+            let root = sets.find(i);
+            let sb = &mut s.solver_bodies[i as usize];
+            let trouble = body_trouble(sb, &limits);
+            let slot = s.solver_to_slot[i as usize] as usize;
+            let body = self.bodies.at_mut(slot).expect("simulated bodies are live");
+            sb.position = body.position;
+            sb.orientation = body.orientation;
+            sb.linear_velocity = body.linear_velocity;
+            sb.angular_velocity = body.angular_velocity;
+            sb.linear_acceleration = crate::math::Vec3::ZERO;
+            sb.angular_acceleration = crate::math::Vec3::ZERO;
+            body.enabled = false;
+            body.quarantined = true;
+            quarantined += 1;
+            let handle = self.bodies.handle_at(slot).expect("occupied slot");
+            // The island's reason is its first troubled body's (NonFinite when only a force
+            // was bad).
+            let event = self.quarantine[first_event..]
+                .iter_mut()
+                .zip(&mut self.quarantine_roots)
+                .find(|(_, (r, _))| *r == root);
+            match event {
+                Some((e, (_, reasoned))) => {
+                    e.bodies.push(handle);
+                    if let (false, Some(t)) = (*reasoned, trouble) {
+                        e.reason = t;
+                        *reasoned = true;
+                    }
+                }
+                None => {
+                    self.quarantine.push(QuarantineEvent {
+                        step: self.steps,
+                        reason: trouble.unwrap_or(QuarantineReason::NonFinite),
+                        bodies: vec![handle],
+                    });
+                    self.quarantine_roots.push((root, trouble.is_some()));
+                }
+            }
+        }
+        self.quarantine_roots.clear();
+        for e in &self.quarantine[first_event..] {
+            log::warn!(
+                "kea: step {}: island of {} bodies quarantined ({:?}): {:?}",
+                e.step,
+                e.bodies.len(),
+                e.reason,
+                e.bodies
+            );
+        }
+        quarantined
+    }
+}
+
+/// What is wrong with a solved body, if anything.
+fn body_trouble(b: &SolverBody, limits: &SpeedLimits) -> Option<QuarantineReason> {
+    let finite = is_finite3(b.position)
+        && b.orientation.is_finite()
+        && is_finite3(b.linear_velocity)
+        && is_finite3(b.angular_velocity);
+    if !finite {
+        return Some(QuarantineReason::NonFinite);
+    }
+    let (linear, angular) = (b.linear_velocity.length(), b.angular_velocity.length());
+    (linear > limits.linear || angular > limits.angular)
+        .then_some(QuarantineReason::Runaway { linear, angular })
+}
