@@ -86,7 +86,7 @@ impl Node {
 }
 
 /// The dynamic tree (module docs).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct DynamicTree {
     nodes: Vec<Node>,
     free: Vec<u32>,

@@ -75,6 +75,7 @@ impl Default for ContactStrategy {
     }
 }
 
+#[derive(Clone)]
 pub(crate) struct Collider {
     pub(crate) def: ColliderDef,
     /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
@@ -90,6 +91,7 @@ pub(crate) struct Collider {
     pub(crate) motion: Real,
 }
 
+#[derive(Clone)]
 pub(crate) struct Slot {
     generation: u32,
     pub(crate) collider: Option<Collider>,
@@ -104,6 +106,10 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 }
 
 /// Colliders, materials, and the contacts they generate in a [`World`].
+///
+/// Clone it together with its [`World`]: the two clones step on bit for bit like the
+/// originals.
+#[derive(Clone)]
 pub struct CollisionWorld {
     pub(crate) slots: Vec<Slot>,
     free: Vec<u32>,

@@ -89,6 +89,14 @@ pub(crate) struct Generator {
     pub out: Vec<GenManifold>,
 }
 
+/// Buffers only: a clone starts with fresh ones (parry's EPA cannot be cloned), which changes
+/// no result.
+impl Clone for Generator {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
 impl Default for Generator {
     fn default() -> Self {
         let mut scratch = ContactManifold::new();

@@ -126,6 +126,7 @@ pub(crate) const PAIR_CHUNK: usize = 512;
 
 /// The narrow phase's work on one chunk of pair slots: what it found, and its scratch. Kept
 /// between steps so that a warm step allocates nothing.
+#[derive(Clone)]
 pub(crate) struct NarrowWorker {
     /// The manifolds the chunk's pairs want, in slot order.
     pub wanted: Vec<Wanted>,

@@ -45,7 +45,7 @@ pub(crate) struct PairManifold {
 }
 
 /// A pair of colliders whose fat boxes overlap.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct PairState {
     /// Collider slots, first < second.
     pub colliders: (u32, u32),
@@ -75,7 +75,7 @@ pub(crate) struct PairState {
 const MULTI_MANIFOLDS: usize = 16;
 
 /// The live pairs (module docs).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct Pairs {
     pub slots: Vec<PairState>,
     /// Free slots whose manifolds are inline, and those that keep heap room for several: a

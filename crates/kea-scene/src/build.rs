@@ -16,6 +16,7 @@ use kea_collision::{ColliderDef, CollisionWorld, MassProperties, Shape, Surface}
 use std::collections::HashMap;
 
 /// A built scene: the world, its collision layer, and the bodies and joints by name.
+#[derive(Clone)]
 pub struct BuiltScene {
     /// The dynamics.
     pub world: World,

@@ -8,6 +8,7 @@ use crate::joint_format::{JointKind, JointSpec, LimitSpec};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
 
 /// A fixed-path joint driven along keyframes `[t, x, y, z]` (world frame).
+#[derive(Clone)]
 pub(crate) struct PathDriver {
     /// The joint.
     pub joint: ConstraintHandle,

@@ -69,12 +69,14 @@ pub(crate) trait HandleKind: Copy {
     fn from_parts(world: u32, index: u32, generation: u32) -> Self;
 }
 
+#[derive(Clone)]
 struct Slot<T> {
     generation: u32,
     value: Option<T>,
 }
 
 /// A slot arena with a fixed capacity, reserved up front.
+#[derive(Clone)]
 pub(crate) struct Arena<T, H: HandleKind> {
     world: u32,
     slots: Vec<Slot<T>>,

@@ -1,7 +1,7 @@
 //! Disjoint sets over `0..n` with path halving, on reusable storage. Roots are always the lowest
 //! index of their set, so set identities do not depend on the order of unions (determinism).
 
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct UnionFind {
     parent: Vec<u32>,
 }

@@ -127,8 +127,9 @@ pub struct RowContext {
 }
 
 /// A user-written constraint (the guide: "You Can Add Your Own Joint Types"): it only has to
-/// write rows. Add it with [`crate::World::add_custom_constraint`].
-pub trait CustomConstraint: std::fmt::Debug + Send + Sync + 'static {
+/// write rows. Add it with [`crate::World::add_custom_constraint`]. It must be `Clone` (derive
+/// it), so that a world holding it can be cloned.
+pub trait CustomConstraint: std::fmt::Debug + Send + Sync + 'static + CloneCustom {
     /// A short name for logs and errors.
     fn name(&self) -> &'static str {
         "custom constraint"
@@ -140,4 +141,23 @@ pub trait CustomConstraint: std::fmt::Debug + Send + Sync + 'static {
     /// step that fails. Change the constraint's parameters between steps through
     /// [`crate::World::custom_constraint_mut`].
     fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>);
+}
+
+/// Cloning a boxed [`CustomConstraint`]; implemented for every custom constraint that is
+/// `Clone`.
+pub trait CloneCustom {
+    /// A boxed copy.
+    fn clone_box(&self) -> Box<dyn CustomConstraint>;
+}
+
+impl<T: CustomConstraint + Clone> CloneCustom for T {
+    fn clone_box(&self) -> Box<dyn CustomConstraint> {
+        Box::new(self.clone())
+    }
+}
+
+impl Clone for Box<dyn CustomConstraint> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
 }

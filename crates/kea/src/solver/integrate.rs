@@ -28,7 +28,7 @@ use crate::math::{
 use glam::{DMat3, DQuat};
 
 /// Per-body scratch: world inverse inertia, free velocities, constraint force accumulators.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct BodyScratch {
     pub(crate) inv_inertia_world: Vec<Mat3>,
     pub(crate) free_linear: Vec<Vec3>,

@@ -7,7 +7,7 @@ use super::{reserve, ConstraintBlock, SolverContact};
 use crate::union_find::UnionFind;
 
 /// Union-find with path halving over preallocated arrays.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct Islands {
     sets: UnionFind,
     island_of_root: Vec<u32>,

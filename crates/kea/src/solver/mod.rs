@@ -78,7 +78,7 @@ use std::time::Instant;
 use validate::{validate_inputs, validate_rows};
 
 /// The exact solver and its reusable workspace.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct Solver {
     islands: island::Islands,
     exact: exact::ExactWorkspace,

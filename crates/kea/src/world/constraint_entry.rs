@@ -13,6 +13,7 @@ use crate::solver::Reaction;
 // Contacts stay inline: they are the most numerous entries and come and go every step, so
 // boxing them would allocate in warm steps.
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
 pub(crate) enum ConstraintKind {
     Contact(Contact),
     // Boxed: with limits a ball joint is several times larger than a contact,
@@ -86,7 +87,7 @@ impl ConstraintKind {
 }
 
 /// A constraint slot's contents.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct ConstraintEntry {
     pub(crate) kind: ConstraintKind,
     pub(crate) bodies: [Option<BodyHandle>; 2],

@@ -92,7 +92,7 @@ impl Default for WorldDef {
 }
 
 /// Reused per-step buffers, sized from the capacities.
-#[derive(Default)]
+#[derive(Default, Clone)]
 struct StepScratch {
     solver_bodies: Vec<SolverBody>,
     /// Body slot → solver body index (`u32::MAX` if not simulated this step).
@@ -133,6 +133,10 @@ struct StepScratch {
 }
 
 /// A simulated world.
+///
+/// A clone is the same world at the same instant (it accepts the same handles): stepping both
+/// alike gives bit-identical results.
+#[derive(Clone)]
 pub struct World {
     id: u32,
     bodies: Arena<Body, BodyHandle>,

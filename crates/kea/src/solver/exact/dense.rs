@@ -15,7 +15,7 @@ use super::IslandRow;
 use crate::solver::{SolverParams, SolverStats};
 
 /// A dense island system and its LCP workspace.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct DenseIsland {
     a: Vec<f64>,
     b: Vec<f64>,

@@ -15,7 +15,7 @@
 use super::pattern::Pattern;
 
 /// Where the blocks of one island's system live.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct Layout {
     /// Per position: its first row in the island's row order, and its row count.
     first: Vec<u32>,

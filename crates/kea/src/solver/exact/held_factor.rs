@@ -12,7 +12,7 @@ use super::lcp_dense::Bound;
 use super::pivoting::System;
 
 /// The kept factorisation (module docs).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct HeldFactor {
     /// `L`, over the system's pattern and layout.
     pub(crate) factor: Vec<f64>,

@@ -48,7 +48,7 @@ pub(crate) struct LcpReport {
 }
 
 /// Scratch memory for [`solve`]; grows to the largest problem seen and is then reused.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct LcpWorkspace {
     free: Vec<usize>,
     factor: Vec<f64>,

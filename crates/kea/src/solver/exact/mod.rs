@@ -50,7 +50,7 @@ pub(crate) struct IslandRow {
 }
 
 /// Workspace for island solves; grows to the largest island seen.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct ExactWorkspace {
     /// An island's joint rows and its contacts' rows together, with their blocks, forces,
     /// warm-start guesses and reactions (contacts reach the exact path as contacts and are

@@ -18,7 +18,7 @@
 pub(crate) type BlockBodies = [u32; 2];
 
 /// The analysis of one block graph.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct Pattern {
     /// The graph it analyses (for cache hits).
     key: Vec<BlockBodies>,
@@ -82,7 +82,7 @@ impl Pattern {
 }
 
 /// Scratch for the minimum-degree elimination.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 struct Elimination {
     /// Each block's current neighbours (block ids, ascending).
     adjacency: Vec<Vec<u32>>,
@@ -98,7 +98,7 @@ struct Elimination {
 }
 
 /// The last few analyses, most recently used first.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct PatternCache {
     patterns: Vec<Pattern>,
     elimination: Elimination,

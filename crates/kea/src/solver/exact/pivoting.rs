@@ -92,7 +92,7 @@ pub(crate) struct Limits {
 }
 
 /// Scratch memory for [`solve`]; grows to the largest problem seen and is then reused.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct LcpWorkspace {
     factor: HeldFactor,
     held: Vec<f64>,

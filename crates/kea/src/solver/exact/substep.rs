@@ -29,7 +29,7 @@ pub(crate) struct SubstepRow {
 }
 
 /// The system of the split islands' joint rows (see the module docs).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct SubstepSystem {
     ws: ExactWorkspace,
     extra: Vec<f64>,

@@ -94,7 +94,7 @@ struct Damping {
 }
 
 /// The iterative path's bodies (module docs).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct BodyStates {
     pub(crate) vel: Vec<BodyVel>,
     pub(crate) delta: Vec<BodyDelta>,

@@ -24,7 +24,7 @@ pub(crate) const OVERFLOW: u8 = u8::MAX;
 const DYNAMIC_COLOURS: usize = COLOURS - 4;
 
 /// Per-body colour masks, reused from step to step.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct Colouring {
     masks: Vec<u32>,
 }

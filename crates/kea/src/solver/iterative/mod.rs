@@ -118,7 +118,7 @@ impl IterativeParams {
 }
 
 /// Workspace of the iterative path.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct IterativeWorkspace {
     states: BodyStates,
     rows: JointRows,

@@ -39,7 +39,7 @@ struct Entry {
 }
 
 /// The batches of one lane width, colour after colour.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 struct Lanes<F: FloatW> {
     batches: Vec<ContactBatch<F>>,
     /// `batches[colour_start[c]..colour_start[c + 1]]` are colour c's.
@@ -181,7 +181,7 @@ impl<F: FloatW> Lanes<F> {
 type BatchRunner<F> = fn(&mut [ContactBatch<F>], Stage, Records<'_>, Records<'_>, &KernelParams);
 
 /// The contact solver's workspace.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct ContactSolver {
     level: SimdLevel,
     colouring: Colouring,

