@@ -12,9 +12,12 @@
 //!   constraint error against time.
 //! - `kea view [SCENE] [--dt H] [--report] [--frames N]` opens the Viewer (a window).
 //!
-//! Exit code 0 on success; 1 with a message on stderr for a bad scene or a failed step, and
-//! nothing is written then.
+//! Exit code 0 on success; 1 with a message on stderr for a bad scene, a failed step or a
+//! blow-up (an island quarantined; `kea run --keep-going` runs on), and nothing is written
+//! then; 130 after Ctrl-C, with temporary files removed. Kea's warnings are printed on stderr,
+//! each kind once with a count of the rest (`KEA_LOG=off|error|warn|info|debug`).
 
+mod logger;
 mod plot;
 mod record;
 mod render;
@@ -25,6 +28,7 @@ use kea::Real;
 use kea_scene::{build, BuiltScene, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The scene `kea run` uses when given none: a 210-box pyramid.
 const DEFAULT_SCENE: &str = include_str!("../../../scenes/pyramid.json");
@@ -54,6 +58,10 @@ enum Command {
         /// Write every body's trajectory as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Run to the end even if an island blows up (it is quarantined and reported);
+        /// without it the run stops there and exits with status 1.
+        #[arg(long)]
+        keep_going: bool,
     },
     /// Step a scene and write its last frame as a PNG, drawn on the CPU.
     Render {
@@ -138,7 +146,23 @@ enum Command {
     },
 }
 
+/// Set by Ctrl-C: long loops stop at their next step and clean up (temporary files go).
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Whether Ctrl-C was pressed.
+pub(crate) fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::Relaxed)
+}
+
 fn main() -> ExitCode {
+    logger::install();
+    // A second Ctrl-C while cleaning up still ends the process (the default handler is gone,
+    // so exit by hand).
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+    });
     let result = match Cli::parse().command {
         Command::Run {
             scene,
@@ -146,7 +170,14 @@ fn main() -> ExitCode {
             dt,
             csv,
             json,
-        } => run(scene.as_deref(), steps, dt, csv.as_deref(), json.as_deref()),
+            keep_going,
+        } => run(
+            scene.as_deref(),
+            steps,
+            dt,
+            (csv.as_deref(), json.as_deref()),
+            keep_going,
+        ),
         Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
         Command::Plot {
             scene,
@@ -192,11 +223,16 @@ fn main() -> ExitCode {
             every,
         } => render::render(&scene, &out, steps, dt, (width, height), (frames, every)),
     };
+    logger::report_repeats();
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("kea: {message}");
-            ExitCode::FAILURE
+            if interrupted() {
+                ExitCode::from(130)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }
@@ -321,8 +357,8 @@ fn run(
     path: Option<&std::path::Path>,
     steps: u32,
     dt: Real,
-    csv: Option<&std::path::Path>,
-    json: Option<&std::path::Path>,
+    (csv, json): (Option<&std::path::Path>, Option<&std::path::Path>),
+    keep_going: bool,
 ) -> Result<(), String> {
     check_run(steps, dt)?;
     check_output_folder(csv, "--csv")?;
@@ -332,7 +368,11 @@ fn run(
     let mut summary = summary::Summary::new(&built);
     let bar = (steps >= 1000).then(|| indicatif::ProgressBar::new(u64::from(steps)));
     recorder.capture(0.0, &built)?;
+    let mut blown_up = None;
     for n in 1..=steps {
+        if interrupted() {
+            return Err(format!("{name}: interrupted at step {n}; nothing written"));
+        }
         let stats = built
             .step(dt)
             .map_err(|e| format!("{name}: step {n}: {e}"))?;
@@ -342,9 +382,28 @@ fn run(
         if let Some(bar) = &bar {
             bar.inc(1);
         }
+        if stats.quarantined_bodies > 0 {
+            blown_up.get_or_insert(n);
+            if !keep_going {
+                break;
+            }
+        }
     }
     if let Some(bar) = bar {
         bar.finish_and_clear();
+    }
+    let steps_taken = built.world.step_count() as u32;
+    if let Some(n) = blown_up {
+        let report = summary::quarantine_report(&built);
+        if !keep_going {
+            summary.print(&name, &built, steps_taken, dt);
+            return Err(format!(
+                "{name}: blew up at step {n} (t = {:.3} s): {report}\n  nothing written; \
+                 `--keep-going` runs on with the island frozen",
+                n as Real * dt
+            ));
+        }
+        eprintln!("kea: {name}: blew up at step {n}: {report}; kept going (--keep-going)");
     }
     // The outputs become visible only now that the whole run succeeded, all or none.
     recorder.commit()?;

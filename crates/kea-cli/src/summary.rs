@@ -19,6 +19,7 @@ pub struct Summary {
     max_joint_error: Real,
     warnings: u32,
     broken: u32,
+    quarantined: u32,
     last: Option<StepStats>,
     started: std::time::Instant,
 }
@@ -53,6 +54,7 @@ impl Summary {
             max_joint_error: 0.0,
             warnings: 0,
             broken: 0,
+            quarantined: 0,
             last: None,
             started: std::time::Instant::now(),
         }
@@ -68,6 +70,7 @@ impl Summary {
         self.dynamics += s.time_total;
         self.warnings += u32::from(!s.solver.is_clean());
         self.broken += s.broken_joints;
+        self.quarantined += s.quarantined_bodies;
         self.last = Some(*s);
         self.wall = self.started.elapsed().saturating_sub(self.measuring);
     }
@@ -115,9 +118,10 @@ impl Summary {
             energy(built)
         );
         println!(
-            "  solver     {} steps with warnings, {} joints broken, largest joint error {:.2e} m, deepest contact {:.2e} m",
+            "  solver     {} steps with warnings, {} joints broken, {} bodies quarantined, largest joint error {:.2e} m, deepest contact {:.2e} m",
             self.warnings,
             self.broken,
+            self.quarantined,
             self.max_joint_error,
             built.collision.deepest_penetration(&built.world)
         );
@@ -139,4 +143,42 @@ impl Summary {
             self.warnings
         )
     }
+}
+
+/// The quarantined islands of a run, by body name: "2 bodies quarantined (runaway at
+/// 2.1e4 m/s): ragdoll1.torso, ragdoll1.head".
+pub fn quarantine_report(built: &BuiltScene) -> String {
+    let mut parts = Vec::new();
+    for event in built.world.quarantine_report() {
+        let names: Vec<&str> = event
+            .bodies
+            .iter()
+            .map(|h| {
+                built
+                    .bodies
+                    .iter()
+                    .find(|(_, b)| b == h)
+                    .map_or("(unnamed)", |(n, _)| n.as_str())
+            })
+            .collect();
+        let why = match event.reason {
+            kea::QuarantineReason::NonFinite => "non-finite state".to_string(),
+            kea::QuarantineReason::Runaway { linear, angular } => {
+                format!("runaway at {linear:.3e} m/s, {angular:.3e} rad/s")
+            }
+        };
+        let shown = names.len().min(10);
+        let more = if names.len() > shown {
+            format!(" and {} more", names.len() - shown)
+        } else {
+            String::new()
+        };
+        parts.push(format!(
+            "{} bodies quarantined at step {} ({why}): {}{more}",
+            names.len(),
+            event.step + 1,
+            names[..shown].join(", ")
+        ));
+    }
+    parts.join("; ")
 }

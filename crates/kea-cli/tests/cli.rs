@@ -271,3 +271,55 @@ fn outputs_are_written_all_or_none() {
     assert!(!png.exists());
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn run_with_dt_10_blows_up_and_exits_non_zero_unless_kept_going() {
+    // Issue 12: this used to end with status 0 and an energy of −1.8e9 J.
+    let (code, out, err) = kea(&["run", "--dt", "10", "--steps", "100"]);
+    assert_eq!(code, 1, "{out}\n{err}");
+    assert!(err.contains("blew up at step"), "{err}");
+    assert!(err.contains("bodies quarantined"), "{err}");
+    assert!(err.contains("pyramid0."), "bodies are named: {err}");
+    assert!(err.contains("--keep-going"), "{err}");
+    // Kea's warnings are said (once per kind), not only counted.
+    assert!(err.contains("warning: kea:"), "{err}");
+    let (code, out, err) = kea(&["run", "--dt", "10", "--steps", "100", "--keep-going"]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    assert!(err.contains("kept going"), "{err}");
+    assert!(out.contains("bodies quarantined"), "{out}");
+}
+
+#[test]
+fn an_interrupted_csv_run_leaves_no_partial_file() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-int-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("long.csv");
+    let partial = dir.join("long.csv.kea-partial");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_kea"))
+        .args(["run", "--steps", "1000000", "--csv"])
+        .arg(&csv)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Wait until the run is writing, then press Ctrl-C.
+    let started = std::time::Instant::now();
+    while !partial.exists() {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "the run never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let code = child.wait().unwrap().code();
+    assert_eq!(code, Some(130));
+    assert!(!partial.exists(), "the temporary file was left behind");
+    assert!(!csv.exists(), "an interrupted run wrote its output");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -53,7 +53,10 @@ pub(crate) fn height_field_window(
         t1 = t1.min(a.max(b));
     }
     // (NaN times, from a degenerate pose, count as a miss.)
-    if t0.partial_cmp(&t1).is_none_or(|o| o == std::cmp::Ordering::Greater) {
+    if t0
+        .partial_cmp(&t1)
+        .is_none_or(|o| o == std::cmp::Ordering::Greater)
+    {
         return Window::Miss;
     }
     let cell = field.cell_width().min(field.cell_height());

@@ -48,7 +48,9 @@ fn state_hash(scene: &BuiltScene) -> u64 {
         eat(u64::from(handle.index()));
         let (p, q) = (body.position(), body.orientation());
         let (v, w) = (body.linear_velocity(), body.angular_velocity());
-        for x in [p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z] {
+        for x in [
+            p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
+        ] {
             eat(x.to_bits() as u64);
         }
     }

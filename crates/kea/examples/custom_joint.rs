@@ -10,7 +10,7 @@ use kea::{
 };
 
 /// A bead held on a vertical ring of radius `radius` centred at `centre`, in the plane z = 0.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Ring {
     centre: Vec3,
     radius: Real,

@@ -293,7 +293,7 @@ fn constraint_state_rules() {
     assert!(w.is_constraint_enabled(j).is_err());
 }
 
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Broken;
 impl CustomConstraint for Broken {
     fn write_rows(&self, _: &RowContext, out: &mut RowWriter<'_>) {

@@ -4,7 +4,7 @@
 use kea::{BodyDef, CustomConstraint, Jacobian, Real, Row, RowContext, RowWriter, Vec3, World};
 
 /// Keeps |a₁ − a₂| = length between body 1's centre and a world point.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Distance {
     anchor: Vec3,
     length: Real,

@@ -8,7 +8,7 @@ use kea::{
     Vec3,
 };
 
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Spring {
     k: Real,
     d: Real,

@@ -38,7 +38,7 @@ unsafe impl GlobalAlloc for CountingAllocator {
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
 
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Spring;
 impl CustomConstraint for Spring {
     fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {

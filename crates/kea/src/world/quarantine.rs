@@ -221,12 +221,15 @@ impl World {
         }
         self.quarantine_roots.clear();
         for e in &self.quarantine[first_event..] {
+            let shown = &e.bodies[..e.bodies.len().min(4)];
+            let more = e.bodies.len() - shown.len();
             log::warn!(
-                "kea: step {}: island of {} bodies quarantined ({:?}): {:?}",
+                "kea: step {}: island of {} bodies quarantined ({:?}): {:?}{}",
                 e.step,
                 e.bodies.len(),
                 e.reason,
-                e.bodies
+                shown,
+                if more > 0 { " and more" } else { "" }
             );
         }
         quarantined
