@@ -34,8 +34,14 @@ fn have(program: &str) -> bool {
 /// Starts Xvfb on the first free display from :90.
 fn start_xvfb() -> (Child, String) {
     for n in 90..140 {
-        if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
-            continue;
+        let lock = format!("/tmp/.X{n}-lock");
+        if Path::new(&lock).exists() {
+            // A lock whose server is gone (a run that was killed) is stale: Xvfb can take it.
+            let pid = std::fs::read_to_string(&lock).unwrap_or_default();
+            let alive = Path::new(&format!("/proc/{}", pid.trim())).exists();
+            if alive || pid.trim().is_empty() || std::fs::remove_file(&lock).is_err() {
+                continue;
+            }
         }
         let display = format!(":{n}");
         let mut child = Command::new("Xvfb")

@@ -69,6 +69,15 @@ impl CollisionWorld {
             (t.length() > 1.0e-2).then(|| t.normalize())
         });
         let points = &w.points[..w.count as usize];
+        if points
+            .iter()
+            .any(|q| q.position.abs().max_element() > kea::error::MAX_COORDINATE)
+        {
+            // Beyond where Kea takes contacts (a body at the edge of the world): none for
+            // this pair this step.
+            p.generated_at = None;
+            return Ok(());
+        }
         p.touching_now |= points.iter().any(|q| q.penetration > -touch);
         match p.manifolds.get_mut(w.existing as usize) {
             Some(m) if w.existing != Wanted::NEW && world.contact(m.handle).is_ok() => {

@@ -243,6 +243,24 @@ pub const MASS_RANGE: (Real, Real) = (1.0e-9, 1.0e12);
 /// [`MASS_RANGE`]).
 pub const INERTIA_RANGE: (Real, Real) = (1.0e-20, 1.0e20);
 
+/// Largest coordinate accepted for a position or an anchor, m: a million kilometres. Lever
+/// arms and their products in the rows stay well inside f32 there.
+pub const MAX_COORDINATE: Real = 1.0e9;
+
+/// Checks that a point is finite and each coordinate within [`MAX_COORDINATE`] of the origin.
+pub(crate) fn check_coordinate(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
+    check_vec3(arg, v)?;
+    if v.abs().max_element() > MAX_COORDINATE {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: format_vec3(v),
+            expected:
+                "each coordinate must be within 1e9 m of the origin (kea::error::MAX_COORDINATE)",
+        });
+    }
+    Ok(v)
+}
+
 /// Checks that a mass is finite and within [`MASS_RANGE`].
 pub(crate) fn check_mass(arg: &'static str, mass: Real) -> KeaResult<Real> {
     check_positive(arg, mass)?;

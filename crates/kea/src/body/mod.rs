@@ -7,7 +7,8 @@
 pub mod inertia;
 
 use crate::error::{
-    check_inertia, check_mass, check_non_negative, check_quat, check_unit, check_vec3, KeaResult,
+    check_coordinate, check_inertia, check_mass, check_non_negative, check_quat, check_unit,
+    check_vec3, KeaResult,
 };
 use crate::math::{Mat3, Mat4, Quat, Real, Vec3};
 use crate::solver::SolverPath;
@@ -130,7 +131,7 @@ impl Body {
         // Validate everything before building, so a bad field reports its own name.
         check_mass("mass", def.mass)?;
         check_inertia("inertia", def.inertia)?;
-        check_vec3("position", def.position)?;
+        check_coordinate("position", def.position)?;
         check_quat("orientation", def.orientation)?;
         check_vec3("linear_velocity", def.linear_velocity)?;
         check_vec3("angular_velocity", def.angular_velocity)?;
@@ -309,7 +310,7 @@ impl Body {
     }
     /// Sets the position of the centre of mass.
     pub fn set_position(&mut self, position: Vec3) -> KeaResult<()> {
-        check_vec3("position", position)?;
+        check_coordinate("position", position)?;
         self.position = position;
         self.update_transform();
         self.wake();

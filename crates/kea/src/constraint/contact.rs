@@ -31,7 +31,7 @@
 
 pub use super::contact_params::{ContactParams, ContactType, FrictionModel};
 use super::{Jacobian, Row, RowContext, RowWriter, Spring};
-use crate::error::{check_finite, check_unit, check_vec3, KeaError, KeaResult};
+use crate::error::{check_coordinate, check_finite, check_unit, check_vec3, KeaError, KeaResult};
 use crate::math::{orthonormal_basis, Real, Vec3};
 
 /// Most points one contact holds (a box face on a face needs four).
@@ -222,7 +222,7 @@ impl Contact {
     }
     /// Sets the position of the first point (world frame).
     pub fn set_position(&mut self, p: Vec3) -> KeaResult<()> {
-        self.points[0].position = check_vec3("position", p)?;
+        self.points[0].position = check_coordinate("position", p)?;
         Ok(())
     }
     /// Sets the normal (unit; from body 2 towards body 1). If a primary direction is set and
@@ -254,7 +254,7 @@ impl Contact {
             });
         }
         for p in points {
-            check_vec3("points[].position", p.position)?;
+            check_coordinate("points[].position", p.position)?;
             check_vec3("points[].to_second", p.to_second)?;
             check_finite("points[].penetration", p.penetration)?;
         }

@@ -3,7 +3,7 @@
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
 use crate::constraint::{BallJoint, Contact, CustomConstraint};
-use crate::error::{check_finite, check_non_negative, check_vec3, KeaError, KeaResult};
+use crate::error::{check_coordinate, check_finite, check_non_negative, KeaError, KeaResult};
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::Reaction;
@@ -54,7 +54,7 @@ impl World {
         body2: Option<BodyHandle>,
         anchor: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         self.check_pair(body1, body2)?;
         let local_anchor1 = self.bodies.get(body1)?.point_to_local(anchor);
         let local_anchor2 = match body2 {

@@ -10,7 +10,8 @@ use crate::constraint::{
     RowContext, UniversalJoint,
 };
 use crate::error::{
-    check_non_negative, check_positive, check_unit, check_vec3, KeaError, KeaResult,
+    check_coordinate, check_non_negative, check_positive, check_unit, check_vec3, KeaError,
+    KeaResult,
 };
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
@@ -53,7 +54,7 @@ impl World {
         anchor: Vec3,
         axis: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         let axis = check_unit("axis", axis)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Hinge(Hinge::new(ctx, anchor, axis))
@@ -69,7 +70,7 @@ impl World {
         anchor: Vec3,
         axis: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         let axis = check_unit("axis", axis)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Prismatic(Prismatic::new(ctx, anchor, axis))
@@ -83,7 +84,7 @@ impl World {
         body2: Option<BodyHandle>,
         anchor: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Fixed(FixedJoint::new(ctx, anchor))
         })
@@ -99,7 +100,7 @@ impl World {
         axis1: Vec3,
         axis2: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         let axis1 = check_unit("axis1", axis1)?;
         let axis2 = check_unit("axis2", axis2)?;
         check_perpendicular("axis2", axis2, axis1, "must be perpendicular to axis1")?;
@@ -117,7 +118,7 @@ impl World {
         anchor: Vec3,
         normal: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         let normal = check_unit("normal", normal)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Linear1(Linear1::new(ctx, anchor, normal))
@@ -133,7 +134,7 @@ impl World {
         anchor: Vec3,
         direction: Vec3,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         let direction = check_unit("direction", direction)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Linear2(Linear2::new(ctx, anchor, direction))
@@ -150,7 +151,7 @@ impl World {
         anchor: Vec3,
         fixed_orientation: bool,
     ) -> KeaResult<ConstraintHandle> {
-        check_vec3("anchor", anchor)?;
+        check_coordinate("anchor", anchor)?;
         self.insert_joint(body1, body2, |ctx| {
             ConstraintKind::Path(FixedPath::new(ctx, anchor, fixed_orientation))
         })
@@ -165,7 +166,7 @@ impl World {
         position: Vec3,
         velocity: Vec3,
     ) -> KeaResult<()> {
-        check_vec3("position", position)?;
+        check_coordinate("position", position)?;
         check_vec3("velocity", velocity)?;
         let body2 = self.constraints.get(h)?.bodies[1];
         let (x2, q2) = match body2 {

@@ -123,6 +123,8 @@ struct StepScratch {
     wake: Vec<bool>,
     /// Constraints that broke in the last step.
     broken: Vec<ConstraintHandle>,
+    /// Joint slots whose rows came out non-finite in this step's gather.
+    unwritable: Vec<u32>,
     /// Per constraint of the step: (slot, first row, row count), for projection.
     step_layout: Vec<(u32, u32, u32)>,
     /// The step's λ lined up with the rows a projection pass gathers.
@@ -227,6 +229,7 @@ impl World {
             island_flag: Vec::with_capacity(def.max_bodies),
             wake: Vec::with_capacity(def.max_bodies),
             broken: Vec::with_capacity(def.max_constraints),
+            unwritable: Vec::with_capacity(def.max_constraints),
             step_layout: Vec::with_capacity(def.max_constraints),
             projection_lambda: Vec::with_capacity(rows),
             quarantine_sets,

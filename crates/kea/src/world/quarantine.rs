@@ -5,7 +5,7 @@
 
 use super::constraint_entry::ConstraintKind;
 use super::World;
-use crate::error::{check_positive, KeaResult};
+use crate::error::{check_positive, KeaResult, MAX_COORDINATE};
 use crate::handle::BodyHandle;
 use crate::math::{is_finite3, Real};
 use crate::solver::SolverBody;
@@ -41,7 +41,8 @@ impl SpeedLimits {
 pub enum QuarantineReason {
     /// A body's state, or a constraint's force, became NaN or infinite.
     NonFinite,
-    /// A body went faster than [`SpeedLimits`]: its linear (m/s) and angular (rad/s) speed.
+    /// A body went faster than [`SpeedLimits`], or beyond [`MAX_COORDINATE`] of the origin:
+    /// its linear (m/s) and angular (rad/s) speed.
     Runaway {
         /// Linear speed the step would have given, m/s.
         linear: Real,
@@ -236,7 +237,8 @@ impl World {
     }
 }
 
-/// What is wrong with a solved body, if anything.
+/// What is wrong with a solved body, if anything: a non-finite state, a speed past the limits,
+/// or a position past [`MAX_COORDINATE`].
 fn body_trouble(b: &SolverBody, limits: &SpeedLimits) -> Option<QuarantineReason> {
     let finite = is_finite3(b.position)
         && b.orientation.is_finite()
@@ -246,6 +248,7 @@ fn body_trouble(b: &SolverBody, limits: &SpeedLimits) -> Option<QuarantineReason
         return Some(QuarantineReason::NonFinite);
     }
     let (linear, angular) = (b.linear_velocity.length(), b.angular_velocity.length());
-    (linear > limits.linear || angular > limits.angular)
+    let far = b.position.abs().max_element() > MAX_COORDINATE;
+    (linear > limits.linear || angular > limits.angular || far)
         .then_some(QuarantineReason::Runaway { linear, angular })
 }

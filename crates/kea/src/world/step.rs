@@ -320,6 +320,7 @@ impl World {
         rows.clear();
         blocks.clear();
         block_constraint.clear();
+        self.scratch.unwritable.clear();
         self.scratch.contacts.clear();
         self.scratch.contact_constraint.clear();
         for slot in 0..self.constraints.slot_count() {
@@ -365,6 +366,14 @@ impl World {
                 for r in &mut rows[first..] {
                     r.gamma.get_or_insert(g);
                 }
+            }
+            let custom = matches!(entry.kind, ConstraintKind::Custom(_));
+            if !custom && rows[first..].iter().any(|r| r.invalid_field().is_some()) {
+                // A joint that cannot write its rows at this state (a degenerate pose): it
+                // sits this step out and the step disables it (reported as broken).
+                rows.truncate(first);
+                self.scratch.unwritable.push(slot as u32);
+                continue;
             }
             let count = rows.len() - first;
             if count > 0 {
@@ -438,6 +447,21 @@ impl World {
     /// this step (the guide's animated hand that lets go), and lists them.
     fn break_overloaded(&mut self) -> u32 {
         self.scratch.broken.clear();
+        for k in 0..self.scratch.unwritable.len() {
+            let slot = self.scratch.unwritable[k] as usize;
+            let Some(h) = self.constraints.handle_at(slot) else {
+                continue;
+            };
+            let Some(e) = self.constraints.at_mut(slot) else {
+                continue;
+            };
+            e.enabled = false;
+            log::warn!(
+                "kea: {} {h:?} wrote non-finite rows at its bodies' poses: disabled",
+                e.kind.name()
+            );
+            self.scratch.broken.push(h);
+        }
         for k in 0..self.scratch.blocks.len() {
             let slot = self.scratch.block_constraint[k] as usize;
             let Some(e) = self.constraints.at_mut(slot) else {

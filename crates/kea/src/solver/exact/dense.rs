@@ -117,7 +117,12 @@ impl DenseIsland {
         let has_friction = self.links.iter().any(Option::is_some);
         let (mut singular, mut cycled, mut capped) = (false, false, false);
         let mut friction_converged = !has_friction;
+        let mut iterations_left = lcp::affordable_iterations(n);
         for _pass in 0..params.max_friction_passes {
+            if iterations_left == 0 {
+                capped = true;
+                break;
+            }
             let rep = lcp::solve(
                 n,
                 &self.a,
@@ -128,8 +133,9 @@ impl DenseIsland {
                 &mut self.w,
                 &mut self.state,
                 &mut self.lcp,
-                params.max_lcp_iterations,
+                params.max_lcp_iterations.min(iterations_left),
             );
+            iterations_left -= rep.iterations.min(iterations_left);
             stats.friction_passes += 1;
             stats.lcp_iterations += rep.iterations;
             stats.pivots += rep.pivots;

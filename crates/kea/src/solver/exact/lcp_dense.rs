@@ -101,6 +101,16 @@ pub(crate) fn initial_state(lo: &[f64], hi: &[f64], state: &mut [Bound]) {
     }
 }
 
+/// Most `iterations × n³` one island's dense solves (all friction passes) may spend: each
+/// iteration factorises the free block (n³/3 multiply-adds), so this keeps a big island forced
+/// onto this path within about 0.2 s a step. Past it the solve stops as if capped.
+const DENSE_WORK_BUDGET: f64 = 4.0e8;
+
+/// Pivoting iterations an island of `n` rows can afford in all (see [`DENSE_WORK_BUDGET`]).
+pub(crate) fn affordable_iterations(n: usize) -> u32 {
+    (DENSE_WORK_BUDGET / (n.max(1) as f64).powi(3)).clamp(2.0, u32::MAX as f64) as u32
+}
+
 /// Solves the BLCP. `state` is read as the starting guess and left at the final sets; `x` and
 /// `w` receive the solution and `A x − b`.
 #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]

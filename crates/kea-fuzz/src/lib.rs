@@ -1,0 +1,249 @@
+//! A seeded random-operation driver over Kea's public API (issue 12's fuzz target).
+//!
+//! Each seed makes worlds and drives them with random operations ([`ops`]): bodies, every
+//! joint, hand-made contacts, colliders of every shape, queries, steps with odd `dt`, settings.
+//! Values are mostly ordinary and sometimes at or past the edges (NaN, infinities, zero,
+//! negatives, the extremes of f32). The driver reports
+//!
+//! - **panics**: any panic, whether it escaped to the driver or was caught inside Kea (the
+//!   collision layer turns a panic inside parry into an error; that still counts here);
+//! - **hangs**: operations slower than the per-operation bound (a watchdog stops the process
+//!   with the seed and operation if one takes more than ten times the bound);
+//! - **refused calls that changed state**: a state fingerprint is taken before each call and
+//!   compared after a refusal;
+//! - **poisoned worlds**: a NaN or infinity in any body after an accepted call.
+//!
+//! CI runs [`run`] for a fixed number of operations on fixed seeds (`tests/ci.rs`); a long run
+//! is `cargo run --release -p kea-fuzz -- --seeds 100 --ops 10000` (10⁶ operations).
+
+pub mod ops;
+pub mod random;
+
+use ops::Sandbox;
+use random::Rng;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// What a run found.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct Report {
+    /// Operations run.
+    pub operations: u64,
+    /// Of those, refused with an error (bad input, stale handle, …).
+    pub refused: u64,
+    /// Panics that reached the driver.
+    pub escaped_panics: u64,
+    /// Panics caught inside Kea and turned into errors (counted by the panic hook).
+    pub caught_panics: u64,
+    /// Operations slower than the bound.
+    pub slow: u64,
+    /// Refused calls after which the world differed from before.
+    pub refused_but_changed: u64,
+    /// Accepted calls after which some body held a NaN or infinity.
+    pub poisoned: u64,
+    /// The slowest operation, and its name.
+    pub slowest: (Duration, &'static str),
+    /// The first few problems, each with its seed and operation number.
+    pub problems: Vec<String>,
+}
+
+impl Report {
+    /// Whether nothing went wrong.
+    #[must_use]
+    pub fn is_clean(&self) -> bool {
+        self.escaped_panics == 0
+            && self.caught_panics == 0
+            && self.slow == 0
+            && self.refused_but_changed == 0
+            && self.poisoned == 0
+    }
+
+    fn problem(&mut self, mut text: String) {
+        if self.problems.len() < 20 {
+            if let Some((cut, _)) = text.char_indices().nth(240) {
+                text.truncate(cut);
+                text.push('…');
+            }
+            self.problems.push(text);
+        }
+    }
+
+    fn add(&mut self, other: &Report) {
+        self.operations += other.operations;
+        self.refused += other.refused;
+        self.escaped_panics += other.escaped_panics;
+        self.caught_panics += other.caught_panics;
+        self.slow += other.slow;
+        self.refused_but_changed += other.refused_but_changed;
+        self.poisoned += other.poisoned;
+        if other.slowest.0 > self.slowest.0 {
+            self.slowest = other.slowest;
+        }
+        for p in &other.problems {
+            self.problem(p.clone());
+        }
+    }
+}
+
+/// Panics seen by the hook since the driver installed it.
+static PANICS: AtomicU64 = AtomicU64::new(0);
+static HOOKED: AtomicBool = AtomicBool::new(false);
+
+fn install_panic_counter() {
+    if HOOKED.swap(true, Ordering::SeqCst) {
+        return;
+    }
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        PANICS.fetch_add(1, Ordering::SeqCst);
+        previous(info);
+    }));
+}
+
+/// The bits of everything a refused call must leave alone.
+fn fingerprint(s: &Sandbox) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bits: u64| {
+        h = (h ^ bits).wrapping_mul(0x0100_0000_01b3);
+    };
+    let w = &s.world;
+    for (handle, b) in w.bodies() {
+        eat(u64::from(handle.index()));
+        let (p, q) = (b.position(), b.orientation());
+        let (v, o) = (b.linear_velocity(), b.angular_velocity());
+        for x in [
+            p.x,
+            p.y,
+            p.z,
+            q.x,
+            q.y,
+            q.z,
+            q.w,
+            v.x,
+            v.y,
+            v.z,
+            o.x,
+            o.y,
+            o.z,
+            b.mass(),
+        ] {
+            eat(x.to_bits() as u64);
+        }
+        eat(u64::from(b.is_enabled()));
+    }
+    eat(w.constraint_count() as u64);
+    eat(w.time().to_bits());
+    eat(w.step_count());
+    let g = w.gravity();
+    for x in [g.x, g.y, g.z, w.epsilon(), w.gamma()] {
+        eat(x.to_bits() as u64);
+    }
+    eat(s.collision.collider_count() as u64);
+    h
+}
+
+fn poisoned(s: &Sandbox) -> bool {
+    s.world.bodies().any(|(_, b)| {
+        !(b.position().is_finite()
+            && b.orientation().is_finite()
+            && b.linear_velocity().is_finite()
+            && b.angular_velocity().is_finite())
+    })
+}
+
+/// Runs `ops` operations from `seed`, with `bound` as the per-operation time bound.
+pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
+    install_panic_counter();
+    let mut report = Report::default();
+    let mut rng = Rng::new(seed);
+    let mut sandbox = Sandbox::new(&mut rng);
+    // The watchdog: the operation in flight and when it started.
+    let started_ms = Arc::new(AtomicU64::new(u64::MAX));
+    let done = Arc::new(AtomicBool::new(false));
+    let epoch = Instant::now();
+    {
+        let (started_ms, done) = (started_ms.clone(), done.clone());
+        let limit = bound.as_millis() as u64 * 10;
+        // Detached: it ends when the run does.
+        std::thread::spawn(move || {
+            while !done.load(Ordering::Relaxed) {
+                let at = started_ms.load(Ordering::Relaxed);
+                let now = epoch.elapsed().as_millis() as u64;
+                if at != u64::MAX && now.saturating_sub(at) > limit {
+                    eprintln!("kea-fuzz: HANG: seed {seed}: an operation ran past {limit} ms");
+                    std::process::exit(3);
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        });
+    }
+    for n in 0..ops {
+        if rng.chance(0.002) {
+            sandbox = Sandbox::new(&mut rng);
+        }
+        let before = fingerprint(&sandbox);
+        let panics_before = PANICS.load(Ordering::SeqCst);
+        started_ms.store(epoch.elapsed().as_millis() as u64, Ordering::Relaxed);
+        let t0 = Instant::now();
+        let result = catch_unwind(AssertUnwindSafe(|| sandbox.operate(&mut rng)));
+        let took = t0.elapsed();
+        started_ms.store(u64::MAX, Ordering::Relaxed);
+        report.operations += 1;
+        if took > report.slowest.0 {
+            report.slowest = (took, result.as_ref().map_or("(panicked)", |r| r.0));
+        }
+        let (name, outcome) = match result {
+            Ok(r) => r,
+            Err(_) => {
+                report.escaped_panics += 1;
+                report.problem(format!("seed {seed} op {n}: panic escaped"));
+                sandbox = Sandbox::new(&mut rng);
+                continue;
+            }
+        };
+        let caught = PANICS.load(Ordering::SeqCst) - panics_before;
+        if caught > 0 {
+            report.caught_panics += caught;
+            report.problem(format!(
+                "seed {seed} op {n} {name}: a panic was caught inside Kea"
+            ));
+        }
+        if took > bound {
+            report.slow += 1;
+            report.problem(format!("seed {seed} op {n} {name}: took {took:?}"));
+        }
+        match outcome {
+            Err(e) => {
+                report.refused += 1;
+                if fingerprint(&sandbox) != before {
+                    report.refused_but_changed += 1;
+                    report.problem(format!(
+                        "seed {seed} op {n} {name}: refused ({e}) but changed the world"
+                    ));
+                }
+            }
+            Ok(()) => {
+                if poisoned(&sandbox) {
+                    report.poisoned += 1;
+                    report.problem(format!(
+                        "seed {seed} op {n} {name}: accepted, and a body is now NaN"
+                    ));
+                    sandbox = Sandbox::new(&mut rng);
+                }
+            }
+        }
+    }
+    done.store(true, Ordering::Relaxed);
+    report
+}
+
+/// Runs `ops` operations from each seed in `seeds`, one after the other.
+pub fn run(seeds: std::ops::Range<u64>, ops: u64, bound: Duration) -> Report {
+    let mut total = Report::default();
+    for seed in seeds {
+        total.add(&run_seed(seed, ops, bound));
+    }
+    total
+}

@@ -1,0 +1,386 @@
+//! The operations the driver draws: every part of the public API a user reaches, with values
+//! from [`Rng`]. Each returns whether Kea accepted it.
+
+use crate::random::Rng;
+use kea::{
+    BodyDef, BodyHandle, ConstraintHandle, Contact, ContactPoint, Mat3, Real, Routing, SingleLimit,
+    SolverMode, SpeedLimits, Vec3, World, WorldDef,
+};
+use kea_collision::{ColliderDef, ColliderHandle, CollisionWorld, QueryFilter, Shape, ShapeCast};
+
+/// One world under test, with the handles made in it (some stale on purpose).
+pub struct Sandbox {
+    /// The dynamics.
+    pub world: World,
+    /// Its collision layer.
+    pub collision: CollisionWorld,
+    bodies: Vec<BodyHandle>,
+    joints: Vec<ConstraintHandle>,
+    colliders: Vec<ColliderHandle>,
+}
+
+/// What an operation did: accepted, refused, or (for a query) answered.
+pub type Outcome = Result<(), String>;
+
+fn err(e: impl std::fmt::Display) -> String {
+    e.to_string()
+}
+
+impl Sandbox {
+    /// A fresh world with a ground plane.
+    pub fn new(rng: &mut Rng) -> Self {
+        let def = WorldDef {
+            max_bodies: 8 + rng.below(40),
+            max_constraints: 16 + rng.below(200),
+            ..WorldDef::default()
+        };
+        let world = World::new(def).expect("ordinary capacities are accepted");
+        let mut collision = CollisionWorld::new();
+        let ground = Shape::plane(Vec3::Y).expect("a plane");
+        let ground = collision
+            .add_collider(&world, ColliderDef::new(None, ground))
+            .expect("a static plane");
+        Self {
+            world,
+            collision,
+            bodies: Vec::new(),
+            joints: Vec::new(),
+            colliders: vec![ground],
+        }
+    }
+
+    fn body(&self, rng: &mut Rng) -> Option<BodyHandle> {
+        (!self.bodies.is_empty()).then(|| self.bodies[rng.below(self.bodies.len())])
+    }
+
+    fn other(&self, rng: &mut Rng) -> Option<BodyHandle> {
+        if rng.chance(0.3) {
+            None
+        } else {
+            self.body(rng)
+        }
+    }
+
+    fn joint(&self, rng: &mut Rng) -> Option<ConstraintHandle> {
+        (!self.joints.is_empty()).then(|| self.joints[rng.below(self.joints.len())])
+    }
+
+    /// Draws one operation and runs it; returns its name and outcome.
+    pub fn operate(&mut self, rng: &mut Rng) -> (&'static str, Outcome) {
+        match rng.below(100) {
+            0..=11 => ("create_body", self.create_body(rng)),
+            12..=14 => ("destroy_body", self.destroy_body(rng)),
+            15..=24 => ("set_body", self.set_body(rng)),
+            25..=36 => ("create_joint", self.create_joint(rng)),
+            37..=44 => ("set_joint", self.set_joint(rng)),
+            45..=48 => ("create_contact", self.create_contact(rng)),
+            49..=58 => ("add_collider", self.add_collider(rng)),
+            59..=60 => ("remove_collider", self.remove_collider(rng)),
+            61..=68 => ("query", self.query(rng)),
+            69..=92 => ("step", self.step(rng)),
+            _ => ("settings", self.settings(rng)),
+        }
+    }
+
+    fn create_body(&mut self, rng: &mut Rng) -> Outcome {
+        let mass = rng.real(0.1, 50.0);
+        let d = rng.real(0.01, 5.0);
+        let def = BodyDef {
+            mass,
+            inertia: Mat3::from_diagonal(Vec3::new(d, rng.real(0.01, 5.0), rng.real(0.01, 5.0))),
+            position: rng.vec3(-5.0, 5.0),
+            orientation: rng.rotation(),
+            linear_velocity: rng.vec3(-5.0, 5.0),
+            angular_velocity: rng.vec3(-5.0, 5.0),
+            linear_damping: if rng.chance(0.8) {
+                0.0
+            } else {
+                rng.real(0.0, 2.0)
+            },
+            fast_spin_axis: rng.chance(0.1).then(|| rng.direction()),
+            ..BodyDef::default()
+        };
+        let h = self.world.create_body(&def).map_err(err)?;
+        self.bodies.push(h);
+        Ok(())
+    }
+
+    fn destroy_body(&mut self, rng: &mut Rng) -> Outcome {
+        let b = self.body(rng).ok_or("no body")?;
+        // The handle stays in the list: later calls with it must be refused as stale.
+        self.world.destroy_body(b).map_err(err)
+    }
+
+    fn set_body(&mut self, rng: &mut Rng) -> Outcome {
+        let b = self.body(rng).ok_or("no body")?;
+        let choice = rng.below(9);
+        let body = self.world.body_mut(b).map_err(err)?;
+        match choice {
+            0 => body.set_mass(rng.real(0.1, 50.0)),
+            1 => body.set_inertia(Mat3::from_diagonal(rng.vec3(0.01, 5.0))),
+            2 => body.set_position(rng.vec3(-5.0, 5.0)),
+            3 => body.set_orientation(rng.rotation()),
+            4 => body.set_linear_velocity(rng.vec3(-20.0, 20.0)),
+            5 => body.set_angular_velocity(rng.vec3(-20.0, 20.0)),
+            6 => body.add_force(rng.vec3(-100.0, 100.0)),
+            7 => {
+                body.set_enabled(rng.chance(0.7));
+                Ok(())
+            }
+            _ => body.set_fast_spin_axis(rng.chance(0.5).then(|| rng.direction())),
+        }
+        .map_err(err)
+    }
+
+    fn create_joint(&mut self, rng: &mut Rng) -> Outcome {
+        let a = self.body(rng).ok_or("no body")?;
+        let b = self.other(rng);
+        let anchor = rng.vec3(-5.0, 5.0);
+        let w = &mut self.world;
+        let h = match rng.below(9) {
+            0 => w.create_ball_joint(a, b, anchor),
+            1 => w.create_hinge(a, b, anchor, rng.direction()),
+            2 => w.create_prismatic(a, b, anchor, rng.direction()),
+            3 => w.create_fixed_joint(a, b, anchor),
+            4 => {
+                let axis1 = rng.direction();
+                let axis2 = axis1.any_orthonormal_vector();
+                let axis2 = if rng.chance(0.9) {
+                    axis2
+                } else {
+                    rng.direction()
+                };
+                w.create_universal_joint(a, b, anchor, axis1, axis2)
+            }
+            5 => w.create_linear1(a, b, anchor, rng.direction()),
+            6 => w.create_linear2(a, b, anchor, rng.direction()),
+            7 => w.create_fixed_path(a, b, anchor, rng.chance(0.5)),
+            _ => {
+                let wheel = b.ok_or("no wheel")?;
+                let steer = rng.direction();
+                let axle = steer.any_orthonormal_vector();
+                w.create_car_wheel(
+                    a,
+                    wheel,
+                    steer,
+                    axle,
+                    rng.real(10.0, 1e4),
+                    rng.real(0.0, 100.0),
+                )
+            }
+        }
+        .map_err(err)?;
+        self.joints.push(h);
+        Ok(())
+    }
+
+    fn set_joint(&mut self, rng: &mut Rng) -> Outcome {
+        let j = self.joint(rng).ok_or("no joint")?;
+        let w = &mut self.world;
+        let lower = SingleLimit::hard(rng.real(-2.0, 0.0), rng.real(0.0, 1.0));
+        let upper = if rng.chance(0.5) {
+            SingleLimit::hard(rng.real(0.0, 2.0), rng.real(0.0, 1.0))
+        } else {
+            SingleLimit::soft(rng.real(0.0, 2.0), rng.real(1.0, 1e4), rng.real(0.0, 10.0))
+        };
+        match rng.below(10) {
+            0 => w
+                .hinge_limit_mut(j)
+                .and_then(|l| l.set_limits(lower, upper)),
+            1 => w
+                .hinge_limit_mut(j)
+                .and_then(|l| l.set_motor(rng.real(-10.0, 10.0), rng.real(0.0, 1e3))),
+            2 => w
+                .prismatic_limit_mut(j)
+                .and_then(|l| l.set_limits(lower, upper)),
+            3 => w.set_breakable(j, Some(rng.real(0.0, 1e3)), None),
+            4 => w.set_constraint_enabled(j, rng.chance(0.6)),
+            5 => w.set_path(j, rng.vec3(-5.0, 5.0), rng.vec3(-2.0, 2.0)),
+            6 => w.set_ball_limit_axes(j, rng.direction(), rng.direction()),
+            7 => w.set_constraint_gamma(j, Some(rng.real(0.0, 1.0))),
+            8 => w.reset_constraint(j),
+            _ => w.destroy_constraint(j),
+        }
+        .map_err(err)
+    }
+
+    fn create_contact(&mut self, rng: &mut Rng) -> Outcome {
+        let a = self.body(rng).ok_or("no body")?;
+        let b = self.other(rng);
+        let n = 1 + rng.below(4);
+        let points: Vec<ContactPoint> = (0..n)
+            .map(|i| ContactPoint {
+                position: rng.vec3(-5.0, 5.0),
+                penetration: rng.real(-0.05, 0.05),
+                id: i as u32,
+                to_second: Vec3::ZERO,
+            })
+            .collect();
+        let contact = Contact::with_points(rng.direction(), &points).map_err(err)?;
+        let h = self.world.create_contact(a, b, contact).map_err(err)?;
+        self.joints.push(h);
+        Ok(())
+    }
+
+    fn shape(rng: &mut Rng) -> Result<Shape, String> {
+        let s = match rng.below(10) {
+            0 => Shape::sphere(rng.size()),
+            1 => Shape::cuboid(Vec3::new(rng.size(), rng.size(), rng.size())),
+            2 => Shape::capsule(rng.size(), rng.size()),
+            3 => Shape::cylinder(rng.size(), rng.size()),
+            4 => Shape::cone(rng.size(), rng.size()),
+            5 => {
+                let points: Vec<Vec3> =
+                    (0..4 + rng.below(8)).map(|_| rng.vec3(-1.0, 1.0)).collect();
+                Shape::convex_hull(&points)
+            }
+            6 => {
+                let v: Vec<Vec3> = (0..4).map(|_| rng.vec3(-3.0, 3.0)).collect();
+                Shape::trimesh(v, vec![[0, 1, 2], [0, 2, 3]])
+            }
+            7 => {
+                let (rows, cols) = (2 + rng.below(8), 2 + rng.below(8));
+                let heights: Vec<Vec<Real>> = (0..rows)
+                    .map(|_| (0..cols).map(|_| rng.real(-0.5, 0.5)).collect())
+                    .collect();
+                let size = Vec3::new(rng.real(1.0, 20.0), rng.real(0.1, 2.0), rng.real(1.0, 20.0));
+                Shape::heightfield(&heights, size)
+            }
+            8 => {
+                let part = Shape::cuboid(Vec3::splat(rng.size())).map_err(err)?;
+                let other = Shape::sphere(rng.size()).map_err(err)?;
+                Shape::compound(&[
+                    (rng.vec3(-1.0, 1.0), rng.rotation(), part),
+                    (rng.vec3(-1.0, 1.0), rng.rotation(), other),
+                ])
+            }
+            _ => Shape::plane(rng.direction()),
+        };
+        s.map_err(err)
+    }
+
+    fn add_collider(&mut self, rng: &mut Rng) -> Outcome {
+        let shape = Self::shape(rng)?;
+        let body = self.other(rng);
+        let mut def = ColliderDef::new(body, shape);
+        def.offset = if rng.chance(0.7) {
+            Vec3::ZERO
+        } else {
+            rng.vec3(-1.0, 1.0)
+        };
+        def.rotation = if rng.chance(0.7) {
+            kea::Quat::IDENTITY
+        } else {
+            rng.rotation()
+        };
+        let h = self.collision.add_collider(&self.world, def).map_err(err)?;
+        self.colliders.push(h);
+        Ok(())
+    }
+
+    fn remove_collider(&mut self, rng: &mut Rng) -> Outcome {
+        if self.colliders.is_empty() {
+            return Err("no collider".into());
+        }
+        let h = self.colliders[rng.below(self.colliders.len())];
+        self.collision
+            .remove_collider(&mut self.world, h)
+            .map_err(err)
+    }
+
+    fn query(&mut self, rng: &mut Rng) -> Outcome {
+        let (w, c) = (&self.world, &self.collision);
+        let filter = QueryFilter::default();
+        match rng.below(5) {
+            0 => c
+                .cast_ray(
+                    w,
+                    rng.vec3(-10.0, 10.0),
+                    rng.direction(),
+                    rng.real(0.0, 100.0),
+                    filter,
+                )
+                .map(drop),
+            1 => c
+                .cast_ray_any(
+                    w,
+                    rng.vec3(-10.0, 10.0),
+                    rng.direction(),
+                    rng.real(0.0, 100.0),
+                    filter,
+                )
+                .map(drop),
+            2 => {
+                let cast = ShapeCast {
+                    shape: Self::shape(rng)?,
+                    position: rng.vec3(-10.0, 10.0),
+                    rotation: rng.rotation(),
+                    velocity: rng.vec3(-10.0, 10.0),
+                    max_time: rng.real(0.0, 10.0),
+                };
+                c.cast_shape(w, &cast, filter).map(drop)
+            }
+            3 => {
+                let shape = Self::shape(rng)?;
+                c.overlaps(w, &shape, rng.vec3(-10.0, 10.0), rng.rotation(), filter)
+                    .map(drop)
+            }
+            _ => c
+                .project_point(w, rng.vec3(-10.0, 10.0), rng.real(0.0, 100.0), filter)
+                .map(drop),
+        }
+        .map_err(err)
+    }
+
+    fn step(&mut self, rng: &mut Rng) -> Outcome {
+        let dt = match rng.below(10) {
+            0..=6 => 1.0 / 60.0,
+            7 => rng.range(1e-4, 0.2),
+            8 => rng.range(0.2, 10.0),
+            _ => rng.odd(),
+        };
+        self.collision
+            .step(&mut self.world, dt)
+            .map(drop)
+            .map_err(err)
+    }
+
+    fn settings(&mut self, rng: &mut Rng) -> Outcome {
+        let w = &mut self.world;
+        match rng.below(9) {
+            0 => w.set_gravity(rng.vec3(-20.0, 20.0)),
+            1 => w.set_epsilon(rng.real(0.0, 0.1)),
+            2 => w.set_gamma(rng.real(0.0, 1.0)),
+            3 => {
+                let mode = [
+                    SolverMode::Hybrid,
+                    SolverMode::Exact,
+                    SolverMode::Iterative,
+                    SolverMode::Split,
+                ][rng.below(4)];
+                w.set_routing(Routing {
+                    mode,
+                    ..Routing::default()
+                })
+            }
+            4 => w.set_projection_iterations(rng.below(20) as u32),
+            5 => w.set_speed_limits(SpeedLimits {
+                linear: rng.real(1.0, 1e4),
+                angular: rng.real(1.0, 1e4),
+            }),
+            6 => {
+                self.collision.margin = rng.real(0.0, 0.1);
+                Ok(())
+            }
+            7 => {
+                w.clear_quarantine();
+                Ok(())
+            }
+            _ => {
+                self.collision.touch_distance = rng.real(0.0, 0.01);
+                Ok(())
+            }
+        }
+        .map_err(err)
+    }
+}
