@@ -35,6 +35,12 @@ pub(crate) fn height_field_window(
     let shape_box = other.compute_aabb(&local_pose);
     let half = shape_box.half_extents();
     let start = shape_box.center();
+    let bounded = half.max_element() <= 2.0 * kea::error::MAX_COORDINATE;
+    if !(bounded && start.is_finite()) {
+        // An unbounded shape (a plane, whose box parry makes huge): parry's cast between it
+        // and a height field overflows its cell indices, so the pair is not cast.
+        return Window::Miss;
+    }
     let bounds = field.root_aabb();
     // A little slack, so that a path grazing the bounds still starts outside them.
     let slack = (half + bounds.half_extents()) * 0.01 + Vec3::splat(1.0e-6);

@@ -124,9 +124,10 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<Vec<RayHit>> {
-        check_vec3("origin", origin)?;
+        check_point("origin", origin)?;
         check_vec3("direction", direction)?;
         check_non_negative("max_distance", max_distance)?;
+        check_reach("max_distance", direction, max_distance)?;
         if direction.length_squared() == 0.0 {
             return Err(kea::KeaError::NotUnit {
                 arg: "direction",
@@ -186,9 +187,10 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<bool> {
-        check_vec3("origin", origin)?;
+        check_point("origin", origin)?;
         check_vec3("direction", direction)?;
         check_non_negative("max_distance", max_distance)?;
+        check_reach("max_distance", direction, max_distance)?;
         let ray = Ray::new(origin, direction);
         for (collider, def, pose) in self.visible(world, filter) {
             let shape = def.shape.shared.as_ref();
@@ -216,9 +218,17 @@ impl CollisionWorld {
             max_time,
         } = cast;
         let (position, velocity, max_time) = (*position, *velocity, *max_time);
-        check_vec3("position", position)?;
+        check_point("position", position)?;
         check_vec3("velocity", velocity)?;
         check_non_negative("max_time", max_time)?;
+        check_reach("max_time", velocity, max_time)?;
+        if shape.kind_name() == "plane" {
+            return Err(kea::KeaError::InvalidState {
+                operation: "cast_shape",
+                reason: "a plane is unbounded and cannot be swept: cast a bounded shape",
+            }
+            .into());
+        }
         let rotation = check_unit_quat("rotation", *rotation)?;
         let pose = Pose::from_parts(position, rotation);
         let mut best: Option<ShapeHit> = None;
@@ -276,7 +286,7 @@ impl CollisionWorld {
         rotation: Quat,
         filter: QueryFilter,
     ) -> CollisionResult<Vec<ColliderHandle>> {
-        check_vec3("position", position)?;
+        check_point("position", position)?;
         let rotation = check_unit_quat("rotation", rotation)?;
         let pose = Pose::from_parts(position, rotation);
         let mut found = Vec::new();
@@ -300,7 +310,7 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<Option<PointHit>> {
-        check_vec3("point", point)?;
+        check_point("point", point)?;
         check_non_negative("max_distance", max_distance)?;
         let mut best: Option<PointHit> = None;
         for (collider, def, pose) in self.visible(world, filter) {
@@ -362,4 +372,34 @@ fn cast_times(
         return height_field_window(field, pose, target, target_pose, -velocity, max_time);
     }
     Window::Times(0.0, max_time)
+}
+
+/// Checks that a query's point is finite and within [`kea::error::MAX_COORDINATE`] of the
+/// origin, where bodies can be.
+fn check_point(arg: &'static str, v: Vec3) -> CollisionResult<()> {
+    check_vec3(arg, v)?;
+    if v.abs().max_element() > kea::error::MAX_COORDINATE {
+        return Err(kea::KeaError::OutOfRange {
+            arg,
+            value: kea::error::format_vec3(v),
+            expected: "each coordinate must be within 1e9 m of the origin",
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// Checks that a query reaches no farther than twice [`kea::error::MAX_COORDINATE`]: parry
+/// indexes height-field cells along the path, and a longer one overflows its cell indices.
+fn check_reach(arg: &'static str, direction: Vec3, length: Real) -> CollisionResult<()> {
+    let reach = direction.length() * length;
+    if !(reach <= 2.0 * kea::error::MAX_COORDINATE) {
+        return Err(kea::KeaError::OutOfRange {
+            arg,
+            value: kea::error::format_real(length),
+            expected: "the query may reach at most 2e9 m (direction or velocity length times this)",
+        }
+        .into());
+    }
+    Ok(())
 }
