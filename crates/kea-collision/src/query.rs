@@ -393,7 +393,8 @@ fn check_point(arg: &'static str, v: Vec3) -> CollisionResult<()> {
 /// indexes height-field cells along the path, and a longer one overflows its cell indices.
 fn check_reach(arg: &'static str, direction: Vec3, length: Real) -> CollisionResult<()> {
     let reach = direction.length() * length;
-    if !(reach <= 2.0 * kea::error::MAX_COORDINATE) {
+    // (A NaN reach, from an infinite direction times zero, is refused too.)
+    if reach.is_nan() || reach > 2.0 * kea::error::MAX_COORDINATE {
         return Err(kea::KeaError::OutOfRange {
             arg,
             value: kea::error::format_real(length),

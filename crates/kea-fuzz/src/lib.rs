@@ -102,6 +102,12 @@ fn install_panic_counter() {
     }));
 }
 
+/// The bits of a real, widened (in f32 and f64 alike).
+#[allow(clippy::unnecessary_cast)] // a no-op in f64
+fn bits(x: kea::Real) -> u64 {
+    x.to_bits() as u64
+}
+
 /// The bits of everything a refused call must leave alone.
 fn fingerprint(s: &Sandbox) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -129,7 +135,7 @@ fn fingerprint(s: &Sandbox) -> u64 {
             o.z,
             b.mass(),
         ] {
-            eat(x.to_bits() as u64);
+            eat(bits(x));
         }
         eat(u64::from(b.is_enabled()));
     }
@@ -138,7 +144,7 @@ fn fingerprint(s: &Sandbox) -> u64 {
     eat(w.step_count());
     let g = w.gravity();
     for x in [g.x, g.y, g.z, w.epsilon(), w.gamma()] {
-        eat(x.to_bits() as u64);
+        eat(bits(x));
     }
     eat(s.collision.collider_count() as u64);
     h

@@ -35,6 +35,12 @@ fn demo_scenes() -> Vec<(String, Scene)> {
         .collect()
 }
 
+/// The bits of a real, widened (in f32 and f64 alike).
+#[allow(clippy::unnecessary_cast)] // a no-op in f64
+fn bits(x: kea::Real) -> u64 {
+    x.to_bits() as u64
+}
+
 /// FNV-1a over the bits of every body's pose and velocities, in slot order.
 fn state_hash(scene: &BuiltScene) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -51,7 +57,7 @@ fn state_hash(scene: &BuiltScene) -> u64 {
         for x in [
             p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z,
         ] {
-            eat(x.to_bits() as u64);
+            eat(bits(x));
         }
     }
     h
