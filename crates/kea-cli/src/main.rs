@@ -299,9 +299,15 @@ fn plot_scene(
     let mut record = plot::Record::new();
     record.capture(0.0, &built, 0.0)?;
     for n in 1..=steps {
-        built
+        let stats = built
             .step(dt)
             .map_err(|e| format!("{name}: step {n}: {e}"))?;
+        if stats.quarantined_bodies > 0 {
+            return Err(format!(
+                "{name}: blew up at step {n}: {}; nothing to plot",
+                summary::quarantine_report(&built)
+            ));
+        }
         let joint_error = built.world.joint_error();
         record
             .capture(n as Real * dt, &built, joint_error)

@@ -11,6 +11,7 @@ mod joints;
 mod quarantine;
 mod sleep;
 mod step;
+mod write_back;
 
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
 pub use sleep::{DemMode, DemSettings};

@@ -7,8 +7,9 @@ use super::constraint_entry::ConstraintKind;
 use super::World;
 use crate::error::{check_positive, KeaResult, MAX_COORDINATE};
 use crate::handle::BodyHandle;
-use crate::math::{is_finite3, Real};
+use crate::math::{is_finite3, Real, Vec3};
 use crate::solver::SolverBody;
+use crate::union_find::UnionFind;
 
 /// The speeds beyond which a body counts as runaway (see [`World::set_speed_limits`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,11 +104,12 @@ impl World {
     }
 
     /// Checks the solver's results island by island; quarantines the bad ones (their solver
-    /// bodies get their state before the step back, their constraints their previous forces).
-    /// Returns how many bodies it quarantined. Costs one pass over the bodies when all is well.
+    /// bodies get their state before the step back; their joints no force, their contacts
+    /// their forces of the last step). Returns how many bodies it quarantined. Costs one pass
+    /// over the bodies when all is well.
     pub(super) fn quarantine_bad_islands(&mut self) -> u32 {
         let limits = self.speed_limits;
-        let s = &mut self.scratch;
+        let s = &self.scratch;
         let all_well = s
             .solver_bodies
             .iter()
@@ -117,7 +119,31 @@ impl World {
         if all_well {
             return 0;
         }
-        // Islands of this step: bodies joined by the constraints that took part.
+        self.mark_bad_islands();
+        self.restore_bad_constraints();
+        let first_event = self.quarantine.len();
+        let quarantined = self.freeze_bad_bodies();
+        for e in &self.quarantine[first_event..] {
+            let shown = &e.bodies[..e.bodies.len().min(4)];
+            let more = e.bodies.len() - shown.len();
+            log::warn!(
+                "kea: step {}: island of {} bodies quarantined ({:?}): {:?}{}",
+                e.step,
+                e.bodies.len(),
+                e.reason,
+                shown,
+                if more > 0 { " and more" } else { "" }
+            );
+        }
+        quarantined
+    }
+
+    /// Groups the step's solver bodies into islands (`quarantine_sets`) and flags the root of
+    /// each island with a bad body, a non-finite joint force or contact force
+    /// (`quarantine_root`).
+    fn mark_bad_islands(&mut self) {
+        let limits = self.speed_limits;
+        let s = &mut self.scratch;
         let n = s.solver_bodies.len();
         let sets = &mut s.quarantine_sets;
         sets.reset(n);
@@ -131,11 +157,10 @@ impl World {
                 sets.union(a, b);
             }
         }
-        // Mark the roots of bad islands: a bad body, a non-finite joint force or contact force.
         let roots = &mut s.quarantine_root;
         roots.clear();
         roots.resize(n, false);
-        let mut mark = |bodies: [Option<u32>; 2], sets: &mut crate::union_find::UnionFind| {
+        let mut mark = |bodies: [Option<u32>; 2], sets: &mut UnionFind| {
             for &i in bodies.iter().flatten() {
                 roots[sets.find(i) as usize] = true;
             }
@@ -156,17 +181,27 @@ impl World {
                 mark(c.bodies, sets);
             }
         }
-        let bad = |i: u32, sets: &mut crate::union_find::UnionFind| roots[sets.find(i) as usize];
-        // Constraints of bad islands keep their forces of the last step.
+    }
+
+    /// The constraints of bad islands: joints get no force, contacts their last step's.
+    fn restore_bad_constraints(&mut self) {
+        let s = &mut self.scratch;
+        let (sets, roots) = (&mut s.quarantine_sets, &s.quarantine_root);
+        let mut bad = |bodies: [Option<u32>; 2]| {
+            bodies
+                .iter()
+                .flatten()
+                .any(|&i| roots[sets.find(i) as usize])
+        };
         for (k, b) in s.blocks.iter().enumerate() {
-            if b.bodies.iter().flatten().any(|&i| bad(i, sets)) {
+            if bad(b.bodies) {
                 let rows = b.first_row as usize..(b.first_row + b.row_count) as usize;
                 s.lambda[rows].fill(0.0);
                 s.reactions[k] = Default::default();
             }
         }
         for (c, &slot) in s.contacts.iter_mut().zip(&s.contact_constraint) {
-            if c.bodies.iter().flatten().any(|&i| bad(i, sets)) {
+            if bad(c.bodies) {
                 if let Some(ConstraintKind::Contact(old)) =
                     self.constraints.at(slot as usize).map(|e| &e.kind)
                 {
@@ -174,14 +209,21 @@ impl World {
                 }
             }
         }
-        // Bodies of bad islands: their state before the step, frozen; one event per island.
-        let mut quarantined = 0;
+    }
+
+    /// The bodies of bad islands: their state before the step (in the solver array, which
+    /// write-back copies), frozen; one event per island. Returns how many.
+    fn freeze_bad_bodies(&mut self) -> u32 {
+        let limits = self.speed_limits;
+        let s = &mut self.scratch;
+        let (sets, roots) = (&mut s.quarantine_sets, &s.quarantine_root);
         let first_event = self.quarantine.len();
-        for i in 0..n as u32 {
-            if !bad(i, sets) {
+        let mut quarantined = 0;
+        for i in 0..s.solver_bodies.len() as u32 {
+            let root = sets.find(i);
+            if !roots[root as usize] {
                 continue;
             }
-            let root = sets.find(i);
             let sb = &mut s.solver_bodies[i as usize];
             let trouble = body_trouble(sb, &limits);
             let slot = s.solver_to_slot[i as usize] as usize;
@@ -190,8 +232,8 @@ impl World {
             sb.orientation = body.orientation;
             sb.linear_velocity = body.linear_velocity;
             sb.angular_velocity = body.angular_velocity;
-            sb.linear_acceleration = crate::math::Vec3::ZERO;
-            sb.angular_acceleration = crate::math::Vec3::ZERO;
+            sb.linear_acceleration = Vec3::ZERO;
+            sb.angular_acceleration = Vec3::ZERO;
             body.enabled = false;
             body.quarantined = true;
             quarantined += 1;
@@ -221,18 +263,6 @@ impl World {
             }
         }
         self.quarantine_roots.clear();
-        for e in &self.quarantine[first_event..] {
-            let shown = &e.bodies[..e.bodies.len().min(4)];
-            let more = e.bodies.len() - shown.len();
-            log::warn!(
-                "kea: step {}: island of {} bodies quarantined ({:?}): {:?}{}",
-                e.step,
-                e.bodies.len(),
-                e.reason,
-                shown,
-                if more > 0 { " and more" } else { "" }
-            );
-        }
         quarantined
     }
 }
