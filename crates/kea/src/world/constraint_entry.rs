@@ -9,11 +9,10 @@ use crate::math::Real;
 use crate::solver::Reaction;
 
 /// The kinds of constraint a world holds.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 // Contacts stay inline: they are the most numerous entries and come and go every step, so
 // boxing them would allocate in warm steps.
 #[allow(clippy::large_enum_variant)]
-#[derive(Clone)]
 pub(crate) enum ConstraintKind {
     Contact(Contact),
     // Boxed: with limits a ball joint is several times larger than a contact,
