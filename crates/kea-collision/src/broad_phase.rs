@@ -20,6 +20,7 @@ const NULL: u32 = u32::MAX;
 
 /// An axis-aligned box.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Aabb {
     pub min: Vec3,
     pub max: Vec3,
@@ -67,6 +68,7 @@ impl Aabb {
 }
 
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct Node {
     aabb: Aabb,
     parent: u32,
@@ -87,6 +89,7 @@ impl Node {
 
 /// The dynamic tree (module docs).
 #[derive(Debug, Default, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct DynamicTree {
     nodes: Vec<Node>,
     free: Vec<u32>,

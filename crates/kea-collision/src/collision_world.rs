@@ -18,6 +18,7 @@ use std::time::Instant;
 
 /// A collider's handle: generational, like Kea's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ColliderHandle {
     index: u32,
     generation: u32,
@@ -25,6 +26,7 @@ pub struct ColliderHandle {
 
 /// What to attach: a shape on a body (or on the static world), placed in the body's frame.
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ColliderDef {
     /// The body it moves with; `None` for static geometry.
     pub body: Option<BodyHandle>,
@@ -64,6 +66,7 @@ impl ColliderDef {
 /// How many contact points a pair of shapes keeps (the guide's contact strategy: one point is
 /// enough to bounce, three or four to rest).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactStrategy {
     /// Most points per manifold, 1 to 8; 4 by default.
     pub max_points: usize,
@@ -76,6 +79,7 @@ impl Default for ContactStrategy {
 }
 
 #[derive(Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Collider {
     pub(crate) def: ColliderDef,
     /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
@@ -86,12 +90,14 @@ pub(crate) struct Collider {
     /// Its pose this step, whether it cannot move this step (static, asleep or disabled), and
     /// an upper bound of how fast any of its points moves, m/s: the narrow phase reads these
     /// instead of the world.
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
     pub(crate) pose: Pose,
     pub(crate) still: bool,
     pub(crate) motion: Real,
 }
 
 #[derive(Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Slot {
     generation: u32,
     pub(crate) collider: Option<Collider>,
@@ -110,6 +116,7 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 /// Clone it together with its [`World`]: the two clones step on bit for bit like the
 /// originals.
 #[derive(Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CollisionWorld {
     pub(crate) slots: Vec<Slot>,
     free: Vec<u32>,
@@ -129,8 +136,10 @@ pub struct CollisionWorld {
     pub(crate) moved: Vec<u32>,
     pub(crate) new_pairs: Vec<(u32, u32)>,
     /// The narrow phase's chunks of pairs: what each wants this step.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) workers: Vec<NarrowWorker>,
     /// Workers in use this step (`pairs / PAIR_CHUNK`, rounded up).
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) active_workers: usize,
     pub(crate) events: Vec<ContactEvent>,
     pub(crate) pending_events: Vec<ContactEvent>,
@@ -140,6 +149,7 @@ pub struct CollisionWorld {
     /// Joints whose bodies may still collide.
     colliding_joints: Vec<ConstraintHandle>,
     /// What the last update did.
+    #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) stats: CollisionStats,
     /// Pairs whose manifold failed in the last update (see [`CollisionWorld::failed_pairs`]).
     pub(crate) failed_pairs: Vec<(ColliderHandle, ColliderHandle)>,

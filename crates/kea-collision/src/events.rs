@@ -7,6 +7,7 @@ use crate::collision_world::ColliderHandle;
 
 /// What happened to a pair this step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactEventKind {
     /// The pair started touching this step.
     Began,
@@ -18,6 +19,7 @@ pub enum ContactEventKind {
 
 /// One event of the last contact update.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactEvent {
     /// What happened.
     pub kind: ContactEventKind,

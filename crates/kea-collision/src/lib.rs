@@ -38,6 +38,9 @@ mod proxies;
 mod query;
 mod reduce;
 mod shape;
+mod shape_recipe;
+#[cfg(feature = "serde")]
+mod snapshot;
 mod sync;
 mod tessellate;
 

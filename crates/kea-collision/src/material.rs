@@ -20,6 +20,7 @@ pub type MaterialId = u32;
 
 /// The surface properties of one material, combined with another's by the rules above.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Surface {
     /// Coulomb friction coefficient, ≥ 0.
     pub friction: Real,
@@ -77,6 +78,7 @@ impl Surface {
 
 /// Materials and their pair table.
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MaterialTable {
     surfaces: Vec<Surface>,
     /// Explicit pair entries, keyed by (smaller id, larger id), sorted for binary search.
@@ -87,6 +89,7 @@ pub struct MaterialTable {
 
 /// One explicit pair entry.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct PairEntry {
     params: ContactParams,
     /// A fixed world friction direction, oriented for the pair's smaller id as body 1.

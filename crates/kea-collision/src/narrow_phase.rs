@@ -81,9 +81,13 @@ fn prefetch<T>(x: &T) {
 /// The colliders' world poses when a pair's manifolds were generated, and the second's pose
 /// in the first's frame then.
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Generated {
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
     pub a: Pose,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
     pub b: Pose,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
     pub relative: Pose,
 }
 

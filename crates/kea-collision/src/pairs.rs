@@ -13,6 +13,7 @@ use std::collections::HashMap;
 
 /// One point of a manifold as generated, in each collider's own frame.
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct CachedPoint {
     pub local_a: Vec3,
     pub local_b: Vec3,
@@ -25,6 +26,7 @@ pub(crate) struct CachedPoint {
 /// A manifold as generated (reduced), in the colliders' own frames: enough to move it with the
 /// colliders while they barely move relative to each other (the manifold cache).
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct ManifoldCache {
     /// Sub-shapes (triangles of a mesh or height field; 0 otherwise).
     pub sub: (u32, u32),
@@ -37,6 +39,7 @@ pub(crate) struct ManifoldCache {
 
 /// One manifold of a pair and the Kea contact it became.
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct PairManifold {
     pub cache: ManifoldCache,
     pub handle: ConstraintHandle,
@@ -46,6 +49,7 @@ pub(crate) struct PairManifold {
 
 /// A pair of colliders whose fat boxes overlap.
 #[derive(Debug, Default, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct PairState {
     /// Collider slots, first < second.
     pub colliders: (u32, u32),
@@ -76,6 +80,7 @@ const MULTI_MANIFOLDS: usize = 16;
 
 /// The live pairs (module docs).
 #[derive(Debug, Default, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct Pairs {
     pub slots: Vec<PairState>,
     /// Free slots whose manifolds are inline, and those that keep heap room for several: a
@@ -84,6 +89,7 @@ pub(crate) struct Pairs {
     /// kind of pair needs.
     free: Vec<u32>,
     free_spilled: Vec<u32>,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pair_map"))]
     map: HashMap<(u32, u32), u32>,
 }
 

@@ -9,12 +9,15 @@ use crate::error::{
 use crate::parry::math::Pose;
 use crate::parry::shape::{HeightFieldFlags, SharedShape, TriMesh, TriMeshFlags, TypedShape};
 use crate::parry::utils::Array2;
+use crate::shape_recipe::Recipe;
 use kea::{Mat3, Quat, Real, Vec3};
 
 /// A collision shape in its own frame. Cheap to clone (the geometry is shared).
 #[derive(Clone)]
 pub struct Shape {
     pub(crate) shared: SharedShape,
+    /// How it was made, for snapshots (shared like the geometry).
+    pub(crate) recipe: std::sync::Arc<Recipe>,
 }
 
 impl std::fmt::Debug for Shape {
@@ -27,9 +30,10 @@ impl Shape {
     /// A sphere of `radius` about the origin.
     pub fn sphere(radius: Real) -> CollisionResult<Self> {
         check_size("radius", radius)?;
-        Ok(Self {
-            shared: SharedShape::ball(radius),
-        })
+        Ok(Self::made(
+            SharedShape::ball(radius),
+            Recipe::Sphere(radius),
+        ))
     }
 
     /// A box with the given half extents, centred on the origin.
@@ -38,9 +42,10 @@ impl Shape {
         check_size("half_extents.y", half_extents.y)?;
         check_size("half_extents.z", half_extents.z)?;
         check_aspect("half_extents", &half_extents.to_array())?;
-        Ok(Self {
-            shared: SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
-        })
+        Ok(Self::made(
+            SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
+            Recipe::Cuboid(half_extents),
+        ))
     }
 
     /// The half-space below the plane through the origin with unit outward `normal` (static
@@ -54,9 +59,7 @@ impl Shape {
                 value: format!("{normal}"),
                 length: kea::math::wide(normal.length()),
             })?;
-        Ok(Self {
-            shared: SharedShape::halfspace(n),
-        })
+        Ok(Self::made(SharedShape::halfspace(n), Recipe::Plane(normal)))
     }
 
     /// A capsule along the y axis: a segment from `-half_height` to `half_height`, swept by
@@ -65,9 +68,10 @@ impl Shape {
         check_size("half_height", half_height)?;
         check_size("radius", radius)?;
         check_aspect("half_height and radius", &[half_height, radius])?;
-        Ok(Self {
-            shared: SharedShape::capsule_y(half_height, radius),
-        })
+        Ok(Self::made(
+            SharedShape::capsule_y(half_height, radius),
+            Recipe::Capsule(half_height, radius),
+        ))
     }
 
     /// A cylinder along the y axis.
@@ -75,9 +79,10 @@ impl Shape {
         check_size("half_height", half_height)?;
         check_size("radius", radius)?;
         check_aspect("half_height and radius", &[half_height, radius])?;
-        Ok(Self {
-            shared: SharedShape::cylinder(half_height, radius),
-        })
+        Ok(Self::made(
+            SharedShape::cylinder(half_height, radius),
+            Recipe::Cylinder(half_height, radius),
+        ))
     }
 
     /// A cone along the y axis, apex at `+half_height`, base of `radius` at `-half_height`.
@@ -85,9 +90,10 @@ impl Shape {
         check_size("half_height", half_height)?;
         check_size("radius", radius)?;
         check_aspect("half_height and radius", &[half_height, radius])?;
-        Ok(Self {
-            shared: SharedShape::cone(half_height, radius),
-        })
+        Ok(Self::made(
+            SharedShape::cone(half_height, radius),
+            Recipe::Cone(half_height, radius),
+        ))
     }
 
     /// The convex hull of `points`. Fewer than four points, non-finite points, or points that
@@ -111,7 +117,7 @@ impl Shape {
                 "the convex hull is flat (volume {volume})"
             )));
         }
-        Ok(Self { shared })
+        Ok(Self::made(shared, Recipe::ConvexHull(points.to_vec())))
     }
 
     /// A triangle mesh from vertices and counter-clockwise index triples. Empty meshes,
@@ -149,11 +155,11 @@ impl Shape {
         let bad = |e: &dyn std::fmt::Display| {
             CollisionError::DegenerateShape(format!("triangle mesh: {e}"))
         };
+        let recipe = Recipe::Trimesh(vertices.clone(), indices.clone());
         let mut mesh = TriMesh::new(vertices, indices).map_err(|e| bad(&e))?;
         // (parry's `with_flags` drops a topology error; `set_flags` reports it.)
         mesh.set_flags(flags).map_err(|e| bad(&e))?;
-        let shared = SharedShape::new(mesh);
-        Ok(Self { shared })
+        Ok(Self::made(SharedShape::new(mesh), recipe))
     }
 
     /// A height field over the x–z plane, centred on the origin: `heights[row][column]`, rows
@@ -187,9 +193,10 @@ impl Shape {
         }
         let grid = Array2::new(rows, cols, data);
         let flags = HeightFieldFlags::FIX_INTERNAL_EDGES;
-        Ok(Self {
-            shared: SharedShape::heightfield_with_flags(grid, size, flags),
-        })
+        Ok(Self::made(
+            SharedShape::heightfield_with_flags(grid, size, flags),
+            Recipe::Heightfield(heights.to_vec(), size),
+        ))
     }
 
     /// A compound of parts, each placed at an offset and orientation in the compound's frame.
@@ -212,9 +219,21 @@ impl Shape {
             }
             list.push((Pose::from_parts(*offset, rotation), part.shared.clone()));
         }
-        Ok(Self {
-            shared: SharedShape::compound(list),
-        })
+        let recipe = parts
+            .iter()
+            .map(|(offset, rotation, part)| (*offset, *rotation, (*part.recipe).clone()))
+            .collect();
+        Ok(Self::made(
+            SharedShape::compound(list),
+            Recipe::Compound(recipe),
+        ))
+    }
+
+    fn made(shared: SharedShape, recipe: Recipe) -> Self {
+        Self {
+            shared,
+            recipe: std::sync::Arc::new(recipe),
+        }
     }
 
     /// What kind of shape this is, in words.

@@ -8,7 +8,7 @@ use crate::joint_format::{JointKind, JointSpec, LimitSpec};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
 
 /// A fixed-path joint driven along keyframes `[t, x, y, z]` (world frame).
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct PathDriver {
     /// The joint.
     pub joint: ConstraintHandle,

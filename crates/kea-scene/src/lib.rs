@@ -21,6 +21,7 @@ mod format;
 mod groups;
 mod joint_format;
 mod joints;
+mod snapshot;
 
 pub use build::{body_count, build, BuiltScene, MAX_BODIES, MAX_CONSTRAINTS};
 pub use error::SceneError;
@@ -29,6 +30,7 @@ pub use format::{
     RoutingSpec, Scene, ShapeSpec, SleepSpec, SolverSpec, WorldSpec, V3, VERSION,
 };
 pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
+pub use snapshot::{SceneSnapshot, SNAPSHOT_VERSION};
 
 impl Scene {
     /// Reads a scene from JSON text. Errors carry the line and column and what was expected.

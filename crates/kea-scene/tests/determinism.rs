@@ -7,6 +7,9 @@
 //!   the same across runs and processes (each test run is a new process), with the `parallel`
 //!   feature on and off (both builds check the same file), and for 1, 2 and 4 threads.
 //!
+//! - A snapshot saved mid-run, in the binary and the JSON form, restores to a scene that steps
+//!   on with the same bits, on every demo scene.
+//!
 //! After a change that moves the physics on purpose, write the new hashes with
 //! `KEA_BLESS=1 cargo test -p kea-scene --test determinism` (and again with
 //! `--features kea-collision/f64`).
@@ -89,6 +92,50 @@ fn every_demo_scene_replays_bit_for_bit_from_a_clone_taken_mid_run() {
             "{name}"
         );
     }
+}
+
+#[test]
+fn every_demo_scene_replays_bit_for_bit_from_a_saved_snapshot() {
+    for (name, scene) in demo_scenes() {
+        let mut original = build(&scene).unwrap();
+        run(&mut original, STEPS / 2);
+        let binary = original.snapshot_binary().unwrap();
+        let json = original.snapshot_json().unwrap();
+        let mut from_binary =
+            BuiltScene::restore_binary(&binary).unwrap_or_else(|e| panic!("{name}: binary: {e}"));
+        let mut from_json =
+            BuiltScene::restore_json(&json).unwrap_or_else(|e| panic!("{name}: JSON: {e}"));
+        run(&mut original, STEPS / 2);
+        run(&mut from_binary, STEPS / 2);
+        run(&mut from_json, STEPS / 2);
+        let expected = state_hash(&original);
+        assert_eq!(state_hash(&from_binary), expected, "{name}: binary");
+        assert_eq!(state_hash(&from_json), expected, "{name}: JSON");
+        // The restored scene answers to the same handles.
+        let (body_name, body) = &original.bodies[0];
+        assert_eq!(from_binary.body(body_name), Some(*body));
+        assert!(from_binary.world.body(*body).is_ok());
+    }
+}
+
+#[test]
+fn a_bad_snapshot_is_refused_by_name() {
+    let (_, scene) = demo_scenes().remove(0);
+    let built = build(&scene).unwrap();
+    let mut binary = built.snapshot_binary().unwrap();
+    let e = BuiltScene::restore_binary(b"not a snapshot").err().unwrap();
+    assert!(e.to_string().contains("KEASNAP"), "{e}");
+    binary[8] = 99; // the version
+    let e = BuiltScene::restore_binary(&binary).err().unwrap();
+    assert!(e.to_string().contains("version 99"), "{e}");
+    let json = built
+        .snapshot_json()
+        .unwrap()
+        .replacen("\"version\":1", "\"version\":7", 1);
+    let e = BuiltScene::restore_json(&json).err().unwrap();
+    assert!(e.to_string().contains("version 7"), "{e}");
+    let e = BuiltScene::restore_json("{}").err().unwrap();
+    assert!(e.to_string().contains("snapshot"), "{e}");
 }
 
 fn golden_path() -> String {

@@ -15,10 +15,17 @@ pub(crate) fn next_world_id() -> u32 {
     NEXT_WORLD_ID.fetch_add(1, Ordering::Relaxed)
 }
 
+/// Keeps new worlds' ids past `id` (a world restored from a snapshot keeps its own).
+#[cfg(feature = "serde")]
+pub(crate) fn reserve_world_id(id: u32) {
+    NEXT_WORLD_ID.fetch_max(id.saturating_add(1), Ordering::Relaxed);
+}
+
 macro_rules! define_handle {
     ($(#[$doc:meta])* $name:ident, $kind:literal) => {
         $(#[$doc])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
         pub struct $name {
             pub(crate) world: u32,
             pub(crate) index: u32,
@@ -75,6 +82,14 @@ struct Slot<T> {
     value: Option<T>,
 }
 
+/// An arena's slots and free list, as a snapshot holds them.
+#[cfg(feature = "serde")]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub(crate) struct ArenaState<T> {
+    slots: Vec<(u32, Option<T>)>,
+    free: Vec<u32>,
+}
+
 /// A slot arena with a fixed capacity, reserved up front.
 #[derive(Clone)]
 pub(crate) struct Arena<T, H: HandleKind> {
@@ -102,6 +117,63 @@ impl<T, H: HandleKind> Arena<T, H> {
 
     pub(crate) fn len(&self) -> usize {
         self.len
+    }
+
+    /// The arena's slots (generation and value) and free list, for a snapshot.
+    #[cfg(feature = "serde")]
+    pub(crate) fn state(&self) -> ArenaState<T>
+    where
+        T: Clone,
+    {
+        ArenaState {
+            slots: self
+                .slots
+                .iter()
+                .map(|s| (s.generation, s.value.clone()))
+                .collect(),
+            free: self.free.clone(),
+        }
+    }
+
+    /// An arena of `capacity` holding a snapshot's slots, checked: no more slots than the
+    /// capacity, and a free list of distinct empty slots.
+    #[cfg(feature = "serde")]
+    pub(crate) fn from_state(
+        world: u32,
+        capacity: usize,
+        what: &'static str,
+        state: ArenaState<T>,
+    ) -> KeaResult<Self> {
+        let mut arena = Self::new(world, capacity, what);
+        let bad = |reason: String| KeaError::Inconsistent {
+            arg: "snapshot",
+            reason,
+        };
+        if state.slots.len() > capacity {
+            return Err(bad(format!(
+                "{} slots of {what} for a capacity of {capacity}",
+                state.slots.len()
+            )));
+        }
+        for (generation, value) in state.slots {
+            arena.len += usize::from(value.is_some());
+            arena.slots.push(Slot { generation, value });
+        }
+        let mut seen = vec![false; arena.slots.len()];
+        for &i in &state.free {
+            let empty = arena
+                .slots
+                .get(i as usize)
+                .is_some_and(|s| s.value.is_none());
+            if !empty || std::mem::replace(&mut seen[i as usize], true) {
+                return Err(bad(format!("free list of {what} names slot {i} wrongly")));
+            }
+        }
+        if state.free.len() != arena.slots.len() - arena.len {
+            return Err(bad(format!("free list of {what} misses empty slots")));
+        }
+        arena.free.extend_from_slice(&state.free);
+        Ok(arena)
     }
 
     pub(crate) fn capacity(&self) -> usize {

@@ -48,6 +48,8 @@ pub use world::{
     CollisionStats, DemMode, DemSettings, QuarantineEvent, QuarantineReason, SpeedLimits,
     StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
 };
+#[cfg(feature = "serde")]
+pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};
 
 /// The README's tour, compiled and run as a doctest so that it stays true.
 #[cfg(doctest)]

@@ -71,6 +71,7 @@ impl Default for BodyDef {
 /// [`crate::World::body_mut`]; every setter validates its argument first and changes nothing on
 /// error.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Body {
     pub(crate) mass: Real,
     pub(crate) inv_mass: Real,

@@ -12,6 +12,7 @@ use crate::math::{Quat, Real, Vec3, PI};
 
 /// A ball-and-socket joint: a point of body 1 held at a point of body 2 (or of the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BallJoint {
     /// Anchor in body 1's frame.
     pub local_anchor1: Vec3,
@@ -36,6 +37,7 @@ pub struct BallJoint {
 ///
 /// Each coordinate has a [`Limit`]: stops (hard or soft) and, if wanted, a motor.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BallLimits {
     /// Primary axis, body 1's frame.
     pub primary1: Vec3,

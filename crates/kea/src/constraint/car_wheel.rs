@@ -19,6 +19,7 @@ use crate::math::{Real, Vec3};
 
 /// A car wheel: chassis (body 1) to wheel (body 2).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CarWheel {
     /// Attachment point (the wheel centre at rest) in the chassis frame.
     pub local_anchor1: Vec3,

@@ -56,6 +56,7 @@ pub const BOUNCE_SOFTNESS: Real = 1.0e-10;
 
 /// One point of a contact.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactPoint {
     /// World position, between the two surfaces.
     pub position: Vec3,
@@ -112,6 +113,7 @@ pub(crate) struct FrictionFrame {
 /// The force a contact applied at one point in the last step, on body 1 (body 2 gets the
 /// opposite).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PointForce {
     /// Normal force, N, along the contact normal (negative only for an adhesive contact).
     pub normal: Real,
@@ -123,6 +125,7 @@ pub struct PointForce {
 /// points (see the module docs). Defaults follow the guide's reset table: one point at the
 /// origin, normal +y, penetration 0, no primary direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Contact {
     normal: Vec3,
     direction: Option<Vec3>,

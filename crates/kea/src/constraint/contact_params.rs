@@ -6,6 +6,7 @@ use crate::math::Real;
 
 /// Which tangential directions carry friction (the guide's `MdtContactType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactType {
     /// No friction: the bodies slide freely.
     Frictionless,
@@ -18,6 +19,7 @@ pub enum ContactType {
 
 /// How friction is bounded along one direction (the guide's friction models).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum FrictionModel {
     /// No bound: the surfaces never slide (the guide's default when no model is set).
     Infinite,
@@ -35,6 +37,7 @@ pub enum FrictionModel {
 
 /// The surface parameters of a contact (the guide's `MdtBclContactParams`).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactParams {
     /// Frictionless, 1D or 2D.
     pub contact_type: ContactType,

@@ -8,6 +8,7 @@ use crate::math::{Quat, Vec3};
 
 /// A weld between body 1 and body 2 (or the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FixedJoint {
     /// Anchor in body 1's frame.
     pub local_anchor1: Vec3,

@@ -15,6 +15,7 @@ use crate::math::{Quat, Vec3};
 /// A point of body 1 driven along a path given in body 2's frame (the world's, when body 2 is
 /// the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FixedPath {
     /// The driven point, in body 1's frame.
     pub local_anchor1: Vec3,

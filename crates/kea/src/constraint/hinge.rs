@@ -17,6 +17,7 @@ use crate::math::{orthonormal_basis, Real, Vec3};
 
 /// A hinge between body 1 and body 2 (or the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Hinge {
     /// Anchor in body 1's frame.
     pub local_anchor1: Vec3,

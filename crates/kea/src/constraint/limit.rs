@@ -27,10 +27,12 @@ const BOUNCE_MIN_SPEED: Real = 1.0e-3;
 
 /// One stop of a limit.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SingleLimit {
     /// Position of the stop (rad or m).
     pub stop: Real,
     /// Stiffness, N·m/rad or N/m (`INFINITY`: perfectly hard, the default).
+    #[cfg_attr(feature = "serde", serde(with = "crate::world::serde_real"))]
     pub stiffness: Real,
     /// Damping of a soft stop, N·m·s/rad or N·s/m (≥ 0).
     pub damping: Real,
@@ -39,6 +41,7 @@ pub struct SingleLimit {
     /// The guide's damping threshold: a stop stiffer than this is hard (restitution used), one at
     /// or below it soft (stiffness and damping used). Default `INFINITY`: only an infinitely
     /// stiff stop is hard.
+    #[cfg_attr(feature = "serde", serde(with = "crate::world::serde_real"))]
     pub damping_threshold: Real,
 }
 
@@ -115,6 +118,7 @@ impl SingleLimit {
 
 /// A force-limited motor (the guide's limited-force motor).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Motor {
     /// Desired velocity of the coordinate, rad/s or m/s (0: a brake).
     pub desired_velocity: Real,
@@ -124,6 +128,7 @@ pub struct Motor {
 
 /// Limits and motor of one coordinate, with the read-outs of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Limit {
     limited: bool,
     lower: SingleLimit,

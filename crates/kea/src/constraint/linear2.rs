@@ -8,6 +8,7 @@ use crate::math::Vec3;
 
 /// Keeps a point of body 1 on a line of body 2.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Linear2 {
     /// The point, in body 1's frame.
     pub local_anchor1: Vec3,

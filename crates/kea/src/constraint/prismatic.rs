@@ -14,6 +14,7 @@ use crate::math::{Quat, Real, Vec3};
 
 /// A slider between body 1 and body 2 (or the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Prismatic {
     /// Anchor in body 1's frame.
     pub local_anchor1: Vec3,

@@ -59,6 +59,7 @@ impl Softness {
 /// Mass-independent softness: the natural frequency and damping ratio a row has with its own
 /// effective mass (see the module docs). The default softness of contacts.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Spring {
     /// Natural frequency, Hz, > 0. A body resting on the row sinks `g/(2πf)²`: 0.25 mm at
     /// 30 Hz, 4 µm at 240 Hz. Stiffer rows let tall stacks sag less and need the solver to

@@ -9,6 +9,7 @@ use crate::math::Vec3;
 
 /// A universal joint between body 1 and body 2 (or the world).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct UniversalJoint {
     /// Anchor in body 1's frame.
     pub local_anchor1: Vec3,

@@ -111,6 +111,7 @@ pub struct SolverContact {
 /// The force and torque a constraint applies to one of its bodies (torque about that body's
 /// centre of mass).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Reaction {
     /// Force, N.
     pub force: Vec3,

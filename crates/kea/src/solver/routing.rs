@@ -22,6 +22,7 @@ use crate::math::Real;
 
 /// Which solver handled an island.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolverPath {
     /// Not solved (no constraint) this step.
     #[default]
@@ -37,6 +38,7 @@ pub enum SolverPath {
 
 /// How islands are routed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SolverMode {
     /// Small islands exact, big ones iterative (the default).
     #[default]
@@ -52,6 +54,7 @@ pub enum SolverMode {
 
 /// Routing settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Routing {
     /// The mode. Default hybrid.
     pub mode: SolverMode,

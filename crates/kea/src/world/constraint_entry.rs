@@ -13,6 +13,7 @@ use crate::solver::Reaction;
 // Contacts stay inline: they are the most numerous entries and come and go every step, so
 // boxing them would allocate in warm steps.
 #[allow(clippy::large_enum_variant)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) enum ConstraintKind {
     Contact(Contact),
     // Boxed: with limits a ball joint is several times larger than a contact,
@@ -26,6 +27,8 @@ pub(crate) enum ConstraintKind {
     Linear2(Linear2),
     Path(FixedPath),
     Wheel(Box<CarWheel>),
+    /// (A snapshot refuses a world holding one: user code cannot be saved.)
+    #[cfg_attr(feature = "serde", serde(skip))]
     Custom(Box<dyn CustomConstraint>),
 }
 
@@ -87,6 +90,7 @@ impl ConstraintKind {
 
 /// A constraint slot's contents.
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct ConstraintEntry {
     pub(crate) kind: ConstraintKind,
     pub(crate) bodies: [Option<BodyHandle>; 2],

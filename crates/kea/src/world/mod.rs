@@ -10,11 +10,17 @@ mod constraints;
 mod joints;
 mod quarantine;
 mod sleep;
+#[cfg(feature = "serde")]
+mod snapshot;
 mod step;
 mod write_back;
 
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
 pub use sleep::{DemMode, DemSettings};
+#[cfg(feature = "serde")]
+pub(crate) use snapshot::serde_real;
+#[cfg(feature = "serde")]
+pub use snapshot::{WorldSnapshot, SNAPSHOT_VERSION};
 pub use step::{CollisionStats, StepStats, PARALLEL_MIN_BODIES, PROJECTION_TOLERANCE};
 
 use crate::body::{Body, BodyDef};
@@ -155,6 +161,8 @@ pub struct World {
     iterative: IterativeParams,
     projection_iterations: u32,
     speed_limits: SpeedLimits,
+    /// Rows the solver's workspace was reserved for ([`WorldDef::max_island_rows`]).
+    max_island_rows: usize,
     /// Islands quarantined and not yet cleared.
     quarantine: Vec<QuarantineEvent>,
     /// While quarantining: each new event's island root, and whether it has its reason.
@@ -251,6 +259,7 @@ impl World {
             iterative: def.iterative,
             projection_iterations: def.projection_iterations,
             speed_limits: def.speed_limits,
+            max_island_rows: def.max_island_rows,
             quarantine: Vec::new(),
             quarantine_roots: Vec::new(),
             solver: Solver::with_capacity(
@@ -395,6 +404,13 @@ impl World {
     #[must_use]
     pub fn max_bodies(&self) -> usize {
         self.bodies.capacity()
+    }
+
+    /// Rows of the largest island the solver's workspace was reserved for
+    /// ([`WorldDef::max_island_rows`]).
+    #[must_use]
+    pub fn max_island_rows(&self) -> usize {
+        self.max_island_rows
     }
 
     /// Constraint capacity.

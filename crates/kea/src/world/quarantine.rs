@@ -13,6 +13,7 @@ use crate::union_find::UnionFind;
 
 /// The speeds beyond which a body counts as runaway (see [`World::set_speed_limits`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedLimits {
     /// Largest linear speed, m/s. Default 1e4 (thirty times the speed of sound).
     pub linear: Real,
@@ -39,6 +40,7 @@ impl SpeedLimits {
 
 /// Why an island was quarantined.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum QuarantineReason {
     /// A body's state, or a constraint's force, became NaN or infinite.
     NonFinite,
@@ -54,6 +56,7 @@ pub enum QuarantineReason {
 
 /// One island taken out of the simulation by a step.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct QuarantineEvent {
     /// The step that failed (the world's step count before it).
     pub step: u64,

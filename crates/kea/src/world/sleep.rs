@@ -19,6 +19,7 @@ use crate::math::Real;
 
 /// How the world partitions and disables bodies (the guide's `MdtDEMMode`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum DemMode {
     /// Partition into islands and disable resting islands automatically.
     PartitionAutoDisable,
@@ -31,6 +32,7 @@ pub enum DemMode {
 
 /// Thresholds for automatic disabling (the guide's `MdtWorldSetDEM*`). Units are SI.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DemSettings {
     /// The mode. Default [`DemMode::PartitionNoAutoDisable`], as in the guide.
     pub mode: DemMode,

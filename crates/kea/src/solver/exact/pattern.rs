@@ -20,8 +20,11 @@ pub(crate) type BlockBodies = [u32; 2];
 /// The analysis of one block graph.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Pattern {
-    /// The graph it analyses (for cache hits).
+    /// The graph it analyses and its blocks' row counts (the elimination's weights), for
+    /// cache hits: an order depends on both, so that a cached one is the order a fresh
+    /// analysis would give (a restored snapshot, whose cache starts empty, steps the same).
     key: Vec<BlockBodies>,
+    rows: Vec<u32>,
     /// Elimination position → block.
     pub(crate) order: Vec<u32>,
     /// `later[later_start[k]..later_start[k + 1]]`: positions, ascending, of the blocks below
@@ -75,9 +78,9 @@ impl Pattern {
         &self.update_slots[self.update_start[k] as usize..self.update_start[k + 1] as usize]
     }
 
-    /// Whether the analysis is of graph `key`.
-    fn is_for(&self, key: &[BlockBodies]) -> bool {
-        self.key == key
+    /// Whether the analysis is of graph `key` with blocks of `rows` rows.
+    fn is_for(&self, key: &[BlockBodies], rows: &[u32]) -> bool {
+        self.key == key && self.rows == rows
     }
 }
 
@@ -118,7 +121,7 @@ impl PatternCache {
     /// The analysis of the island whose blocks touch `key` (one entry per block) and have
     /// `rows[i]` rows each, from the cache or computed now. `bodies` is the island's body count.
     pub(crate) fn get(&mut self, key: &[BlockBodies], rows: &[u32], bodies: usize) -> &Pattern {
-        if let Some(i) = self.patterns.iter().position(|p| p.is_for(key)) {
+        if let Some(i) = self.patterns.iter().position(|p| p.is_for(key, rows)) {
             // Most recently used first.
             self.patterns[..=i].rotate_right(1);
             return &self.patterns[0];
@@ -141,6 +144,8 @@ impl Elimination {
         let n = key.len();
         p.key.clear();
         p.key.extend_from_slice(key);
+        p.rows.clear();
+        p.rows.extend_from_slice(rows);
         self.build_graph(key, bodies);
         self.eliminated.clear();
         self.eliminated.resize(n, false);

@@ -41,6 +41,7 @@ use rows::JointRows;
 
 /// Settings of the iterative path. Every field has its unit, normal value and range.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct IterativeParams {
     /// Substeps per step (≥ 1). Default 4. More substeps stiffen contacts and joints at a
     /// linear cost; 1 is plain sequential impulses.

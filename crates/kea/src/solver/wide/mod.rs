@@ -102,6 +102,7 @@ pub(crate) trait FloatW:
 
 /// Which lane width the contact solver uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SimdLevel {
     /// The widest the processor supports, found at run time (the default).
     #[default]
