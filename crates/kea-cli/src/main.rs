@@ -62,6 +62,14 @@ enum Command {
         /// without it the run stops there and exits with status 1.
         #[arg(long)]
         keep_going: bool,
+        /// Save the whole state after step STEP (0: before the first) to FILE: JSON if FILE
+        /// ends in `.json`, the binary form otherwise. `--restore FILE` goes on from it, bit
+        /// for bit.
+        #[arg(long, num_args = 2, value_names = ["STEP", "FILE"])]
+        save_at: Option<Vec<String>>,
+        /// Start from a snapshot saved by `--save-at` instead of a scene file.
+        #[arg(long, conflicts_with = "scene")]
+        restore: Option<PathBuf>,
     },
     /// Step a scene and write its last frame as a PNG, drawn on the CPU.
     Render {
@@ -171,13 +179,20 @@ fn main() -> ExitCode {
             csv,
             json,
             keep_going,
-        } => run(
-            scene.as_deref(),
-            steps,
-            dt,
-            (csv.as_deref(), json.as_deref()),
-            keep_going,
-        ),
+            save_at,
+            restore,
+        } => save_at_flag(save_at.as_deref()).and_then(|save_at| {
+            run(&RunOptions {
+                scene: scene.as_deref(),
+                restore: restore.as_deref(),
+                steps,
+                dt,
+                csv: csv.as_deref(),
+                json: json.as_deref(),
+                keep_going,
+                save_at,
+            })
+        }),
         Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
         Command::Plot {
             scene,
@@ -359,61 +374,127 @@ pub(crate) fn check_dt(dt: Real) -> Result<(), String> {
     Ok(())
 }
 
-fn run(
-    path: Option<&std::path::Path>,
+/// What `kea run` was asked to do.
+struct RunOptions<'a> {
+    scene: Option<&'a std::path::Path>,
+    restore: Option<&'a std::path::Path>,
     steps: u32,
     dt: Real,
-    (csv, json): (Option<&std::path::Path>, Option<&std::path::Path>),
+    csv: Option<&'a std::path::Path>,
+    json: Option<&'a std::path::Path>,
     keep_going: bool,
-) -> Result<(), String> {
-    check_run(steps, dt)?;
-    check_output_folder(csv, "--csv")?;
-    check_output_folder(json, "--json")?;
-    let (name, mut built) = load(path)?;
-    let mut recorder = record::Recorder::new(csv, json)?;
+    save_at: Option<(u32, PathBuf)>,
+}
+
+/// `--save-at STEP FILE`, checked.
+fn save_at_flag(values: Option<&[String]>) -> Result<Option<(u32, PathBuf)>, String> {
+    let Some([step, file]) = values else {
+        return Ok(None);
+    };
+    let step = step
+        .parse()
+        .map_err(|_| format!("--save-at: STEP must be a whole number, got {step:?}"))?;
+    Ok(Some((step, PathBuf::from(file))))
+}
+
+/// The scene to run: a scene file (or the embedded pyramid), or a restored snapshot.
+fn start(o: &RunOptions<'_>) -> Result<(String, BuiltScene), String> {
+    let Some(path) = o.restore else {
+        return load(o.scene);
+    };
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| format!("--restore {name}: {e}"))?;
+    let built = if bytes.first() == Some(&b'{') {
+        let text = String::from_utf8(bytes).map_err(|e| format!("--restore {name}: {e}"))?;
+        BuiltScene::restore_json(&text)
+    } else {
+        BuiltScene::restore_binary(&bytes)
+    }
+    .map_err(|e| format!("--restore {name}: {e}"))?;
+    Ok((name, built))
+}
+
+/// A snapshot in the form its file name asks for (`.json`: JSON, otherwise binary).
+fn snapshot_bytes(built: &BuiltScene, path: &std::path::Path) -> Result<Vec<u8>, String> {
+    let json = path.extension().is_some_and(|e| e == "json");
+    let bytes = if json {
+        built.snapshot_json().map(String::into_bytes)
+    } else {
+        built.snapshot_binary()
+    };
+    bytes.map_err(|e| format!("--save-at {}: {e}", path.display()))
+}
+
+fn run(o: &RunOptions<'_>) -> Result<(), String> {
+    check_run(o.steps, o.dt)?;
+    check_output_folder(o.csv, "--csv")?;
+    check_output_folder(o.json, "--json")?;
+    if let Some((step, path)) = &o.save_at {
+        check_output_folder(Some(path), "--save-at")?;
+        if *step > o.steps {
+            return Err(format!(
+                "--save-at {step}: the run takes only {} steps",
+                o.steps
+            ));
+        }
+    }
+    let (name, mut built) = start(o)?;
+    let mut recorder = record::Recorder::new(o.csv, o.json)?;
     let mut summary = summary::Summary::new(&built);
-    let bar = (steps >= 1000).then(|| indicatif::ProgressBar::new(u64::from(steps)));
-    recorder.capture(0.0, &built)?;
+    let bar = (o.steps >= 1000).then(|| indicatif::ProgressBar::new(u64::from(o.steps)));
+    let t0 = built.time();
+    recorder.capture(t0, &built)?;
+    let mut saved = None;
     let mut blown_up = None;
-    for n in 1..=steps {
+    for n in 0..=o.steps {
+        if let Some((step, path)) = &o.save_at {
+            if *step == n {
+                saved = Some((path, snapshot_bytes(&built, path)?));
+            }
+        }
+        if n == o.steps || (blown_up.is_some() && !o.keep_going) {
+            break;
+        }
         if interrupted() {
-            return Err(format!("{name}: interrupted at step {n}; nothing written"));
+            return Err(format!(
+                "{name}: interrupted at step {}; nothing written",
+                n + 1
+            ));
         }
         let stats = built
-            .step(dt)
-            .map_err(|e| format!("{name}: step {n}: {e}"))?;
+            .step(o.dt)
+            .map_err(|e| format!("{name}: step {}: {e}", n + 1))?;
         summary.add(&stats);
         summary.measure_joints(&mut built);
-        recorder.capture(n as Real * dt, &built)?;
+        recorder.capture(t0 + (n + 1) as Real * o.dt, &built)?;
         if let Some(bar) = &bar {
             bar.inc(1);
         }
         if stats.quarantined_bodies > 0 {
-            blown_up.get_or_insert(n);
-            if !keep_going {
-                break;
-            }
+            blown_up.get_or_insert(n + 1);
         }
     }
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let steps_taken = built.world.step_count() as u32;
     if let Some(n) = blown_up {
         let report = summary::quarantine_report(&built);
-        if !keep_going {
-            summary.print(&name, &built, steps_taken, dt);
+        if !o.keep_going {
+            summary.print(&name, &built, n, o.dt);
             return Err(format!(
                 "{name}: blew up at step {n} (t = {:.3} s): {report}\n  nothing written; \
                  `--keep-going` runs on with the island frozen",
-                n as Real * dt
+                t0 + n as Real * o.dt
             ));
         }
         eprintln!("kea: {name}: blew up at step {n}: {report}; kept going (--keep-going)");
     }
     // The outputs become visible only now that the whole run succeeded, all or none.
     recorder.commit()?;
-    summary.print(&name, &built, steps, dt);
+    if let Some((path, bytes)) = saved {
+        kea_render::write_file(path, &bytes)?;
+    }
+    summary.print(&name, &built, o.steps, o.dt);
     Ok(())
 }
 

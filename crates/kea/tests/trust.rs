@@ -242,3 +242,34 @@ fn a_runaway_island_is_quarantined_by_the_speed_limit() {
         refused_by_name(e, "speed_limits.linear", "-1");
     }
 }
+
+#[test]
+fn an_anchor_of_3e38_is_refused_by_name_instead_of_hanging_the_exact_solver() {
+    let mut w = world_on(SolverMode::Exact, 4, 4);
+    let b = w.create_body(&BodyDef::default()).unwrap();
+    let far = Vec3::new(3.0e38, 0.0, 0.0);
+    refused_by_name(
+        w.create_ball_joint(b, None, far).unwrap_err(),
+        "anchor",
+        "3e38",
+    );
+    refused_by_name(
+        w.create_hinge(b, None, far, Vec3::Y).unwrap_err(),
+        "anchor",
+        "3e38",
+    );
+    refused_by_name(
+        w.body_mut(b).unwrap().set_position(far).unwrap_err(),
+        "position",
+        "3e38",
+    );
+    assert_eq!(w.constraint_count(), 0);
+    // At the edge of the accepted range the step still finishes (and stays finite).
+    let edge = Vec3::new(kea::error::MAX_COORDINATE, 0.0, 0.0);
+    w.body_mut(b).unwrap().set_position(edge).unwrap();
+    w.create_ball_joint(b, None, edge + Vec3::Y).unwrap();
+    for _ in 0..10 {
+        w.step(1.0 / 60.0).unwrap();
+    }
+    assert!(w.body(b).unwrap().position().is_finite());
+}
