@@ -1,8 +1,10 @@
 //! The `kea` command: run and benchmark scene files headless.
 //!
-//! - `kea run [SCENE] [--steps N] [--dt H] [--csv FILE] [--json FILE]` steps a scene (the
-//!   embedded pyramid when no file is given), shows a progress bar on long runs, and ends with a
-//!   summary: steps per second, time per stage, bodies awake and asleep, energy, solver warnings.
+//! - `kea run [SCENE] [--steps N] [--dt H] [--csv FILE] [--json FILE] [--keep-going]
+//!   [--save-at STEP FILE] [--restore FILE]` steps a scene (the embedded pyramid when no file
+//!   is given, or a snapshot saved by `--save-at`), shows a progress bar on long runs, and ends
+//!   with a summary: steps per second, time per stage, bodies awake and asleep, energy, solver
+//!   warnings, quarantined bodies.
 //! - `kea bench SCENE… [--steps N] [--dt H]` prints one machine-readable line per scene.
 //! - `kea render SCENE --out FILE.png|FILE.gif [--steps N] [--frames F --every K] [--width W]
 //!   [--height H]` draws the scene on the CPU (no GPU, no display): the frame after `--steps`,
