@@ -2,8 +2,8 @@
 //! the shape again through the same validated constructor (parry derives the same geometry
 //! from the same input), rather than parry's internal form.
 
-use crate::error::CollisionResult;
-use crate::shape::Shape;
+#[cfg(feature = "serde")]
+use crate::{error::CollisionResult, shape::Shape};
 use kea::{Quat, Real, Vec3};
 
 /// A shape constructor and its arguments.
