@@ -193,3 +193,55 @@ fn demo_scene_hashes_are_the_same_for_every_thread_count() {
         check_against_golden(&found, &format!("{threads} threads"));
     }
 }
+
+#[test]
+fn a_world_saved_with_a_quarantined_island_restores_its_report_and_replays() {
+    use kea::{BodyDef, Mat3, Routing, SolverMode, Vec3, World};
+    let mut w = World::with_capacity(8, 8).unwrap();
+    w.set_routing(Routing {
+        mode: SolverMode::Iterative,
+        ..Routing::default()
+    })
+    .unwrap();
+    // A redundant pair of ball joints between 1e-9 kg and 1e12 kg bodies blows up (see
+    // kea's tests/trust.rs); a ball elsewhere falls.
+    let body = |w: &mut World, mass: Real, inertia: Real, x: Real| {
+        w.create_body(&BodyDef {
+            mass,
+            inertia: Mat3::from_diagonal(Vec3::splat(inertia)),
+            position: Vec3::new(x, 0.0, 0.0),
+            angular_velocity: Vec3::new(3.0, 1.0, 2.0),
+            ..BodyDef::default()
+        })
+        .unwrap()
+    };
+    let light = body(&mut w, 1.0e-9, 1.0e-19, 1.0);
+    let heavy = body(&mut w, 1.0e12, 1.0e19, 2.0);
+    w.create_ball_joint(light, Some(heavy), Vec3::new(1.5, 0.0, 0.0))
+        .unwrap();
+    w.create_ball_joint(light, Some(heavy), Vec3::new(1.0, 1.0, 0.0))
+        .unwrap();
+    w.create_ball_joint(light, None, Vec3::ZERO).unwrap();
+    let ball = body(&mut w, 1.0, 1.0, 50.0);
+    while w.quarantine_report().is_empty() {
+        assert!(w.step_count() < 120, "the island never blew up");
+        w.step(DT).unwrap();
+    }
+    let mut restored = World::restore(w.snapshot().unwrap()).unwrap();
+    assert_eq!(restored.quarantine_report(), w.quarantine_report());
+    assert!(restored.body(light).unwrap().is_quarantined());
+    for world in [&mut w, &mut restored] {
+        for _ in 0..30 {
+            world.step(DT).unwrap();
+        }
+        assert_eq!(world.clear_quarantine(), 2);
+        for _ in 0..30 {
+            world.step(DT).unwrap();
+        }
+    }
+    for h in [light, heavy, ball] {
+        let (a, b) = (w.body(h).unwrap(), restored.body(h).unwrap());
+        assert_eq!(a.position(), b.position());
+        assert_eq!(a.linear_velocity(), b.linear_velocity());
+    }
+}
