@@ -11,17 +11,15 @@ use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
 use crate::pairs::Pairs;
 use crate::parry::math::Pose;
 use crate::shape::Shape;
-use kea::{
-    BodyHandle, CollisionStats, ConstraintHandle, Contact, Quat, Real, StepStats, Vec3, World,
-};
+use kea::{BodyHandle, CollisionStats, ConstraintHandle, Quat, Real, StepStats, Vec3, World};
 use std::time::Instant;
 
 /// A collider's handle: generational, like Kea's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ColliderHandle {
-    index: u32,
-    generation: u32,
+    pub(crate) index: u32,
+    pub(crate) generation: u32,
 }
 
 /// What to attach: a shape on a body (or on the static world), placed in the body's frame.
@@ -348,63 +346,6 @@ impl CollisionWorld {
         self.free.push(index);
     }
 
-    /// The contact events of the last update (began, persisted, ended), in pair order.
-    #[must_use]
-    pub fn events(&self) -> &[ContactEvent] {
-        &self.events
-    }
-
-    /// The total contact impulse on collider `a`'s body from collider `b` over the last step,
-    /// N·s (zero if they did not touch).
-    pub fn pair_impulse(&self, a: ColliderHandle, b: ColliderHandle) -> CollisionResult<Vec3> {
-        self.get(a)?;
-        self.get(b)?;
-        let key = (a.index.min(b.index), a.index.max(b.index));
-        let on_first = self
-            .pairs
-            .find(key)
-            .map_or(Vec3::ZERO, |s| self.pairs.slots[s as usize].impulse);
-        Ok(if a.index <= b.index {
-            on_first
-        } else {
-            -on_first
-        })
-    }
-
-    /// The total contact impulse on `body` from `other` (`None`: the static world) over the
-    /// last step, summed over all their colliders' pairs, N·s.
-    #[must_use]
-    pub fn body_pair_impulse(&self, body: BodyHandle, other: Option<BodyHandle>) -> Vec3 {
-        let mut total = Vec3::ZERO;
-        for (_, state) in self.pairs.live() {
-            let (ia, ib) = state.colliders;
-            let (Some(a), Some(b)) = (
-                &self.slots[ia as usize].collider,
-                &self.slots[ib as usize].collider,
-            ) else {
-                continue;
-            };
-            if a.def.body == Some(body) && b.def.body == other {
-                total += state.impulse;
-            } else if b.def.body == Some(body) && a.def.body == other {
-                total -= state.impulse;
-            }
-        }
-        total
-    }
-
-    /// The deepest penetration among the contacts this collision world made, m (0 if none
-    /// overlap): the contact constraints' largest error.
-    #[must_use]
-    pub fn deepest_penetration(&self, world: &World) -> Real {
-        self.pairs
-            .live()
-            .flat_map(|(_, p)| p.manifolds.iter())
-            .filter_map(|m| world.contact(m.handle).ok())
-            .map(Contact::penetration)
-            .fold(0.0, Real::max)
-    }
-
     /// Lets (or stops) the two bodies of a joint collide with each other. By default bodies
     /// joined by an enabled joint do not collide.
     pub fn set_joint_collisions(
@@ -433,28 +374,6 @@ impl CollisionWorld {
     #[must_use]
     pub fn collider_count(&self) -> usize {
         self.slots.iter().filter(|s| s.collider.is_some()).count()
-    }
-
-    /// The Kea contacts currently generated between two colliders.
-    pub fn contacts_between(
-        &self,
-        a: ColliderHandle,
-        b: ColliderHandle,
-    ) -> CollisionResult<Vec<ConstraintHandle>> {
-        self.get(a)?;
-        self.get(b)?;
-        let key = (a.index.min(b.index), a.index.max(b.index));
-        Ok(self
-            .pairs
-            .find(key)
-            .map(|s| {
-                self.pairs.slots[s as usize]
-                    .manifolds
-                    .iter()
-                    .map(|m| m.handle)
-                    .collect()
-            })
-            .unwrap_or_default())
     }
 
     /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
@@ -531,21 +450,7 @@ impl CollisionWorld {
         Ok(())
     }
 
-    /// What the last [`CollisionWorld::update_contacts`] did.
-    #[must_use]
-    pub fn stats(&self) -> &CollisionStats {
-        &self.stats
-    }
-
-    /// The collider pairs whose contact generation failed inside parry in the last update (a
-    /// panic caught, or a non-finite point). Each got no contacts for that step and is tried
-    /// again the next; the step itself went on. Empty in a healthy world.
-    #[must_use]
-    pub fn failed_pairs(&self) -> &[(ColliderHandle, ColliderHandle)] {
-        &self.failed_pairs
-    }
-
-    fn get(&self, h: ColliderHandle) -> CollisionResult<&Collider> {
+    pub(crate) fn get(&self, h: ColliderHandle) -> CollisionResult<&Collider> {
         self.slots
             .get(h.index as usize)
             .filter(|s| s.generation == h.generation)

@@ -36,6 +36,7 @@ mod narrow_phase;
 mod pairs;
 mod proxies;
 mod query;
+mod readouts;
 mod reduce;
 mod shape;
 mod shape_recipe;
