@@ -14,6 +14,8 @@
 //! `KEA_BLESS=1 cargo test -p kea-scene --test determinism` (and again with
 //! `--features kea-collision/f64`).
 
+mod common;
+
 use kea::Real;
 use kea_scene::{build, BuiltScene, Scene};
 
@@ -21,14 +23,7 @@ const STEPS: usize = 120;
 const DT: Real = 1.0 / 60.0;
 
 fn demo_scenes() -> Vec<(String, Scene)> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .expect("scenes/ exists")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
+    common::demo_scene_paths()
         .into_iter()
         .map(|p| {
             let name = p.file_stem().unwrap().to_string_lossy().into_owned();

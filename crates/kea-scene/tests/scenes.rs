@@ -1,18 +1,13 @@
 //! Scene files: every demo scene loads, runs 5 s without NaN or explosion, and saves back to the
 //! same text; malformed files get errors that say where and what.
 
+mod common;
+
 use kea::Real;
 use kea_scene::{build, Scene, SceneError};
 
 fn demo_scenes() -> Vec<(String, String)> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .expect("scenes/ exists")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
+    common::demo_scene_paths()
         .into_iter()
         .map(|p| {
             (

@@ -2,6 +2,8 @@
 //! bodies keep colliding, waking, sleeping and sliding, its pairs and contacts come and go,
 //! and not one allocation happens.
 
+mod common;
+
 use kea::Real;
 use kea_scene::{build, Scene};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -52,14 +54,8 @@ const DT: Real = 1.0 / 60.0;
 
 #[test]
 fn every_demo_scene_steps_warm_without_allocating() {
-    let dir = format!("{}/../../scenes", env!("CARGO_MANIFEST_DIR"));
-    let mut names: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    names.sort();
-    assert!(names.len() >= 10, "demo scenes in {dir}: {names:?}");
+    let names = common::demo_scene_paths();
+    assert!(names.len() >= 10, "demo scenes: {names:?}");
     // With threads, the steps run inside a pool, where rayon's fork-join allocates nothing
     // (a call from outside a pool goes through rayon's injector queue, which allocates a block
     // every 63 calls).
