@@ -284,6 +284,38 @@ impl CollisionWorld {
         })
     }
 
+    /// Moves a collider within its body's frame (or the world, for static geometry): a new
+    /// offset and rotation, checked like [`CollisionWorld::add_collider`]'s. Its pairs'
+    /// manifolds are generated afresh at the next step; the contacts keep their handles.
+    pub fn set_collider_placement(
+        &mut self,
+        world: &World,
+        h: ColliderHandle,
+        offset: Vec3,
+        rotation: Quat,
+    ) -> CollisionResult<()> {
+        self.get(h)?;
+        crate::error::check_extent("offset", offset)?;
+        let rotation = crate::error::check_unit_quat("rotation", rotation)?;
+        let c = self.slots[h.index as usize]
+            .collider
+            .as_mut()
+            .expect("checked above");
+        c.def.offset = offset;
+        c.def.rotation = rotation;
+        let local = Pose::from_parts(offset, rotation);
+        let sphere = c.def.shared_shape().compute_bounding_sphere(&local);
+        c.reach = sphere.center().length() + sphere.radius();
+        c.pose = collider_pose(world, &c.def);
+        for p in &mut self.pairs.slots {
+            if p.alive && (p.colliders.0 == h.index || p.colliders.1 == h.index) {
+                p.generated_at = None;
+            }
+        }
+        self.moved.push(h.index);
+        Ok(())
+    }
+
     /// Reserves room for `colliders` colliders (and a few pairs each), so that adding them
     /// and stepping do not allocate.
     pub fn reserve(&mut self, colliders: usize) {

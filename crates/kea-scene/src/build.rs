@@ -7,7 +7,7 @@ use crate::format::{
     V3,
 };
 use crate::groups::{add_group, group_size};
-use crate::joints::{add_joint, PathDriver};
+use crate::joints::{add_joint, ScenePaths};
 use kea::{
     BodyDef, BodyHandle, ConstraintHandle, ContactType, DemMode, DemSettings, FrictionModel,
     IterativeParams, Mat3, Quat, Real, Routing, SolverMode, StepStats, Vec3, World, WorldDef,
@@ -29,7 +29,7 @@ pub struct BuiltScene {
     /// the scene's joints (unnamed ones are `joint<index>`).
     pub joints: Vec<(String, ConstraintHandle)>,
     /// Fixed-path joints with keyframed paths, driven before each step.
-    pub(crate) paths: Vec<PathDriver>,
+    pub(crate) paths: ScenePaths,
     /// Index into `bodies` by name (names are looked up for every joint and checked for
     /// every body: a linear scan would make big scenes quadratic).
     pub(crate) body_index: HashMap<String, usize>,
@@ -44,13 +44,16 @@ impl BuiltScene {
     /// that reaches its position at the end of the step, then contacts from geometry, then the
     /// world's step.
     pub fn step(&mut self, dt: Real) -> Result<StepStats, kea_collision::CollisionError> {
-        for p in &self.paths {
-            let (position, velocity) = p.sample(self.time, dt);
-            self.world.set_path(p.joint, position, velocity)?;
-        }
+        self.paths.drive(&mut self.world, self.time, dt)?;
         let stats = self.collision.step(&mut self.world, dt)?;
         self.time += dt;
         Ok(stats)
+    }
+
+    /// The scene's keyframed path joints, for stepping its world some other way.
+    #[must_use]
+    pub fn paths(&self) -> &ScenePaths {
+        &self.paths
     }
 
     /// Scene time, s: the sum of the steps taken since the scene was built.
@@ -110,7 +113,7 @@ pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
         collision: CollisionWorld::new(),
         bodies: Vec::new(),
         joints: Vec::new(),
-        paths: Vec::new(),
+        paths: ScenePaths::default(),
         body_index: HashMap::new(),
         joint_index: HashMap::new(),
         time: 0.0,

@@ -7,6 +7,29 @@ use crate::error::SceneError;
 use crate::joint_format::{JointKind, JointSpec, LimitSpec};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
 
+/// A scene's fixed-path joints with keyframed paths: each step first sets every path to its
+/// position now, with the velocity that reaches its next position at the end of the step.
+#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
+#[serde(transparent)]
+pub struct ScenePaths(pub(crate) Vec<PathDriver>);
+
+impl ScenePaths {
+    /// Sets each path joint in `world` for a step of `dt` starting at scene time `time`.
+    pub fn drive(&self, world: &mut World, time: Real, dt: Real) -> Result<(), KeaError> {
+        for p in &self.0 {
+            let (position, velocity) = p.sample(time, dt);
+            world.set_path(p.joint, position, velocity)?;
+        }
+        Ok(())
+    }
+
+    /// Whether the scene has no keyframed paths.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
 /// A fixed-path joint driven along keyframes `[t, x, y, z]` (world frame).
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct PathDriver {
@@ -262,7 +285,7 @@ pub(crate) fn create(
                 .create_fixed_path(b1, b2, v3(*anchor), *fixed_orientation)
                 .map_err(at)?;
             if !path.is_empty() {
-                built.paths.push(PathDriver {
+                built.paths.0.push(PathDriver {
                     joint: h,
                     keys: path.clone(),
                 });

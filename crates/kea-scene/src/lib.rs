@@ -30,6 +30,7 @@ pub use format::{
     RoutingSpec, Scene, ShapeSpec, SleepSpec, SolverSpec, WorldSpec, V3, VERSION,
 };
 pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
+pub use joints::ScenePaths;
 pub use snapshot::{SceneSnapshot, SNAPSHOT_VERSION};
 
 impl Scene {

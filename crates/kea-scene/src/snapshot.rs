@@ -6,7 +6,6 @@
 
 use crate::build::BuiltScene;
 use crate::error::SceneError;
-use crate::joints::PathDriver;
 use kea::{BodyHandle, ConstraintHandle, Real, World, WorldSnapshot};
 use kea_collision::CollisionWorld;
 use serde::{Deserialize, Serialize};
@@ -26,7 +25,7 @@ pub struct SceneSnapshot {
     collision: CollisionWorld,
     bodies: Vec<(String, BodyHandle)>,
     joints: Vec<(String, ConstraintHandle)>,
-    paths: Vec<PathDriver>,
+    paths: crate::joints::ScenePaths,
     time: Real,
 }
 

@@ -70,7 +70,7 @@ pub enum KeaError {
         /// The world it was given to.
         world: u32,
     },
-    /// Creating the object would exceed a capacity fixed when the world was created.
+    /// Creating the object would take a world past [`crate::MAX_CAPACITY`] of its kind.
     #[error("capacity exceeded: the world holds at most {capacity} {what}")]
     CapacityExceeded {
         /// "bodies" or "constraints".
@@ -248,7 +248,7 @@ pub const INERTIA_RANGE: (Real, Real) = (1.0e-20, 1.0e20);
 pub const MAX_COORDINATE: Real = 1.0e9;
 
 /// Checks that a point is finite and each coordinate within [`MAX_COORDINATE`] of the origin.
-pub(crate) fn check_coordinate(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
+pub fn check_coordinate(arg: &'static str, v: Vec3) -> KeaResult<Vec3> {
     check_vec3(arg, v)?;
     if v.abs().max_element() > MAX_COORDINATE {
         return Err(KeaError::OutOfRange {

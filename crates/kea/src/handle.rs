@@ -90,7 +90,8 @@ pub(crate) struct ArenaState<T> {
     free: Vec<u32>,
 }
 
-/// A slot arena with a fixed capacity, reserved up front.
+/// A slot arena with a capacity reserved up front, which doubles when full (up to
+/// [`crate::MAX_CAPACITY`]).
 #[derive(Clone)]
 pub(crate) struct Arena<T, H: HandleKind> {
     world: u32,
@@ -185,12 +186,27 @@ impl<T, H: HandleKind> Arena<T, H> {
         self.slots.len()
     }
 
+    /// Grows the capacity to at least `capacity` (never past [`crate::MAX_CAPACITY`]).
+    pub(crate) fn reserve_total(&mut self, capacity: usize) {
+        let capacity = capacity.min(crate::MAX_CAPACITY);
+        if capacity > self.capacity {
+            self.capacity = capacity;
+            self.slots.reserve(capacity.saturating_sub(self.slots.len()));
+            self.free.reserve(capacity.saturating_sub(self.free.len()));
+        }
+    }
+
     pub(crate) fn insert(&mut self, value: T) -> KeaResult<H> {
         if self.len >= self.capacity {
-            return Err(KeaError::CapacityExceeded {
-                what: self.what,
-                capacity: self.capacity,
-            });
+            if self.capacity >= crate::MAX_CAPACITY {
+                return Err(KeaError::CapacityExceeded {
+                    what: self.what,
+                    capacity: self.capacity,
+                });
+            }
+            // Full: double, so that a world sized too small keeps going (it allocates now,
+            // and its step's buffers grow once at the next step).
+            self.reserve_total(self.capacity.saturating_mul(2).max(1));
         }
         // Reuse the lowest freed slot last freed (LIFO): deterministic for the same call sequence.
         let index = if let Some(i) = self.free.pop() {

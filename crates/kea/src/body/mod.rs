@@ -46,6 +46,10 @@ pub struct BodyDef {
     /// Ask for the exact solver for this body's island whatever its size (vehicles, ragdolls),
     /// when the world routes islands in hybrid mode.
     pub prefer_exact: bool,
+    /// A kinematic body moves with the velocity you set and is not pushed by anything
+    /// (constraints, contacts, forces, gravity): a moving platform, a driven robot base.
+    /// Constraints see it as infinitely heavy. Default false.
+    pub kinematic: bool,
 }
 
 impl Default for BodyDef {
@@ -63,6 +67,7 @@ impl Default for BodyDef {
             enabled: true,
             user_data: 0,
             prefer_exact: false,
+            kinematic: false,
         }
     }
 }
@@ -99,6 +104,9 @@ pub struct Body {
     pub(crate) last_path: SolverPath,
     /// Frozen by the world's quarantine (and disabled) until cleared.
     pub(crate) quarantined: bool,
+    /// Moves with its set velocity, pushed by nothing (see [`BodyDef::kinematic`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) kinematic: bool,
 }
 
 impl Body {
@@ -128,6 +136,7 @@ impl Body {
             prefer_exact: def.prefer_exact,
             last_path: SolverPath::None,
             quarantined: false,
+            kinematic: def.kinematic,
         };
         // Validate everything before building, so a bad field reports its own name.
         check_mass("mass", def.mass)?;
@@ -366,6 +375,17 @@ impl Body {
     #[must_use]
     pub fn is_quarantined(&self) -> bool {
         self.quarantined
+    }
+    /// Whether the body is kinematic (see [`BodyDef::kinematic`]).
+    #[must_use]
+    pub fn is_kinematic(&self) -> bool {
+        self.kinematic
+    }
+    /// Makes the body kinematic (moved only by its set velocity) or dynamic again. Its mass
+    /// and inertia are kept for when it is dynamic.
+    pub fn set_kinematic(&mut self, kinematic: bool) {
+        self.kinematic = kinematic;
+        self.wake();
     }
     /// Sets the user's data.
     pub fn set_user_data(&mut self, data: u64) {

@@ -226,7 +226,7 @@ impl World {
             .map(|(h, e)| (h, e.bodies))
     }
 
-    /// The most constraints (contacts included) this world can hold, fixed at creation.
+    /// Room for constraints (contacts included) now reserved; it doubles when full.
     #[must_use]
     pub fn constraint_capacity(&self) -> usize {
         self.constraints.capacity()

@@ -1,8 +1,10 @@
 //! The world (the guide's Mdt layer): bodies, constraints and the step, in a retained API.
 //!
 //! A world is created with capacities ([`WorldDef::max_bodies`], [`WorldDef::max_constraints`],
-//! the guide's `MdtWorldCreate`) and reserves all its storage then; creating and destroying
-//! bodies and constraints never allocates, and a warm step allocates nothing. Worlds are
+//! the guide's `MdtWorldCreate`) and reserves all its storage then: within them, creating and
+//! destroying bodies and constraints never allocates, and a warm step allocates nothing. A full
+//! world doubles its room (allocating once) rather than refuse; [`World::reserve`] grows it
+//! ahead of time. Worlds are
 //! independent: create as many as you like, and handles of one are rejected by the others.
 
 mod constraint_entry;
@@ -37,9 +39,11 @@ use constraint_entry::ConstraintEntry;
 /// Parameters of a new world. Every tunable says its unit, normal value and range.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WorldDef {
-    /// Most bodies the world can hold (1 to [`MAX_CAPACITY`]).
+    /// Bodies to reserve room for up front (1 to [`MAX_CAPACITY`]). A full world doubles its
+    /// capacity (allocating once), so this is the size for which nothing allocates.
     pub max_bodies: usize,
-    /// Most constraints (joints + contacts) the world can hold (1 to [`MAX_CAPACITY`]).
+    /// Constraints (joints + contacts) to reserve room for up front (1 to [`MAX_CAPACITY`]);
+    /// grows like [`WorldDef::max_bodies`].
     pub max_constraints: usize,
     /// Rows of the largest island to reserve solver memory for up front. The exact solver's
     /// memory grows as rows², so this is a hint, not a limit: bigger islands grow the workspace
@@ -184,6 +188,13 @@ impl std::fmt::Debug for World {
             .field("gamma", &self.gamma)
             .field("time", &self.time)
             .finish()
+    }
+}
+
+/// Grows `v`'s capacity to hold at least `n` items in all.
+fn reserve_total<T>(v: &mut Vec<T>, n: usize) {
+    if v.capacity() < n {
+        v.reserve(n - v.len());
     }
 }
 
@@ -400,7 +411,42 @@ impl World {
         self.bodies.iter()
     }
 
-    /// Body capacity.
+    /// Grows the room reserved for bodies and constraints to at least `bodies` and
+    /// `constraints` (each capped at [`MAX_CAPACITY`]), with the step's buffers, so that
+    /// adding up to that many and stepping allocate nothing more. Never shrinks.
+    pub fn reserve(&mut self, bodies: usize, constraints: usize) {
+        self.bodies.reserve_total(bodies);
+        self.constraints.reserve_total(constraints);
+        let (nb, nc) = (self.bodies.capacity(), self.constraints.capacity());
+        let rows = nc * ROWS_PER_CONSTRAINT;
+        let s = &mut self.scratch;
+        for v in [&mut s.slot_to_solver, &mut s.solver_to_slot] {
+            reserve_total(v, nb);
+        }
+        reserve_total(&mut s.solver_bodies, nb);
+        reserve_total(&mut s.island_flag, nb);
+        reserve_total(&mut s.wake, nb);
+        reserve_total(&mut s.quarantine_root, nb);
+        s.sleep_sets.reserve(nb);
+        s.quarantine_sets.reserve(nb);
+        reserve_total(&mut s.rows, rows);
+        reserve_total(&mut s.lambda, rows);
+        reserve_total(&mut s.prev_lambda, rows);
+        reserve_total(&mut s.projection_lambda, rows);
+        reserve_total(&mut s.blocks, nc);
+        reserve_total(&mut s.block_constraint, nc);
+        reserve_total(&mut s.contacts, nc);
+        reserve_total(&mut s.contact_constraint, nc);
+        reserve_total(&mut s.contact_lambda, nc * 3);
+        reserve_total(&mut s.contact_rows, nc);
+        reserve_total(&mut s.contact_reactions, nc);
+        reserve_total(&mut s.reactions, nc);
+        reserve_total(&mut s.broken, nc);
+        reserve_total(&mut s.unwritable, nc);
+        reserve_total(&mut s.step_layout, nc);
+    }
+
+    /// Room for bodies now reserved (grows when full, see [`World::reserve`]).
     #[must_use]
     pub fn max_bodies(&self) -> usize {
         self.bodies.capacity()
@@ -413,7 +459,7 @@ impl World {
         self.max_island_rows
     }
 
-    /// Constraint capacity.
+    /// Room for constraints now reserved (grows when full, see [`World::reserve`]).
     #[must_use]
     pub fn max_constraints(&self) -> usize {
         self.constraints.capacity()

@@ -15,7 +15,7 @@
 use super::World;
 use crate::error::{check_non_negative, KeaResult};
 use crate::handle::BodyHandle;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// How the world partitions and disables bodies (the guide's `MdtDEMMode`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -125,7 +125,10 @@ impl World {
         let (ft, tt) = (self.dem.force_threshold, self.dem.torque_threshold);
         let active = |b: &crate::body::Body| {
             let pushed = b.force.length() > ft || b.torque.length() > tt;
-            b.enabled && (!b.sleeping || pushed)
+            // A kinematic body set moving wakes itself and what it touches.
+            let driven = b.kinematic
+                && (b.linear_velocity != Vec3::ZERO || b.angular_velocity != Vec3::ZERO);
+            b.enabled && (!b.sleeping || pushed || driven)
         };
         if !(0..n).any(|slot| self.bodies.at(slot).is_some_and(active)) {
             // All asleep and unpushed: nothing wakes, nothing to group (a sleeping pile costs

@@ -13,7 +13,7 @@ use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
 use crate::error::{check_positive, KeaResult};
 use crate::handle::{Arena, ConstraintHandle};
-use crate::math::{is_finite3, wide, Real, Vec3};
+use crate::math::{is_finite3, wide, Mat3, Real, Vec3};
 use crate::solver::{
     ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams, SolverStats,
 };
@@ -209,14 +209,20 @@ impl World {
             }
             s.slot_to_solver[slot] = s.solver_bodies.len() as u32;
             s.solver_to_slot.push(slot as u32);
+            // A kinematic body is the solver's fixed body: it moves with its velocity only.
+            let (inv_mass, inv_inertia) = if b.kinematic {
+                (0.0, Mat3::ZERO)
+            } else {
+                (b.inv_mass, b.inv_inertia)
+            };
             s.solver_bodies.push(SolverBody {
                 position: b.position,
                 orientation: b.orientation,
                 linear_velocity: b.linear_velocity,
                 angular_velocity: b.angular_velocity,
-                inv_mass: b.inv_mass,
+                inv_mass,
                 inertia: b.inertia,
-                inv_inertia: b.inv_inertia,
+                inv_inertia,
                 force: b.force,
                 torque: b.torque,
                 linear_damping: b.linear_damping,
@@ -244,6 +250,17 @@ impl World {
         let solver_index = self.scratch.slot_to_solver[slot as usize];
         if solver_index == u32::MAX {
             return (RowBody::fixed(b.position, b.orientation), None);
+        }
+        if b.kinematic {
+            // Moves at its set velocity whatever acts on it.
+            let rb = RowBody {
+                linear_velocity: b.linear_velocity,
+                angular_velocity: b.angular_velocity,
+                free_linear_velocity: b.linear_velocity,
+                free_angular_velocity: b.angular_velocity,
+                ..RowBody::fixed(b.position, b.orientation)
+            };
+            return (rb, Some(solver_index));
         }
         let inv_iw = {
             let r = crate::math::Mat3::from_quat(b.orientation);

@@ -1,0 +1,169 @@
+//! Colliders and joints: attaching them to bodies, and removing them.
+
+use super::{Attached, PhysicsWorld};
+use crate::body::BodyType;
+use crate::collider::Collider;
+use crate::joint::{Joint, JointHandle, JointKind, Spec};
+use crate::Result;
+use kea::{BodyHandle, ConstraintHandle, Limit};
+use kea_collision::{ColliderDef, ColliderHandle, MaterialId};
+
+impl PhysicsWorld {
+    /// Attaches a collider to `parent` (`None`: static world geometry, placed in the world
+    /// frame), placed in the parent's frame about its origin. A dynamic parent's mass,
+    /// inertia and centre of mass are brought up to date. On error nothing changes.
+    pub fn insert_collider(
+        &mut self,
+        collider: Collider,
+        parent: Option<BodyHandle>,
+    ) -> Result<ColliderHandle> {
+        let shape = collider.shape.clone()?;
+        let material = self.material_for(&collider)?;
+        let plane = shape.kind_name() == "plane";
+        let (body, offset, rotation, attached) = match parent {
+            None => (None, collider.offset, collider.rotation, false),
+            Some(h) => {
+                let meta = self.meta(h)?;
+                let b = self.dynamics.body(h)?;
+                if meta.kind == BodyType::Static && plane {
+                    // A plane is unbounded: static geometry placed where the body is.
+                    let q = b.orientation();
+                    (None, b.position() + q * collider.offset, q * collider.rotation, false)
+                } else {
+                    (Some(h), collider.offset - meta.local_com, collider.rotation, true)
+                }
+            }
+        };
+        let def = ColliderDef {
+            body,
+            shape,
+            offset,
+            rotation,
+            material,
+            groups: collider.groups,
+            mask: collider.mask,
+        };
+        let handle = self.collision.add_collider(&self.dynamics, def)?;
+        if let (true, Some(h)) = (attached, parent) {
+            self.meta_mut(h)?.colliders.push(Attached {
+                handle,
+                offset: collider.offset,
+                rotation: collider.rotation,
+                mass: collider.mass,
+            });
+            if let Err(e) = self.refresh_mass(h) {
+                self.meta_mut(h)?.colliders.pop();
+                self.collision.remove_collider(&mut self.dynamics, handle)?;
+                return Err(e);
+            }
+        }
+        Ok(handle)
+    }
+
+    /// Removes a collider; its body's mass is brought up to date.
+    pub fn remove_collider(&mut self, h: ColliderHandle) -> Result<()> {
+        let owner = self.collision.collider(h)?.body;
+        self.collision.remove_collider(&mut self.dynamics, h)?;
+        if let Some(b) = owner {
+            if let Ok(meta) = self.meta_mut(b) {
+                meta.colliders.retain(|c| c.handle != h);
+                self.refresh_mass(b)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The material a collider asks for: its id, or one made for its surface (shared by
+    /// colliders with the same surface), or the table's default.
+    fn material_for(&mut self, collider: &Collider) -> Result<MaterialId> {
+        if let Some(id) = collider.material {
+            self.collision.materials.check(id)?;
+            return Ok(id);
+        }
+        let Some(surface) = collider.surface else {
+            return Ok(0);
+        };
+        surface.validate()?;
+        if let Some(&(_, id)) = self.surfaces.iter().find(|(s, _)| *s == surface) {
+            return Ok(id);
+        }
+        let id = self.collision.materials.add(surface)?;
+        self.surfaces.push((surface, id));
+        Ok(id)
+    }
+
+    /// Joins `body1` to `body2` (`None`: the world) with a joint made by a [`Joint`] builder,
+    /// at its world-frame anchor and axes. On error nothing changes.
+    pub fn insert_joint<J: JointKind>(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        joint: Joint<J>,
+    ) -> Result<JointHandle<J>> {
+        let w = &mut self.dynamics;
+        let raw = match joint.spec {
+            Spec::Ball(a) => w.create_ball_joint(body1, body2, a),
+            Spec::Hinge(a, axis) => w.create_hinge(body1, body2, a, axis),
+            Spec::Prismatic(a, axis) => w.create_prismatic(body1, body2, a, axis),
+            Spec::Fixed(a) => w.create_fixed_joint(body1, body2, a),
+            Spec::Universal(a, x, y) => w.create_universal_joint(body1, body2, a, x, y),
+            Spec::Linear1(a, n) => w.create_linear1(body1, body2, a, n),
+            Spec::Linear2(a, d) => w.create_linear2(body1, body2, a, d),
+            Spec::FixedPath(a, fixed) => w.create_fixed_path(body1, body2, a, fixed),
+            Spec::CarWheel { steering, axle, k, d } => match body2 {
+                Some(wheel) => w.create_car_wheel(body1, wheel, steering, axle, k, d),
+                None => Err(kea::KeaError::InvalidState {
+                    operation: "insert_joint",
+                    reason: "a car wheel joins a chassis (body1) to a wheel (body2): give body2",
+                }),
+            },
+        }?;
+        if let Err(e) = self.configure_joint(raw, &joint) {
+            self.dynamics.destroy_constraint(raw)?;
+            return Err(e);
+        }
+        Ok(JointHandle::from_raw(raw))
+    }
+
+    /// Sets a new joint's limits, motor and collision rule.
+    fn configure_joint<J>(&mut self, raw: ConstraintHandle, joint: &Joint<J>) -> Result<()> {
+        if joint.limits.is_some() || joint.motor.is_some() {
+            let limit = self.limit_of(raw)?;
+            let mut changed = limit.clone();
+            if let Some((lo, hi)) = joint.limits {
+                changed.set_limits(lo, hi)?;
+            }
+            if let Some((v, f)) = joint.motor {
+                changed.set_motor(v, f)?;
+            }
+            *self.limit_of(raw)? = changed;
+        }
+        if joint.collide_connected {
+            self.collision
+                .set_joint_collisions(&self.dynamics, raw, true)?;
+        }
+        Ok(())
+    }
+
+    /// The limit of a hinge or prismatic joint.
+    fn limit_of(&mut self, raw: ConstraintHandle) -> Result<&mut Limit> {
+        let kind = self.dynamics.constraint_kind(raw)?;
+        Ok(if kind == "hinge" {
+            self.dynamics.hinge_limit_mut(raw)?
+        } else {
+            self.dynamics.prismatic_limit_mut(raw)?
+        })
+    }
+
+    /// Removes a joint.
+    pub fn remove_joint<J: JointKind>(&mut self, h: JointHandle<J>) -> Result<()> {
+        self.collision
+            .set_joint_collisions(&self.dynamics, h.raw(), false)?;
+        Ok(self.dynamics.destroy_constraint(h.raw())?)
+    }
+
+    /// The joint of a typed handle, read-only.
+    pub fn joint<J: JointKind>(&self, h: JointHandle<J>) -> Result<&J> {
+        Ok(J::read(&self.dynamics, h.raw())?)
+    }
+}

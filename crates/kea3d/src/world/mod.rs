@@ -1,0 +1,278 @@
+//! [`PhysicsWorld`]: dynamics and collision in one object.
+
+mod attach;
+mod bodies;
+
+use crate::body::BodyType;
+use crate::collider::ColliderMass;
+use crate::Result;
+use kea::{BodyHandle, KeaError, Quat, Real, StepStats, Vec3, World, WorldDef};
+use kea_collision::{ColliderHandle, CollisionWorld, MaterialId, Surface};
+use kea_scene::{BuiltScene, ScenePaths};
+
+/// A world that owns dynamics and collision together: insert bodies, colliders and joints,
+/// then [`PhysicsWorld::step`].
+///
+/// Capacities start small and grow as the world fills; [`PhysicsWorld::reserve`] sets them
+/// ahead, and once warm (a step after the last growth) a step allocates nothing.
+///
+/// A clone is the same world at the same instant: stepping both alike gives the same bits.
+#[derive(Clone)]
+pub struct PhysicsWorld {
+    dynamics: World,
+    collision: CollisionWorld,
+    /// Per body slot of `dynamics`: what the facade knows of it.
+    meta: Vec<Option<BodyMeta>>,
+    /// Materials made for colliders' own surfaces, by surface.
+    surfaces: Vec<(Surface, MaterialId)>,
+    /// Position-driven kinematic bodies, in insertion order.
+    driven: Vec<BodyHandle>,
+    /// A scene's keyframed paths, driven before each step.
+    paths: ScenePaths,
+    /// A scene's bodies and joints by name.
+    names: Vec<(String, BodyHandle)>,
+    joint_names: Vec<(String, kea::ConstraintHandle)>,
+    time: Real,
+}
+
+/// What a body is beyond the dynamics layer's view.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyMeta {
+    pub handle: BodyHandle,
+    pub kind: BodyType,
+    /// The builder's mass and inertia, which win over the colliders'.
+    pub explicit_mass: Option<Real>,
+    pub explicit_inertia: Option<kea::Mat3>,
+    /// Centre of mass in the body's frame (the dynamics layer's body sits there).
+    pub local_com: Vec3,
+    pub colliders: Vec<Attached>,
+    /// The pose to reach in the coming step (position-driven kinematic bodies).
+    pub target: Option<(Vec3, Quat)>,
+}
+
+/// A collider as its body holds it: placed in the body's frame (about its origin).
+#[derive(Debug, Clone)]
+pub(crate) struct Attached {
+    pub handle: ColliderHandle,
+    pub offset: Vec3,
+    pub rotation: Quat,
+    pub mass: ColliderMass,
+}
+
+impl Default for PhysicsWorld {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl PhysicsWorld {
+    /// An empty world with default parameters (gravity −9.81 m/s² along y) and small
+    /// capacities that grow.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::with_def(WorldDef {
+            max_bodies: 16,
+            max_constraints: 64,
+            max_island_rows: 64,
+            ..WorldDef::default()
+        })
+        .expect("the default parameters are valid")
+    }
+
+    /// An empty world with these parameters ([`WorldDef`]'s capacities are reserved up front).
+    pub fn with_def(def: WorldDef) -> Result<Self> {
+        let bodies = def.max_bodies;
+        let mut collision = CollisionWorld::new();
+        collision.reserve(bodies);
+        Ok(Self::from_parts(World::new(def)?, collision))
+    }
+
+    /// A world of a dynamics world and its collision layer, made elsewhere. Every body in it
+    /// counts as dynamic (kinematic if flagged, static if disabled), its mass as given, its
+    /// origin at its centre of mass.
+    #[must_use]
+    pub fn from_parts(dynamics: World, collision: CollisionWorld) -> Self {
+        let mut world = Self {
+            dynamics,
+            collision,
+            meta: Vec::new(),
+            surfaces: Vec::new(),
+            driven: Vec::new(),
+            paths: ScenePaths::default(),
+            names: Vec::new(),
+            joint_names: Vec::new(),
+            time: 0.0,
+        };
+        let found: Vec<(BodyHandle, BodyType, Real)> = world
+            .dynamics
+            .bodies()
+            .map(|(h, b)| {
+                let kind = if !b.is_enabled() {
+                    BodyType::Static
+                } else if b.is_kinematic() {
+                    BodyType::KinematicVelocity
+                } else {
+                    BodyType::Dynamic
+                };
+                (h, kind, b.mass())
+            })
+            .collect();
+        for (h, kind, mass) in found {
+            world.set_meta(
+                h,
+                BodyMeta {
+                    handle: h,
+                    kind,
+                    explicit_mass: Some(mass),
+                    explicit_inertia: None,
+                    local_com: Vec3::ZERO,
+                    colliders: Vec::new(),
+                    target: None,
+                },
+            );
+        }
+        world
+    }
+
+    /// A built scene file as one world: its bodies (dynamic, mass as the scene gives), static
+    /// geometry, joints, materials, and keyframed paths; bodies and joints keep their names.
+    #[must_use]
+    pub fn from_scene(scene: BuiltScene) -> Self {
+        let paths = scene.paths().clone();
+        let time = scene.time();
+        let mut world = Self::from_parts(scene.world, scene.collision);
+        world.paths = paths;
+        world.time = time;
+        world.names = scene.bodies;
+        world.joint_names = scene.joints;
+        world
+    }
+
+    /// Steps the world by `dt` seconds: drives kinematic bodies and scene paths, finds
+    /// contacts, and solves. The statistics include the collision stage's
+    /// ([`StepStats::collision`]). On error nothing has changed.
+    pub fn step(&mut self, dt: Real) -> Result<StepStats> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(KeaError::OutOfRange {
+                arg: "dt",
+                value: kea::error::format_real(dt),
+                expected: "a positive finite step, s",
+            }
+            .into());
+        }
+        self.paths.drive(&mut self.dynamics, self.time, dt)?;
+        self.drive_kinematic_targets(dt)?;
+        let stats = self.collision.step(&mut self.dynamics, dt)?;
+        for &h in &self.driven {
+            if let Some(Some(m)) = self.meta.get_mut(h.index() as usize) {
+                m.target = None;
+            }
+        }
+        self.time += dt;
+        Ok(stats)
+    }
+
+    /// Time simulated, s.
+    #[must_use]
+    pub fn time(&self) -> Real {
+        self.time
+    }
+
+    /// Gravity, m/s².
+    #[must_use]
+    pub fn gravity(&self) -> Vec3 {
+        self.dynamics.gravity()
+    }
+
+    /// Sets gravity, m/s².
+    pub fn set_gravity(&mut self, g: impl Into<Vec3>) -> Result<()> {
+        Ok(self.dynamics.set_gravity(g.into())?)
+    }
+
+    /// Reserves room for this many bodies, colliders and constraints (contacts included), so
+    /// that adding up to that many and stepping allocate nothing more.
+    pub fn reserve(&mut self, bodies: usize, colliders: usize, constraints: usize) {
+        self.dynamics.reserve(bodies, constraints);
+        self.collision.reserve(colliders);
+        self.meta.reserve(bodies.saturating_sub(self.meta.len()));
+    }
+
+    /// The dynamics layer (the guide's Mdt world): rows, solver settings, reactions.
+    #[must_use]
+    pub fn dynamics(&self) -> &World {
+        &self.dynamics
+    }
+
+    /// The dynamics layer, to change. Bodies made or destroyed here are unknown to this
+    /// world's body types and mass bookkeeping.
+    pub fn dynamics_mut(&mut self) -> &mut World {
+        &mut self.dynamics
+    }
+
+    /// The collision layer: colliders, materials, events, queries.
+    #[must_use]
+    pub fn collision(&self) -> &CollisionWorld {
+        &self.collision
+    }
+
+    /// The collision layer, to change (its settings, materials and queries).
+    pub fn collision_mut(&mut self) -> &mut CollisionWorld {
+        &mut self.collision
+    }
+
+    /// Both layers at once, for calls that take both (queries, `add_collider`).
+    pub fn layers_mut(&mut self) -> (&mut World, &mut CollisionWorld) {
+        (&mut self.dynamics, &mut self.collision)
+    }
+
+    /// A scene body by name.
+    #[must_use]
+    pub fn body_by_name(&self, name: &str) -> Option<BodyHandle> {
+        self.names.iter().find(|(n, _)| n == name).map(|&(_, h)| h)
+    }
+
+    /// A scene joint by name (untyped).
+    #[must_use]
+    pub fn joint_by_name(&self, name: &str) -> Option<kea::ConstraintHandle> {
+        self.joint_names.iter().find(|(n, _)| n == name).map(|&(_, h)| h)
+    }
+
+    /// The scene's bodies with their names, in scene order (empty for a world built in code).
+    #[must_use]
+    pub fn named_bodies(&self) -> &[(String, BodyHandle)] {
+        &self.names
+    }
+
+    fn set_meta(&mut self, h: BodyHandle, meta: BodyMeta) {
+        let i = h.index() as usize;
+        if self.meta.len() <= i {
+            self.meta.resize(i + 1, None);
+        }
+        self.meta[i] = Some(meta);
+    }
+
+    pub(crate) fn meta(&self, h: BodyHandle) -> Result<&BodyMeta> {
+        self.dynamics.body(h)?;
+        match self.meta.get(h.index() as usize) {
+            Some(Some(m)) if m.handle == h => Ok(m),
+            _ => Err(unknown_body()),
+        }
+    }
+
+    pub(crate) fn meta_mut(&mut self, h: BodyHandle) -> Result<&mut BodyMeta> {
+        self.dynamics.body(h)?;
+        match self.meta.get_mut(h.index() as usize) {
+            Some(Some(m)) if m.handle == h => Ok(m),
+            _ => Err(unknown_body()),
+        }
+    }
+}
+
+/// A body made through [`PhysicsWorld::dynamics_mut`] has no type or collider records here.
+fn unknown_body() -> crate::Error {
+    KeaError::InvalidState {
+        operation: "body",
+        reason: "the body was made through dynamics_mut(): use the dynamics layer for it",
+    }
+    .into()
+}
