@@ -97,7 +97,8 @@ impl CollisionWorld {
                 }
                 m.seen = true;
             }
-            _ if world.constraint_count() >= world.max_constraints() => {
+            // A full world grows; only at its hard limit are manifolds left out.
+            _ if world.constraint_count() >= kea::MAX_CAPACITY => {
                 self.stats.dropped_manifolds += 1;
                 p.generated_at = None; // generated again next step, when room may be free
             }

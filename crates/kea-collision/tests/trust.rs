@@ -133,7 +133,7 @@ fn a_shape_cast_over_a_fine_height_field_is_bounded() {
     const { assert!(MAX_CAST_CELLS < 1.3e9) };
 }
 
-/// Ten boxes dropped on a plane in a world with room for only four contacts.
+/// Ten boxes dropped on a plane in a world with room reserved for only four contacts.
 fn crowded() -> (World, CollisionWorld, Vec<kea::BodyHandle>) {
     let mut world = World::with_capacity(16, 4).unwrap();
     let mut collision = CollisionWorld::new();
@@ -164,24 +164,19 @@ fn crowded() -> (World, CollisionWorld, Vec<kea::BodyHandle>) {
 }
 
 #[test]
-fn contacts_beyond_the_capacity_are_left_out_and_the_world_steps_on() {
+fn contacts_beyond_the_reserved_room_grow_the_world_and_every_box_rests() {
     let (mut world, mut collision, boxes) = crowded();
-    let mut dropped = 0;
     for _ in 0..60 {
         let stats = collision.step(&mut world, 1.0 / 60.0).unwrap();
-        dropped += stats.collision.dropped_manifolds;
-        assert!(world.constraint_count() <= 4);
+        assert_eq!(stats.collision.dropped_manifolds, 0);
     }
-    assert!(dropped > 0, "the capacity was never reached");
-    assert!((world.time() - 1.0).abs() < 1e-5, "the world stopped");
-    // The boxes with contacts rest on the plane; the others fell through it (they had none),
-    // but every state is finite.
-    let resting = boxes
-        .iter()
-        .filter(|&&b| (world.body(b).unwrap().position().y - 0.25).abs() < 0.02)
-        .count();
-    assert_eq!(resting, 4, "four contacts hold four boxes");
+    assert!(
+        world.constraint_count() >= 10,
+        "one contact per box at least"
+    );
+    assert!(world.max_constraints() >= world.constraint_count());
     for &b in &boxes {
-        assert!(world.body(b).unwrap().position().is_finite());
+        let y = world.body(b).unwrap().position().y;
+        assert!((y - 0.25).abs() < 0.02, "a box at y = {y}");
     }
 }

@@ -191,7 +191,8 @@ impl<T, H: HandleKind> Arena<T, H> {
         let capacity = capacity.min(crate::MAX_CAPACITY);
         if capacity > self.capacity {
             self.capacity = capacity;
-            self.slots.reserve(capacity.saturating_sub(self.slots.len()));
+            self.slots
+                .reserve(capacity.saturating_sub(self.slots.len()));
             self.free.reserve(capacity.saturating_sub(self.free.len()));
         }
     }

@@ -153,7 +153,9 @@ impl Collider {
 
     /// Coefficient of restitution (default 0).
     pub fn restitution(mut self, restitution: Real) -> Self {
-        self.surface.get_or_insert_with(Surface::default).restitution = restitution;
+        self.surface
+            .get_or_insert_with(Surface::default)
+            .restitution = restitution;
         self
     }
 

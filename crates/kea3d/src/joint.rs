@@ -4,8 +4,8 @@
 use crate::PhysicsWorld;
 use kea::constraint::{BallLimits, CarWheel, FixedPath};
 use kea::{
-    BallJoint, ConstraintHandle, FixedJoint, Hinge, KeaResult, Limit, Linear1, Linear2,
-    Prismatic, Quat, Reaction, Real, SingleLimit, UniversalJoint, Vec3, World,
+    BallJoint, ConstraintHandle, FixedJoint, Hinge, KeaResult, Limit, Linear1, Linear2, Prismatic,
+    Quat, Reaction, Real, SingleLimit, UniversalJoint, Vec3, World,
 };
 use std::marker::PhantomData;
 
@@ -67,7 +67,12 @@ impl<J> std::hash::Hash for JointHandle<J> {
 }
 impl<J> std::fmt::Debug for JointHandle<J> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "JointHandle<{}>({:?})", std::any::type_name::<J>(), self.raw)
+        write!(
+            f,
+            "JointHandle<{}>({:?})",
+            std::any::type_name::<J>(),
+            self.raw
+        )
     }
 }
 
@@ -133,7 +138,12 @@ impl JointHandle<Hinge> {
     }
 
     /// Drives the angle at `velocity` rad/s with at most `max_torque` N·m.
-    pub fn set_motor(self, world: &mut PhysicsWorld, velocity: Real, max_torque: Real) -> KeaResult<()> {
+    pub fn set_motor(
+        self,
+        world: &mut PhysicsWorld,
+        velocity: Real,
+        max_torque: Real,
+    ) -> KeaResult<()> {
         self.limit_mut(world)?.set_motor(velocity, max_torque)
     }
 }
@@ -150,15 +160,27 @@ impl JointHandle<Prismatic> {
     }
 
     /// Drives the slide at `velocity` m/s with at most `max_force` N.
-    pub fn set_motor(self, world: &mut PhysicsWorld, velocity: Real, max_force: Real) -> KeaResult<()> {
+    pub fn set_motor(
+        self,
+        world: &mut PhysicsWorld,
+        velocity: Real,
+        max_force: Real,
+    ) -> KeaResult<()> {
         self.limit_mut(world)?.set_motor(velocity, max_force)
     }
 }
 
 impl JointHandle<BallJoint> {
     /// Gives the joint cone and twist limit axes (world unit vectors, perpendicular).
-    pub fn set_limit_axes(self, world: &mut PhysicsWorld, primary: Vec3, orthogonal: Vec3) -> KeaResult<()> {
-        world.dynamics_mut().set_ball_limit_axes(self.raw, primary, orthogonal)
+    pub fn set_limit_axes(
+        self,
+        world: &mut PhysicsWorld,
+        primary: Vec3,
+        orthogonal: Vec3,
+    ) -> KeaResult<()> {
+        world
+            .dynamics_mut()
+            .set_ball_limit_axes(self.raw, primary, orthogonal)
     }
 
     /// Its cone and twist limits, to change (after [`JointHandle::set_limit_axes`]).
@@ -176,7 +198,12 @@ impl JointHandle<FixedJoint> {
 
 impl JointHandle<FixedPath> {
     /// Moves the path point to `position` (world), moving at `velocity`.
-    pub fn set_path(self, world: &mut PhysicsWorld, position: Vec3, velocity: Vec3) -> KeaResult<()> {
+    pub fn set_path(
+        self,
+        world: &mut PhysicsWorld,
+        position: Vec3,
+        velocity: Vec3,
+    ) -> KeaResult<()> {
         world.dynamics_mut().set_path(self.raw, position, velocity)
     }
 }
@@ -199,7 +226,12 @@ pub(crate) enum Spec {
     Linear1(Vec3, Vec3),
     Linear2(Vec3, Vec3),
     FixedPath(Vec3, bool),
-    CarWheel { steering: Vec3, axle: Vec3, k: Real, d: Real },
+    CarWheel {
+        steering: Vec3,
+        axle: Vec3,
+        k: Real,
+        d: Real,
+    },
 }
 
 /// A joint to insert, made with a builder: `Joint::hinge(anchor, axis).limits(-1.0, 1.0)`.
@@ -264,7 +296,11 @@ impl Joint<FixedJoint> {
 
 impl Joint<UniversalJoint> {
     /// A universal joint at a world point about two perpendicular world unit axes.
-    pub fn universal(anchor: impl Into<Vec3>, axis1: impl Into<Vec3>, axis2: impl Into<Vec3>) -> Self {
+    pub fn universal(
+        anchor: impl Into<Vec3>,
+        axis1: impl Into<Vec3>,
+        axis2: impl Into<Vec3>,
+    ) -> Self {
         Self::of(Spec::Universal(anchor.into(), axis1.into(), axis2.into()))
     }
 }
@@ -294,7 +330,12 @@ impl Joint<CarWheel> {
     /// A car wheel (body 2) on a chassis (body 1): suspension along the world unit
     /// `steering_axis` with stiffness `k` N/m and damping `d` N·s/m, spinning about the
     /// perpendicular world unit `axle`.
-    pub fn car_wheel(steering_axis: impl Into<Vec3>, axle: impl Into<Vec3>, k: Real, d: Real) -> Self {
+    pub fn car_wheel(
+        steering_axis: impl Into<Vec3>,
+        axle: impl Into<Vec3>,
+        k: Real,
+        d: Real,
+    ) -> Self {
         Self::of(Spec::CarWheel {
             steering: steering_axis.into(),
             axle: axle.into(),

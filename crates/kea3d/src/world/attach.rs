@@ -28,9 +28,19 @@ impl PhysicsWorld {
                 if meta.kind == BodyType::Static && plane {
                     // A plane is unbounded: static geometry placed where the body is.
                     let q = b.orientation();
-                    (None, b.position() + q * collider.offset, q * collider.rotation, false)
+                    (
+                        None,
+                        b.position() + q * collider.offset,
+                        q * collider.rotation,
+                        false,
+                    )
                 } else {
-                    (Some(h), collider.offset - meta.local_com, collider.rotation, true)
+                    (
+                        Some(h),
+                        collider.offset - meta.local_com,
+                        collider.rotation,
+                        true,
+                    )
                 }
             }
         };
@@ -110,7 +120,12 @@ impl PhysicsWorld {
             Spec::Linear1(a, n) => w.create_linear1(body1, body2, a, n),
             Spec::Linear2(a, d) => w.create_linear2(body1, body2, a, d),
             Spec::FixedPath(a, fixed) => w.create_fixed_path(body1, body2, a, fixed),
-            Spec::CarWheel { steering, axle, k, d } => match body2 {
+            Spec::CarWheel {
+                steering,
+                axle,
+                k,
+                d,
+            } => match body2 {
                 Some(wheel) => w.create_car_wheel(body1, wheel, steering, axle, k, d),
                 None => Err(kea::KeaError::InvalidState {
                     operation: "insert_joint",

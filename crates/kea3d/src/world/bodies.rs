@@ -268,7 +268,11 @@ impl PhysicsWorld {
         body.set_mass(mass)?;
         body.set_inertia(inertia)?;
         if com != meta.local_com {
-            if self.dynamics.enabled_joints().any(|(_, b)| b.contains(&Some(h))) {
+            if self
+                .dynamics
+                .enabled_joints()
+                .any(|(_, b)| b.contains(&Some(h)))
+            {
                 return Err(KeaError::InvalidState {
                     operation: "insert_collider",
                     reason: "it would move the centre of mass of a body that has joints: \
@@ -279,13 +283,19 @@ impl PhysicsWorld {
             let q = body.orientation();
             let shift = q * (com - meta.local_com);
             body.set_position(body.position() + shift)?;
-            body.set_linear_velocity(body.linear_velocity() + body.angular_velocity().cross(shift))?;
+            body.set_linear_velocity(
+                body.linear_velocity() + body.angular_velocity().cross(shift),
+            )?;
         }
         *self.dynamics.body_mut(h)? = body;
         if com != meta.local_com {
             for c in &meta.colliders {
-                self.collision
-                    .set_collider_placement(&self.dynamics, c.handle, c.offset - com, c.rotation)?;
+                self.collision.set_collider_placement(
+                    &self.dynamics,
+                    c.handle,
+                    c.offset - com,
+                    c.rotation,
+                )?;
             }
         }
         self.meta_mut(h)?.local_com = com;

@@ -234,7 +234,10 @@ impl PhysicsWorld {
     /// A scene joint by name (untyped).
     #[must_use]
     pub fn joint_by_name(&self, name: &str) -> Option<kea::ConstraintHandle> {
-        self.joint_names.iter().find(|(n, _)| n == name).map(|&(_, h)| h)
+        self.joint_names
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, h)| h)
     }
 
     /// The scene's bodies with their names, in scene order (empty for a world built in code).
