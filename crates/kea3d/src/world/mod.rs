@@ -246,6 +246,12 @@ impl PhysicsWorld {
         &self.names
     }
 
+    /// The scene's joints with their names, in scene order (empty for a world built in code).
+    #[must_use]
+    pub fn named_joints(&self) -> &[(String, kea::ConstraintHandle)] {
+        &self.joint_names
+    }
+
     fn set_meta(&mut self, h: BodyHandle, meta: BodyMeta) {
         let i = h.index() as usize;
         if self.meta.len() <= i {

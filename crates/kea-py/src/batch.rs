@@ -1,0 +1,254 @@
+//! `kea.Batch`: N copies of one world stepped on all cores with the GIL released, their
+//! states, actions and observations as (N, …) numpy arrays that each world reads or writes
+//! in place.
+
+use crate::convert::{bad, py, py_err, real};
+use crate::state::{self, JointEntry, STATE_WIDTH};
+use crate::world::PyWorld;
+use kea3d::{BodyHandle, PhysicsWorld};
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// A batch of worlds made from one: stepped in parallel, read and written as arrays.
+///
+/// Stepping a batch gives the same bits as stepping each world on its own, for any number of
+/// threads: each world is stepped by one thread, and worlds share nothing.
+#[pyclass(name = "Batch", module = "kea")]
+pub struct PyBatch {
+    template: PhysicsWorld,
+    worlds: Vec<PhysicsWorld>,
+    bodies: Vec<BodyHandle>,
+    joints: Vec<JointEntry>,
+    pool: rayon::ThreadPool,
+}
+
+impl PyBatch {
+    /// Runs `f` on every world with its index, on the pool, without the GIL; the first error
+    /// comes back naming its world.
+    fn each<F>(&mut self, py_: Python<'_>, f: F) -> PyResult<()>
+    where
+        F: Fn(usize, &mut PhysicsWorld) -> kea3d::Result<()> + Sync + Send,
+    {
+        let (pool, worlds) = (&self.pool, &mut self.worlds);
+        let result = py_.detach(|| {
+            pool.install(|| {
+                worlds
+                    .par_iter_mut()
+                    .enumerate()
+                    .try_for_each(|(i, w)| f(i, w).map_err(|e| (i, e)))
+            })
+        });
+        result.map_err(|(i, e)| {
+            let err = py_err(e);
+            let msg = format!("world {i}: {}", err.value(py_));
+            PyErr::from_type(err.get_type(py_), msg)
+        })
+    }
+
+    fn check_rows(&self, arg: &str, shape: &[usize], width: &[usize]) -> PyResult<()> {
+        let mut want = vec![self.worlds.len()];
+        want.extend_from_slice(width);
+        if shape != want.as_slice() {
+            return Err(bad(arg, format!("an array of shape {shape:?}"), &format!("shape {want:?}")));
+        }
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl PyBatch {
+    /// `n` copies of `world`, stepped on `threads` threads (default: all cores).
+    #[new]
+    #[pyo3(signature = (world, n, threads = None))]
+    fn new(world: &PyWorld, n: usize, threads: Option<usize>) -> PyResult<Self> {
+        if n == 0 || n > 1 << 20 {
+            return Err(bad("n", n, "1 to 1048576 worlds"));
+        }
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(t) = threads {
+            if t == 0 || t > 1024 {
+                return Err(bad("threads", t, "1 to 1024, or None for all cores"));
+            }
+            builder = builder.num_threads(t);
+        }
+        let pool = builder
+            .build()
+            .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))?;
+        Ok(Self {
+            worlds: vec![world.inner.clone(); n],
+            template: world.inner.clone(),
+            bodies: world.bodies.clone(),
+            joints: world.joints.clone(),
+            pool,
+        })
+    }
+
+    /// Steps every world `steps` times by `dt` seconds, in parallel, without the GIL.
+    #[pyo3(signature = (dt = 1.0 / 60.0, steps = 1))]
+    fn step(&mut self, py_: Python<'_>, dt: f64, steps: usize) -> PyResult<()> {
+        let dt = real(dt);
+        self.each(py_, |_, w| (0..steps).try_for_each(|_| w.step(dt).map(|_| ())))
+    }
+
+    /// Puts the chosen worlds (all if None) back to the batch's starting world.
+    #[pyo3(signature = (indices = None))]
+    fn reset(&mut self, indices: Option<Vec<usize>>) -> PyResult<()> {
+        let n = self.worlds.len();
+        let indices = indices.unwrap_or_else(|| (0..n).collect());
+        if let Some(&i) = indices.iter().find(|&&i| i >= n) {
+            return Err(crate::convert::no_such("indices", i, n));
+        }
+        for i in indices {
+            self.worlds[i].clone_from(&self.template);
+        }
+        Ok(())
+    }
+
+    /// Every world's body states, as one (N, bodies, 13) float64 array that each world fills
+    /// in place, in parallel.
+    fn state<'py>(&mut self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let (n, nb) = (self.worlds.len(), self.bodies.len());
+        let array = PyArray3::<f64>::zeros(py_, [n, nb, STATE_WIDTH], false);
+        {
+            let mut rw = array.readwrite();
+            let out = rw.as_slice_mut().map_err(|e| bad("state", e, "a contiguous array"))?;
+            let bodies = &self.bodies;
+            let (pool, worlds) = (&self.pool, &self.worlds);
+            let width = (nb * STATE_WIDTH).max(1);
+            py(py_.detach(|| {
+                pool.install(|| {
+                    worlds
+                        .par_iter()
+                        .zip(out.par_chunks_mut(width))
+                        .try_for_each(|(w, rows)| state::read_bodies(w, bodies, rows))
+                })
+            }))?;
+        }
+        Ok(array)
+    }
+
+    /// Sets every world's bodies from an (N, bodies, 13) array; a world with a bad row is
+    /// refused by number, and nothing changes in it.
+    fn set_state(&mut self, py_: Python<'_>, state: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
+        self.check_rows("state", state.shape(), &[self.bodies.len(), STATE_WIDTH])?;
+        let src = state.as_slice().map_err(|e| bad("state", e, "a contiguous array"))?;
+        let width = self.bodies.len() * STATE_WIDTH;
+        let bodies = self.bodies.clone();
+        self.each(py_, |i, w| {
+            state::write_bodies(w, &bodies, &src[i * width..(i + 1) * width])
+        })
+    }
+
+    /// Adds forces (N, bodies, 3) at the bodies' centres of mass for the next step, N.
+    fn apply_forces(&mut self, py_: Python<'_>, forces: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
+        let nb = self.bodies.len();
+        self.check_rows("forces", forces.shape(), &[nb, 3])?;
+        let src = forces.as_slice().map_err(|e| bad("forces", e, "a contiguous array"))?;
+        if let Some(x) = src.iter().find(|x| !x.is_finite()) {
+            return Err(bad("forces", x, "finite forces"));
+        }
+        let bodies = self.bodies.clone();
+        self.each(py_, |i, w| {
+            for (b, &h) in bodies.iter().enumerate() {
+                let f = &src[(i * nb + b) * 3..][..3];
+                w.add_force(h, [real(f[0]), real(f[1]), real(f[2])])?;
+            }
+            Ok(())
+        })
+    }
+
+    /// Sets the motor speeds (N, joints) of the joints that have motors; columns of joints
+    /// without a motor must be 0.
+    fn set_motors(&mut self, py_: Python<'_>, velocities: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+        let nj = self.joints.len();
+        self.check_rows("velocities", velocities.shape(), &[nj])?;
+        let src = velocities
+            .as_slice()
+            .map_err(|e| bad("velocities", e, "a contiguous array"))?;
+        let joints = self.joints.clone();
+        let motorised: Vec<bool> = joints
+            .iter()
+            .map(|&j| {
+                state::limit(&self.template, j)
+                    .ok()
+                    .flatten()
+                    .is_some_and(|l| l.motor().is_some())
+            })
+            .collect();
+        for (k, x) in src.iter().enumerate() {
+            if !x.is_finite() || (!motorised[k % nj.max(1)] && *x != 0.0) {
+                return Err(bad(
+                    "velocities",
+                    format!("{x} in column {}", k % nj.max(1)),
+                    "finite speeds, and 0 for joints without a motor",
+                ));
+            }
+        }
+        self.each(py_, |i, w| {
+            for (k, &j) in joints.iter().enumerate() {
+                if motorised[k] {
+                    state::drive(w, j, src[i * nj + k])?;
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Every world's joint coordinates and rates: two (N, joints) float64 arrays.
+    #[allow(clippy::type_complexity)]
+    fn joint_state<'py>(
+        &self,
+        py_: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let (n, nj) = (self.worlds.len(), self.joints.len());
+        let mut pos = vec![0.0; n * nj];
+        let mut vel = vec![0.0; n * nj];
+        for (i, w) in self.worlds.iter().enumerate() {
+            let r = i * nj..(i + 1) * nj;
+            py(state::read_joints(w, &self.joints, &mut pos[r.clone()], &mut vel[r]))?;
+        }
+        Ok((
+            PyArray1::from_vec(py_, pos).reshape([n, nj])?,
+            PyArray1::from_vec(py_, vel).reshape([n, nj])?,
+        ))
+    }
+
+    /// A copy of world `index` as a `kea.World`.
+    fn world(&self, index: usize) -> PyResult<PyWorld> {
+        let w = self
+            .worlds
+            .get(index)
+            .ok_or_else(|| crate::convert::no_such("index", index, self.worlds.len()))?;
+        let mut out = PyWorld::from_physics(w.clone());
+        out.bodies.clone_from(&self.bodies);
+        out.joints.clone_from(&self.joints);
+        Ok(out)
+    }
+
+    /// Threads stepping the batch.
+    #[getter]
+    fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// Bodies per world.
+    #[getter]
+    fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Joints per world.
+    #[getter]
+    fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    fn __len__(&self) -> usize {
+        self.worlds.len()
+    }
+}

@@ -1,0 +1,60 @@
+//! From Python values to Kea's and back: vectors, quaternions, errors.
+
+use kea3d::dynamics::KeaError;
+use kea3d::{Error, Quat, Real, Vec3};
+use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
+use pyo3::PyErr;
+
+/// A Kea error as the Python exception of its kind, its message naming the argument.
+pub fn py_err(e: Error) -> PyErr {
+    let text = e.to_string();
+    match e {
+        Error::StaleCollider { .. }
+        | Error::Kea(KeaError::StaleHandle { .. } | KeaError::ForeignHandle { .. }) => {
+            PyIndexError::new_err(text)
+        }
+        Error::Dependency { .. } | Error::Kea(KeaError::Inconsistent { .. }) => {
+            PyRuntimeError::new_err(text)
+        }
+        _ => PyValueError::new_err(text),
+    }
+}
+
+/// Any Kea result as a Python one.
+pub fn py<T, E: Into<Error>>(r: Result<T, E>) -> pyo3::PyResult<T> {
+    r.map_err(|e| py_err(e.into()))
+}
+
+/// A Python float as Kea's real (f32 unless built with `f64`).
+#[allow(clippy::cast_possible_truncation)]
+pub fn real(x: f64) -> Real {
+    x as Real
+}
+
+/// A 3-sequence as a vector.
+pub fn vec3(v: [f64; 3]) -> Vec3 {
+    Vec3::new(real(v[0]), real(v[1]), real(v[2]))
+}
+
+/// A vector as a Python 3-tuple.
+pub fn tuple3(v: Vec3) -> (f64, f64, f64) {
+    (f64::from(v.x), f64::from(v.y), f64::from(v.z))
+}
+
+/// An `(x, y, z, w)` sequence as a quaternion (checked for unit length where it is used).
+pub fn quat(q: [f64; 4]) -> Quat {
+    Quat::from_xyzw(real(q[0]), real(q[1]), real(q[2]), real(q[3]))
+}
+
+/// A `ValueError` naming `arg` and what it must be.
+pub fn bad(arg: &str, value: impl std::fmt::Display, expected: &str) -> PyErr {
+    PyValueError::new_err(format!("{arg} = {value}: expected {expected}"))
+}
+
+/// An `IndexError` for a body, collider or joint number out of range.
+pub fn no_such(what: &str, index: usize, count: usize) -> PyErr {
+    PyIndexError::new_err(format!(
+        "{what} = {index}: there are {count} (numbered 0 to {})",
+        count.saturating_sub(1)
+    ))
+}
