@@ -54,7 +54,11 @@ impl PyBatch {
         let mut want = vec![self.worlds.len()];
         want.extend_from_slice(width);
         if shape != want.as_slice() {
-            return Err(bad(arg, format!("an array of shape {shape:?}"), &format!("shape {want:?}")));
+            return Err(bad(
+                arg,
+                format!("an array of shape {shape:?}"),
+                &format!("shape {want:?}"),
+            ));
         }
         Ok(())
     }
@@ -92,7 +96,9 @@ impl PyBatch {
     #[pyo3(signature = (dt = 1.0 / 60.0, steps = 1))]
     fn step(&mut self, py_: Python<'_>, dt: f64, steps: usize) -> PyResult<()> {
         let dt = real(dt);
-        self.each(py_, |_, w| (0..steps).try_for_each(|_| w.step(dt).map(|_| ())))
+        self.each(py_, |_, w| {
+            (0..steps).try_for_each(|_| w.step(dt).map(|_| ()))
+        })
     }
 
     /// Puts the chosen worlds (all if None) back to the batch's starting world.
@@ -116,7 +122,9 @@ impl PyBatch {
         let array = PyArray3::<f64>::zeros(py_, [n, nb, STATE_WIDTH], false);
         {
             let mut rw = array.readwrite();
-            let out = rw.as_slice_mut().map_err(|e| bad("state", e, "a contiguous array"))?;
+            let out = rw
+                .as_slice_mut()
+                .map_err(|e| bad("state", e, "a contiguous array"))?;
             let bodies = &self.bodies;
             let (pool, worlds) = (&self.pool, &self.worlds);
             let width = (nb * STATE_WIDTH).max(1);
@@ -136,7 +144,9 @@ impl PyBatch {
     /// refused by number, and nothing changes in it.
     fn set_state(&mut self, py_: Python<'_>, state: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
         self.check_rows("state", state.shape(), &[self.bodies.len(), STATE_WIDTH])?;
-        let src = state.as_slice().map_err(|e| bad("state", e, "a contiguous array"))?;
+        let src = state
+            .as_slice()
+            .map_err(|e| bad("state", e, "a contiguous array"))?;
         let width = self.bodies.len() * STATE_WIDTH;
         let bodies = self.bodies.clone();
         self.each(py_, |i, w| {
@@ -148,7 +158,9 @@ impl PyBatch {
     fn apply_forces(&mut self, py_: Python<'_>, forces: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
         let nb = self.bodies.len();
         self.check_rows("forces", forces.shape(), &[nb, 3])?;
-        let src = forces.as_slice().map_err(|e| bad("forces", e, "a contiguous array"))?;
+        let src = forces
+            .as_slice()
+            .map_err(|e| bad("forces", e, "a contiguous array"))?;
         if let Some(x) = src.iter().find(|x| !x.is_finite()) {
             return Err(bad("forces", x, "finite forces"));
         }
@@ -164,7 +176,11 @@ impl PyBatch {
 
     /// Sets the motor speeds (N, joints) of the joints that have motors; columns of joints
     /// without a motor must be 0.
-    fn set_motors(&mut self, py_: Python<'_>, velocities: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+    fn set_motors(
+        &mut self,
+        py_: Python<'_>,
+        velocities: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<()> {
         let nj = self.joints.len();
         self.check_rows("velocities", velocities.shape(), &[nj])?;
         let src = velocities
@@ -210,7 +226,12 @@ impl PyBatch {
         let mut vel = vec![0.0; n * nj];
         for (i, w) in self.worlds.iter().enumerate() {
             let r = i * nj..(i + 1) * nj;
-            py(state::read_joints(w, &self.joints, &mut pos[r.clone()], &mut vel[r]))?;
+            py(state::read_joints(
+                w,
+                &self.joints,
+                &mut pos[r.clone()],
+                &mut vel[r],
+            ))?;
         }
         Ok((
             PyArray1::from_vec(py_, pos).reshape([n, nj])?,

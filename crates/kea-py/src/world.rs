@@ -99,15 +99,19 @@ fn shape(
             .ok_or_else(|| bad(name, "None", &format!("a number for a {shape}")))
     };
     Ok(match shape {
-        "cuboid" | "box" => Collider::cuboid(vec3(
-            half_extents.ok_or_else(|| bad("half_extents", "None", "three numbers for a cuboid"))?,
-        )),
+        "cuboid" | "box" => {
+            Collider::cuboid(vec3(half_extents.ok_or_else(|| {
+                bad("half_extents", "None", "three numbers for a cuboid")
+            })?))
+        }
         "ball" | "sphere" => Collider::ball(need("radius", radius)?),
         "capsule" => match (a, b) {
             (Some(a), Some(b)) => Collider::capsule(vec3(a), vec3(b), need("radius", radius)?),
             _ => Collider::capsule_y(need("half_height", half_height)?, need("radius", radius)?),
         },
-        "cylinder" => Collider::cylinder(need("half_height", half_height)?, need("radius", radius)?),
+        "cylinder" => {
+            Collider::cylinder(need("half_height", half_height)?, need("radius", radius)?)
+        }
         "cone" => Collider::cone(need("half_height", half_height)?, need("radius", radius)?),
         "halfspace" | "plane" => Collider::halfspace(vec3(normal.unwrap_or([0.0, 1.0, 0.0]))),
         other => {
@@ -259,7 +263,11 @@ impl PyWorld {
         let (anchor, axis) = (vec3(anchor), vec3(axis));
         let limited = limits.is_some() || motor.is_some();
         if limited && !matches!(kind, "hinge" | "prismatic") {
-            return Err(bad("limits", format!("{limits:?}, motor = {motor:?}"), "a hinge or prismatic joint"));
+            return Err(bad(
+                "limits",
+                format!("{limits:?}, motor = {motor:?}"),
+                "a hinge or prismatic joint",
+            ));
         }
         let w = &mut self.inner;
         let raw = match kind {
@@ -328,7 +336,9 @@ impl PyWorld {
                 &format!("shape ({}, {STATE_WIDTH})", self.bodies.len()),
             ));
         }
-        let rows = state.as_slice().map_err(|e| bad("state", e, "a contiguous array"))?;
+        let rows = state
+            .as_slice()
+            .map_err(|e| bad("state", e, "a contiguous array"))?;
         py(state::write_bodies(&mut self.inner, &self.bodies, rows))
     }
 
@@ -340,7 +350,12 @@ impl PyWorld {
     /// A body's orientation quaternion (x, y, z, w).
     fn rotation(&self, body: usize) -> PyResult<(f64, f64, f64, f64)> {
         let q = py(self.inner.rotation(self.body(body)?))?;
-        Ok((f64::from(q.x), f64::from(q.y), f64::from(q.z), f64::from(q.w)))
+        Ok((
+            f64::from(q.x),
+            f64::from(q.y),
+            f64::from(q.z),
+            f64::from(q.w),
+        ))
     }
 
     /// Velocity of a body's centre of mass, m/s.
@@ -377,9 +392,16 @@ impl PyWorld {
     }
 
     /// The pose a 'kinematic_position' body reaches at the end of the next step.
-    fn set_kinematic_target(&mut self, body: usize, position: [f64; 3], rotation: [f64; 4]) -> PyResult<()> {
+    fn set_kinematic_target(
+        &mut self,
+        body: usize,
+        position: [f64; 3],
+        rotation: [f64; 4],
+    ) -> PyResult<()> {
         let h = self.body(body)?;
-        py(self.inner.set_kinematic_target(h, vec3(position), quat(rotation)))
+        py(self
+            .inner
+            .set_kinematic_target(h, vec3(position), quat(rotation)))
     }
 
     /// A hinge's angle (rad) or a prismatic joint's slide (m) after the last step.

@@ -15,6 +15,10 @@ pub const DEFAULT_DENSITY: Real = 1000.0;
 #[must_use]
 pub struct Collider {
     pub(crate) shape: CollisionResult<Shape>,
+    /// Where the shape sits in the collider's own frame (a capsule between two points, a
+    /// capsule along x): placed in the body by `offset` and `rotation`.
+    pub(crate) shape_offset: Vec3,
+    pub(crate) shape_rotation: Quat,
     pub(crate) offset: Vec3,
     pub(crate) rotation: Quat,
     pub(crate) mass: ColliderMass,
@@ -40,6 +44,8 @@ impl Collider {
     fn from_result(shape: CollisionResult<Shape>) -> Self {
         Self {
             shape,
+            shape_offset: Vec3::ZERO,
+            shape_rotation: Quat::IDENTITY,
             offset: Vec3::ZERO,
             rotation: Quat::IDENTITY,
             mass: ColliderMass::Density(DEFAULT_DENSITY),
@@ -67,12 +73,14 @@ impl Collider {
 
     /// A capsule along the body's x axis.
     pub fn capsule_x(half_height: Real, radius: Real) -> Self {
-        Self::capsule_y(half_height, radius).rotation(Quat::from_rotation_z(-kea::PI_REAL / 2.0))
+        Self::capsule_y(half_height, radius)
+            .shaped(Vec3::ZERO, Quat::from_rotation_z(-kea::PI_REAL / 2.0))
     }
 
     /// A capsule along the body's z axis.
     pub fn capsule_z(half_height: Real, radius: Real) -> Self {
-        Self::capsule_y(half_height, radius).rotation(Quat::from_rotation_x(kea::PI_REAL / 2.0))
+        Self::capsule_y(half_height, radius)
+            .shaped(Vec3::ZERO, Quat::from_rotation_x(kea::PI_REAL / 2.0))
     }
 
     /// A capsule whose axis runs from `a` to `b` (body frame), any direction.
@@ -85,9 +93,22 @@ impl Collider {
         } else {
             Quat::IDENTITY
         };
-        Self::capsule_y(0.5 * len, radius)
-            .translation((a + b) * 0.5)
-            .rotation(rotation)
+        Self::capsule_y(0.5 * len, radius).shaped((a + b) * 0.5, rotation)
+    }
+
+    fn shaped(mut self, offset: Vec3, rotation: Quat) -> Self {
+        self.shape_offset = offset;
+        self.shape_rotation = rotation;
+        self
+    }
+
+    /// The shape's placement in its body's frame: the shape's own placement (for capsules
+    /// made between points or along x or z), then `translation` and `rotation`.
+    pub(crate) fn placement(&self) -> (Vec3, Quat) {
+        (
+            self.offset + self.rotation * self.shape_offset,
+            self.rotation * self.shape_rotation,
+        )
     }
 
     /// A cylinder along the body's y axis.
@@ -121,15 +142,17 @@ impl Collider {
         Self::from_result(Shape::plane(normal.into()))
     }
 
-    /// Where the shape's origin sits in its body's frame, m.
+    /// Where the collider's origin sits in its body's frame, m (a capsule made between two
+    /// points keeps them about this origin).
     pub fn translation(mut self, offset: impl Into<Vec3>) -> Self {
         self.offset = offset.into();
         self
     }
 
-    /// The shape's orientation in its body's frame: any unit quaternion.
+    /// The collider's orientation in its body's frame: any unit quaternion (a capsule along
+    /// x or z, or between two points, turns with it).
     pub fn rotation(mut self, rotation: Quat) -> Self {
-        self.rotation = rotation * self.rotation;
+        self.rotation = rotation;
         self
     }
 

@@ -20,8 +20,9 @@ impl PhysicsWorld {
         let shape = collider.shape.clone()?;
         let material = self.material_for(&collider)?;
         let plane = shape.kind_name() == "plane";
+        let (place, turn) = collider.placement();
         let (body, offset, rotation, attached) = match parent {
-            None => (None, collider.offset, collider.rotation, false),
+            None => (None, place, turn, false),
             Some(h) => {
                 let meta = self.meta(h)?;
                 let b = self.dynamics.body(h)?;
@@ -57,8 +58,8 @@ impl PhysicsWorld {
         if let (true, Some(h)) = (attached, parent) {
             self.meta_mut(h)?.colliders.push(Attached {
                 handle,
-                offset: collider.offset,
-                rotation: collider.rotation,
+                offset: place,
+                rotation: turn,
                 mass: collider.mass,
             });
             if let Err(e) = self.refresh_mass(h) {

@@ -1,0 +1,138 @@
+"""Batch throughput: Kea's ``kea.Batch`` against MuJoCo's ``rollout`` on the same cart-pole.
+
+Both models: a 1 kg cart on a slider along x (stops at ±2.4 m) driven by a velocity servo
+(±3 m/s, at most 30 N), a 0.1 kg, 1 m pole on a hinge; 0.01 s physics steps, two per
+environment step. Two ways of driving each, in the same run:
+
+* closed loop: per environment step, set the actions, step 2 × 0.01 s, read every state
+  (what a learning loop does);
+* open loop: one call steps 200 physics steps with fixed actions.
+
+Prints environment steps per second (worlds × env steps / wall time), the median of
+``--runs`` runs, for one thread and all cores, and the ratios.
+
+    python crates/kea-py/bench/batch_vs_mujoco.py [--worlds 1024] [--runs 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+import numpy as np
+
+import kea
+from kea.envs import DT, MOTOR_FORCE, MOTOR_SPEED, SUBSTEPS, cart_pole_world
+
+MJCF = f"""
+<mujoco model="cartpole">
+  <option timestep="{DT}" integrator="implicitfast"/>
+  <worldbody>
+    <body name="cart">
+      <joint name="slider" type="slide" axis="1 0 0" limited="true" range="-2.4 2.4"/>
+      <geom type="box" size="0.25 0.1 0.15" mass="1" contype="0" conaffinity="0"/>
+      <body name="pole">
+        <joint name="hinge" type="hinge" axis="0 0 1"/>
+        <geom type="capsule" fromto="0 0 0 0 1 0" size="0.03" mass="0.1" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <velocity joint="slider" kv="100" forcelimited="true" forcerange="-{MOTOR_FORCE} {MOTOR_FORCE}"
+              ctrlrange="-{MOTOR_SPEED} {MOTOR_SPEED}"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def median_rate(run, runs: int) -> float:
+    return statistics.median(run() for _ in range(runs))
+
+
+def kea_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
+    batch = kea.Batch(cart_pole_world(), worlds, threads)
+    motors = np.zeros((worlds, 2))
+    rng = np.random.default_rng(0)
+
+    def closed():
+        batch.reset()
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            motors[:, 0] = rng.uniform(-MOTOR_SPEED, MOTOR_SPEED, worlds)
+            batch.set_motors(motors)
+            batch.step(DT, SUBSTEPS)
+            batch.state()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        batch.reset()
+        batch.set_motors(motors)
+        start = time.perf_counter()
+        batch.step(DT, SUBSTEPS * env_steps)
+        batch.state()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()  # warm
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
+def mujoco_rates(worlds: int, threads: int, env_steps: int, runs: int):
+    import mujoco
+    from mujoco import rollout
+
+    model = mujoco.MjModel.from_xml_string(MJCF)
+    datas = [mujoco.MjData(model) for _ in range(threads)]
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    nstate = mujoco.mj_stateSize(model, spec)
+    state0 = np.zeros((worlds, nstate))
+    mujoco.mj_getState(model, datas[0], state0[0], spec)
+    state0[:] = state0[0]
+    rng = np.random.default_rng(0)
+
+    def closed():
+        state = state0.copy()
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            control = rng.uniform(-MOTOR_SPEED, MOTOR_SPEED, (worlds, 1, 1))
+            out, _ = rollout.rollout(model, datas, state, control, nstep=SUBSTEPS, persistent_pool=True)
+            state = out[:, -1, :]
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        control = np.zeros((worlds, 1, 1))
+        start = time.perf_counter()
+        rollout.rollout(model, datas, state0, control, nstep=SUBSTEPS * env_steps, persistent_pool=True)
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--worlds", type=int, default=1024)
+    parser.add_argument("--env-steps", type=int, default=100)
+    parser.add_argument("--runs", type=int, default=5)
+    args = parser.parse_args()
+    cores = os.cpu_count() or 1
+    print(f"{args.worlds} cart-poles, {args.env_steps} env steps of 2 x {DT} s, median of {args.runs} runs, {cores} cores")
+    print(f"{'engine':<8} {'threads':>7} {'closed loop':>14} {'open loop':>14}   (env steps/s)")
+    rows = {}
+    for threads in sorted({1, cores}):
+        rows[("kea", threads)] = kea_rates(args.worlds, threads, args.env_steps, args.runs)
+        rows[("mujoco", threads)] = mujoco_rates(args.worlds, threads, args.env_steps, args.runs)
+    for (engine, threads), (closed, open_loop) in rows.items():
+        print(f"{engine:<8} {threads:>7} {closed:>14,.0f} {open_loop:>14,.0f}")
+    print()
+    for threads in sorted({1, cores}):
+        k, m = rows[("kea", threads)], rows[("mujoco", threads)]
+        print(f"kea / mujoco on {threads} thread(s): closed loop {k[0] / m[0]:.2f}x, open loop {k[1] / m[1]:.2f}x")
+    if cores > 1:
+        k1, kn = rows[("kea", 1)], rows[("kea", cores)]
+        print(f"kea {cores} threads / 1 thread: closed loop {kn[0] / k1[0]:.2f}x, open loop {kn[1] / k1[1]:.2f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,109 @@
+"""Batches: shapes, bit-for-bit agreement with worlds stepped one by one and across thread
+counts, resets, and the Gymnasium environment."""
+
+import numpy as np
+import pytest
+
+import kea
+from kea.envs import CartPoleEnv, CartPoleVecEnv, cart_pole_world, initial_states
+
+
+def perturbed_states(world, n, seed):
+    return initial_states(world.state(), np.random.default_rng(seed), n)
+
+
+def test_batch_arrays_have_batch_shapes_and_float64():
+    b = kea.Batch(cart_pole_world(), 5, threads=2)
+    assert len(b) == 5 and b.body_count == 2 and b.joint_count == 2
+    s = b.state()
+    assert s.shape == (5, 2, kea.STATE_WIDTH) and s.dtype == np.float64
+    pos, vel = b.joint_state()
+    assert pos.shape == (5, 2) and vel.shape == (5, 2) and pos.dtype == np.float64
+
+
+def test_a_batch_equals_its_worlds_stepped_one_by_one_bit_for_bit():
+    n, steps = 6, 40
+    template = cart_pole_world()
+    states = perturbed_states(template, n, 7)
+    speeds = np.random.default_rng(8).uniform(-3, 3, (steps, n))
+    forces = np.random.default_rng(9).normal(0, 2, (steps, n, 2, 3))
+    results = []
+    for threads in (1, 2):
+        batch = kea.Batch(template, n, threads=threads)
+        batch.set_state(states)
+        motors = np.zeros((n, 2))
+        for k in range(steps):
+            motors[:, 0] = speeds[k]
+            batch.set_motors(motors)
+            batch.apply_forces(forces[k])
+            batch.step(0.01, 2)
+        results.append(batch.state())
+    assert np.array_equal(results[0], results[1])
+    for i in range(n):
+        w = template.copy()
+        w.set_state(states[i])
+        for k in range(steps):
+            w.set_motor(0, speeds[k, i])
+            for body in range(2):
+                w.add_force(body, forces[k, i, body])
+            w.step(0.01, 2)
+        assert np.array_equal(w.state(), results[0][i]), f"world {i}"
+
+
+def test_reset_puts_chosen_worlds_back():
+    batch = kea.Batch(cart_pole_world(), 3)
+    start = batch.state()
+    motors = np.zeros((3, 2))
+    motors[:, 0] = 2.0
+    batch.set_motors(motors)
+    batch.step(0.01, 20)
+    moved = batch.state()
+    batch.reset([0, 2])
+    after = batch.state()
+    assert np.array_equal(after[[0, 2]], start[[0, 2]])
+    assert np.array_equal(after[1], moved[1])
+    with pytest.raises(IndexError, match="indices"):
+        batch.reset([3])
+
+
+def test_batch_refuses_bad_arrays_by_name():
+    batch = kea.Batch(cart_pole_world(), 2)
+    with pytest.raises(ValueError, match="forces"):
+        batch.apply_forces(np.zeros((2, 3, 3)))
+    with pytest.raises(ValueError, match="forces"):
+        batch.apply_forces(np.full((2, 2, 3), np.nan))
+    with pytest.raises(ValueError, match="velocities"):
+        batch.set_motors(np.ones((2, 2)))  # joint 1 (the hinge) has no motor
+    with pytest.raises(ValueError, match="state"):
+        batch.set_state(np.zeros((2, 2, 13)))
+    with pytest.raises(ValueError, match="n"):
+        kea.Batch(cart_pole_world(), 0)
+
+
+def test_the_cart_pole_passes_the_gymnasium_checker():
+    from gymnasium.utils.env_checker import check_env
+
+    check_env(CartPoleEnv(), skip_render_check=True)
+
+
+def test_the_vector_env_balances_for_a_while_and_resets_itself():
+    env = CartPoleVecEnv(8, threads=2)
+    obs, _ = env.reset(seed=3)
+    assert obs.shape == (8, 4) and obs.dtype == np.float32
+    assert np.all(np.abs(obs) <= 0.05 + 1e-6)
+    episodes = 0
+    for _ in range(300):
+        # A hand-tuned balancing servo: move the cart under the pole.
+        action = np.clip(-(8.0 * obs[:, 1] + 1.5 * obs[:, 3]) * -1.0 + 0.1 * obs[:, 0], -1, 1)
+        obs, reward, terminated, truncated, _ = env.step(action[:, None])
+        episodes += int(terminated.sum() + truncated.sum())
+        assert obs.shape == (8, 4) and reward.shape == (8,)
+    assert np.all(np.isfinite(obs))
+    # Random actions end episodes within a few hundred steps; the env restarts them.
+    env.reset(seed=4)
+    rng = np.random.default_rng(0)
+    ended = 0
+    for _ in range(200):
+        _, _, terminated, truncated, _ = env.step(rng.uniform(-1, 1, (8, 1)))
+        ended += int(terminated.sum() + truncated.sum())
+    assert ended > 0
