@@ -145,7 +145,7 @@ impl PhysicsWorld {
     fn configure_joint<J>(&mut self, raw: ConstraintHandle, joint: &Joint<J>) -> Result<()> {
         if joint.limits.is_some() || joint.motor.is_some() {
             let limit = self.limit_of(raw)?;
-            let mut changed = limit.clone();
+            let mut changed = *limit;
             if let Some((lo, hi)) = joint.limits {
                 changed.set_limits(lo, hi)?;
             }
