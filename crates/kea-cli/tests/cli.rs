@@ -274,9 +274,11 @@ fn outputs_are_written_all_or_none() {
 }
 
 #[test]
-fn run_with_dt_10_blows_up_and_exits_non_zero_unless_kept_going() {
-    // Issue 12: this used to end with status 0 and an energy of −1.8e9 J.
-    let (code, out, err) = kea(&["run", "--dt", "10", "--steps", "100"]);
+fn run_with_dt_30_blows_up_and_exits_non_zero_unless_kept_going() {
+    // Issue 12: `--dt 10` used to end with status 0 and an energy of −1.8e9 J. Since worlds
+    // grow instead of dropping contacts (issue 13), the pyramid at 10 s steps only gains energy
+    // without a runaway; 30 s steps run away within three steps.
+    let (code, out, err) = kea(&["run", "--dt", "30", "--steps", "100"]);
     assert_eq!(code, 1, "{out}\n{err}");
     assert!(err.contains("blew up at step"), "{err}");
     assert!(err.contains("bodies quarantined"), "{err}");
@@ -284,7 +286,7 @@ fn run_with_dt_10_blows_up_and_exits_non_zero_unless_kept_going() {
     assert!(err.contains("--keep-going"), "{err}");
     // Kea's warnings are said (once per kind), not only counted.
     assert!(err.contains("warning: kea:"), "{err}");
-    let (code, out, err) = kea(&["run", "--dt", "10", "--steps", "100", "--keep-going"]);
+    let (code, out, err) = kea(&["run", "--dt", "30", "--steps", "100", "--keep-going"]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(err.contains("kept going"), "{err}");
     assert!(out.contains("bodies quarantined"), "{out}");
