@@ -268,7 +268,10 @@ fn a_full_world_grows_and_zero_capacity_is_refused() {
     w.create_ball_joint(a, None, Vec3::ZERO).unwrap();
     w.create_ball_joint(b, Some(c), Vec3::ZERO).unwrap();
     assert_eq!(w.max_constraints(), 2);
-    assert!(w.body(a).is_ok() && w.body(c).is_ok(), "handles survive the growth");
+    assert!(
+        w.body(a).is_ok() && w.body(c).is_ok(),
+        "handles survive the growth"
+    );
     w.step(0.01).unwrap();
     w.reserve(100, 50);
     assert!(w.max_bodies() >= 100 && w.max_constraints() >= 50);
