@@ -207,7 +207,8 @@ impl PhysicsWorld {
     }
 
     /// Gives each position-driven kinematic body the velocity that takes it to its target in
-    /// `dt` (none without a target). Checked in full before anything changes.
+    /// `dt` (none without a target). The targets were checked when set, and `dt` by the
+    /// caller, so the setters here do not fail on user input.
     pub(super) fn drive_kinematic_targets(&mut self, dt: Real) -> Result<()> {
         for i in 0..self.driven.len() {
             let h = self.driven[i];
