@@ -11,8 +11,8 @@ use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
 use crate::pairs::Pairs;
 use crate::parry::math::Pose;
 use crate::shape::Shape;
+use kea::timing::Stamp;
 use kea::{BodyHandle, CollisionStats, ConstraintHandle, Quat, Real, StepStats, Vec3, World};
-use std::time::Instant;
 
 /// A collider's handle: generational, like Kea's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -462,7 +462,7 @@ impl CollisionWorld {
         check_positive("dt", dt)?;
         check_distance("margin", self.margin)?;
         check_distance("touch_distance", self.touch_distance)?;
-        let t0 = Instant::now();
+        let t0 = Stamp::now(world.step_timing());
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);
             for p in &mut self.pairs.slots {
@@ -473,10 +473,10 @@ impl CollisionWorld {
         self.collect_jointed_pairs(world);
         self.update_bounds(world, dt);
         self.find_new_pairs();
-        let t1 = Instant::now();
+        let t1 = Stamp::now(world.step_timing());
         self.narrow_phase(dt);
         self.apply(world)?;
-        self.stats.time_broad_phase = t1 - t0;
+        self.stats.time_broad_phase = t0.until(t1);
         self.stats.time_narrow_phase = t1.elapsed();
         self.stats.pairs = self.pairs.len() as u32;
         Ok(())

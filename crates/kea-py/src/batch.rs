@@ -83,9 +83,12 @@ impl PyBatch {
         let pool = builder
             .build()
             .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))?;
+        // Nobody reads a batch world's stage times: skip the clock (same bits either way).
+        let mut template = world.inner.clone();
+        template.set_step_timing(false);
         Ok(Self {
-            worlds: vec![world.inner.clone(); n],
-            template: world.inner.clone(),
+            worlds: vec![template.clone(); n],
+            template,
             bodies: world.bodies.clone(),
             joints: world.joints.clone(),
             pool,

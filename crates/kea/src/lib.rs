@@ -27,6 +27,7 @@ pub mod error;
 mod handle;
 pub mod math;
 pub mod solver;
+pub mod timing;
 mod union_find;
 pub mod world;
 

@@ -37,6 +37,11 @@ pub(crate) struct BodyScratch {
     pub(crate) constraint_torque: Vec<DVec3>,
     /// Bodies already advanced by the iterative path this step.
     pub(crate) integrated: Vec<bool>,
+    /// Each body's rotation rule this step.
+    pub(crate) rotation: Vec<Rotation>,
+    /// Per solver body, the last inertia seen and its principal frame and moments: inertia
+    /// rarely changes, and its eigen-decomposition is a tenth of a small world's step.
+    principal: Vec<(Mat3, Quat, Vec3)>,
 }
 
 impl BodyScratch {
@@ -47,6 +52,8 @@ impl BodyScratch {
         reserve(&mut self.constraint_force, n);
         reserve(&mut self.constraint_torque, n);
         reserve(&mut self.integrated, n);
+        reserve(&mut self.rotation, n);
+        reserve(&mut self.principal, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -55,10 +62,16 @@ impl BodyScratch {
                 * std::mem::size_of::<Vec3>()
             + (self.constraint_force.capacity() + self.constraint_torque.capacity()) * 24
             + self.integrated.capacity()
+            + self.rotation.capacity() * std::mem::size_of::<Rotation>()
+            + self.principal.capacity() * std::mem::size_of::<(Mat3, Quat, Vec3)>()
     }
 
     pub(crate) fn bytes_for(n: usize) -> usize {
-        n * (std::mem::size_of::<Mat3>() + 2 * std::mem::size_of::<Vec3>() + 49)
+        n * (std::mem::size_of::<Mat3>()
+            + 2 * std::mem::size_of::<Vec3>()
+            + 49
+            + std::mem::size_of::<Rotation>()
+            + std::mem::size_of::<(Mat3, Quat, Vec3)>())
     }
 
     /// Computes world inverse inertia and free (unconstrained) end-of-step velocities.
@@ -71,7 +84,10 @@ impl BodyScratch {
         self.constraint_torque.clear();
         self.integrated.clear();
         self.integrated.resize(bodies.len(), false);
-        for b in bodies {
+        self.rotation.clear();
+        for (i, b) in bodies.iter().enumerate() {
+            let rule = Rotation::of(b, |inertia| self.principal_frame(i, inertia));
+            self.rotation.push(rule);
             let r = Mat3::from_quat(b.orientation);
             let inv_iw = r * b.inv_inertia * r.transpose();
             let mut v = b.linear_velocity;
@@ -98,6 +114,24 @@ impl BodyScratch {
         }
     }
 
+    /// Body `i`'s principal frame and moments for `inertia`: remembered from the last step
+    /// while the inertia is the same bits, so the answer is the one computed afresh.
+    fn principal_frame(&mut self, i: usize, inertia: Mat3) -> (Quat, Vec3) {
+        if let Some(&(seen, p, d)) = self.principal.get(i) {
+            if seen.to_cols_array().map(Real::to_bits) == inertia.to_cols_array().map(Real::to_bits)
+            {
+                return (p, d);
+            }
+        }
+        let (p, d) = symmetric_eigen(inertia);
+        if i < self.principal.len() {
+            self.principal[i] = (inertia, p, d);
+        } else if i == self.principal.len() {
+            self.principal.push((inertia, p, d));
+        }
+        (p, d)
+    }
+
     /// Applies constraint forces and advances every body by `h`.
     pub(crate) fn integrate(&self, bodies: &mut [SolverBody], h: Real) {
         for (i, b) in bodies.iter_mut().enumerate() {
@@ -109,7 +143,7 @@ impl BodyScratch {
             let v_new = self.free_linear[i] + h * b.inv_mass * f;
             let w_step = self.free_angular[i] + h * (self.inv_inertia_world[i] * t);
 
-            let (q1, w_new) = rotate_body(b, w_step, h);
+            let (q1, w_new) = advance_rotation(b, self.rotation[i], b.orientation, w_step, h);
 
             b.linear_acceleration = (v_new - b.linear_velocity) / h;
             b.angular_acceleration = (w_new - b.angular_velocity) / h;
@@ -139,15 +173,16 @@ pub(crate) enum Rotation {
 }
 
 impl Rotation {
-    /// The rotation rule of body `b`.
-    pub(crate) fn of(b: &SolverBody) -> Self {
+    /// The rotation rule of body `b`, with `principal` giving its inertia's principal frame
+    /// and moments (as [`symmetric_eigen`] does).
+    fn of(b: &SolverBody, principal: impl FnOnce(Mat3) -> (Quat, Vec3)) -> Self {
         if b.is_fixed() {
             return Rotation::Kinematic;
         }
         if b.fast_spin_axis.is_some() {
             return Rotation::FastSpin;
         }
-        let (p, d) = symmetric_eigen(b.inertia);
+        let (p, d) = principal(b.inertia);
         let d = to_f64(d);
         let isotropic = (d.x - d.y).abs() <= 1e-6 * d.x && (d.x - d.z).abs() <= 1e-6 * d.x;
         if isotropic {
@@ -175,12 +210,6 @@ pub(crate) fn advance_rotation(
         Rotation::Kinematic | Rotation::Isotropic => (rotate_by_vector(q, w_step * h), w_step),
         Rotation::FastSpin | Rotation::Free { .. } => rotate_free(b, rule, q, w_step, h),
     }
-}
-
-/// New orientation and angular velocity after a step `h` at angular velocity `w_step` (the
-/// body's rule found on the spot: for a body advanced once per step).
-pub(crate) fn rotate_body(b: &SolverBody, w_step: Vec3, h: Real) -> (Quat, Vec3) {
-    advance_rotation(b, Rotation::of(b), b.orientation, w_step, h)
 }
 
 /// New orientation and angular velocity of a body with mass, keeping `L = I_w ω_step`.

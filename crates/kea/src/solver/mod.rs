@@ -74,7 +74,7 @@ pub use wide::SimdLevel;
 use crate::constraint::{PointForce, Row, MAX_CONTACT_POINTS};
 use crate::error::{KeaError, KeaResult};
 use crate::math::{from_f64, rotate_by_vector, DVec3, Real};
-use std::time::Instant;
+use crate::timing::Stamp;
 use validate::{validate_inputs, validate_rows};
 
 /// The exact solver and its reusable workspace.
@@ -208,7 +208,7 @@ impl Solver {
         let mut stats = SolverStats::default();
         let before = self.memory_used();
 
-        let t0 = Instant::now();
+        let t0 = Stamp::now(params.timing);
         self.integ.prepare(bodies, params);
         self.islands.build(
             bodies.len(),
@@ -217,8 +217,8 @@ impl Solver {
             contacts,
             params.partition,
         );
-        let t1 = Instant::now();
-        stats.time_islands = t1 - t0;
+        let t1 = Stamp::now(params.timing);
+        stats.time_islands = t0.until(t1);
 
         for r in reactions.iter_mut() {
             *r = [Reaction::default(); 2];
@@ -255,7 +255,7 @@ impl Solver {
                 pivots: 0,
             };
             if path == SolverPath::Exact {
-                let t = Instant::now();
+                let t = Stamp::now(params.timing);
                 let before = stats;
                 self.exact.solve_island_with_contacts(
                     self.islands.blocks(k),
@@ -282,7 +282,7 @@ impl Solver {
             self.reports.push(report);
         }
         if !self.iterative_islands.is_empty() {
-            let t = Instant::now();
+            let t = Stamp::now(params.timing);
             let done = self.iterative.solve(
                 &self.iterative_islands,
                 &self.split,
@@ -328,8 +328,8 @@ impl Solver {
                     .map_or(SolverPath::None, |r| r.path)
             };
         }
-        let t2 = Instant::now();
-        stats.time_solve = t2 - t1;
+        let t2 = Stamp::now(params.timing);
+        stats.time_solve = t1.until(t2);
 
         self.integ.integrate(bodies, params.dt);
         stats.time_integrate = t2.elapsed();

@@ -165,6 +165,8 @@ pub struct World {
     iterative: IterativeParams,
     projection_iterations: u32,
     speed_limits: SpeedLimits,
+    /// Whether steps read the clock for their statistics' stage times.
+    step_timing: bool,
     /// Rows the solver's workspace was reserved for ([`WorldDef::max_island_rows`]).
     max_island_rows: usize,
     /// Islands quarantined and not yet cleared.
@@ -218,6 +220,7 @@ impl World {
             partition: true,
             routing: def.routing,
             iterative: def.iterative,
+            timing: true,
         };
         params.validate()?;
         def.dem.validate()?;
@@ -270,6 +273,7 @@ impl World {
             iterative: def.iterative,
             projection_iterations: def.projection_iterations,
             speed_limits: def.speed_limits,
+            step_timing: true,
             max_island_rows: def.max_island_rows,
             quarantine: Vec::new(),
             quarantine_roots: Vec::new(),
@@ -534,6 +538,19 @@ impl World {
         check_projection(iterations)?;
         self.projection_iterations = iterations;
         Ok(())
+    }
+
+    /// Whether steps time their stages ([`StepStats`]'s `time_*` fields; default true).
+    #[must_use]
+    pub fn step_timing(&self) -> bool {
+        self.step_timing
+    }
+
+    /// Turns the stage times of [`StepStats`] on or off. Off, they read zero and no clock is
+    /// read: worth it for small worlds stepped many times whose statistics nobody reads (see
+    /// [`crate::timing`]). Results are the same bits either way.
+    pub fn set_step_timing(&mut self, on: bool) {
+        self.step_timing = on;
     }
 
     /// The breakable constraints that broke (and were disabled) in the last step.

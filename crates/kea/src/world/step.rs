@@ -17,7 +17,8 @@ use crate::math::{is_finite3, wide, Mat3, Real, Vec3};
 use crate::solver::{
     ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams, SolverStats,
 };
-use std::time::{Duration, Instant};
+use crate::timing::Stamp;
+use std::time::Duration;
 
 /// Joint error, m (or rad), below which position projection stops early.
 pub const PROJECTION_TOLERANCE: Real = 1.0e-6;
@@ -110,7 +111,7 @@ impl World {
     /// [`World::step`] on the calling thread.
     fn step_here(&mut self, dt: Real) -> KeaResult<StepStats> {
         check_positive("dt", dt)?;
-        let t0 = Instant::now();
+        let t0 = Stamp::now(self.step_timing);
         let params = self.solver_params(dt);
         let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
         if auto_disable {
@@ -119,9 +120,9 @@ impl World {
             self.scratch.wake.clear();
         }
         self.collect_bodies();
-        let t1 = Instant::now();
+        let t1 = Stamp::now(self.step_timing);
         let constraints = self.gather_rows(&params);
-        let t2 = Instant::now();
+        let t2 = Stamp::now(self.step_timing);
         self.warm_start_lambda();
         let s = &mut self.scratch;
         s.reactions.clear();
@@ -148,13 +149,13 @@ impl World {
                 return Err(e);
             }
         };
-        let t3 = Instant::now();
+        let t3 = Stamp::now(self.step_timing);
         // The step succeeded: from here on the world changes. Islands that blew up go back to
         // where they were, frozen.
         let quarantined_bodies = self.quarantine_bad_islands();
         self.apply_wake();
         self.write_back();
-        let t_proj = Instant::now();
+        let t_proj = Stamp::now(self.step_timing);
         let projected = if solver_stats.exact_islands > 0 {
             self.project_positions(&params)
         } else {
@@ -169,7 +170,7 @@ impl World {
         }
         self.time += wide(dt);
         self.steps += 1;
-        let t4 = Instant::now();
+        let t4 = Stamp::now(self.step_timing);
         let sleeping_bodies = if auto_disable {
             self.bodies.iter().filter(|(_, b)| b.sleeping).count() as u32
         } else {
@@ -181,14 +182,14 @@ impl World {
             constraints,
             rows: self.scratch.rows.len() as u32 + 3 * solver_stats.contact_points,
             solver: solver_stats,
-            time_collect: t1 - t0,
-            time_gather: t2 - t1,
-            time_write_back: t4 - t3 - time_projection,
+            time_collect: t0.until(t1),
+            time_gather: t1.until(t2),
+            time_write_back: t3.until(t4).saturating_sub(time_projection),
             time_projection,
             max_joint_error,
             broken_joints,
             quarantined_bodies,
-            time_total: t4 - t0,
+            time_total: t0.until(t4),
             collision: CollisionStats::default(),
         })
     }
@@ -292,6 +293,7 @@ impl World {
             partition: self.dem.mode != super::DemMode::NoPartition,
             routing: self.routing,
             iterative: self.iterative,
+            timing: self.step_timing,
         }
     }
 

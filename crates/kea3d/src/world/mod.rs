@@ -189,6 +189,13 @@ impl PhysicsWorld {
         Ok(self.dynamics.set_gravity(g.into())?)
     }
 
+    /// Turns the stage times of the step statistics on (default) or off; off, no clock is
+    /// read, which a small world stepped many times without reading its statistics notices
+    /// (see [`kea::timing`]). The results are the same bits either way.
+    pub fn set_step_timing(&mut self, on: bool) {
+        self.dynamics.set_step_timing(on);
+    }
+
     /// Reserves room for this many bodies, colliders and constraints (contacts included), so
     /// that adding up to that many and stepping allocate nothing more.
     pub fn reserve(&mut self, bodies: usize, colliders: usize, constraints: usize) {

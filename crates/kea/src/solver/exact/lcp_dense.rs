@@ -290,7 +290,8 @@ fn solve_free_block(
         }
         return true;
     }
-    // Forward and back substitution with L (m×m, row-major lower triangle).
+    // Forward and back substitution with L (m×m, row-major lower triangle, its diagonal held
+    // inverted).
     let l = &ws.factor;
     let y = &mut ws.rhs;
     for i in 0..m {
@@ -298,14 +299,14 @@ fn solve_free_block(
         for k in 0..i {
             s -= l[i * m + k] * y[k];
         }
-        y[i] = s / l[i * m + i];
+        y[i] = s * l[i * m + i];
     }
     for i in (0..m).rev() {
         let mut s = y[i];
         for k in i + 1..m {
             s -= l[k * m + i] * y[k];
         }
-        y[i] = s / l[i * m + i];
+        y[i] = s * l[i * m + i];
     }
     for (k, &i) in ws.free.iter().enumerate() {
         x[i] = y[k];
@@ -316,8 +317,10 @@ fn solve_free_block(
 /// Shifts tried before a free block is given up as hopeless.
 const REGULARISATION_TRIES: usize = 8;
 
-/// Cholesky factor of `A_FF + shift·I` into `out` (m×m). False if a pivot is not clearly
-/// positive (relative to the largest diagonal of the whole matrix).
+/// Cholesky factor of `A_FF + shift·I` into `out` (m×m), each diagonal entry stored as its
+/// reciprocal (a multiply on the factorisation's and substitutions' serial chains instead of a
+/// divide). False if a pivot is not clearly positive (relative to the largest diagonal of the
+/// whole matrix).
 fn cholesky(
     a: &[f64],
     n: usize,
@@ -341,9 +344,9 @@ fn cholesky(
                 if s.is_nan() || s <= tiny {
                     return false;
                 }
-                out[i * m + i] = s.sqrt();
+                out[i * m + i] = 1.0 / s.sqrt();
             } else {
-                out[i * m + j] = s / out[j * m + j];
+                out[i * m + j] = s * out[j * m + j];
             }
         }
     }

@@ -86,6 +86,8 @@ pub(crate) struct ExactWorkspace {
     dense: dense::DenseIsland,
     /// The island being solved has contacts (and so takes the dense path).
     with_contacts: bool,
+    /// The system last filled is the dense one ([`ExactWorkspace::fill_system`]).
+    dense_now: bool,
     /// Counts assemblies of `a`, so that a factorisation of the same values can be reused.
     stamp: u64,
 }
@@ -93,6 +95,10 @@ pub(crate) struct ExactWorkspace {
 /// Values of the block-sparse system a row is budgeted for in [`ExactWorkspace::bytes_for`]:
 /// its own block's row (up to 12) and the rows of the blocks it couples to (a few).
 const VALUES_PER_ROW: usize = 48;
+
+/// Islands of up to this many rows take the dense system whatever they hold (see
+/// [`ExactWorkspace::dense_system`]).
+const DENSE_MAX_ROWS: usize = 16;
 
 impl ExactWorkspace {
     /// Reserves room for islands of `island_rows` rows, joints and contacts together.
@@ -296,6 +302,7 @@ impl ExactWorkspace {
     /// Analyses (or recalls) the island's block graph, lays the system out and fills
     /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows.
     fn assemble_matrix(&mut self) {
+        self.dense_now = false;
         self.size_vectors(self.rows.len());
         let island_bodies = self.island_bodies.len();
         let pattern = self
@@ -388,8 +395,32 @@ impl ExactWorkspace {
         self.state.resize(n, Bound::Free);
     }
 
+    /// Whether the gathered island takes the dense system: islands with contacts or Coulomb
+    /// friction (see [`dense`]), and islands small enough that the block-sparse analysis,
+    /// layout and held factor cost more than the dense `n³/6` they save.
+    fn dense_system(&self) -> bool {
+        self.with_contacts
+            || self.rows.len() <= DENSE_MAX_ROWS
+            || self.links.iter().any(Option::is_some)
+    }
+
+    /// Fills `A = J M⁻¹ Jᵀ` (no diagonal terms) for the gathered rows, dense or block-sparse
+    /// as [`ExactWorkspace::dense_system`] says, and sizes the vectors.
+    fn fill_system(&mut self) {
+        self.dense_now = self.dense_system();
+        if self.dense_now {
+            self.dense.fill(&self.rows, &self.links);
+            self.size_vectors(self.rows.len());
+        } else {
+            self.assemble_matrix();
+        }
+    }
+
     /// The diagonal entry of island row `i` in `A`.
     fn diagonal(&self, i: usize) -> f64 {
+        if self.dense_now {
+            return self.dense.diagonal(i);
+        }
         let (at, stride, r) = self.diagonal_index(i);
         self.a[at + r * stride + r]
     }
@@ -406,6 +437,9 @@ impl ExactWorkspace {
 
     /// Adds `v` to island row `i`'s diagonal.
     fn add_diagonal(&mut self, i: usize, v: f64) {
+        if self.dense_now {
+            return self.dense.add_diagonal(i, v);
+        }
         let (at, stride, r) = self.diagonal_index(i);
         self.a[at + r * stride + r] += v;
     }
@@ -418,25 +452,13 @@ impl ExactWorkspace {
         h: f64,
         guess: &[Real],
     ) {
-        // Islands with friction take the dense path: their contacts come and go, and the
-        // block-sparse analysis is for graphs that last (see `dense`).
-        let friction = self.with_contacts || self.links.iter().any(Option::is_some);
+        self.fill_system();
         let n = self.rows.len();
-        if friction {
-            self.dense.fill(&self.rows, &self.links);
-            self.size_vectors(n);
-        } else {
-            self.assemble_matrix();
-        }
         for i in 0..n {
             let ri = self.rows[i];
             let row = &rows[ri.global as usize];
             // A spring row's ε is relative to its own effective mass: the diagonal just built.
-            let diag = if friction {
-                self.dense.diagonal(i)
-            } else {
-                self.diagonal(i)
-            };
+            let diag = self.diagonal(i);
             let (eps, gamma) = match row.spring.and_then(|sp| sp.relative_softness(h as Real)) {
                 Some((relative, g)) => (wide(relative) * diag, wide(row.gamma.unwrap_or(g))),
                 None => (
@@ -444,11 +466,7 @@ impl ExactWorkspace {
                     wide(row.gamma.unwrap_or(params.gamma)),
                 ),
             };
-            if friction {
-                self.dense.add_diagonal(i, eps + wide(row.slip) / h);
-            } else {
-                self.add_diagonal(i, eps + wide(row.slip) / h);
-            }
+            self.add_diagonal(i, eps + wide(row.slip) / h);
             let mut jv = 0.0;
             for s in 0..2 {
                 if let Some(b) = ri.bodies[s] {
@@ -480,7 +498,7 @@ impl ExactWorkspace {
     /// takes the dense path (see [`dense`]); the others the block-sparse one.
     fn solve_lcp(&mut self, params: &SolverParams, stats: &mut SolverStats) {
         let n = self.rows.len();
-        if self.with_contacts || self.links.iter().any(Option::is_some) {
+        if self.dense_now {
             self.dense
                 .solve_with_friction(&self.b, &self.lo, &self.hi, &mut self.x, params, stats);
             return;

@@ -43,7 +43,7 @@ impl ExactWorkspace {
         if n == 0 {
             return 0.0;
         }
-        self.assemble_matrix();
+        self.fill_system();
         let diag_max = (0..n).fold(0.0f64, |m, i| m.max(self.diagonal(i)));
         // A light regularisation keeps redundant joints solvable without softening them.
         let delta = (wide(params.epsilon) * 1.0e-3).max(1.0e-12 * diag_max);

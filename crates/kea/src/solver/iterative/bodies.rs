@@ -306,7 +306,7 @@ impl BodyStates {
         // torque taken implicitly in the velocities: carrying `L` through the rotation (the
         // free body's rule) hands the joints a sideways spin every substep, which a link
         // spinning fast about its own axis (a whipped chain's) turns into a blow-up.
-        let (rotation, gyroscopic) = match Rotation::of(b) {
+        let (rotation, gyroscopic) = match scratch.rotation[g as usize] {
             Rotation::Free { .. } if writable => {
                 let r = Mat3::from_quat(b.orientation);
                 (Rotation::Isotropic, Some(r * b.inertia * r.transpose()))
