@@ -78,3 +78,40 @@ fn jointed_pair_conserves_momentum() {
         assert!(dl < bound, "{mode:?}: angular momentum drift {dl}/s");
     }
 }
+
+/// A tumbling body whose inertia changes mid-flight turns by its new principal frame: its
+/// energy and angular momentum about the new tensor stay put (a body turned about the old
+/// frame's axes would trade energy with its new tensor at every step).
+#[test]
+fn a_tumbling_body_keeps_energy_after_its_inertia_changes() {
+    let mut world = World::with_capacity(1, 1).unwrap();
+    world.set_gravity(Vec3::ZERO).unwrap();
+    let h = world
+        .create_body(&BodyDef {
+            mass: 1.0,
+            inertia: inertia::solid_box(1.0, Vec3::new(0.5, 0.2, 0.1)).unwrap(),
+            angular_velocity: Vec3::new(0.5, 2.0, -1.0),
+            ..Default::default()
+        })
+        .unwrap();
+    for _ in 0..60 {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    let new_inertia = inertia::solid_box(1.0, Vec3::new(0.1, 0.4, 0.25)).unwrap();
+    world.body_mut(h).unwrap().set_inertia(new_inertia).unwrap();
+    let b = world.body(h).unwrap();
+    let (e0, l0) = (b.kinetic_energy(), b.angular_momentum());
+    for _ in 0..300 {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    let b = world.body(h).unwrap();
+    let de = (b.kinetic_energy() - e0).abs() / e0;
+    let dl = (b.angular_momentum() - l0).length() / l0.length();
+    eprintln!("after the inertia change: energy rel change {de:e}, angular momentum {dl:e}");
+    let tol = if F64 { 1e-3 } else { 2e-3 };
+    assert!(de < tol, "energy changed by {de}");
+    assert!(
+        dl < if F64 { 1e-9 } else { 3e-5 },
+        "angular momentum changed by {dl}"
+    );
+}
