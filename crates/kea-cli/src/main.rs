@@ -19,6 +19,7 @@
 //! then; 130 after Ctrl-C, with temporary files removed. Kea's warnings are printed on stderr,
 //! each kind once with a count of the rest (`KEA_LOG=off|error|warn|info|debug`).
 
+mod bench;
 mod logger;
 mod plot;
 mod record;
@@ -142,17 +143,21 @@ enum Command {
         #[arg(long)]
         frames: Option<u64>,
     },
-    /// Step scenes headless and print ms per step and per stage, one line per scene.
+    /// Step scenes headless and print, one line per scene, the median ms per step over
+    /// repeated runs, its spread, and the median per stage (collision included).
     Bench {
         /// Scene files.
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
-        /// Steps to time (after 10 warm-up steps).
+        /// Steps to time in each run (after 10 warm-up steps).
         #[arg(long, default_value_t = 300)]
         steps: u32,
         /// Step size, s.
         #[arg(long, default_value_t = 1.0 / 60.0)]
         dt: Real,
+        /// Runs of each scene, each from its start; the line gives their median and spread.
+        #[arg(long, default_value_t = 5)]
+        repeats: u32,
     },
 }
 
@@ -195,7 +200,12 @@ fn main() -> ExitCode {
                 save_at,
             })
         }),
-        Command::Bench { scenes, steps, dt } => bench(&scenes, steps, dt),
+        Command::Bench {
+            scenes,
+            steps,
+            dt,
+            repeats,
+        } => bench::bench(&scenes, steps, dt, repeats),
         Command::Plot {
             scene,
             out,
@@ -497,26 +507,5 @@ fn run(o: &RunOptions<'_>) -> Result<(), String> {
         kea_render::write_file(path, &bytes)?;
     }
     summary.print(&name, &built, o.steps, o.dt);
-    Ok(())
-}
-
-fn bench(paths: &[PathBuf], steps: u32, dt: Real) -> Result<(), String> {
-    check_run(steps, dt)?;
-    for path in paths {
-        let (name, mut built) = load(Some(path))?;
-        for n in 1..=10 {
-            built
-                .step(dt)
-                .map_err(|e| format!("{name}: warm-up step {n}: {e}"))?;
-        }
-        let mut summary = summary::Summary::new(&built);
-        for n in 1..=steps {
-            let stats = built
-                .step(dt)
-                .map_err(|e| format!("{name}: step {n}: {e}"))?;
-            summary.add(&stats);
-        }
-        println!("{}", summary.bench_line(&name, &built, steps));
-    }
     Ok(())
 }

@@ -127,19 +127,14 @@ impl Summary {
         );
     }
 
-    /// One `key=value` line for `kea bench`.
-    pub fn bench_line(&self, name: &str, built: &BuiltScene, steps: u32) -> String {
+    /// The counts of `kea bench`'s line: bodies, constraints of the last step, steps with
+    /// solver warnings.
+    pub fn bench_counts(&self, built: &BuiltScene) -> String {
         let last = self.last.unwrap_or_default();
         format!(
-            "scene={name} steps={steps} bodies={} constraints={} ms_per_step={:.4} collect_ms={:.4} rows_ms={:.4} exact_ms={:.4} iterative_ms={:.4} integrate_ms={:.4} warnings={}",
+            "bodies={} constraints={} warnings={}",
             built.bodies.len(),
             last.constraints,
-            self.wall.as_secs_f64() * 1000.0 / f64::from(steps),
-            ms(self.collect, steps),
-            ms(self.gather, steps),
-            ms(self.solve_exact, steps),
-            ms(self.solve_iterative, steps),
-            ms(self.integrate, steps),
             self.warnings
         )
     }

@@ -65,26 +65,44 @@ fn bench_prints_one_machine_readable_line_per_scene() {
     let (code, out, err) = kea(&[
         "bench",
         &scene("drop.json"),
-        &scene("chain.json"),
+        &scene("pyramid.json"),
         "--steps",
         "20",
+        "--repeats",
+        "3",
     ]);
     assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 2, "{out}");
-    for line in lines {
+    for line in &lines {
+        let value = |key: &str| -> f64 {
+            line.split(' ')
+                .find_map(|kv| kv.strip_prefix(&format!("{key}=")[..]))
+                .unwrap_or_else(|| panic!("no {key} in {line}"))
+                .parse()
+                .unwrap()
+        };
+        assert!(line.starts_with("scene="), "{line}");
+        assert_eq!(value("repeats"), 3.0, "{line}");
+        let (mid, min, max) = (value("ms_per_step"), value("min_ms"), value("max_ms"));
+        assert!(0.0 < min && min <= mid && mid <= max, "{line}");
+        assert!(value("spread_pct") >= 0.0, "{line}");
+        // The collision stage is its broad and narrow phases, and part of the step.
+        let collision = value("collision_ms");
         assert!(
-            line.starts_with("scene=") && line.contains(" ms_per_step="),
+            collision >= value("broad_ms") && collision >= value("narrow_ms"),
             "{line}"
         );
-        let ms: f64 = line
-            .split(' ')
-            .find_map(|kv| kv.strip_prefix("ms_per_step="))
-            .unwrap()
-            .parse()
-            .unwrap();
-        assert!(ms > 0.0);
+        assert!(collision <= max, "{line}");
     }
+    // The pyramid's 210 boxes spend real time in collision.
+    let pyramid = lines[1];
+    assert!(pyramid.contains("pyramid.json"), "{pyramid}");
+    assert!(!pyramid.contains(" collision_ms=0.0000"), "{pyramid}");
+
+    let (code, _, err) = kea(&["bench", &scene("drop.json"), "--repeats", "0"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--repeats 0"), "{err}");
 }
 
 #[test]

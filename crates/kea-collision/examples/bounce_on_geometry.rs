@@ -1,7 +1,7 @@
 //! The guide's bounce, on real geometry: a sphere dropped on a ground plane. The contacts come
 //! from the collision layer; the bounce comes from the material pair (restitution 0.6).
 //!
-//! Run: `cargo run --release -p kea-collision --example bounce`
+//! Run: `cargo run --release -p kea-collision --example bounce_on_geometry`
 
 use kea::{BodyDef, Real, Vec3, World};
 use kea_collision::{ColliderDef, CollisionResult, CollisionWorld, Shape, Surface};
