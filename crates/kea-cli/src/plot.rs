@@ -1,5 +1,5 @@
-//! `kea plot`: energy, momentum and constraint error against time, drawn with plotters into a
-//! PNG. Text needs a font: the first of a few common system fonts (or `KEA_FONT`); without
+//! `kea plot`: energy, momentum, joint gap and penetration against time, drawn with plotters
+//! into a PNG, each chart's legend in a column beside it and ticks with SI prefixes. Text needs a font: the first of a few common system fonts (or `KEA_FONT`); without
 //! one the charts are drawn without labels and a note says so.
 
 use crate::summary::energy;
@@ -64,10 +64,8 @@ impl Record {
                     "Momentum",
                     series(&["|p| (N·s)", "|L| about the origin (N·m·s)"]),
                 ),
-                (
-                    "Constraint error (m)",
-                    series(&["largest joint error", "deepest contact"]),
-                ),
+                ("Joint gap (m)", series(&["largest joint error"])),
+                ("Penetration (m)", series(&["deepest contact"])),
             ],
         }
     }
@@ -85,12 +83,11 @@ impl Record {
         let values = [
             [energy(built), kinetic],
             [p.length(), l.length()],
-            [
-                joint_error,
-                built.collision.deepest_penetration(&built.world),
-            ],
+            [joint_error, Real::NAN],
+            [built.collision.deepest_penetration(&built.world), Real::NAN],
         ];
         for ((_, series), row) in self.panels.iter_mut().zip(values) {
+            // Panels of one series leave the second value unused.
             for (s, v) in series.iter_mut().zip(row) {
                 if !v.is_finite() {
                     return Err(format!("{} is {v} at t = {t} s: nothing to plot", s.name));
@@ -131,6 +128,49 @@ fn range(series: &[Series]) -> (f64, f64) {
 
 const COLOURS: [RGBColor; 2] = [RGBColor(200, 60, 40), RGBColor(40, 90, 200)];
 
+/// Width of the legend column right of each chart, pixels: the legend never covers data.
+const LEGEND_WIDTH: u32 = 230;
+
+/// A tick label that reads at a glance: up to three significant digits with an SI prefix
+/// (`25k`, `1.5m`, `10µ`, `0`), never `25000.0` or `0.00001`.
+pub fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    const PREFIXES: [(f64, &str); 9] = [
+        (1e12, "T"),
+        (1e9, "G"),
+        (1e6, "M"),
+        (1e3, "k"),
+        (1.0, ""),
+        (1e-3, "m"),
+        (1e-6, "µ"),
+        (1e-9, "n"),
+        (1e-12, "p"),
+    ];
+    let a = v.abs();
+    // Values near a prefix's boundary round up into it (999.96 → 1k, not 1000).
+    let &(scale, prefix) = PREFIXES
+        .iter()
+        .find(|(scale, _)| a >= scale * 0.999_95)
+        .unwrap_or(&PREFIXES[PREFIXES.len() - 1]);
+    let m = v / scale;
+    let digits = if m.abs() >= 100.0 {
+        0
+    } else if m.abs() >= 10.0 {
+        1
+    } else {
+        2
+    };
+    let text = format!("{m:.digits$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    };
+    format!("{text}{prefix}")
+}
+
 /// Draws the record into a PNG of `width` × `height`; returns whether it has labels.
 pub fn draw(record: &Record, out: &Path, (width, height): (u32, u32)) -> Result<bool, String> {
     let labelled = load_font();
@@ -163,9 +203,15 @@ fn draw_into(
         .last()
         .map_or(1.0, |p| p.0)
         .max(1e-6);
-    for (area, (title, series)) in panels.iter().zip(&record.panels) {
+    for (panel, (title, series)) in panels.iter().zip(&record.panels) {
         let (lo, hi) = range(series);
-        let mut builder = ChartBuilder::on(area);
+        let legend_width = if labelled {
+            LEGEND_WIDTH.min(width / 3)
+        } else {
+            0
+        };
+        let (area, legend) = panel.split_horizontally(width - legend_width);
+        let mut builder = ChartBuilder::on(&area);
         builder.margin(12);
         if labelled {
             builder
@@ -177,34 +223,60 @@ fn draw_into(
             .build_cartesian_2d(0.0..t_end, lo..hi)
             .map_err(|e| err(&e))?;
         let mut mesh = chart.configure_mesh();
+        let label = |v: &f64| tick(*v);
+        // Seconds read best as plain decimals (0.5, not 500m).
+        let seconds = |v: &f64| {
+            let text = format!("{v:.2}");
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
         if labelled {
-            mesh.x_desc("time (s)");
+            mesh.x_desc("time (s)")
+                .x_label_formatter(&seconds)
+                .y_label_formatter(&label);
         } else {
             mesh.x_labels(0).y_labels(0);
         }
         mesh.draw().map_err(|e| err(&e))?;
-        for (s, colour) in series.iter().zip(COLOURS) {
-            let drawn = chart
+        for (k, (s, colour)) in series.iter().zip(COLOURS).enumerate() {
+            chart
                 .draw_series(LineSeries::new(
                     s.points.iter().copied(),
                     colour.stroke_width(2),
                 ))
                 .map_err(|e| err(&e))?;
             if labelled {
-                drawn.label(s.name).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
-                });
+                // The legend's own column, beside the chart.
+                let y = 40 + 22 * k as i32;
+                legend
+                    .draw(&PathElement::new(
+                        vec![(6, y), (30, y)],
+                        colour.stroke_width(3),
+                    ))
+                    .map_err(|e| err(&e))?;
+                legend
+                    .draw(&Text::new(s.name, (36, y - 8), ("sans-serif", 15)))
+                    .map_err(|e| err(&e))?;
             }
-        }
-        if labelled {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| err(&e))?;
         }
     }
     root.present().map_err(|e| err(&e))?;
     Ok(labelled)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick;
+
+    #[test]
+    fn ticks_read_with_si_prefixes() {
+        assert_eq!(tick(25000.0), "25k");
+        assert_eq!(tick(0.00001), "10µ");
+        assert_eq!(tick(0.0), "0");
+        assert_eq!(tick(1.5), "1.5");
+        assert_eq!(tick(-0.0025), "-2.5m");
+        assert_eq!(tick(999.96), "1k");
+        assert_eq!(tick(123456.0), "123k");
+        assert_eq!(tick(2.0e-7), "200n");
+        assert_eq!(tick(3.0e15), "3000T");
+    }
 }

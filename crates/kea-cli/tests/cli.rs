@@ -194,7 +194,7 @@ fn render_writes_an_animated_gif() {
 }
 
 #[test]
-fn plot_draws_energy_momentum_and_error_curves() {
+fn plot_draws_energy_momentum_gap_and_penetration_curves_with_the_legend_beside() {
     let dir = std::env::temp_dir().join(format!("kea-cli-plot-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join("pendulum.png");
@@ -222,6 +222,23 @@ fn plot_draws_energy_momentum_and_error_curves() {
     for colour in [[200u8, 60, 40], [40, 90, 200]] {
         let n = pixels.iter().filter(|p| **p == colour).count();
         assert!(n > 100, "{colour:?}: {n} pixels");
+    }
+    // With labels, each chart's legend has its own column on the right: the only curve
+    // colours there are the legend's swatches (x 6–30 of the column), never a curve or a
+    // legend box over the data.
+    if !out.contains("without labels") {
+        let legend_x = 400 - 400 / 3;
+        for (i, p) in pixels.iter().enumerate() {
+            let x = (i % 400) as u32;
+            let curve = *p == [200u8, 60, 40] || *p == [40, 90, 200];
+            if curve && x >= legend_x {
+                assert!(
+                    (legend_x + 5..=legend_x + 31).contains(&x),
+                    "curve colour at x = {x}, y = {} in the legend column",
+                    i / 400
+                );
+            }
+        }
     }
     let bad = dir.join("plot.gif");
     let (code, _, err) = kea(&[
