@@ -87,9 +87,10 @@ enum Command {
         /// For a GIF: steps between frames.
         #[arg(long, default_value_t = 2)]
         every: u32,
-        /// Steps to take before drawing.
-        #[arg(long, default_value_t = 0)]
-        steps: u32,
+        /// Steps to take before drawing: by default 600 for a PNG (the last frame of `kea run`'s
+        /// default run), 0 for a GIF (the animation starts at the start).
+        #[arg(long)]
+        steps: Option<u32>,
         /// Step size, s.
         #[arg(long, default_value_t = 1.0 / 60.0)]
         dt: Real,

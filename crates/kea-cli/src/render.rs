@@ -8,11 +8,16 @@ use std::path::Path;
 /// Most GIF frames one command draws.
 pub const MAX_FRAMES: u32 = 100_000;
 
-/// Steps `steps`, then writes the frame (PNG) or `frames` frames `every` steps apart (GIF).
+/// Steps a PNG takes by default: the last frame of `kea run`'s default run.
+pub const PNG_STEPS: u32 = 600;
+
+/// Steps `steps` (default: [`PNG_STEPS`] for a PNG, none for a GIF), then writes the frame
+/// (PNG) or `frames` frames `every` steps apart (GIF), the camera framed on what the picture
+/// shows (for a GIF, on everything the frames show).
 pub fn render(
     path: &Path,
     out: &Path,
-    steps: u32,
+    steps: Option<u32>,
     dt: Real,
     (width, height): (u32, u32),
     (frames, every): (u32, u32),
@@ -33,6 +38,7 @@ pub fn render(
             return Err("--every must be at least 1, got 0".into());
         }
     }
+    let steps = steps.unwrap_or(if gif { 0 } else { PNG_STEPS });
     let (name, mut built) = load(Some(path))?;
     let mut taken = 0u64;
     let mut step = |built: &mut BuiltScene, n: u32| -> Result<(), String> {
@@ -45,7 +51,19 @@ pub fn render(
         Ok(())
     };
     step(&mut built, steps)?;
-    let camera = kea_render::Camera::framing(&built.world);
+    let mut bounds = kea_render::subject_bounds(&built.world, &built.collision);
+    if gif {
+        // Frame the whole animation: step a copy through it first.
+        let mut ahead = built.clone();
+        for _ in 1..frames {
+            step(&mut ahead, every)?;
+            bounds.union(&kea_render::subject_bounds(&ahead.world, &ahead.collision));
+        }
+        // The same steps again cannot fail where the copy did not (results are the same
+        // bits), so the step count in errors can run on.
+    }
+    let aspect = width as Real / height as Real;
+    let camera = kea_render::Camera::framing_bounds(&bounds, aspect, 0.15);
     let draw = |built: &BuiltScene| {
         kea_render::render(&built.world, &built.collision, &camera, width, height)
     };
