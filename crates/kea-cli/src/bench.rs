@@ -4,7 +4,7 @@
 
 use crate::{check_run, load, summary::Summary};
 use kea::Real;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// Warm-up steps before each timed run (caches, workspaces and contacts settle).
@@ -24,7 +24,7 @@ struct Run {
 }
 
 /// Times `steps` steps of the scene at `path`, from its start after the warm-up.
-fn time_once(path: &PathBuf, steps: u32, dt: Real) -> Result<(String, Run, String), String> {
+fn time_once(path: &Path, steps: u32, dt: Real) -> Result<(String, Run, String), String> {
     let (name, mut built) = load(Some(path))?;
     for n in 1..=WARM_UP {
         built
