@@ -203,6 +203,35 @@ impl CollisionWorld {
         Ok(false)
     }
 
+    /// The ray's hit on one collider, if any: for callers that already know which colliders
+    /// they want (a viewer casting shadows onto the static geometry) and must not allocate.
+    pub fn cast_ray_at(
+        &self,
+        world: &World,
+        collider: ColliderHandle,
+        origin: Vec3,
+        direction: Vec3,
+        max_distance: Real,
+    ) -> CollisionResult<Option<RayHit>> {
+        check_point("origin", origin)?;
+        check_vec3("direction", direction)?;
+        check_non_negative("max_distance", max_distance)?;
+        check_reach("max_distance", direction, max_distance)?;
+        let def = self.collider(collider)?;
+        let (position, rotation) = self.collider_pose(world, collider)?;
+        let pose = Pose::from_parts(position, rotation);
+        let ray = Ray::new(origin, direction);
+        let shape = def.shape.shared.as_ref();
+        let hit = guarded(|| shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true))
+            .map_err(|message| dependency("cast_ray_at", collider, message))?;
+        Ok(hit.map(|hit| RayHit {
+            collider,
+            distance: hit.time_of_impact,
+            point: ray.point_at(hit.time_of_impact),
+            normal: hit.normal,
+        }))
+    }
+
     /// Sweeps a shape along a straight path and returns the first collider it touches.
     pub fn cast_shape(
         &self,

@@ -101,6 +101,33 @@ fn rays_hit_what_they_should_in_order() {
 }
 
 #[test]
+fn a_ray_at_one_collider_sees_only_that_collider() {
+    let (world, collision, _, ground, cube) = ground_and_unit_box(0.0);
+    let origin = Vec3::new(0.1, 10.0, 0.2);
+    let on_ground = collision
+        .cast_ray_at(&world, ground, origin, -Vec3::Y, 100.0)
+        .unwrap()
+        .unwrap();
+    // The box stands in the way, but this ray looks at the ground only.
+    assert_eq!(on_ground.collider, ground);
+    assert!((on_ground.distance - 10.0).abs() < 1e-4);
+    assert!(on_ground.point.abs_diff_eq(Vec3::new(0.1, 0.0, 0.2), 1e-4));
+    let on_box = collision
+        .cast_ray_at(&world, cube, origin, -Vec3::Y, 100.0)
+        .unwrap()
+        .unwrap();
+    assert!((on_box.distance - 9.0).abs() < 1e-4);
+    assert!(collision
+        .cast_ray_at(&world, cube, Vec3::new(3.0, 10.0, 0.0), -Vec3::Y, 100.0)
+        .unwrap()
+        .is_none());
+    let e = collision
+        .cast_ray_at(&world, cube, origin, Vec3::new(Real::NAN, 0.0, 0.0), 1.0)
+        .unwrap_err();
+    assert!(e.to_string().contains("direction"), "{e}");
+}
+
+#[test]
 fn rays_pass_no_holes_in_a_mesh() {
     // A 4×4 m floor made of 2×2 quads (8 triangles, shared edges and a shared centre vertex).
     let world = World::with_capacity(4, 16).unwrap();

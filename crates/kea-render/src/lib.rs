@@ -6,10 +6,15 @@
 
 #![warn(missing_docs)]
 
+mod look;
 mod raster;
 mod shadow;
 
-use raster::{draw_triangle, Projector};
+use raster::{draw_triangle, Paint, Projector};
+pub use look::{
+    checker_contrast, joint_links, rod, tile_size, toned, Fog, Tiling, BODY_COLOURS, CHECKER_SHADE, GROUND_COLOUR,
+    LINK_COLOUR, SKY, STATIC_COLOUR,
+};
 pub use raster::{shade, Surface};
 use shadow::ShadowMap;
 
@@ -160,6 +165,13 @@ pub fn subject_bounds(world: &World, collision: &CollisionWorld) -> Bounds {
             statics.push(b);
         }
     }
+    // Where joints hold bodies to the world (a cradle's frame) belongs to the subject.
+    if !dynamic.is_empty() {
+        for [a, b] in joint_links(world) {
+            dynamic.add(a);
+            dynamic.add(b);
+        }
+    }
     if dynamic.is_empty() {
         let mut all = Bounds::EMPTY;
         statics.iter().for_each(|b| all.union(b));
@@ -187,20 +199,6 @@ pub struct Image {
     /// `width × height` pixels.
     pub pixels: Vec<[u8; 3]>,
 }
-
-/// The colour of the background (sky).
-pub const SKY: [u8; 3] = [200, 220, 245];
-/// The base colour of static geometry.
-pub const STATIC_COLOUR: [u8; 3] = [150, 150, 145];
-/// Base colours of bodies, by collider order.
-pub const BODY_COLOURS: [[u8; 3]; 6] = [
-    [220, 90, 60],
-    [70, 140, 220],
-    [240, 190, 60],
-    [90, 190, 110],
-    [170, 100, 200],
-    [60, 190, 190],
-];
 
 impl Image {
     /// The pixel at column `x`, row `y` (row 0 at the top); panics outside the image.
@@ -352,8 +350,9 @@ pub fn light_direction() -> Vec3 {
     Vec3::new(0.4, 1.0, 0.3).normalize()
 }
 
-/// Draws every collider of `collision` as `world` places it, seen from `camera`, with the
-/// bodies' shadows.
+/// Draws every collider of `collision` as `world` places it, seen from `camera`: bodies in
+/// their colours, static geometry in [`STATIC_COLOUR`], ground planes checkered, the links of
+/// joints, shadows of everything that moves and distance fog.
 #[must_use]
 pub fn render(
     world: &World,
@@ -372,8 +371,9 @@ pub fn render(
     let mut depth = vec![Real::INFINITY; count];
     let projector = Projector::new(camera, w, h);
     let light = light_direction();
-    let triangles = world_triangles(world, collision);
-    let occluders = triangles.iter().filter(|t| t.dynamic).map(|t| t.corners);
+    let view = View::new(camera, h, scene_tile(world, collision));
+    let triangles = world_triangles(world, collision, &view);
+    let occluders = triangles.iter().filter(|t| t.casts).map(|t| t.corners);
     let shadow = ShadowMap::build(light, occluders);
     for t in &triangles {
         let [a, b, c] = t.corners;
@@ -381,32 +381,80 @@ pub fn render(
         if normal.dot(camera.eye - a) < 0.0 {
             normal = -normal; // two-sided: light the face the camera sees
         }
-        let surface = Surface {
-            colour: t.colour,
-            lambert: normal.dot(light).max(0.0),
+        let paint = Paint {
+            surface: Surface {
+                colour: t.colour,
+                lambert: normal.dot(light).max(0.0),
+            },
+            tiling: t.tiling.as_ref(),
+            fog: &view.fog,
         };
-        draw_triangle(
-            &mut image, &mut depth, &projector, t.corners, surface, &shadow,
-        );
+        draw_triangle(&mut image, &mut depth, &projector, t.corners, &paint, &shadow);
     }
     image
+}
+
+/// The side of the ground's tiles for a scene: [`tile_size`] of its [`subject_bounds`].
+#[must_use]
+pub fn scene_tile(world: &World, collision: &CollisionWorld) -> Real {
+    tile_size(subject_bounds(world, collision).radius())
+}
+
+/// What a picture needs to know of its camera besides the projection.
+struct View {
+    target: Vec3,
+    /// How far the ground reaches from the target: past where the fog hides it.
+    ground_reach: Real,
+    fog: Fog,
+    /// Half the width of joint links, m: about a pixel at the target's distance.
+    link_radius: Real,
+    tile: Real,
+}
+
+impl View {
+    fn new(camera: &Camera, height: u32, tile: Real) -> Self {
+        let distance = (camera.eye - camera.target).length();
+        let fog = Fog::for_distance(distance);
+        let pixel = 2.0 * distance * (camera.fov_y * 0.5).tan() / height.max(1) as Real;
+        Self {
+            target: camera.target,
+            ground_reach: fog.far + distance,
+            fog,
+            link_radius: pixel,
+            tile,
+        }
+    }
 }
 
 /// One triangle in world coordinates with its base colour.
 struct WorldTriangle {
     corners: [Vec3; 3],
     colour: [u8; 3],
-    dynamic: bool,
+    /// How static geometry is checkered.
+    tiling: Option<Tiling>,
+    /// Whether it casts a shadow (bodies and joint links do).
+    casts: bool,
 }
 
-/// Every collider's triangles, placed in the world; bodies coloured by collider order.
-fn world_triangles(world: &World, collision: &CollisionWorld) -> Vec<WorldTriangle> {
+/// Every collider's triangles placed in the world, bodies coloured by collider order, ground
+/// planes as a checkered patch around the view's target, and the joints' links.
+fn world_triangles(world: &World, collision: &CollisionWorld, view: &View) -> Vec<WorldTriangle> {
     let mut out = Vec::new();
     let mut dynamic_index = 0;
     for (handle, def) in collision.colliders() {
         let Ok((position, rotation)) = collision.collider_pose(world, handle) else {
             continue;
         };
+        if let Some(tiling) = ground_tiling(def, view.tile) {
+            let patch = tiling.patch(view.target, view.ground_reach, 16);
+            out.extend(patch.into_iter().map(|corners| WorldTriangle {
+                corners,
+                colour: GROUND_COLOUR,
+                tiling: Some(tiling),
+                casts: false,
+            }));
+            continue;
+        }
         let colour = if def.body.is_some() {
             dynamic_index += 1;
             BODY_COLOURS[(dynamic_index - 1) % BODY_COLOURS.len()]
@@ -415,11 +463,38 @@ fn world_triangles(world: &World, collision: &CollisionWorld) -> Vec<WorldTriang
         };
         let (vertices, triangles) = def.shape.triangles();
         let placed: Vec<Vec3> = vertices.iter().map(|v| position + rotation * *v).collect();
-        out.extend(triangles.iter().map(|t| WorldTriangle {
-            corners: t.map(|k| placed[k as usize]),
-            colour,
-            dynamic: def.body.is_some(),
+        out.extend(triangles.iter().map(|t| {
+            let corners = t.map(|k| placed[k as usize]);
+            let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+            WorldTriangle {
+                corners,
+                colour,
+                tiling: def.body.is_none().then(|| Tiling::face(normal, view.tile)),
+                casts: def.body.is_some(),
+            }
+        }));
+    }
+    for [a, b] in joint_links(world) {
+        out.extend(rod(a, b, view.link_radius).into_iter().map(|corners| {
+            WorldTriangle {
+                corners,
+                colour: LINK_COLOUR,
+                tiling: None,
+                casts: true,
+            }
         }));
     }
     out
+}
+
+/// The tiling of a static plane collider (a ground), with tiles of side `tile`; `None` for
+/// any other collider.
+#[must_use]
+pub fn ground_tiling(def: &kea_collision::ColliderDef, tile: Real) -> Option<Tiling> {
+    if def.body.is_some() {
+        return None;
+    }
+    let half_space = def.shape.parry_shape().as_halfspace()?;
+    let normal = (def.rotation * Vec3::from(half_space.normal)).normalize_or_zero();
+    Some(Tiling::plane(def.offset, normal, tile))
 }

@@ -2,7 +2,7 @@
 //! shading with the shadow test.
 
 use crate::shadow::ShadowMap;
-use crate::{Camera, Image};
+use crate::{checker_contrast, toned, Camera, Fog, Image, Tiling, CHECKER_SHADE};
 use kea::{Real, Vec3};
 
 /// Light a shadowed surface still gets, as a share of its direct light (sky and bounce light).
@@ -73,15 +73,26 @@ pub fn shade(surface: Surface, lit: bool) -> [u8; 3] {
         .map(|ch| (Real::from(ch) * s).min(255.0) as u8)
 }
 
+/// How a triangle's pixels get their colour: its surface, toned by a checker under each pixel
+/// for static geometry, then fog by the pixel's distance from the eye.
+pub struct Paint<'a> {
+    /// Base colour and light.
+    pub surface: Surface,
+    /// A static surface's checker, which darkens every other tile pixel by pixel.
+    pub tiling: Option<&'a Tiling>,
+    /// Distance fog.
+    pub fog: &'a Fog,
+}
+
 /// Rasterizes one world-space triangle with a depth test; triangles reaching behind the eye are
 /// skipped (scenes are framed so that nothing sits on the camera). Each pixel's world point is
-/// interpolated perspective-correctly and tested against the shadow map.
+/// interpolated perspective-correctly, coloured by the paint and tested against the shadow map.
 pub fn draw_triangle(
     image: &mut Image,
     depth: &mut [Real],
     projector: &Projector,
     tri: [Vec3; 3],
-    surface: Surface,
+    paint: &Paint<'_>,
     shadow: &Option<ShadowMap>,
 ) {
     let (w, h) = (image.width as Real, image.height as Real);
@@ -97,9 +108,16 @@ pub fn draw_triangle(
     if area.abs() < 1e-12 {
         return;
     }
+    let surface = paint.surface;
+    // A tile's size in pixels at unit depth, shrunk by how obliquely the face is seen.
+    let tile_pixels = paint.tiling.map_or(0.0, |t| {
+        let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+        let centre = (tri[0] + tri[1] + tri[2]) / 3.0;
+        let slant = normal.dot((projector.eye - centre).normalize_or_zero()).abs();
+        t.tile() * projector.focal * slant
+    });
     // Shadows only matter on faces the light reaches.
     let shadow = shadow.as_ref().filter(|_| surface.lambert > 0.0);
-    let (lit, dark) = (shade(surface, true), shade(surface, false));
     let min_x = p0.x.min(p1.x).min(p2.x).floor().max(0.0) as u32;
     let max_x = p0.x.max(p1.x).max(p2.x).ceil().min(w - 1.0).max(0.0) as u32;
     let min_y = p0.y.min(p1.y).min(p2.y).floor().max(0.0) as u32;
@@ -119,17 +137,15 @@ pub fn draw_triangle(
             let i = y as usize * image.width as usize + x as usize;
             if z < depth[i] {
                 depth[i] = z;
-                image.pixels[i] = match shadow {
-                    Some(map) => {
-                        let point = (tri[0] * q0 + tri[1] * q1 + tri[2] * q2) * z;
-                        if map.is_lit(point) {
-                            lit
-                        } else {
-                            dark
-                        }
-                    }
-                    None => lit,
-                };
+                let point = (tri[0] * q0 + tri[1] * q1 + tri[2] * q2) * z;
+                let lit = shadow.is_none_or(|map| map.is_lit(point));
+                let colour = paint.tiling.map_or(surface.colour, |t| {
+                    let keep = checker_contrast(tile_pixels / z);
+                    let mean = 0.5 * (1.0 + CHECKER_SHADE);
+                    toned(surface.colour, mean + (t.tone(point) - mean) * keep)
+                });
+                let shaded = shade(Surface { colour, ..surface }, lit);
+                image.pixels[i] = paint.fog.apply(shaded, (point - projector.eye).length());
             }
         }
     }

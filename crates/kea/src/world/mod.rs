@@ -11,6 +11,7 @@ mod constraint_entry;
 mod constraints;
 mod joints;
 mod quarantine;
+mod sketch;
 mod sleep;
 #[cfg(feature = "serde")]
 mod snapshot;
@@ -18,6 +19,7 @@ mod step;
 mod write_back;
 
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
+pub use sketch::{JointRange, JointSketch};
 pub use sleep::{DemMode, DemSettings};
 #[cfg(feature = "serde")]
 pub(crate) use snapshot::serde_real;
