@@ -137,6 +137,9 @@ enum Command {
         /// Where the screenshot key (P) writes.
         #[arg(long, default_value = "kea-screenshot.png")]
         screenshot: PathBuf,
+        /// Where the record key (G) writes its GIF.
+        #[arg(long, default_value = "kea-recording.gif")]
+        recording: PathBuf,
         /// Print a line on stdout for every action (`paused step=12`), for scripts and tests.
         #[arg(long)]
         report: bool,
@@ -221,6 +224,7 @@ fn main() -> ExitCode {
             width,
             height,
             screenshot,
+            recording,
             report,
             frames,
         } => view(
@@ -236,8 +240,10 @@ fn main() -> ExitCode {
                 height,
                 dt,
                 screenshot,
+                recording,
                 report,
                 frames,
+                scene_file: scene.clone(),
             },
         ),
         Command::Render {

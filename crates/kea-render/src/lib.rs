@@ -10,11 +10,11 @@ mod look;
 mod raster;
 mod shadow;
 
-use raster::{draw_triangle, Paint, Projector};
 pub use look::{
-    checker_contrast, joint_links, rod, tile_size, toned, Fog, Tiling, BODY_COLOURS, CHECKER_SHADE, GROUND_COLOUR,
-    LINK_COLOUR, SKY, STATIC_COLOUR,
+    checker_contrast, joint_links, rod, tile_size, toned, Fog, Tiling, BODY_COLOURS, CHECKER_SHADE,
+    GROUND_COLOUR, LINK_COLOUR, SKY, STATIC_COLOUR,
 };
+use raster::{draw_triangle, Paint, Projector};
 pub use raster::{shade, Surface};
 use shadow::ShadowMap;
 
@@ -389,7 +389,9 @@ pub fn render(
             tiling: t.tiling.as_ref(),
             fog: &view.fog,
         };
-        draw_triangle(&mut image, &mut depth, &projector, t.corners, &paint, &shadow);
+        draw_triangle(
+            &mut image, &mut depth, &projector, t.corners, &paint, &shadow,
+        );
     }
     image
 }
@@ -475,14 +477,16 @@ fn world_triangles(world: &World, collision: &CollisionWorld, view: &View) -> Ve
         }));
     }
     for [a, b] in joint_links(world) {
-        out.extend(rod(a, b, view.link_radius).into_iter().map(|corners| {
-            WorldTriangle {
-                corners,
-                colour: LINK_COLOUR,
-                tiling: None,
-                casts: true,
-            }
-        }));
+        out.extend(
+            rod(a, b, view.link_radius)
+                .into_iter()
+                .map(|corners| WorldTriangle {
+                    corners,
+                    colour: LINK_COLOUR,
+                    tiling: None,
+                    casts: true,
+                }),
+        );
     }
     out
 }

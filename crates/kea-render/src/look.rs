@@ -269,7 +269,11 @@ mod tests {
 
     #[test]
     fn tiles_are_powers_of_ten_and_neighbours_differ() {
-        assert!((tile_size(0.87) - 0.2).abs() < 1e-6, "a 1 m box: {}", tile_size(0.87));
+        assert!(
+            (tile_size(0.87) - 0.2).abs() < 1e-6,
+            "a 1 m box: {}",
+            tile_size(0.87)
+        );
         assert!((tile_size(5.0) - 2.0).abs() < 1e-6);
         assert!((tile_size(12.5) - 5.0).abs() < 1e-5);
         assert!((tile_size(2.5) - 1.0).abs() < 1e-6);
@@ -281,10 +285,18 @@ mod tests {
         assert_eq!(here, c.tone(Vec3::new(1.5, 0.0, 1.5)));
         // A wall facing x is tiled in z and y, half a metre tiles.
         let wall = Tiling::face(Vec3::X, 0.5);
-        assert_ne!(wall.tone(Vec3::new(3.0, 0.1, 0.1)), wall.tone(Vec3::new(3.0, 0.6, 0.1)));
-        assert_eq!(wall.tone(Vec3::new(3.0, 0.1, 0.1)), wall.tone(Vec3::new(9.0, 0.1, 0.1)));
+        assert_ne!(
+            wall.tone(Vec3::new(3.0, 0.1, 0.1)),
+            wall.tone(Vec3::new(3.0, 0.6, 0.1))
+        );
+        assert_eq!(
+            wall.tone(Vec3::new(3.0, 0.1, 0.1)),
+            wall.tone(Vec3::new(9.0, 0.1, 0.1))
+        );
         // The patch lies on the plane and faces up.
-        for [a, b, cc] in Tiling::plane(Vec3::ZERO, Vec3::Y, 0.5).patch(Vec3::new(3.0, 2.0, -1.0), 10.0, 4) {
+        for [a, b, cc] in
+            Tiling::plane(Vec3::ZERO, Vec3::Y, 0.5).patch(Vec3::new(3.0, 2.0, -1.0), 10.0, 4)
+        {
             assert!(a.y.abs() < 1e-5 && b.y.abs() < 1e-5 && cc.y.abs() < 1e-5);
             assert!((b - a).cross(cc - a).y > 0.0);
         }

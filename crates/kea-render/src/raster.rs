@@ -113,7 +113,9 @@ pub fn draw_triangle(
     let tile_pixels = paint.tiling.map_or(0.0, |t| {
         let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
         let centre = (tri[0] + tri[1] + tri[2]) / 3.0;
-        let slant = normal.dot((projector.eye - centre).normalize_or_zero()).abs();
+        let slant = normal
+            .dot((projector.eye - centre).normalize_or_zero())
+            .abs();
         t.tile() * projector.focal * slant
     });
     // Shadows only matter on faces the light reaches.

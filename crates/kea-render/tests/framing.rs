@@ -2,7 +2,8 @@
 //! (the bodies) whole and large: not clipped at the edges, not a speck in the middle.
 //!
 //! Subject pixels are told by colour: bodies are drawn in saturated colours, the sky and the
-//! static geometry in near-greys, so a pixel whose channels spread by more than 60 is a body.
+//! static geometry in near-greys, so a pixel whose channels spread by more than 60 is a body;
+//! joint links (a pendulum's string) are a dark neutral grey, darker than any shadowed ground.
 
 use kea::Real;
 use kea_render::{render, Camera, Image};
@@ -22,15 +23,17 @@ const SCENES: &[&str] = &[
     "animated_hand",
 ];
 
-/// The box of the body-coloured pixels, `(x0, y0, x1, y1)` inclusive, and their count.
+/// The box of the body- and link-coloured pixels, `(x0, y0, x1, y1)` inclusive, and their
+/// count.
 fn subject_box(image: &Image) -> Option<((u32, u32, u32, u32), usize)> {
     let mut b = (u32::MAX, u32::MAX, 0, 0);
     let mut count = 0;
     for y in 0..image.height {
         for x in 0..image.width {
             let p = image.pixel(x, y);
-            let spread = p.iter().max().unwrap() - p.iter().min().unwrap();
-            if spread > 60 {
+            let (max, min) = (*p.iter().max().unwrap(), *p.iter().min().unwrap());
+            let link = max < 80 && max - min <= 10;
+            if max - min > 60 || link {
                 count += 1;
                 b = (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y));
             }

@@ -72,6 +72,8 @@ pub struct App {
     pub(crate) wheels: Vec<(ConstraintHandle, Real)>,
     /// The last problem a user action ran into (a full world, a failed step), for the overlay.
     pub message: Option<String>,
+    /// The body the mouse last grabbed (the camera can follow it).
+    pub last_grabbed: Option<BodyHandle>,
 }
 
 impl App {
@@ -92,6 +94,7 @@ impl App {
             drag: None,
             wheels: Vec::new(),
             message: None,
+            last_grabbed: None,
         };
         app.after_build();
         Ok(app)
@@ -124,7 +127,47 @@ impl App {
         }
     }
 
+    /// Replaces the scene with `spec` (a reloaded file), as if the Viewer had been opened on
+    /// it. A scene that does not build is an error and the running scene is kept.
+    pub fn replace(&mut self, spec: Scene) -> Result<(), String> {
+        let scene = build_with_room(&spec)?;
+        self.spec = spec;
+        self.scene = scene;
+        self.previous.clear();
+        self.drag = None;
+        self.accumulator = 0.0;
+        self.message = None;
+        self.after_build();
+        Ok(())
+    }
+
+    /// The body a camera should follow: the car's chassis if the scene has a car, else the
+    /// body last grabbed, else the heaviest body; `None` in a scene without bodies.
+    #[must_use]
+    pub fn subject(&self) -> Option<BodyHandle> {
+        let world = &self.scene.world;
+        if let Some(chassis) = self.chassis() {
+            return Some(chassis);
+        }
+        if let Some(b) = self.last_grabbed.filter(|b| world.body(*b).is_ok()) {
+            return Some(b);
+        }
+        world
+            .bodies()
+            .filter(|(_, b)| b.mass().is_finite())
+            .max_by(|a, b| a.1.mass().total_cmp(&b.1.mass()).then(b.0.cmp(&a.0)))
+            .map(|(h, _)| h)
+    }
+
+    /// The chassis of the scene's car: body 1 of its first car-wheel joint.
+    #[must_use]
+    pub fn chassis(&self) -> Option<BodyHandle> {
+        let (h, _) = self.wheels.first()?;
+        self.scene.world.constraint_bodies(*h).ok()?[0]
+    }
+
     fn after_build(&mut self) {
+        self.last_grabbed = None;
         self.snapshot();
         self.wheels = crate::car::car_wheels(&self.scene.world);
         self.timings = Timings::default();
@@ -276,6 +319,7 @@ impl App {
         let _ = world.wake_body(body);
         match world.create_fixed_path(body, None, hit.point, false) {
             Ok(joint) => {
+                self.last_grabbed = Some(body);
                 let damping = hold_damping(world, body);
                 self.drag = Some(Drag {
                     joint,

@@ -16,9 +16,9 @@ pub enum Action {
     Reset,
     /// Fire a ball from the camera.
     Shoot,
-    /// Draw contact points and normals.
+    /// Draw contact points and normals scaled by force.
     Contacts,
-    /// Draw joint frames.
+    /// Draw joint anchors, axes and limits.
     Joints,
     /// Colour bodies by island.
     Islands,
@@ -30,6 +30,12 @@ pub enum Action {
     Overlay,
     /// Write a screenshot.
     Screenshot,
+    /// Start or stop recording the window to a GIF.
+    Record,
+    /// Follow a body with the camera, or stop following.
+    Follow,
+    /// Reload the scene file.
+    Reload,
     /// Close the Viewer.
     Quit,
 }
@@ -54,13 +60,16 @@ pub const BINDINGS: &[Binding] = &[
     Binding { key: KeyCode::S, label: "S", action: Action::Step, help: "single step (pauses)" },
     Binding { key: KeyCode::Enter, label: "Enter", action: Action::Reset, help: "reset the scene" },
     Binding { key: KeyCode::B, label: "B", action: Action::Shoot, help: "shoot a ball from the camera" },
-    Binding { key: KeyCode::C, label: "C", action: Action::Contacts, help: "draw contacts" },
-    Binding { key: KeyCode::J, label: "J", action: Action::Joints, help: "draw joint frames" },
+    Binding { key: KeyCode::C, label: "C", action: Action::Contacts, help: "contacts: points, normals as long as their force" },
+    Binding { key: KeyCode::J, label: "J", action: Action::Joints, help: "joints: anchors, axes and limit ranges" },
     Binding { key: KeyCode::I, label: "I", action: Action::Islands, help: "colour by island" },
     Binding { key: KeyCode::Z, label: "Z", action: Action::Sleeping, help: "grey out sleeping bodies" },
-    Binding { key: KeyCode::H, label: "H", action: Action::Shadows, help: "shadows on the ground" },
+    Binding { key: KeyCode::H, label: "H", action: Action::Shadows, help: "shadows" },
+    Binding { key: KeyCode::F, label: "F", action: Action::Follow, help: "camera follows the car, the grabbed or the heaviest body" },
+    Binding { key: KeyCode::R, label: "R", action: Action::Reload, help: "reload the scene file (also when it changes)" },
     Binding { key: KeyCode::O, label: "O", action: Action::Overlay, help: "statistics overlay" },
     Binding { key: KeyCode::P, label: "P", action: Action::Screenshot, help: "screenshot (PNG)" },
+    Binding { key: KeyCode::G, label: "G", action: Action::Record, help: "start / stop recording a GIF" },
     Binding { key: KeyCode::Escape, label: "Esc", action: Action::Quit, help: "quit" },
 ];
 

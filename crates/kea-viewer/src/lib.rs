@@ -8,6 +8,11 @@
 //! frames, islands and sleeping bodies on request; and it shows F1 help and an overlay with
 //! the frame rate, step time per stage, bodies, contacts and rows. Every key is in
 //! [`keys::BINDINGS`].
+//!
+//! It draws what `kea render` draws, in the same colours: a checkered ground fading into the
+//! sky, checkered static geometry, shadows on every static surface and the links of joints.
+//! The camera can follow a body (a car's chassis by default), the window can be recorded to a
+//! GIF, and the scene file is reloaded when it changes.
 
 #![warn(missing_docs)]
 
@@ -15,10 +20,14 @@ pub mod app;
 pub mod car;
 mod convert;
 pub mod draw;
+pub mod gizmos;
 pub mod islands;
 pub mod keys;
 pub mod orbit;
 pub mod overlay;
+pub mod record;
+pub mod reload;
+pub mod shadows;
 mod window;
 
 pub use app::App;
@@ -41,6 +50,10 @@ pub struct ViewerOptions {
     pub dt: Real,
     /// Where the screenshot key (P) writes.
     pub screenshot: PathBuf,
+    /// Where the record key (G) writes its GIF.
+    pub recording: PathBuf,
+    /// The scene's file, reloaded by R and whenever it changes (`None`: a built-in scene).
+    pub scene_file: Option<PathBuf>,
     /// Print one line on stdout for every user action and its effect (`paused step=12`), for
     /// scripts and tests that drive the Viewer with synthetic key presses.
     pub report: bool,
@@ -56,6 +69,8 @@ impl Default for ViewerOptions {
             height: 720,
             dt: 1.0 / 60.0,
             screenshot: PathBuf::from("kea-screenshot.png"),
+            recording: PathBuf::from("kea-recording.gif"),
+            scene_file: None,
             report: false,
             frames: None,
         }

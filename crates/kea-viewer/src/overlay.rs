@@ -108,3 +108,23 @@ fn draw_block(lines: &[String], x: f32, y: f32) {
         draw_text(l, x + 6.0, baseline, SIZE, Color::new(1.0, 1.0, 1.0, 1.0));
     }
 }
+
+/// A note at the bottom of the window (a screenshot written, a reload), with a red
+/// "REC n" mark while a recording runs.
+pub fn draw_toast(text: &str, recording: Option<u32>) {
+    let y = macroquad::window::screen_height() - 16.0;
+    if !text.is_empty() {
+        draw_block(&[text.to_string()], 8.0, y - LINE - 8.0);
+    }
+    if let Some(frames) = recording {
+        let x = macroquad::window::screen_width() - 120.0;
+        macroquad::shapes::draw_circle(x, 20.0, 7.0, Color::new(0.9, 0.1, 0.1, 1.0));
+        draw_text(
+            &format!("REC {frames}"),
+            x + 14.0,
+            26.0,
+            SIZE,
+            Color::new(0.9, 0.1, 0.1, 1.0),
+        );
+    }
+}

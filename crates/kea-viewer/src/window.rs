@@ -2,15 +2,16 @@
 
 use crate::app::App;
 use crate::convert::{to_f64, to_mq, to_real};
-use crate::draw::{draw_contacts, draw_drag, draw_joints, Painter, Toggles};
+use crate::draw::{checker_texture, gizmos, sky, Eye, Painter, Toggles};
+use crate::gizmos::typical_weight;
 use crate::keys::{Action, BINDINGS};
 use crate::orbit::OrbitCamera;
-use crate::overlay::{draw_help, draw_stats, FrameTimes};
+use crate::overlay::{draw_help, draw_stats, draw_toast, FrameTimes};
+use crate::record::{recorded_size, shrink, Recorder};
+use crate::reload::SceneFile;
 use crate::ViewerOptions;
-use kea::{Real, Vec3};
-use kea_render::SKY;
+use kea::{BodyHandle, Real, Vec3};
 use macroquad::camera::{set_camera, set_default_camera, Camera3D};
-use macroquad::color::Color;
 use macroquad::input::{
     is_key_down, is_key_pressed, is_key_released, is_mouse_button_down, is_mouse_button_pressed,
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
@@ -49,6 +50,15 @@ struct Session {
     quit: bool,
     frame: u64,
     times: FrameTimes,
+    /// The body the camera follows.
+    follow: Option<BodyHandle>,
+    /// A note shown for a few seconds (a screenshot written, a reload).
+    toast: Option<(String, std::time::Instant)>,
+    recorder: Option<Recorder>,
+    scene_file: Option<SceneFile>,
+    /// A typical body's weight, N, and the length its force gets in the contact gizmos, m.
+    force_scale: (Real, Real),
+    started: std::time::Instant,
 }
 
 impl Session {
@@ -58,6 +68,81 @@ impl Session {
             use std::io::Write as _;
             let _ = std::io::stdout().flush();
         }
+    }
+
+    /// Shows `what` on screen for a few seconds and reports it.
+    fn tell(&mut self, what: String) {
+        self.say(&what);
+        self.toast = Some((what, std::time::Instant::now()));
+    }
+
+    /// What the new scene needs: the painter's caches, the force scale, the car to follow.
+    fn after_build(&mut self) {
+        self.painter.clear();
+        self.force_scale = force_scale(&self.app);
+        self.follow = self.app.chassis();
+    }
+
+    fn reload(&mut self) {
+        let Some(file) = &mut self.scene_file else {
+            self.tell("reload: this scene has no file".into());
+            return;
+        };
+        let loaded = file.read().and_then(|spec| self.app.replace(spec));
+        let path = file.path().display().to_string();
+        match loaded {
+            Ok(()) => {
+                self.after_build();
+                self.tell(format!("reloaded {path}"));
+            }
+            Err(e) => {
+                self.app.message = Some(format!("reload failed, kept the old scene: {e}"));
+                self.tell("reload failed (see above)".into());
+            }
+        }
+    }
+
+    fn toggle_recording(&mut self) {
+        match self.recorder.take() {
+            Some(r) => match r.finish() {
+                Ok((path, frames)) => {
+                    self.tell(format!("recorded {} ({frames} frames)", path.display()));
+                }
+                Err(e) => self.tell(format!("recording failed: {e}")),
+            },
+            None => {
+                let (w, h, _) = recorded_size(screen_width() as u32, screen_height() as u32);
+                match Recorder::start(&self.options.recording, w, h) {
+                    Ok(r) => {
+                        self.recorder = Some(r);
+                        self.tell(format!("recording to {}", self.options.recording.display()));
+                    }
+                    Err(e) => self.tell(format!("cannot record: {e}")),
+                }
+            }
+        }
+    }
+
+    fn capture(&mut self) {
+        let Some(r) = &mut self.recorder else { return };
+        if r.due() {
+            let (_, _, factor) = recorded_size(screen_width() as u32, screen_height() as u32);
+            r.push(shrink(&screen_image(), factor));
+        }
+        if r.is_full() {
+            self.toggle_recording();
+        }
+    }
+
+    /// Moves the camera's target towards the followed body (half the way in ~0.1 s).
+    fn follow_subject(&mut self, frame_seconds: Real) {
+        let Some(b) = self.follow else { return };
+        let Some((x, _)) = self.app.body_pose(b) else {
+            self.follow = None;
+            return;
+        };
+        let k = 1.0 - (-7.0 * frame_seconds.clamp(0.0, 0.25)).exp();
+        self.camera.target += (x - self.camera.target) * k;
     }
 
     fn act(&mut self, action: Action) {
@@ -74,8 +159,20 @@ impl Session {
             }
             Action::Reset => {
                 self.app.reset();
-                self.painter.clear();
+                self.after_build();
                 self.say("reset");
+            }
+            Action::Reload => self.reload(),
+            Action::Record => self.toggle_recording(),
+            Action::Follow => {
+                self.follow = match self.follow {
+                    Some(_) => None,
+                    None => self.app.subject(),
+                };
+                match self.follow {
+                    Some(b) => self.tell(format!("following body {}", b.index())),
+                    None => self.tell("not following".into()),
+                }
             }
             Action::Shoot => {
                 let eye = self.camera.eye();
@@ -162,8 +259,7 @@ impl Session {
     }
 
     fn draw(&mut self) {
-        let [r, g, b] = SKY.map(|c| f32::from(c) / 255.0);
-        clear_background(Color::new(r, g, b, 1.0));
+        clear_background(sky());
         let eye = self.camera.eye();
         set_camera(&Camera3D {
             position: to_mq(eye),
@@ -172,14 +268,14 @@ impl Session {
             fovy: to_f64(self.camera.fov_y) as f32,
             ..Default::default()
         });
-        self.times.triangles = self.painter.draw_scene(&self.app, eye, self.toggles);
-        if self.toggles.contacts {
-            draw_contacts(&self.app);
-        }
-        if self.toggles.joints {
-            draw_joints(&self.app);
-        }
-        draw_drag(&self.app);
+        let view = Eye {
+            position: eye,
+            target: self.camera.target,
+        };
+        self.times.triangles = self.painter.draw_scene(&self.app, view, self.toggles);
+        let (weight, length) = self.force_scale;
+        let g = gizmos(&self.app, eye, self.toggles, weight, length);
+        self.painter.draw_on_top(&g.pieces);
         set_default_camera();
         if self.overlay {
             draw_stats(&self.app, &self.times);
@@ -187,24 +283,41 @@ impl Session {
         if self.help {
             draw_help();
         }
+        let recording = self.recorder.as_ref().map(Recorder::frames);
+        if let Some((text, since)) = &self.toast {
+            if since.elapsed().as_secs_f32() < 3.0 {
+                draw_toast(text, recording);
+            } else {
+                self.toast = None;
+            }
+        } else if recording.is_some() {
+            draw_toast("", recording);
+        }
     }
 
     fn screenshot(&mut self) {
-        let path = &self.options.screenshot;
-        match write_screenshot(path) {
-            Ok(()) => self.say(&format!("screenshot {}", path.display())),
+        let path = self.options.screenshot.clone();
+        match screen_image().write_png(&path) {
+            Ok(()) => self.tell(format!("screenshot {}", path.display())),
             Err(e) => {
                 let message = format!("screenshot failed: {e}");
                 eprintln!("kea view: {message}");
-                self.say(&message);
-                self.app.message = Some(message);
+                self.app.message = Some(message.clone());
+                self.tell(message);
             }
         }
     }
 }
 
-/// Reads the frame buffer and writes it as PNG (rows come bottom-up from OpenGL).
-fn write_screenshot(path: &std::path::Path) -> Result<(), String> {
+/// A typical body's weight and the length a force of that weight gets: a quarter tile.
+fn force_scale(app: &crate::App) -> (Real, Real) {
+    let world = &app.scene.world;
+    let tile = kea_render::scene_tile(world, &app.scene.collision);
+    (typical_weight(world), 0.25 * tile)
+}
+
+/// The frame buffer as an image (rows come bottom-up from OpenGL).
+fn screen_image() -> kea_render::Image {
     let data = get_screen_data();
     let (w, h) = (u32::from(data.width), u32::from(data.height));
     let mut pixels = Vec::with_capacity((w * h) as usize);
@@ -219,7 +332,6 @@ fn write_screenshot(path: &std::path::Path) -> Result<(), String> {
         height: h,
         pixels,
     }
-    .write_png(path)
 }
 
 /// An exponential average over about ten frames, so the overlay's figures can be read.
@@ -229,11 +341,12 @@ fn smooth(average: std::time::Duration, now: std::time::Duration) -> std::time::
 
 async fn run_loop(app: App, options: ViewerOptions) {
     let camera = OrbitCamera::framing(&app.scene.world);
+    let scene_file = options.scene_file.as_deref().map(SceneFile::new);
     let mut s = Session {
         app,
         options,
         camera,
-        painter: Painter::new(),
+        painter: Painter::new(Some(checker_texture())),
         toggles: Toggles {
             shadows: true,
             ..Toggles::default()
@@ -245,7 +358,14 @@ async fn run_loop(app: App, options: ViewerOptions) {
         quit: false,
         frame: 0,
         times: FrameTimes::default(),
+        follow: None,
+        toast: None,
+        recorder: None,
+        scene_file,
+        force_scale: (1.0, 1.0),
+        started: std::time::Instant::now(),
     };
+    s.after_build();
     s.say("ready");
     while !s.quit {
         let mut screenshot = false;
@@ -255,10 +375,15 @@ async fn run_loop(app: App, options: ViewerOptions) {
                 s.act(b.action);
             }
         }
+        if s.scene_file.as_mut().is_some_and(SceneFile::changed) {
+            s.reload();
+        }
         s.handle_mouse();
         s.handle_car_keys();
         let start = std::time::Instant::now();
-        s.times.steps = s.app.advance(f64::from(macroquad::time::get_frame_time()));
+        let frame_seconds = macroquad::time::get_frame_time();
+        s.times.steps = s.app.advance(f64::from(frame_seconds));
+        s.follow_subject(to_real(f64::from(frame_seconds)));
         let stepped = std::time::Instant::now();
         s.times.stepping = smooth(s.times.stepping, stepped - start);
         s.draw();
@@ -266,11 +391,20 @@ async fn run_loop(app: App, options: ViewerOptions) {
         if screenshot {
             s.screenshot();
         }
+        s.capture();
         s.frame += 1;
         if s.options.frames.is_some_and(|n| s.frame >= n) {
             s.quit = true;
         }
         next_frame().await;
     }
-    s.say("quit");
+    if s.recorder.is_some() {
+        s.toggle_recording(); // a recording under way is written on quit
+    }
+    let seconds = s.started.elapsed().as_secs_f64().max(1e-3);
+    s.say(&format!(
+        "quit fps={:.1} frames={}",
+        s.frame as f64 / seconds,
+        s.frame
+    ));
 }

@@ -46,8 +46,8 @@ pub use solver::{
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
 pub use world::{
-    CollisionStats, DemMode, DemSettings, JointRange, JointSketch, QuarantineEvent, QuarantineReason, SpeedLimits,
-    StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
+    CollisionStats, DemMode, DemSettings, JointRange, JointSketch, QuarantineEvent,
+    QuarantineReason, SpeedLimits, StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
 };
 #[cfg(feature = "serde")]
 pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};

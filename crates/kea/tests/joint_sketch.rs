@@ -21,7 +21,11 @@ fn a_swinging_hinge_shows_its_angle_turning_zero_onto_body_ones_reference() {
     let h = world.create_hinge(arm, None, Vec3::ZERO, Vec3::Z).unwrap();
     let lower = SingleLimit::hard(-1.2, 0.0);
     let upper = SingleLimit::hard(0.4, 0.0);
-    world.hinge_limit_mut(h).unwrap().set_limits(lower, upper).unwrap();
+    world
+        .hinge_limit_mut(h)
+        .unwrap()
+        .set_limits(lower, upper)
+        .unwrap();
     for _ in 0..40 {
         world.step(DT).unwrap();
     }
@@ -42,10 +46,16 @@ fn a_swinging_hinge_shows_its_angle_turning_zero_onto_body_ones_reference() {
     let arm_direction = world.body(arm).unwrap().position().normalize();
     let turned = Quat::from_axis_angle(axis, now) * zero;
     let reference = world.body(arm).unwrap().orientation() * world.hinge(h).unwrap().local_ref1;
-    assert!((turned - reference).length() < 1e-3, "{turned} vs {reference}");
+    assert!(
+        (turned - reference).length() < 1e-3,
+        "{turned} vs {reference}"
+    );
     // The arm starts along +x with zero along its reference: its direction turns the same way.
     let expected = Quat::from_axis_angle(axis, now) * Vec3::X;
-    assert!((arm_direction - expected).length() < 2e-3, "{arm_direction} vs {expected}");
+    assert!(
+        (arm_direction - expected).length() < 2e-3,
+        "{arm_direction} vs {expected}"
+    );
 }
 
 #[test]
@@ -57,7 +67,11 @@ fn a_slider_shows_its_stops_along_its_axis_and_its_distance() {
         .create_prismatic(carriage, None, Vec3::new(0.0, 2.0, 0.0), Vec3::Y)
         .unwrap();
     let (lower, upper) = (SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(0.5, 0.0));
-    world.prismatic_limit_mut(h).unwrap().set_limits(lower, upper).unwrap();
+    world
+        .prismatic_limit_mut(h)
+        .unwrap()
+        .set_limits(lower, upper)
+        .unwrap();
     for _ in 0..120 {
         world.step(DT).unwrap();
     }
@@ -94,7 +108,12 @@ fn a_ball_joints_cone_keeps_body_ones_axis_within_the_half_angle() {
         world.step(DT).unwrap();
     }
     let s = world.joint_sketch(h).unwrap().unwrap();
-    let Some(JointRange::Cone { axis, half_angle, now }) = s.range else {
+    let Some(JointRange::Cone {
+        axis,
+        half_angle,
+        now,
+    }) = s.range
+    else {
         panic!("a ball joint with a cone limit has a cone: {:?}", s.range);
     };
     assert!((half_angle - 0.5).abs() < 1e-6);
@@ -108,10 +127,14 @@ fn a_contact_is_not_a_joint_and_a_free_joint_has_no_range() {
     let mut world = World::with_capacity(4, 16).unwrap();
     let a = body(&mut world, Vec3::ZERO);
     let b = body(&mut world, Vec3::new(0.0, 1.0, 0.0));
-    let hinge = world.create_hinge(a, Some(b), Vec3::new(0.0, 0.5, 0.0), Vec3::X).unwrap();
+    let hinge = world
+        .create_hinge(a, Some(b), Vec3::new(0.0, 0.5, 0.0), Vec3::X)
+        .unwrap();
     let s = world.joint_sketch(hinge).unwrap().unwrap();
     assert!(s.range.is_none());
     assert!((s.anchors[0] - s.anchors[1]).length() < 1e-6);
-    let contact = world.create_contact(a, None, kea::Contact::default()).unwrap();
+    let contact = world
+        .create_contact(a, None, kea::Contact::default())
+        .unwrap();
     assert!(world.joint_sketch(contact).is_err());
 }

@@ -121,7 +121,10 @@ impl World {
                 sketch((j.local_anchor1, j.local_anchor2), [None, None], None)
             }
             ConstraintKind::Universal(j) => {
-                let axes = [Some(vector(b1, j.local_axis1)), Some(vector(b2, j.local_axis2))];
+                let axes = [
+                    Some(vector(b1, j.local_axis1)),
+                    Some(vector(b2, j.local_axis2)),
+                ];
                 sketch((j.local_anchor1, j.local_anchor2), axes, None)
             }
             ConstraintKind::Linear1(j) => {
