@@ -113,6 +113,31 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 ///
 /// Clone it together with its [`World`]: the two clones step on bit for bit like the
 /// originals.
+///
+/// ```
+/// use kea::{BodyDef, Vec3, World};
+/// use kea_collision::{ColliderDef, CollisionWorld, Shape};
+///
+/// let mut world = World::with_capacity(8, 64)?;
+/// world.set_gravity(Vec3::new(0.0, -9.81, 0.0))?;
+/// let mut collision = CollisionWorld::new();
+/// collision.add_collider(&world, ColliderDef::new(None, Shape::plane(Vec3::Y)?))?;
+/// let ball = Shape::sphere(0.5)?;
+/// let mass = ball.mass_properties(1000.0)?;
+/// let body = world.create_body(&BodyDef {
+///     mass: mass.mass,
+///     inertia: mass.inertia,
+///     position: Vec3::new(0.0, 2.0, 0.0),
+///     ..BodyDef::default()
+/// })?;
+/// collision.add_collider(&world, ColliderDef::new(Some(body), ball))?;
+/// for _ in 0..120 {
+///     collision.step(&mut world, 1.0 / 60.0)?; // contacts from geometry, then the world's step
+/// }
+/// let y = world.body(body)?.position().y;
+/// assert!((y - 0.5).abs() < 0.02, "resting on the plane: y = {y}");
+/// # Ok::<(), kea_collision::CollisionError>(())
+/// ```
 #[derive(Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CollisionWorld {

@@ -12,6 +12,26 @@ pub const VERSION: u32 = 1;
 pub type V3 = [Real; 3];
 
 /// A whole scene.
+///
+/// ```
+/// use kea_scene::{build, Scene};
+///
+/// let scene = Scene::from_json(r#"{
+///   "version": 1,
+///   "world": { "gravity": [0.0, -9.81, 0.0] },
+///   "static": [ { "shape": { "plane": { "normal": [0.0, 1.0, 0.0] } } } ],
+///   "bodies": [ { "name": "box", "density": 500.0, "position": [0.0, 1.0, 0.0],
+///                 "shapes": [ { "shape": { "box": { "half_extents": [0.25, 0.25, 0.25] } } } ] } ]
+/// }"#)?;
+/// let mut built = build(&scene)?;
+/// for _ in 0..90 {
+///     built.step(1.0 / 60.0)?;
+/// }
+/// let b = built.body("box").expect("named in the file");
+/// let y = built.world.body(b)?.position().y;
+/// assert!((y - 0.25).abs() < 0.02, "resting on the ground: y = {y}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {

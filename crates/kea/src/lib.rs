@@ -52,7 +52,7 @@ pub use world::{
 #[cfg(feature = "serde")]
 pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};
 
-/// The README's tour, compiled and run as a doctest so that it stays true.
+/// The tour of this layer (`docs/tour.md`), compiled and run as a doctest so that it stays true.
 #[cfg(doctest)]
-#[doc = include_str!("../../../README.md")]
-pub struct ReadmeDoctests;
+#[doc = include_str!("../../../docs/tour.md")]
+pub struct TourDoctests;

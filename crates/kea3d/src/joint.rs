@@ -238,6 +238,23 @@ pub(crate) enum Spec {
 ///
 /// Anchors and axes are in the world frame at insertion, as in the guide; the joint stores
 /// them in each body's frame.
+///
+/// ```
+/// use kea3d::prelude::*;
+///
+/// let mut world = PhysicsWorld::new();
+/// let door = world.insert_body(Body::dynamic().position([0.5, 1.0, 0.0]))?;
+/// world.insert_collider(Collider::cuboid([0.5, 1.0, 0.05]), Some(door))?;
+/// // Hinged to the world along its left edge, free to swing ±1 rad, driven at 1 rad/s.
+/// let hinge = world.insert_joint(door, None, Joint::hinge([0.0, 1.0, 0.0], [0.0, 1.0, 0.0]).limits(-1.0, 1.0))?;
+/// hinge.set_motor(&mut world, 1.0, 50.0)?;
+/// for _ in 0..120 {
+///     world.step(1.0 / 60.0)?;
+/// }
+/// let angle = hinge.angle(&world)?;
+/// assert!((angle.abs() - 1.0).abs() < 0.02, "stopped at a limit: {angle}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[must_use]
 pub struct Joint<J> {

@@ -46,6 +46,11 @@ pub use kea_collision as collision;
 pub use kea_scene as scene;
 
 pub use kea::{BodyHandle, Mat3, Quat, Real, StepStats, Vec3};
+
+/// The README's quick start, compiled and run as a doctest so that it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
 pub use kea_collision::{ColliderHandle, CollisionError as Error, Shape};
 
 /// What a fallible call of this crate returns: its error names the argument and the value.

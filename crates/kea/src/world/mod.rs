@@ -151,6 +151,25 @@ struct StepScratch {
 ///
 /// A clone is the same world at the same instant (it accepts the same handles): stepping both
 /// alike gives bit-identical results.
+///
+/// ```
+/// use kea::{BodyDef, Vec3, World};
+///
+/// let mut world = World::with_capacity(16, 64)?; // room for 16 bodies, 64 constraints
+/// world.set_gravity(Vec3::new(0.0, -9.81, 0.0))?;
+/// let bob = world.create_body(&BodyDef {
+///     position: Vec3::new(1.0, 0.0, 0.0),
+///     ..BodyDef::default()
+/// })?;
+/// world.create_ball_joint(bob, None, Vec3::ZERO)?; // a 1 m pendulum from the origin
+/// for _ in 0..30 {
+///     world.step(1.0 / 60.0)?;
+/// }
+/// let p = world.body(bob)?.position();
+/// assert!((p.length() - 1.0).abs() < 0.01, "the rod keeps its length: {p}");
+/// assert!(p.y < -0.5, "and the bob swings down: {p}");
+/// # Ok::<(), kea::KeaError>(())
+/// ```
 #[derive(Clone)]
 pub struct World {
     id: u32,
