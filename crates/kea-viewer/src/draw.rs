@@ -4,7 +4,7 @@
 //! links of joints, and on top the optional gizmos (joints, contacts, the held point).
 
 use crate::app::App;
-use crate::convert::to_mq;
+use crate::convert::{to_f64, to_mq};
 use crate::gizmos::{Gizmos, Piece};
 use crate::islands::Islands;
 use crate::shadows::Receivers;
@@ -72,7 +72,7 @@ impl Batch {
         for ((p, colour), (u, v)) in tri.into_iter().zip(colours).zip(uv) {
             self.mesh.vertices.push(Vertex {
                 position: to_mq(p),
-                uv: mq::Vec2::new(u as f32, v as f32),
+                uv: mq::Vec2::new(to_f64(u) as f32, to_f64(v) as f32),
                 color: colour,
                 normal: mq::Vec4::ZERO,
             });

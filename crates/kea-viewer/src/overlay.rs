@@ -120,7 +120,7 @@ pub fn draw_toast(text: &str, recording: Option<u32>) {
         let x = macroquad::window::screen_width() - 120.0;
         macroquad::shapes::draw_circle(x, 20.0, 7.0, Color::new(0.9, 0.1, 0.1, 1.0));
         draw_text(
-            &format!("REC {frames}"),
+            format!("REC {frames}").as_str(),
             x + 14.0,
             26.0,
             SIZE,
