@@ -24,6 +24,20 @@ pub enum BodyType {
 /// mass follows from them. Its mass and inertia come from its colliders' density unless set
 /// here: an explicit mass wins, and without an explicit inertia the colliders' inertia is
 /// scaled to that mass.
+///
+/// ```
+/// use kea3d::prelude::*;
+///
+/// let mut world = PhysicsWorld::new();
+/// // A 2 kg box: the explicit mass wins over the collider's density.
+/// let crate_body = world.insert_body(Body::dynamic().position([0.0, 1.0, 0.0]).mass(2.0))?;
+/// world.insert_collider(Collider::cuboid([0.5, 0.5, 0.5]).density(10.0), Some(crate_body))?;
+/// assert_eq!(world.dynamics().body(crate_body)?.mass(), 2.0);
+/// // A fixed body never moves; a kinematic one moves at its set velocity, pushed by nothing.
+/// let floor = world.insert_body(Body::fixed())?;
+/// world.insert_collider(Collider::halfspace([0.0, 1.0, 0.0]), Some(floor))?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 #[must_use]
 pub struct Body {

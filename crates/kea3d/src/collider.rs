@@ -11,6 +11,20 @@ pub const DEFAULT_DENSITY: Real = 1000.0;
 ///
 /// A shape whose arguments are bad is reported when the collider is inserted, with the
 /// argument's name and value.
+///
+/// ```
+/// use kea3d::prelude::*;
+///
+/// let mut world = PhysicsWorld::new();
+/// let body = world.insert_body(Body::dynamic())?;
+/// // A 1 m cube of density 500 kg/m³ weighs 500 kg.
+/// world.insert_collider(Collider::cuboid([0.5, 0.5, 0.5]).density(500.0).friction(0.8), Some(body))?;
+/// assert!((world.dynamics().body(body)?.mass() - 500.0).abs() < 1e-3);
+/// // Bad arguments are refused by name when the collider is inserted.
+/// let e = world.insert_collider(Collider::ball(-1.0), Some(body)).unwrap_err();
+/// assert!(e.to_string().contains("radius"), "{e}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone)]
 #[must_use]
 pub struct Collider {

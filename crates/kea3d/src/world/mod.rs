@@ -17,6 +17,22 @@ use kea_scene::{BuiltScene, ScenePaths};
 /// ahead, and once warm (a step after the last growth) a step allocates nothing.
 ///
 /// A clone is the same world at the same instant: stepping both alike gives the same bits.
+///
+/// ```
+/// use kea3d::prelude::*;
+///
+/// let mut world = PhysicsWorld::new();
+/// world.set_gravity([0.0, -9.81, 0.0])?;
+/// let ball = world.insert_body(Body::dynamic().linear_velocity([2.0, 0.0, 0.0]))?;
+/// world.insert_collider(Collider::ball(0.1), Some(ball))?;
+/// for _ in 0..60 {
+///     world.step(1.0 / 60.0)?; // one second of flight, nothing to hit
+/// }
+/// let p = world.position(ball)?;
+/// assert!((p.x - 2.0).abs() < 1e-3, "{p}");
+/// assert!((p.y + 0.5 * 9.81).abs() < 0.1, "free fall: y = {}", p.y);
+/// # Ok::<(), kea3d::Error>(())
+/// ```
 #[derive(Clone)]
 pub struct PhysicsWorld {
     dynamics: World,
