@@ -115,14 +115,7 @@ impl App {
     /// Rebuilds the scene as it was loaded (the guide's Enter key).
     pub fn reset(&mut self) {
         match build_with_room(&self.spec) {
-            Ok(scene) => {
-                self.scene = scene;
-                self.previous.clear();
-                self.drag = None;
-                self.accumulator = 0.0;
-                self.message = None;
-                self.after_build();
-            }
+            Ok(scene) => self.install(scene),
             Err(e) => self.message = Some(e),
         }
     }
@@ -132,13 +125,18 @@ impl App {
     pub fn replace(&mut self, spec: Scene) -> Result<(), String> {
         let scene = build_with_room(&spec)?;
         self.spec = spec;
+        self.install(scene);
+        Ok(())
+    }
+
+    /// Runs a freshly built scene from its start.
+    fn install(&mut self, scene: BuiltScene) {
         self.scene = scene;
         self.previous.clear();
         self.drag = None;
         self.accumulator = 0.0;
         self.message = None;
         self.after_build();
-        Ok(())
     }
 
     /// The body a camera should follow: the car's chassis if the scene has a car, else the
