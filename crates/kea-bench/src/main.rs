@@ -10,7 +10,14 @@
 //! With the `parallel` feature a second table times Kea on one thread and on every core, and
 //! checks that both end in the same bits.
 //!
-//! `cargo run --release -p kea-bench [--features parallel] [-- [--runs N] [--quick] [FILTER]]`
+//! `cargo run --profile bench-lto -p kea-bench [--features parallel] [-- [--runs N] [--quick]
+//! [--rapier-simd8 PATH] [FILTER]]`
+//!
+//! Built with the workspace's `bench-lto` profile (`lto = "thin"`, `codegen-units = 1`), both
+//! engines get what a speed-minded user ships; the output names the profile it was built with.
+//! `--rapier-simd8 PATH` names a second build of this crate with the `simd8` feature (Rapier on
+//! 8 lanes): each run of each scene then also runs Rapier there, and the ratio is taken
+//! against the faster Rapier. `crates/kea-bench/fair.sh` builds both and runs them.
 //!
 //! `KEA_BENCH_MODE=exact|split|iterative` forces Kea's routing (default: hybrid, except the
 //! hanging chain, which measures the exact path), to compare its paths on the same scenes.
@@ -95,38 +102,119 @@ fn machine() -> String {
     )
 }
 
-fn main() {
-    let mut runs = 3;
-    let mut quick = false;
-    let mut filter = String::new();
+/// The build this binary is: its Cargo profile and whether that is the fair one.
+fn build() -> String {
+    let profile = env!("KEA_BENCH_PROFILE");
+    let rapier = if cfg!(feature = "simd8") {
+        "Rapier with `simd8`"
+    } else {
+        "Rapier without `simd8`"
+    };
+    if profile == "bench-lto" {
+        format!("profile `bench-lto` (lto = \"thin\", codegen-units = 1) for both engines; {rapier}")
+    } else {
+        format!(
+            "profile `{profile}`: NOT the fair build (use `--profile bench-lto`); {rapier}"
+        )
+    }
+}
+
+/// One Rapier run of the scene named `name` in the `simd8` build at `path`: (ms, quality).
+fn rapier_simd8(path: &str, name: &str, quick: bool) -> Option<(f64, f64)> {
+    let mut cmd = std::process::Command::new(path);
+    cmd.args(["--rapier-only", name]);
+    if quick {
+        cmd.arg("--quick");
+    }
+    let out = cmd.output().ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut it = text.split_whitespace().map(|x| x.parse::<f64>().ok());
+    Some((it.next()??, it.next()??))
+}
+
+/// Options of one run of the benchmark.
+struct Options {
+    runs: usize,
+    quick: bool,
+    filter: String,
+    simd8: Option<String>,
+}
+
+fn options() -> Options {
+    let mut o = Options {
+        runs: 3,
+        quick: false,
+        filter: String::new(),
+        simd8: None,
+    };
     let mut args = std::env::args().skip(1);
+    let mut rapier_only = None;
     while let Some(a) = args.next() {
         match a.as_str() {
-            "--runs" => runs = args.next().and_then(|n| n.parse().ok()).unwrap_or(3),
-            "--quick" => quick = true,
-            _ => filter = a,
+            "--runs" => o.runs = args.next().and_then(|n| n.parse().ok()).unwrap_or(3),
+            "--quick" => o.quick = true,
+            "--rapier-simd8" => o.simd8 = args.next(),
+            "--rapier-only" => rapier_only = args.next(),
+            _ => o.filter = a,
         }
     }
+    if let Some(name) = rapier_only {
+        // The peer mode: one Rapier run of one scene, printed as `ms quality`.
+        if let Some(scene) = scenes(o.quick).into_iter().find(|s| s.name == name) {
+            let r = rapier_run::run(&scene);
+            println!("{} {}", r.ms, r.quality);
+        }
+        std::process::exit(0);
+    }
+    o
+}
+
+fn main() {
+    let Options {
+        runs,
+        quick,
+        filter,
+        simd8,
+    } = options();
     let engines = if cfg!(feature = "parallel") {
         "Kea on every core (the `parallel` feature), Rapier on one thread"
     } else {
         "one thread"
     };
     println!("Kea vs Rapier 0.36 (defaults), dt 1/60, {engines}: median of {runs} runs");
-    println!("Machine: {}\n", machine());
-    println!("| scene | Rapier ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("Machine: {}", machine());
+    println!("Build: {}", build());
+    if let Some(path) = &simd8 {
+        println!("Rapier with `simd8`: {path}; Rapier / Kea is taken against the faster Rapier");
+    }
+    println!();
+    println!("| scene | Rapier ms/step | Rapier simd8 ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut per_scene: Vec<(String, usize, f64)> = Vec::new();
     for scene in scenes(quick)
         .into_iter()
         .filter(|s| s.name.contains(&filter))
     {
-        let (mut kea, mut rapier) = (Vec::new(), Vec::new());
+        let (mut kea, mut rapier, mut wide) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..runs {
             kea.push(kea_run::run(&scene));
             rapier.push(rapier_run::run(&scene));
+            if let Some(r) = simd8
+                .as_deref()
+                .and_then(|p| rapier_simd8(p, &scene.name, quick))
+            {
+                wide.push(r.0);
+            }
         }
         let k = median(kea.iter().map(|o| o.ms).collect());
-        let r = median(rapier.iter().map(|o| o.ms).collect());
+        let plain = median(rapier.iter().map(|o| o.ms).collect());
+        let (r, wide_text) = if wide.is_empty() {
+            (plain, "—".to_string())
+        } else {
+            let w = median(wide.clone());
+            (plain.min(w), format!("{w:.3} (±{:.3})", 0.5 * spread(&wide)))
+        };
+        per_scene.push((scene.name.clone(), scene.bodies.len(), k));
         let kq = kea.last().map_or(0.0, |o| o.quality);
         let kea_quality = match kea.iter().find_map(|o| o.failed.as_ref()) {
             Some(why) => format!("**failed** at {why}"),
@@ -135,10 +223,11 @@ fn main() {
         let rq = rapier.last().map_or(0.0, |o| o.quality);
         let stage = |i: usize| median(kea.iter().map(|o| o.stages_ms[i]).collect());
         println!(
-            "| {} | {:.3} (±{:.3}) | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
+            "| {} | {:.3} (±{:.3}) | {} | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
             scene.name,
-            r,
+            plain,
             0.5 * spread(&rapier.iter().map(|o| o.ms).collect::<Vec<_>>()),
+            wide_text,
             k,
             0.5 * spread(&kea.iter().map(|o| o.ms).collect::<Vec<_>>()),
             r / k,
@@ -149,8 +238,29 @@ fn main() {
             stage(2),
         );
     }
+    scaling(&per_scene);
     #[cfg(feature = "parallel")]
     threads(runs, quick, &filter);
+}
+
+/// The scaling figures, where the scenes ran: ms per body at base 80 over base 20, and
+/// a sleeping base-40 pyramid's cost over an awake one's.
+fn scaling(per_scene: &[(String, usize, f64)]) {
+    let find = |prefix: &str| {
+        per_scene
+            .iter()
+            .find(|(name, _, _)| name.starts_with(prefix))
+    };
+    if let (Some(a), Some(b)) = (find("pyramid, base 20"), find("pyramid, base 80")) {
+        let ratio = (b.2 / b.1 as f64) / (a.2 / a.1 as f64);
+        println!("\nKea ms per body, base 80 over base 20: {ratio:.2} (target ≤ 1.3)");
+    }
+    if let (Some(awake), Some(asleep)) = (find("pyramid, base 40"), find("sleeping pyramid")) {
+        println!(
+            "Kea's sleeping base-40 pyramid over an awake one: {:.1}% (target < 2%)",
+            100.0 * asleep.2 / awake.2
+        );
+    }
 }
 
 /// Kea on one thread against Kea on every core, scene by scene.
