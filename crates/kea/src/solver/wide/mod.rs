@@ -83,7 +83,17 @@ pub(crate) trait FloatW:
                 a[k].as_mut()[l] = r[k];
             }
         }
-        std::array::from_fn(|k| Self::load(&a[k]))
+        // Each load written out: a closure would not inherit the caller's target features.
+        [
+            Self::load(&a[0]),
+            Self::load(&a[1]),
+            Self::load(&a[2]),
+            Self::load(&a[3]),
+            Self::load(&a[4]),
+            Self::load(&a[5]),
+            Self::load(&a[6]),
+            Self::load(&a[7]),
+        ]
     }
     /// The inverse of [`FloatW::gather8`] for the lanes whose `write` is not 0.
     #[inline(always)]
@@ -94,7 +104,11 @@ pub(crate) trait FloatW:
         }
         for (l, (&i, &ok)) in idx.as_ref().iter().zip(write.as_ref()).enumerate() {
             if ok != 0 {
-                records.set(i, std::array::from_fn(|k| a[k].as_ref()[l]));
+                let mut r: [Real; 8] = [0.0; 8];
+                for (k, x) in r.iter_mut().enumerate() {
+                    *x = a[k].as_ref()[l];
+                }
+                records.set(i, r);
             }
         }
     }

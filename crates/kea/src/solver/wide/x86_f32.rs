@@ -166,19 +166,41 @@ impl FloatW for Wide {
         // SAFETY: AVX detected.
         unsafe { _mm256_movemask_ps(m) != 0 }
     }
+    // Written out load by load, with no closure: a closure (or `array::from_fn`) is a function
+    // of its own without this caller's AVX, so the loads would be called out of line.
     #[inline(always)]
     fn gather8(records: Records<'_>, idx: &[u32; 8]) -> [Self; 8] {
         // SAFETY: AVX detected; every record holds 8 floats; no other lane writes them.
         unsafe {
-            let r: [__m256; 8] = std::array::from_fn(|l| _mm256_loadu_ps(records.ptr(idx[l])));
-            transpose8(r).map(Self)
+            let load = |l: usize| records.ptr(idx[l]);
+            let r = [
+                _mm256_loadu_ps(load(0)),
+                _mm256_loadu_ps(load(1)),
+                _mm256_loadu_ps(load(2)),
+                _mm256_loadu_ps(load(3)),
+                _mm256_loadu_ps(load(4)),
+                _mm256_loadu_ps(load(5)),
+                _mm256_loadu_ps(load(6)),
+                _mm256_loadu_ps(load(7)),
+            ];
+            let t = transpose8(r);
+            [
+                Self(t[0]),
+                Self(t[1]),
+                Self(t[2]),
+                Self(t[3]),
+                Self(t[4]),
+                Self(t[5]),
+                Self(t[6]),
+                Self(t[7]),
+            ]
         }
     }
     #[inline(always)]
     fn scatter8(records: Records<'_>, idx: &[u32; 8], write: &[u32; 8], v: [Self; 8]) {
         // SAFETY: AVX detected; every record holds 8 floats; only this lane writes it.
         unsafe {
-            let rows = transpose8(v.map(|x| x.0));
+            let rows = transpose8([v[0].0, v[1].0, v[2].0, v[3].0, v[4].0, v[5].0, v[6].0, v[7].0]);
             for l in 0..8 {
                 if write[l] != 0 {
                     _mm256_storeu_ps(records.ptr_mut(idx[l]), rows[l]);

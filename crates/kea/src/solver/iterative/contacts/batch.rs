@@ -344,6 +344,20 @@ impl<F: FloatW> ContactBatch<F> {
     }
 }
 
+/// `1/k` where a lane is active and `k > 0`, else 0 (functions, not closures: a closure would
+/// not inherit the SIMD caller's target features, and its intrinsics would be called out of
+/// line).
+#[inline(always)]
+fn mass<F: FloatW>(k: F, active: F::Mask) -> F {
+    F::select(F::and(active, k.gt(F::zero())), F::splat(1.0) / k, F::zero())
+}
+
+/// Velocity of the point at `r` of a body moving with `v`, `w`.
+#[inline(always)]
+fn at<F: FloatW>(v: V3<F>, w: V3<F>, r: V3<F>) -> V3<F> {
+    v.add(w.cross(r))
+}
+
 /// `a·(I⁻¹ a)` per lane.
 #[inline(always)]
 fn quad<F: FloatW>(inv_inertia: &Sym3<F>, a: V3<F>) -> F {
@@ -373,8 +387,6 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
     let fixed = [F::load(&c.fixed_limit[0]), F::load(&c.fixed_limit[1])];
     let slip = [F::load(&c.slip[0]), F::load(&c.slip[1])];
     let disc = F::load(&c.disc).gt(F::splat(0.5));
-    let mass = |k: F, active: F::Mask| F::select(F::and(active, k.gt(zero)), one / k, zero);
-    let at = |v: V3<F>, w: V3<F>, r: V3<F>| v.add(w.cross(r));
     // The manifold's warm normal impulse, and its moment arm sum, bound the friction's.
     let (mut held, mut held_lever) = (zero, zero);
     for (j, p) in c.p.iter_mut().enumerate().take(c.points as usize) {
@@ -413,10 +425,15 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
     let twisting = count.gt(one);
     mass(quad(&ia, n) + quad(&ib, n), twisting).store(&mut c.twist_mass);
     // The friction warm start, within this step's bounds.
-    let pt: [F; 2] = std::array::from_fn(|d| {
-        let limit = mu[d] * held + fixed[d];
-        F::load(&c.tangent_impulse[d]).min(limit).max(-limit)
-    });
+    let limit = [mu[0] * held + fixed[0], mu[1] * held + fixed[1]];
+    let pt = [
+        F::load(&c.tangent_impulse[0])
+            .min(limit[0])
+            .max(-limit[0]),
+        F::load(&c.tangent_impulse[1])
+            .min(limit[1])
+            .max(-limit[1]),
+    ];
     let limit = mu[0] * held;
     let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
     let shrink = F::select(F::and(disc, len.gt(limit)), limit / len, one);
