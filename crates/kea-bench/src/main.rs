@@ -111,11 +111,11 @@ fn build() -> String {
         "Rapier without `simd8`"
     };
     if profile == "bench-lto" {
-        format!("profile `bench-lto` (lto = \"thin\", codegen-units = 1) for both engines; {rapier}")
-    } else {
         format!(
-            "profile `{profile}`: NOT the fair build (use `--profile bench-lto`); {rapier}"
+            "profile `bench-lto` (lto = \"thin\", codegen-units = 1) for both engines; {rapier}"
         )
+    } else {
+        format!("profile `{profile}`: NOT the fair build (use `--profile bench-lto`); {rapier}")
     }
 }
 
@@ -212,7 +212,10 @@ fn main() {
             (plain, "—".to_string())
         } else {
             let w = median(wide.clone());
-            (plain.min(w), format!("{w:.3} (±{:.3})", 0.5 * spread(&wide)))
+            (
+                plain.min(w),
+                format!("{w:.3} (±{:.3})", 0.5 * spread(&wide)),
+            )
         };
         per_scene.push((scene.name.clone(), scene.bodies.len(), k));
         let kq = kea.last().map_or(0.0, |o| o.quality);

@@ -200,7 +200,9 @@ impl FloatW for Wide {
     fn scatter8(records: Records<'_>, idx: &[u32; 8], write: &[u32; 8], v: [Self; 8]) {
         // SAFETY: AVX detected; every record holds 8 floats; only this lane writes it.
         unsafe {
-            let rows = transpose8([v[0].0, v[1].0, v[2].0, v[3].0, v[4].0, v[5].0, v[6].0, v[7].0]);
+            let rows = transpose8([
+                v[0].0, v[1].0, v[2].0, v[3].0, v[4].0, v[5].0, v[6].0, v[7].0,
+            ]);
             for l in 0..8 {
                 if write[l] != 0 {
                     _mm256_storeu_ps(records.ptr_mut(idx[l]), rows[l]);

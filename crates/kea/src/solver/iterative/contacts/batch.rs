@@ -349,7 +349,11 @@ impl<F: FloatW> ContactBatch<F> {
 /// line).
 #[inline(always)]
 fn mass<F: FloatW>(k: F, active: F::Mask) -> F {
-    F::select(F::and(active, k.gt(F::zero())), F::splat(1.0) / k, F::zero())
+    F::select(
+        F::and(active, k.gt(F::zero())),
+        F::splat(1.0) / k,
+        F::zero(),
+    )
 }
 
 /// Velocity of the point at `r` of a body moving with `v`, `w`.
@@ -427,12 +431,8 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
     // The friction warm start, within this step's bounds.
     let limit = [mu[0] * held + fixed[0], mu[1] * held + fixed[1]];
     let pt = [
-        F::load(&c.tangent_impulse[0])
-            .min(limit[0])
-            .max(-limit[0]),
-        F::load(&c.tangent_impulse[1])
-            .min(limit[1])
-            .max(-limit[1]),
+        F::load(&c.tangent_impulse[0]).min(limit[0]).max(-limit[0]),
+        F::load(&c.tangent_impulse[1]).min(limit[1]).max(-limit[1]),
     ];
     let limit = mu[0] * held;
     let len = (pt[0] * pt[0] + pt[1] * pt[1]).sqrt();
