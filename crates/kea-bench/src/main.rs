@@ -11,7 +11,7 @@
 //! checks that both end in the same bits.
 //!
 //! `cargo run --profile bench-lto -p kea-bench [--features parallel] [-- [--runs N] [--quick]
-//! [--rapier-simd8 PATH] [FILTER]]`
+//! [--rapier-simd8 PATH] [--kea-only] [FILTER]]`
 //!
 //! Built with the workspace's `bench-lto` profile (`lto = "thin"`, `codegen-units = 1`), both
 //! engines get what a speed-minded user ships; the output names the profile it was built with.
@@ -46,7 +46,9 @@ pub struct Outcome {
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     let n = v.len();
-    if n % 2 == 1 {
+    if n == 0 {
+        0.0
+    } else if n % 2 == 1 {
         v[n / 2]
     } else {
         0.5 * (v[n / 2 - 1] + v[n / 2])
@@ -135,6 +137,8 @@ fn rapier_simd8(path: &str, name: &str, quick: bool) -> Option<(f64, f64)> {
 /// Options of one run of the benchmark.
 struct Options {
     runs: usize,
+    /// Kea alone (for profiling): Rapier's columns read 0.
+    kea_only: bool,
     quick: bool,
     filter: String,
     simd8: Option<String>,
@@ -143,6 +147,7 @@ struct Options {
 fn options() -> Options {
     let mut o = Options {
         runs: 3,
+        kea_only: false,
         quick: false,
         filter: String::new(),
         simd8: None,
@@ -153,6 +158,7 @@ fn options() -> Options {
         match a.as_str() {
             "--runs" => o.runs = args.next().and_then(|n| n.parse().ok()).unwrap_or(3),
             "--quick" => o.quick = true,
+            "--kea-only" => o.kea_only = true,
             "--rapier-simd8" => o.simd8 = args.next(),
             "--rapier-only" => rapier_only = args.next(),
             _ => o.filter = a,
@@ -172,6 +178,7 @@ fn options() -> Options {
 fn main() {
     let Options {
         runs,
+        kea_only,
         quick,
         filter,
         simd8,
@@ -198,6 +205,9 @@ fn main() {
         let (mut kea, mut rapier, mut wide) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..runs {
             kea.push(kea_run::run(&scene));
+            if kea_only {
+                continue;
+            }
             rapier.push(rapier_run::run(&scene));
             if let Some(r) = simd8
                 .as_deref()

@@ -61,6 +61,15 @@ fn state_hash(scene: &BuiltScene) -> u64 {
     h
 }
 
+/// The scene's islands as lists of body handles, asleep or not.
+fn island_lists(scene: &BuiltScene) -> Vec<(bool, Vec<kea::BodyHandle>)> {
+    let mut list = kea::IslandList::default();
+    scene.world.islands(&mut list);
+    (0..list.len())
+        .map(|k| (list.is_asleep(k), list.bodies(k).to_vec()))
+        .collect()
+}
+
 fn run(scene: &mut BuiltScene, steps: usize) {
     for _ in 0..steps {
         scene.step(DT).unwrap();
@@ -100,12 +109,26 @@ fn every_demo_scene_replays_bit_for_bit_from_a_saved_snapshot() {
             BuiltScene::restore_binary(&binary).unwrap_or_else(|e| panic!("{name}: binary: {e}"));
         let mut from_json =
             BuiltScene::restore_json(&json).unwrap_or_else(|e| panic!("{name}: JSON: {e}"));
+        // The restored worlds hold the same islands (the guide's partition lists).
+        let expected = island_lists(&original);
+        assert_eq!(
+            island_lists(&from_binary),
+            expected,
+            "{name}: binary islands"
+        );
+        assert_eq!(island_lists(&from_json), expected, "{name}: JSON islands");
         run(&mut original, STEPS / 2);
         run(&mut from_binary, STEPS / 2);
         run(&mut from_json, STEPS / 2);
         let expected = state_hash(&original);
         assert_eq!(state_hash(&from_binary), expected, "{name}: binary");
         assert_eq!(state_hash(&from_json), expected, "{name}: JSON");
+        let expected = island_lists(&original);
+        assert_eq!(
+            island_lists(&from_binary),
+            expected,
+            "{name}: binary islands"
+        );
         // The restored scene answers to the same handles.
         let (body_name, body) = &original.bodies[0];
         assert_eq!(from_binary.body(body_name), Some(*body));

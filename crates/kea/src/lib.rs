@@ -46,7 +46,7 @@ pub use solver::{
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
 pub use world::{
-    CollisionStats, DemMode, DemSettings, JointRange, JointSketch, QuarantineEvent,
+    CollisionStats, DemMode, DemSettings, IslandList, JointRange, JointSketch, QuarantineEvent,
     QuarantineReason, SpeedLimits, StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
 };
 #[cfg(feature = "serde")]

@@ -9,6 +9,7 @@
 
 mod constraint_entry;
 mod constraints;
+mod islands;
 mod joints;
 mod quarantine;
 mod sketch;
@@ -18,6 +19,7 @@ mod snapshot;
 mod step;
 mod write_back;
 
+pub use islands::IslandList;
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
 pub use sketch::{JointRange, JointSketch};
 pub use sleep::{DemMode, DemSettings};
