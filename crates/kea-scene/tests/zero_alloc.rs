@@ -10,8 +10,8 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 struct CountingAllocator;
-// On every thread (the `parallel` feature's workers too); this file holds one test, so nothing
-// else runs beside it.
+// On the threads that step (the test's own and the `parallel` feature's workers); this file
+// holds one test, so nothing else steps beside it.
 static COUNTING: AtomicBool = AtomicBool::new(false);
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 
@@ -33,8 +33,14 @@ unsafe impl GlobalAlloc for CountingAllocator {
     }
 }
 
+thread_local! {
+    /// Whether this thread steps the scenes (the test's thread, or a pool worker): the test
+    /// harness's own threads may allocate meanwhile (a report, a timer), and that is no step's.
+    static STEPS_HERE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 fn count() {
-    if COUNTING.load(Ordering::Relaxed) {
+    if COUNTING.load(Ordering::Relaxed) && STEPS_HERE.with(std::cell::Cell::get) {
         ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
     }
 }
@@ -69,8 +75,9 @@ fn every_demo_scene_steps_warm_without_allocating() {
     // not a step's.
     #[cfg(feature = "parallel")]
     for _ in 0..4 {
-        pool.broadcast(|_| std::hint::black_box(()));
+        pool.broadcast(|_| STEPS_HERE.with(|c| c.set(true)));
     }
+    STEPS_HERE.with(|c| c.set(true));
     #[cfg(feature = "parallel")]
     pool.install(|| check_scenes(&names));
     #[cfg(not(feature = "parallel"))]
@@ -97,4 +104,14 @@ fn check_scenes(names: &[std::path::PathBuf]) {
         }
     }
     assert!(failures.is_empty(), "warm steps allocated: {failures:?}");
+    // The counter really counts, on this thread and on the pool's.
+    let n = allocations_in(|| drop(std::hint::black_box(vec![1u8; 64])));
+    assert_eq!(n, 1, "a deliberate allocation counted {n} times");
+    #[cfg(feature = "parallel")]
+    {
+        let n = allocations_in(|| {
+            rayon::join(|| drop(std::hint::black_box(vec![1u8; 64])), || ());
+        });
+        assert!(n >= 1, "a pool thread's allocation counted {n} times");
+    }
 }
