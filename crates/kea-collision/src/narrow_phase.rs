@@ -128,6 +128,10 @@ fn cache_holds(then: &Generated, a: &Pose, b: &Pose, cos_half: Real) -> bool {
 /// generator keeps nothing from one pair to the next, so the chunking changes no result.
 pub(crate) const PAIR_CHUNK: usize = 512;
 
+/// With the `parallel` feature, the fewest chunks of pairs that run on the pool's threads.
+#[cfg(feature = "parallel")]
+const PARALLEL_MIN_CHUNKS: usize = 4;
+
 /// The narrow phase's work on one chunk of pair slots: what it found, and its scratch. Kept
 /// between steps so that a warm step allocates nothing.
 #[derive(Clone)]
@@ -196,13 +200,22 @@ impl CollisionWorld {
         let work = |(k, (pairs, worker)): (usize, (&mut [PairState], &mut NarrowWorker))| {
             worker.run(&shared, (k * PAIR_CHUNK) as u32, pairs);
         };
+        // A few chunks are not worth waking another thread for: handing work over costs
+        // tens of microseconds, about what a chunk of resting pairs takes.
         #[cfg(feature = "parallel")]
-        {
+        if chunks >= PARALLEL_MIN_CHUNKS {
             use rayon::prelude::*;
             self.pairs
                 .slots
                 .par_chunks_mut(PAIR_CHUNK)
                 .zip(self.workers.par_iter_mut())
+                .enumerate()
+                .for_each(work);
+        } else {
+            self.pairs
+                .slots
+                .chunks_mut(PAIR_CHUNK)
+                .zip(self.workers.iter_mut())
                 .enumerate()
                 .for_each(work);
         }
