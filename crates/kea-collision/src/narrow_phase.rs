@@ -203,14 +203,20 @@ impl CollisionWorld {
         // A few chunks are not worth waking another thread for: handing work over costs
         // tens of microseconds, about what a chunk of resting pairs takes.
         #[cfg(feature = "parallel")]
-        if chunks >= PARALLEL_MIN_CHUNKS {
-            use rayon::prelude::*;
-            self.pairs
-                .slots
-                .par_chunks_mut(PAIR_CHUNK)
-                .zip(self.workers.par_iter_mut())
-                .enumerate()
-                .for_each(work);
+        let parallel = chunks >= PARALLEL_MIN_CHUNKS;
+        #[cfg(not(feature = "parallel"))]
+        let parallel = false;
+        if parallel {
+            #[cfg(feature = "parallel")]
+            {
+                use rayon::prelude::*;
+                self.pairs
+                    .slots
+                    .par_chunks_mut(PAIR_CHUNK)
+                    .zip(self.workers.par_iter_mut())
+                    .enumerate()
+                    .for_each(work);
+            }
         } else {
             self.pairs
                 .slots
@@ -219,13 +225,6 @@ impl CollisionWorld {
                 .enumerate()
                 .for_each(work);
         }
-        #[cfg(not(feature = "parallel"))]
-        self.pairs
-            .slots
-            .chunks_mut(PAIR_CHUNK)
-            .zip(self.workers.iter_mut())
-            .enumerate()
-            .for_each(work);
         let workers = &self.workers[..chunks];
         self.stats.manifolds = workers.iter().map(|w| w.manifolds).sum();
         self.stats.reused_manifolds = workers.iter().map(|w| w.reused).sum();
