@@ -11,7 +11,7 @@
 //! checks that both end in the same bits.
 //!
 //! `cargo run --profile bench-lto -p kea-bench [--features parallel] [-- [--runs N] [--quick]
-//! [--rapier-simd8 PATH] [--kea-only] [FILTER]]`
+//! [--rapier-simd8 PATH] [--kea-only] [--steps N] [FILTER]]`
 //!
 //! Built with the workspace's `bench-lto` profile (`lto = "thin"`, `codegen-units = 1`), both
 //! engines get what a speed-minded user ships; the output names the profile it was built with.
@@ -142,6 +142,8 @@ struct Options {
     quick: bool,
     filter: String,
     simd8: Option<String>,
+    /// Timed steps of every scene instead of its own count (to profile a phase).
+    steps: Option<usize>,
 }
 
 fn options() -> Options {
@@ -151,6 +153,7 @@ fn options() -> Options {
         quick: false,
         filter: String::new(),
         simd8: None,
+        steps: None,
     };
     let mut args = std::env::args().skip(1);
     let mut rapier_only = None;
@@ -161,6 +164,7 @@ fn options() -> Options {
             "--kea-only" => o.kea_only = true,
             "--rapier-simd8" => o.simd8 = args.next(),
             "--rapier-only" => rapier_only = args.next(),
+            "--steps" => o.steps = args.next().and_then(|n| n.parse().ok()),
             _ => o.filter = a,
         }
     }
@@ -182,6 +186,7 @@ fn main() {
         quick,
         filter,
         simd8,
+        steps,
     } = options();
     let engines = if cfg!(feature = "parallel") {
         "Kea on every core (the `parallel` feature), Rapier on one thread"
@@ -198,10 +203,11 @@ fn main() {
     println!("| scene | Rapier ms/step | Rapier simd8 ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
     println!("|---|---|---|---|---|---|---|---|");
     let mut per_scene: Vec<(String, usize, f64)> = Vec::new();
-    for scene in scenes(quick)
+    for mut scene in scenes(quick)
         .into_iter()
         .filter(|s| s.name.contains(&filter))
     {
+        scene.steps = steps.unwrap_or(scene.steps);
         let (mut kea, mut rapier, mut wide) = (Vec::new(), Vec::new(), Vec::new());
         for _ in 0..runs {
             kea.push(kea_run::run(&scene));
