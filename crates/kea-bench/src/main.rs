@@ -208,58 +208,93 @@ fn main() {
         .filter(|s| s.name.contains(&filter))
     {
         scene.steps = steps.unwrap_or(scene.steps);
-        let (mut kea, mut rapier, mut wide) = (Vec::new(), Vec::new(), Vec::new());
-        for _ in 0..runs {
-            kea.push(kea_run::run(&scene));
-            if kea_only {
-                continue;
-            }
-            rapier.push(rapier_run::run(&scene));
-            if let Some(r) = simd8
-                .as_deref()
-                .and_then(|p| rapier_simd8(p, &scene.name, quick))
-            {
-                wide.push(r.0);
-            }
-        }
-        let k = median(kea.iter().map(|o| o.ms).collect());
-        let plain = median(rapier.iter().map(|o| o.ms).collect());
-        let (r, wide_text) = if wide.is_empty() {
-            (plain, "—".to_string())
-        } else {
-            let w = median(wide.clone());
-            (
-                plain.min(w),
-                format!("{w:.3} (±{:.3})", 0.5 * spread(&wide)),
-            )
-        };
-        per_scene.push((scene.name.clone(), scene.bodies.len(), k));
-        let kq = kea.last().map_or(0.0, |o| o.quality);
-        let kea_quality = match kea.iter().find_map(|o| o.failed.as_ref()) {
-            Some(why) => format!("**failed** at {why}"),
-            None => quality(scene.quality, kq),
-        };
-        let rq = rapier.last().map_or(0.0, |o| o.quality);
-        let stage = |i: usize| median(kea.iter().map(|o| o.stages_ms[i]).collect());
-        println!(
-            "| {} | {:.3} (±{:.3}) | {} | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
-            scene.name,
-            plain,
-            0.5 * spread(&rapier.iter().map(|o| o.ms).collect::<Vec<_>>()),
-            wide_text,
-            k,
-            0.5 * spread(&kea.iter().map(|o| o.ms).collect::<Vec<_>>()),
-            r / k,
-            kea_quality,
-            quality(scene.quality, rq),
-            stage(0),
-            stage(1),
-            stage(2),
-        );
+        let m = measure(&scene, runs, kea_only, simd8.as_deref(), quick);
+        per_scene.push((scene.name.clone(), scene.bodies.len(), median(m.kea_ms())));
+        print_row(&scene, &m);
     }
     scaling(&per_scene);
     #[cfg(feature = "parallel")]
     threads(runs, quick, &filter);
+}
+
+/// One scene's runs in each engine.
+struct Measured {
+    kea: Vec<Outcome>,
+    rapier: Vec<Outcome>,
+    /// Rapier's `simd8` build, ms per step.
+    wide: Vec<f64>,
+}
+
+impl Measured {
+    fn kea_ms(&self) -> Vec<f64> {
+        self.kea.iter().map(|o| o.ms).collect()
+    }
+}
+
+/// Runs `scene` `runs` times in each engine, alternating them (a machine whose speed drifts
+/// treats both alike).
+fn measure(
+    scene: &Scene,
+    runs: usize,
+    kea_only: bool,
+    simd8: Option<&str>,
+    quick: bool,
+) -> Measured {
+    let mut m = Measured {
+        kea: Vec::new(),
+        rapier: Vec::new(),
+        wide: Vec::new(),
+    };
+    for _ in 0..runs {
+        m.kea.push(kea_run::run(scene));
+        if kea_only {
+            continue;
+        }
+        m.rapier.push(rapier_run::run(scene));
+        if let Some(r) = simd8.and_then(|p| rapier_simd8(p, &scene.name, quick)) {
+            m.wide.push(r.0);
+        }
+    }
+    m
+}
+
+/// The table's row for one scene: each engine's median and spread, the ratio against the
+/// faster Rapier, the quality figures and Kea's stage times.
+fn print_row(scene: &Scene, m: &Measured) {
+    let k = median(m.kea_ms());
+    let rapier_ms: Vec<f64> = m.rapier.iter().map(|o| o.ms).collect();
+    let plain = median(rapier_ms.clone());
+    let (r, wide_text) = if m.wide.is_empty() {
+        (plain, "—".to_string())
+    } else {
+        let w = median(m.wide.clone());
+        (
+            plain.min(w),
+            format!("{w:.3} (±{:.3})", 0.5 * spread(&m.wide)),
+        )
+    };
+    let kq = m.kea.last().map_or(0.0, |o| o.quality);
+    let kea_quality = match m.kea.iter().find_map(|o| o.failed.as_ref()) {
+        Some(why) => format!("**failed** at {why}"),
+        None => quality(scene.quality, kq),
+    };
+    let rq = m.rapier.last().map_or(0.0, |o| o.quality);
+    let stage = |i: usize| median(m.kea.iter().map(|o| o.stages_ms[i]).collect());
+    println!(
+        "| {} | {:.3} (±{:.3}) | {} | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
+        scene.name,
+        plain,
+        0.5 * spread(&rapier_ms),
+        wide_text,
+        k,
+        0.5 * spread(&m.kea_ms()),
+        r / k,
+        kea_quality,
+        quality(scene.quality, rq),
+        stage(0),
+        stage(1),
+        stage(2),
+    );
 }
 
 /// The scaling figures, where the scenes ran: ms per body at base 80 over base 20, and
