@@ -138,6 +138,9 @@ struct StepScratch {
     wake: Vec<bool>,
     /// Constraints that broke in the last step.
     broken: Vec<ConstraintHandle>,
+    /// Slots of the constraints whose read-outs (rows, reactions) the last step wrote: the
+    /// only ones the next step must clear (a sleeping pile's contacts are not visited).
+    written: Vec<u32>,
     /// Joint slots whose rows came out non-finite in this step's gather.
     unwritable: Vec<u32>,
     /// Per constraint of the step: (slot, first row, row count), for projection.
@@ -275,6 +278,7 @@ impl World {
             island_flag: Vec::with_capacity(def.max_bodies),
             wake: Vec::with_capacity(def.max_bodies),
             broken: Vec::with_capacity(def.max_constraints),
+            written: Vec::with_capacity(def.max_constraints),
             unwritable: Vec::with_capacity(def.max_constraints),
             step_layout: Vec::with_capacity(def.max_constraints),
             projection_lambda: Vec::with_capacity(rows),
@@ -464,6 +468,7 @@ impl World {
         reserve_total(&mut s.block_constraint, nc);
         reserve_total(&mut s.contacts, nc);
         reserve_total(&mut s.contact_constraint, nc);
+        reserve_total(&mut s.written, nc);
         reserve_total(&mut s.contact_lambda, nc * 3);
         reserve_total(&mut s.contact_rows, nc);
         reserve_total(&mut s.contact_reactions, nc);
@@ -512,6 +517,7 @@ impl World {
             + s.block_constraint.capacity() * 4
             + s.contacts.capacity() * std::mem::size_of::<SolverContact>()
             + s.contact_constraint.capacity() * 4
+            + s.written.capacity() * 4
             + s.contact_lambda.capacity() * std::mem::size_of::<Real>()
             + s.contact_rows.capacity() * 8
             + s.contact_reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()

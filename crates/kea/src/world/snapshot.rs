@@ -156,6 +156,12 @@ impl World {
         s.contact_reactions
             .extend_from_slice(&snapshot.contact_reactions);
         s.broken.extend_from_slice(&snapshot.broken);
+        // The constraints the last step wrote read-outs to: the next step clears them.
+        for (h, e) in world.constraints.iter() {
+            if e.last_rows.is_some() || e.reaction != [Reaction::default(); 2] {
+                s.written.push(h.index());
+            }
+        }
         world.time = snapshot.time;
         world.steps = snapshot.steps;
         Ok(world)

@@ -30,8 +30,9 @@ impl World {
                 b.clear_forces();
             }
         }
-        for slot in 0..self.constraints.slot_count() {
-            if let Some(e) = self.constraints.at_mut(slot) {
+        // Last step's read-outs go; only the constraints it solved hold any.
+        for &slot in &s.written {
+            if let Some(e) = self.constraints.at_mut(slot as usize) {
                 e.last_rows = None;
                 e.reaction = [Reaction::default(); 2];
             }
@@ -53,6 +54,10 @@ impl World {
             e.last_rows = Some(s.contact_rows[k]);
             e.reaction = s.contact_reactions[k];
         }
+        let s = &mut self.scratch;
+        s.written.clear();
+        s.written.extend_from_slice(&s.block_constraint);
+        s.written.extend_from_slice(&s.contact_constraint);
     }
 
     /// Hands each contact its forces, and records its reactions and its per-row forces for
