@@ -121,23 +121,39 @@ unsafe fn derive_batches_wide(
 #[cfg(feature = "parallel")]
 const CHUNK: usize = 16;
 
-/// The fewest batches worth handing to other threads (fewer run on the calling thread): a
-/// hand-over costs tens of microseconds, which a stage of 64 batches (about 15 µs a chunk of
-/// 16 in a solve pass) just wins back. Measured on 2 cores: with 32, a 210-box pyramid ran
-/// at 0.87 of its one-thread speed and 1,000 balls at 0.80.
+/// The fewest batches of one colour worth handing to other threads in a contact pass (fewer
+/// run on the calling thread). Waking a worker costs tens of microseconds on a virtual
+/// machine, and a solve pass over 128 batches takes about 40 µs: measured on 2 cores, 32
+/// left a 210-box pyramid at 0.87 of its one-thread speed and 1,000 balls at 0.80.
 #[cfg(feature = "parallel")]
-const PARALLEL_MIN_BATCHES: usize = 4 * CHUNK;
+const PARALLEL_MIN_BATCHES: usize = 8 * CHUNK;
+
+/// The same for the passes over every batch of the step at once (deriving, storing): light
+/// work, so it waits for a bigger world (with 256, an 820-box pyramid ran at 0.89 of its
+/// one-thread speed on 2 cores).
+#[cfg(feature = "parallel")]
+const PARALLEL_MIN_PASS: usize = 32 * CHUNK;
 
 /// Calls `f(first, chunk)` on `batches` in chunks (`first`: the chunk's index of its first
-/// batch), on all cores with the `parallel` feature. The batches must share no writable body
-/// (one colour), or `f` must write no body.
+/// batch), on all cores with the `parallel` feature (`whole_pass`: one pass over every batch
+/// of the step, with its own threshold). The batches must share no writable body (one
+/// colour), or `f` must write no body.
 #[inline(always)]
 fn for_each_chunk<F: FloatW>(
     batches: &mut [ContactBatch<F>],
+    whole_pass: bool,
     f: impl Fn(usize, &mut [ContactBatch<F>]) + Sync + Send,
 ) {
     #[cfg(feature = "parallel")]
-    if batches.len() >= PARALLEL_MIN_BATCHES {
+    let least = if whole_pass {
+        PARALLEL_MIN_PASS
+    } else {
+        PARALLEL_MIN_BATCHES
+    };
+    #[cfg(not(feature = "parallel"))]
+    let _ = whole_pass;
+    #[cfg(feature = "parallel")]
+    if batches.len() >= least {
         use rayon::prelude::*;
         batches
             .par_chunks_mut(CHUNK)
@@ -161,7 +177,7 @@ impl<F: FloatW> Lanes<F> {
         forcing: Records<'_>,
         derive: fn(&mut [ContactBatch<F>], Records<'_>, Records<'_>),
     ) {
-        for_each_chunk(&mut self.batches, |_, b| derive(b, vel, forcing));
+        for_each_chunk(&mut self.batches, true, |_, b| derive(b, vel, forcing));
     }
 
     /// Runs one stage over every batch with `run`, colour after colour (the batches of a
@@ -176,7 +192,7 @@ impl<F: FloatW> Lanes<F> {
     ) {
         for c in 0..self.colour_start.len().saturating_sub(1) {
             let range = self.colour_start[c] as usize..self.colour_start[c + 1] as usize;
-            for_each_chunk(&mut self.batches[range], |_, b| {
+            for_each_chunk(&mut self.batches[range], false, |_, b| {
                 run(b, stage, vel, delta, k)
             });
         }
@@ -467,41 +483,45 @@ fn build<F: FloatW>(
         }
         let colour = &order[next..next + count];
         // Each batch is filled from its own contacts: the colour's batches side by side.
-        for_each_chunk(&mut lanes.batches[used..used + batches], |first, chunk| {
-            for (b, batch) in chunk.iter_mut().enumerate() {
-                let start = (first + b) * F::LANES;
-                let mine = &colour[start..(start + F::LANES).min(count)];
-                batch.points = 0;
-                for (l, &o) in mine.iter().enumerate() {
-                    // Colour order visits the contacts out of order: fetch a few ahead.
-                    if let Some(&ahead) = colour.get(start + l + PREFETCH_AHEAD) {
-                        prefetch(&contacts[entries[ahead as usize].index as usize]);
+        for_each_chunk(
+            &mut lanes.batches[used..used + batches],
+            false,
+            |first, chunk| {
+                for (b, batch) in chunk.iter_mut().enumerate() {
+                    let start = (first + b) * F::LANES;
+                    let mine = &colour[start..(start + F::LANES).min(count)];
+                    batch.points = 0;
+                    for (l, &o) in mine.iter().enumerate() {
+                        // Colour order visits the contacts out of order: fetch a few ahead.
+                        if let Some(&ahead) = colour.get(start + l + PREFETCH_AHEAD) {
+                            prefetch(&contacts[entries[ahead as usize].index as usize]);
+                        }
+                        let e = &entries[o as usize];
+                        let c = &contacts[e.index as usize];
+                        batch.load_lane(
+                            l,
+                            e.index,
+                            &c.contact,
+                            (e.a, e.b),
+                            (position(e.a), position(e.b)),
+                            states,
+                            k,
+                        );
                     }
-                    let e = &entries[o as usize];
-                    let c = &contacts[e.index as usize];
-                    batch.load_lane(
-                        l,
-                        e.index,
-                        &c.contact,
-                        (e.a, e.b),
-                        (position(e.a), position(e.b)),
-                        states,
-                        k,
-                    );
-                }
-                for l in 0..F::LANES {
-                    match mine.get(l) {
-                        None => batch.clear_lane(l),
-                        Some(&o) => {
-                            let n = entries[o as usize].points as usize;
-                            if n < batch.points as usize {
-                                batch.clear_points(l, n);
+                    for l in 0..F::LANES {
+                        match mine.get(l) {
+                            None => batch.clear_lane(l),
+                            Some(&o) => {
+                                let n = entries[o as usize].points as usize;
+                                if n < batch.points as usize {
+                                    batch.clear_points(l, n);
+                                }
                             }
                         }
                     }
                 }
-            }
-        });
+            },
+        );
         next += count;
         used += batches;
     }
@@ -541,7 +561,7 @@ fn store_lanes<F: FloatW>(
 ) {
     {
         let shared = Disjoint::new(contacts);
-        for_each_chunk(&mut lanes.batches, |_, chunk| {
+        for_each_chunk(&mut lanes.batches, true, |_, chunk| {
             for batch in chunk.iter() {
                 for (l, &index) in batch.contact.as_ref().iter().enumerate() {
                     // SAFETY: every contact was filed once, into one lane of one batch.
