@@ -62,7 +62,11 @@ impl IslandList {
     #[must_use]
     pub fn island_of(&self, h: BodyHandle) -> Option<usize> {
         let k = *self.island_of_slot.get(h.index() as usize)?;
-        (k != u32::MAX && self.bodies(k as usize).contains(&h)).then_some(k as usize)
+        // An island lists its bodies by slot: find the slot, then check it is the same body
+        // (not one that took the slot over since).
+        let island = self.bodies(k as usize);
+        let at = island.binary_search_by_key(&h.index(), |b| b.index()).ok()?;
+        (island[at] == h).then_some(k as usize)
     }
 
     /// Every island's bodies, in island order.
