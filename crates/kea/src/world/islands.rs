@@ -65,7 +65,9 @@ impl IslandList {
         // An island lists its bodies by slot: find the slot, then check it is the same body
         // (not one that took the slot over since).
         let island = self.bodies(k as usize);
-        let at = island.binary_search_by_key(&h.index(), |b| b.index()).ok()?;
+        let at = island
+            .binary_search_by_key(&h.index(), |b| b.index())
+            .ok()?;
         (island[at] == h).then_some(k as usize)
     }
 
