@@ -1,4 +1,4 @@
-//! A scene in Kea (kea + kea-collision), stepped and measured.
+//! A scene in Kea (kea + kea-collision, stepped through kea3d's pipeline), built and measured.
 
 use crate::scenes::{JointKind, Quality, Scene, Shape, Static};
 use crate::Outcome;
@@ -6,6 +6,7 @@ use kea::{
     BodyDef, BodyHandle, ConstraintHandle, DemMode, DemSettings, Mat3, Quat, Real, SingleLimit,
     StepStats, Vec3, World, WorldDef,
 };
+use kea3d::PhysicsWorld;
 use kea_collision::{ColliderDef, CollisionWorld, Shape as KeaShape};
 use std::time::{Duration, Instant};
 
@@ -21,8 +22,7 @@ fn v(a: [f32; 3]) -> Vec3 {
 
 /// The scene built in Kea.
 pub struct KeaScene {
-    world: World,
-    collision: CollisionWorld,
+    physics: PhysicsWorld,
     bodies: Vec<(BodyHandle, Vec3)>,
     /// Joints as (body a or world, local anchor on a, body b, local anchor on b).
     joints: Vec<(Option<BodyHandle>, Vec3, BodyHandle, Vec3)>,
@@ -117,8 +117,7 @@ impl KeaScene {
             joints.push((a, local(a), b, local(Some(b))));
         }
         Self {
-            world,
-            collision,
+            physics: PhysicsWorld::from_parts(world, collision),
             bodies,
             joints,
             last: StepStats::default(),
@@ -127,17 +126,19 @@ impl KeaScene {
 
     /// One step; the error, if Kea refused it.
     pub fn step(&mut self) -> Result<(), String> {
-        self.last = self
-            .collision
-            .step(&mut self.world, 1.0 / 60.0)
-            .map_err(|e| e.to_string())?;
+        self.last = self.physics.step(1.0 / 60.0).map_err(|e| e.to_string())?;
         Ok(())
     }
 
     /// Largest joint gap now, m.
     pub fn joint_gap(&self) -> f64 {
         let at = |h: Option<BodyHandle>, p: Vec3| match h {
-            Some(h) => self.world.body(h).expect("body").point_to_world(p),
+            Some(h) => self
+                .physics
+                .dynamics()
+                .body(h)
+                .expect("body")
+                .point_to_world(p),
             None => p,
         };
         self.joints
@@ -149,7 +150,9 @@ impl KeaScene {
     pub fn displacement(&self) -> f64 {
         self.bodies
             .iter()
-            .map(|&(h, p0)| wide((self.world.body(h).expect("body").position() - p0).length()))
+            .map(|&(h, p0)| {
+                wide((self.physics.dynamics().body(h).expect("body").position() - p0).length())
+            })
             .fold(0.0, f64::max)
     }
 
@@ -158,7 +161,7 @@ impl KeaScene {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         for &(b, _) in &self.bodies {
-            let body = self.world.body(b).expect("body");
+            let body = self.physics.dynamics().body(b).expect("body");
             let (p, q) = (body.position(), body.orientation());
             for x in [p.x, p.y, p.z, q.x, q.y, q.z, q.w] {
                 x.to_bits().hash(&mut h);
@@ -168,7 +171,7 @@ impl KeaScene {
     }
 
     pub fn energy(&self) -> f64 {
-        wide(self.world.kinetic_energy())
+        wide(self.physics.dynamics().kinetic_energy())
     }
 
     /// The last step's stage times: solver, broad phase, narrow phase.

@@ -28,7 +28,8 @@ mod summary;
 
 use clap::{Parser, Subcommand};
 use kea::Real;
-use kea_scene::{build, BuiltScene, Scene};
+use kea3d::PhysicsWorld;
+use kea_scene::{build, Scene, SceneSnapshot};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -285,10 +286,10 @@ fn load_scene(path: Option<&std::path::Path>) -> Result<(String, Scene), String>
 }
 
 /// Loads and builds a scene file (or the embedded default), naming the file in any error.
-pub(crate) fn load(path: Option<&std::path::Path>) -> Result<(String, BuiltScene), String> {
+pub(crate) fn load(path: Option<&std::path::Path>) -> Result<(String, PhysicsWorld), String> {
     let (name, scene) = load_scene(path)?;
     let built = build(&scene).map_err(|e| format!("{name}: {e}"))?;
-    Ok((name, built))
+    Ok((name, PhysicsWorld::from_scene(built)))
 }
 
 /// Refuses, before any work, an output whose folder does not exist.
@@ -342,7 +343,7 @@ fn plot_scene(
                 summary::quarantine_report(&built)
             ));
         }
-        let joint_error = built.world.joint_error();
+        let joint_error = built.dynamics_mut().joint_error();
         record
             .capture(n as Real * dt, &built, joint_error)
             .map_err(|e| format!("{name}: {e}"))?;
@@ -417,30 +418,34 @@ fn save_at_flag(values: Option<&[String]>) -> Result<Option<(u32, PathBuf)>, Str
 }
 
 /// The scene to run: a scene file (or the embedded pyramid), or a restored snapshot.
-fn start(o: &RunOptions<'_>) -> Result<(String, BuiltScene), String> {
+fn start(o: &RunOptions<'_>) -> Result<(String, PhysicsWorld), String> {
     let Some(path) = o.restore else {
         return load(o.scene);
     };
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| format!("--restore {name}: {e}"))?;
-    let built = if bytes.first() == Some(&b'{') {
+    let snapshot = if bytes.first() == Some(&b'{') {
         let text = String::from_utf8(bytes).map_err(|e| format!("--restore {name}: {e}"))?;
-        BuiltScene::restore_json(&text)
+        SceneSnapshot::from_json(&text)
     } else {
-        BuiltScene::restore_binary(&bytes)
-    }
-    .map_err(|e| format!("--restore {name}: {e}"))?;
+        SceneSnapshot::from_binary(&bytes)
+    };
+    let built = snapshot
+        .and_then(PhysicsWorld::restore)
+        .map_err(|e| format!("--restore {name}: {e}"))?;
     Ok((name, built))
 }
 
 /// A snapshot in the form its file name asks for (`.json`: JSON, otherwise binary).
-fn snapshot_bytes(built: &BuiltScene, path: &std::path::Path) -> Result<Vec<u8>, String> {
+fn snapshot_bytes(built: &PhysicsWorld, path: &std::path::Path) -> Result<Vec<u8>, String> {
     let json = path.extension().is_some_and(|e| e == "json");
-    let bytes = if json {
-        built.snapshot_json().map(String::into_bytes)
-    } else {
-        built.snapshot_binary()
-    };
+    let bytes = built.snapshot().and_then(|s| {
+        if json {
+            s.to_json().map(String::into_bytes)
+        } else {
+            s.to_binary()
+        }
+    });
     bytes.map_err(|e| format!("--save-at {}: {e}", path.display()))
 }
 

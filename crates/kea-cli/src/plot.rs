@@ -5,7 +5,7 @@
 use crate::summary::energy;
 use kea::math::wide;
 use kea::{Real, Vec3};
-use kea_scene::BuiltScene;
+use kea3d::PhysicsWorld;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::path::Path;
@@ -34,10 +34,10 @@ pub struct Record {
     pub panels: Vec<(&'static str, Vec<Series>)>,
 }
 
-fn momentum(built: &BuiltScene) -> (Vec3, Vec3) {
+fn momentum(built: &PhysicsWorld) -> (Vec3, Vec3) {
     let mut p = Vec3::ZERO;
     let mut l = Vec3::ZERO;
-    for (_, b) in built.world.bodies() {
+    for (_, b) in built.dynamics().bodies() {
         let pb = b.linear_velocity() * b.mass();
         p += pb;
         l += b.position().cross(pb) + b.angular_momentum();
@@ -75,16 +75,23 @@ impl Record {
     pub fn capture(
         &mut self,
         t: Real,
-        built: &BuiltScene,
+        built: &PhysicsWorld,
         joint_error: Real,
     ) -> Result<(), String> {
         let (p, l) = momentum(built);
-        let kinetic: Real = built.world.bodies().map(|(_, b)| b.kinetic_energy()).sum();
+        let kinetic: Real = built
+            .dynamics()
+            .bodies()
+            .map(|(_, b)| b.kinetic_energy())
+            .sum();
         let values = [
             [energy(built), kinetic],
             [p.length(), l.length()],
             [joint_error, Real::NAN],
-            [built.collision.deepest_penetration(&built.world), Real::NAN],
+            [
+                built.collision().deepest_penetration(built.dynamics()),
+                Real::NAN,
+            ],
         ];
         for ((_, series), row) in self.panels.iter_mut().zip(values) {
             // Panels of one series leave the second value unused.

@@ -3,7 +3,7 @@
 //! that become the outputs only when the whole run has succeeded.
 
 use kea::Real;
-use kea_scene::BuiltScene;
+use kea3d::PhysicsWorld;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -87,15 +87,19 @@ impl Recorder {
     }
 
     /// Records every body at time `t`: one CSV line and one JSON object per body.
-    pub fn capture(&mut self, t: Real, built: &BuiltScene) -> Result<(), String> {
+    pub fn capture(&mut self, t: Real, built: &PhysicsWorld) -> Result<(), String> {
         if self.csv.is_none() && self.json.is_none() {
             return Ok(());
         }
         if self.names.is_empty() {
-            self.names = built.bodies.iter().map(|(n, _)| n.clone()).collect();
+            self.names = built
+                .named_bodies()
+                .iter()
+                .map(|(n, _)| n.clone())
+                .collect();
         }
-        for (i, (_, h)) in built.bodies.iter().enumerate() {
-            let Ok(b) = built.world.body(*h) else {
+        for (i, (_, h)) in built.named_bodies().iter().enumerate() {
+            let Ok(b) = built.dynamics().body(*h) else {
                 continue;
             };
             let (p, q, v) = (b.position(), b.orientation(), b.linear_velocity());

@@ -2,7 +2,7 @@
 
 use crate::{check_dt, check_output_folder, check_size, load};
 use kea::Real;
-use kea_scene::BuiltScene;
+use kea3d::PhysicsWorld;
 use std::path::Path;
 
 /// Most GIF frames one command draws.
@@ -41,7 +41,7 @@ pub fn render(
     let steps = steps.unwrap_or(if gif { 0 } else { PNG_STEPS });
     let (name, mut built) = load(Some(path))?;
     let mut taken = 0u64;
-    let mut step = |built: &mut BuiltScene, n: u32| -> Result<(), String> {
+    let mut step = |built: &mut PhysicsWorld, n: u32| -> Result<(), String> {
         for _ in 0..n {
             taken += 1;
             built
@@ -51,21 +51,24 @@ pub fn render(
         Ok(())
     };
     step(&mut built, steps)?;
-    let mut bounds = kea_render::subject_bounds(&built.world, &built.collision);
+    let mut bounds = kea_render::subject_bounds(built.dynamics(), built.collision());
     if gif {
         // Frame the whole animation: step a copy through it first.
         let mut ahead = built.clone();
         for _ in 1..frames {
             step(&mut ahead, every)?;
-            bounds.union(&kea_render::subject_bounds(&ahead.world, &ahead.collision));
+            bounds.union(&kea_render::subject_bounds(
+                ahead.dynamics(),
+                ahead.collision(),
+            ));
         }
         // The same steps again cannot fail where the copy did not (results are the same
         // bits), so the step count in errors can run on.
     }
     let aspect = width as Real / height as Real;
     let camera = kea_render::Camera::framing_bounds(&bounds, aspect, 0.15);
-    let draw = |built: &BuiltScene| {
-        kea_render::render(&built.world, &built.collision, &camera, width, height)
+    let draw = |built: &PhysicsWorld| {
+        kea_render::render(built.dynamics(), built.collision(), &camera, width, height)
     };
     if gif {
         // Play at the simulation's own speed (GIF delays are in hundredths of a second).

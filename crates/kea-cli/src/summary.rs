@@ -1,7 +1,7 @@
 //! What a run did, added up step by step, and printed at the end.
 
 use kea::{Real, StepStats};
-use kea_scene::BuiltScene;
+use kea3d::PhysicsWorld;
 use std::time::Duration;
 
 /// Totals over a run.
@@ -25,10 +25,10 @@ pub struct Summary {
 }
 
 /// Kinetic plus gravitational potential energy of every body, J.
-pub fn energy(built: &BuiltScene) -> Real {
-    let g = built.world.gravity();
+pub fn energy(built: &PhysicsWorld) -> Real {
+    let g = built.dynamics().gravity();
     built
-        .world
+        .dynamics()
         .bodies()
         .map(|(_, b)| b.kinetic_energy() - b.mass() * g.dot(b.position()))
         .sum()
@@ -40,7 +40,7 @@ fn ms(d: Duration, steps: u32) -> f64 {
 
 impl Summary {
     /// Starts counting, with the scene's energy now.
-    pub fn new(built: &BuiltScene) -> Self {
+    pub fn new(built: &PhysicsWorld) -> Self {
         Self {
             start_energy: energy(built),
             wall: Duration::ZERO,
@@ -77,14 +77,14 @@ impl Summary {
 
     /// Measures how far the joints have come apart after a step (`World::joint_error`),
     /// keeping the largest; its time is left out of the step timings.
-    pub fn measure_joints(&mut self, built: &mut BuiltScene) {
+    pub fn measure_joints(&mut self, built: &mut PhysicsWorld) {
         let start = std::time::Instant::now();
-        self.max_joint_error = self.max_joint_error.max(built.world.joint_error());
+        self.max_joint_error = self.max_joint_error.max(built.dynamics_mut().joint_error());
         self.measuring += start.elapsed();
     }
 
     /// Prints the human summary of `kea run`.
-    pub fn print(&self, name: &str, built: &BuiltScene, steps: u32, dt: Real) {
+    pub fn print(&self, name: &str, built: &PhysicsWorld, steps: u32, dt: Real) {
         let seconds = self.wall.as_secs_f64();
         let last = self.last.unwrap_or_default();
         println!(
@@ -123,17 +123,17 @@ impl Summary {
             self.broken,
             self.quarantined,
             self.max_joint_error,
-            built.collision.deepest_penetration(&built.world)
+            built.collision().deepest_penetration(built.dynamics())
         );
     }
 
     /// The counts of `kea bench`'s line: bodies, constraints of the last step, steps with
     /// solver warnings.
-    pub fn bench_counts(&self, built: &BuiltScene) -> String {
+    pub fn bench_counts(&self, built: &PhysicsWorld) -> String {
         let last = self.last.unwrap_or_default();
         format!(
             "bodies={} constraints={} warnings={}",
-            built.bodies.len(),
+            built.named_bodies().len(),
             last.constraints,
             self.warnings
         )
@@ -142,15 +142,15 @@ impl Summary {
 
 /// The quarantined islands of a run, by body name: "2 bodies quarantined (runaway at
 /// 2.1e4 m/s): ragdoll1.torso, ragdoll1.head".
-pub fn quarantine_report(built: &BuiltScene) -> String {
+pub fn quarantine_report(built: &PhysicsWorld) -> String {
     let mut parts = Vec::new();
-    for event in built.world.quarantine_report() {
+    for event in built.dynamics().quarantine_report() {
         let names: Vec<&str> = event
             .bodies
             .iter()
             .map(|h| {
                 built
-                    .bodies
+                    .named_bodies()
                     .iter()
                     .find(|(_, b)| b == h)
                     .map_or("(unnamed)", |(n, _)| n.as_str())

@@ -1,5 +1,6 @@
-//! One scene, every way in: `kea run`, a `BuiltScene` stepped from Rust, and `kea3d`'s
-//! `PhysicsWorld` (what Python's `kea.World.from_scene` steps) end on the same bits. The final
+//! One scene, every way in: `kea run`, `kea3d`'s `PhysicsWorld` stepped from Rust (what
+//! Python's `kea.World.from_scene` steps), and the same world saved halfway to a binary
+//! snapshot and restored, end on the same bits: they all step through the one pipeline. The final
 //! states' fingerprints are kept in `tests/golden/pipeline_<precision>.txt`, which the Python
 //! suite also checks its own run against (`crates/kea-py/tests/test_pipeline.py`).
 //!
@@ -8,7 +9,7 @@
 
 use kea::Real;
 use kea3d::PhysicsWorld;
-use kea_scene::{build, BuiltScene, Scene};
+use kea_scene::{build, Scene, SceneSnapshot};
 use std::process::Command;
 
 /// Scenes of every kind the front ends meet: a pile, joints with contacts, keyframed paths,
@@ -58,33 +59,13 @@ fn row(p: kea::Vec3, q: kea::Quat, v: kea::Vec3) -> [f64; 10] {
     ]
 }
 
-fn load(name: &str) -> BuiltScene {
+fn load(name: &str) -> PhysicsWorld {
     let text = std::fs::read_to_string(scene_path(name)).unwrap();
-    build(&Scene::from_json(&text).unwrap()).unwrap()
+    PhysicsWorld::from_scene(build(&Scene::from_json(&text).unwrap()).unwrap())
 }
 
-/// The scene stepped as a `BuiltScene`.
-fn from_rust(name: &str) -> Vec<[f64; 10]> {
-    let mut built = load(name);
-    for _ in 0..STEPS {
-        built.step(DT).unwrap();
-    }
-    built
-        .bodies
-        .iter()
-        .map(|(_, h)| {
-            let b = built.world.body(*h).unwrap();
-            row(b.position(), b.orientation(), b.linear_velocity())
-        })
-        .collect()
-}
-
-/// The scene stepped as `kea3d`'s one world (the Python module's engine).
-fn from_kea3d(name: &str) -> Vec<[f64; 10]> {
-    let mut world = PhysicsWorld::from_scene(load(name));
-    for _ in 0..STEPS {
-        world.step(DT).unwrap();
-    }
+/// Every body's state, in scene order.
+fn rows(world: &PhysicsWorld) -> Vec<[f64; 10]> {
     world
         .named_bodies()
         .iter()
@@ -93,6 +74,30 @@ fn from_kea3d(name: &str) -> Vec<[f64; 10]> {
             row(b.position(), b.orientation(), b.linear_velocity())
         })
         .collect()
+}
+
+/// The scene stepped from Rust.
+fn from_rust(name: &str) -> Vec<[f64; 10]> {
+    let mut world = load(name);
+    for _ in 0..STEPS {
+        world.step(DT).unwrap();
+    }
+    rows(&world)
+}
+
+/// The scene stepped halfway, saved to the binary snapshot form, restored, and stepped on.
+fn from_snapshot(name: &str) -> Vec<[f64; 10]> {
+    let mut world = load(name);
+    for _ in 0..STEPS / 2 {
+        world.step(DT).unwrap();
+    }
+    let bytes = world.snapshot().unwrap().to_binary().unwrap();
+    drop(world);
+    let mut world = PhysicsWorld::restore(SceneSnapshot::from_binary(&bytes).unwrap()).unwrap();
+    for _ in STEPS / 2..STEPS {
+        world.step(DT).unwrap();
+    }
+    rows(&world)
 }
 
 /// The scene run by `kea run --json`: the last sample of every body.
@@ -146,22 +151,22 @@ fn golden_path() -> String {
 }
 
 #[test]
-fn a_scene_ends_on_the_same_bits_from_kea_run_from_rust_and_from_kea3d() {
+fn a_scene_ends_on_the_same_bits_from_kea_run_from_rust_and_from_a_snapshot() {
     let mut found = String::new();
     for name in SCENES {
         let rust = from_rust(name);
-        let kea3d = from_kea3d(name);
+        let restored = from_snapshot(name);
         let cli = from_cli(name);
         assert_eq!(rust.len(), cli.len(), "{name}: bodies");
         assert_eq!(
-            fingerprint(&kea3d),
+            fingerprint(&restored),
             fingerprint(&rust),
-            "{name}: kea3d and BuiltScene differ"
+            "{name}: the restored run and the straight one differ"
         );
         assert_eq!(
             fingerprint(&cli),
             fingerprint(&rust),
-            "{name}: `kea run` and BuiltScene differ"
+            "{name}: `kea run` and Rust differ"
         );
         found.push_str(&format!("{name} {:016x}\n", fingerprint(&rust)));
     }

@@ -4,7 +4,7 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
-use crate::error::{check_distance, check_positive, CollisionError, CollisionResult};
+use crate::error::{check_distance, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::material::{MaterialId, MaterialTable};
 use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
@@ -12,7 +12,7 @@ use crate::pairs::Pairs;
 use crate::parry::math::Pose;
 use crate::shape::Shape;
 use kea::timing::Stamp;
-use kea::{BodyHandle, CollisionStats, ConstraintHandle, Quat, Real, StepStats, Vec3, World};
+use kea::{BodyHandle, CollisionStats, ConstraintHandle, Quat, Real, StepSize, Vec3, World};
 
 /// A collider's handle: generational, like Kea's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -109,7 +109,10 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
     }
 }
 
-/// Colliders, materials, and the contacts they generate in a [`World`].
+/// Colliders, materials, and the contacts they generate in a [`World`]. It produces contacts
+/// and never steps the world: `kea3d::PhysicsWorld` runs the whole step (drivers, contacts,
+/// solve), and a loop of one's own calls [`CollisionWorld::update_contacts`], then
+/// [`World::step`], then [`CollisionWorld::record_impulses`].
 ///
 /// Clone it together with its [`World`]: the two clones step on bit for bit like the
 /// originals.
@@ -131,8 +134,11 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 ///     ..BodyDef::default()
 /// })?;
 /// collision.add_collider(&world, ColliderDef::new(Some(body), ball))?;
+/// let dt = kea::StepSize::new(1.0 / 60.0)?;
 /// for _ in 0..120 {
-///     collision.step(&mut world, 1.0 / 60.0)?; // contacts from geometry, then the world's step
+///     collision.update_contacts_by(&mut world, dt)?; // contacts from geometry
+///     world.step_by(dt)?; // the world's step
+///     collision.record_impulses(&world, dt); // the pairs' impulses, for events and read-outs
 /// }
 /// let y = world.body(body)?.position().y;
 /// assert!((y - 0.5).abs() < 0.02, "resting on the plane: y = {y}");
@@ -433,58 +439,20 @@ impl CollisionWorld {
         self.slots.iter().filter(|s| s.collider.is_some()).count()
     }
 
-    /// Brings the world's contacts up to date with the geometry, then steps the world by `dt`.
-    /// The step's statistics include this update's ([`StepStats::collision`]).
-    ///
-    /// With the `parallel` feature, a step of a big world called from outside rayon's pool
-    /// runs on one of its threads (so its parallel sections do not each wait to be handed
-    /// over); see [`kea::PARALLEL_MIN_BODIES`].
-    pub fn step(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
-        #[cfg(feature = "parallel")]
-        if rayon::current_thread_index().is_none() && world.body_count() >= kea::PARALLEL_MIN_BODIES
-        {
-            return rayon::join(|| self.step_here(world, dt), || ()).0;
-        }
-        self.step_here(world, dt)
-    }
-
-    /// [`CollisionWorld::step`] on the calling thread.
-    fn step_here(&mut self, world: &mut World, dt: Real) -> CollisionResult<StepStats> {
-        self.update_contacts(world, dt)?;
-        let mut stats = world.step(dt)?;
-        stats.collision = self.stats;
-        // A resting pair's bodies did not move: its contacts kept their forces, and the pair
-        // its impulse.
-        for state in self
-            .pairs
-            .slots
-            .iter_mut()
-            .filter(|p| p.alive && !p.resting)
-        {
-            let force: Vec3 = state
-                .manifolds
-                .iter()
-                .filter_map(|m| world.contact_force(m.handle).ok())
-                .sum();
-            // Contact forces act on the contacts' body 1: the first collider's, unless flipped.
-            state.impulse = if state.flipped {
-                -force * dt
-            } else {
-                force * dt
-            };
-        }
-        Ok(stats)
-    }
-
     /// Finds the colliding pairs and creates, updates or destroys the world's contacts so they
     /// match this step's contact manifolds. `dt` is the coming step, used to widen the search by
     /// each body's motion (speculative contacts) and must be positive; the public settings
     /// `margin` and `touch_distance` must be finite and not negative. On error nothing in
     /// `world` or here has changed.
     pub fn update_contacts(&mut self, world: &mut World, dt: Real) -> CollisionResult<()> {
+        self.update_contacts_by(world, StepSize::new(dt)?)
+    }
+
+    /// [`CollisionWorld::update_contacts`] for a step already checked.
+    pub fn update_contacts_by(&mut self, world: &mut World, dt: StepSize) -> CollisionResult<()> {
+        let dt = dt.seconds();
         // Checked before anything moves: parry asserts on a negative loosening margin, and a
         // refused step must leave the contacts as they were.
-        check_positive("dt", dt)?;
         check_distance("margin", self.margin)?;
         check_distance("touch_distance", self.touch_distance)?;
         let t0 = Stamp::now(world.step_timing());

@@ -1,9 +1,9 @@
 //! Kea's collision layer (the guide's Collision Toolkit and its Dynamics Toolkit Bridge).
 //!
 //! Shapes are [`parry3d`] geometry (`parry3d-f64` with the `f64` feature) attached to Kea bodies
-//! with a local offset. Each [`CollisionWorld::step`] finds the overlapping pairs (sweep and prune
-//! on the x axis), builds parry contact manifolds for them, and keeps the world's contacts in step
-//! with those manifolds: a contact point that persists keeps its Kea constraint handle, so both
+//! with a local offset. Each [`CollisionWorld::update_contacts`] finds the overlapping pairs
+//! (sweep and prune on the x axis), builds parry contact manifolds for them, and keeps the world's
+//! contacts in step with those manifolds: a contact point that persists keeps its Kea constraint handle, so both
 //! solvers warm-start it; a point that disappears has its contact destroyed.
 //!
 //! Also here: [`MaterialTable`] (pair entries and combine rules), group/mask filtering and
@@ -15,8 +15,9 @@
 //! path (capsule, cylinder, cone or hull against a polyhedron), allocate once per such pair per
 //! step (pinned by `tests/zero_alloc.rs`).
 //!
-//! The dynamics crate stays usable without this one: everything here goes through `kea::World`'s
-//! public contact API.
+//! This layer produces contacts and never steps the world: `kea3d::PhysicsWorld` owns the step
+//! (drivers, contacts, solve). The dynamics crate stays usable without this one: everything here
+//! goes through `kea::World`'s public contact API.
 //!
 //! Precision: enable `kea-collision/f64` (which enables `kea/f64`) for double precision; enabling
 //! `kea/f64` alone is a compile error here, because the geometry must match the dynamics.

@@ -4,7 +4,7 @@
 use crate::collision_world::{ColliderHandle, CollisionWorld};
 use crate::error::CollisionResult;
 use crate::events::ContactEvent;
-use kea::{BodyHandle, CollisionStats, ConstraintHandle, Contact, Real, Vec3, World};
+use kea::{BodyHandle, CollisionStats, ConstraintHandle, Contact, Real, StepSize, Vec3, World};
 
 impl CollisionWorld {
     /// The contact events of the last update (began, persisted, ended), in pair order.
@@ -84,6 +84,32 @@ impl CollisionWorld {
                     .collect()
             })
             .unwrap_or_default())
+    }
+
+    /// After the world has stepped by `dt`: each touching pair's impulse over the step, from
+    /// its contacts' forces (what [`CollisionWorld::pair_impulse`] and contact events read). A
+    /// resting pair's bodies did not move: its contacts kept their forces, and the pair its
+    /// impulse.
+    pub fn record_impulses(&mut self, world: &World, dt: StepSize) {
+        let dt = dt.seconds();
+        for state in self
+            .pairs
+            .slots
+            .iter_mut()
+            .filter(|p| p.alive && !p.resting)
+        {
+            let force: Vec3 = state
+                .manifolds
+                .iter()
+                .filter_map(|m| world.contact_force(m.handle).ok())
+                .sum();
+            // Contact forces act on the contacts' body 1: the first collider's, unless flipped.
+            state.impulse = if state.flipped {
+                -force * dt
+            } else {
+                force * dt
+            };
+        }
     }
 
     /// What the last [`CollisionWorld::update_contacts`] did.

@@ -5,6 +5,7 @@
 
 use kea::{BodyDef, Real, Vec3, World};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 /// A box resting on a plane, after one step (so it has contacts).
 fn resting_box() -> (World, CollisionWorld) {
@@ -29,7 +30,7 @@ fn resting_box() -> (World, CollisionWorld) {
             ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
         )
         .unwrap();
-    collision.step(&mut world, 1.0 / 60.0).unwrap();
+    common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     (world, collision)
 }
 
@@ -51,7 +52,7 @@ fn a_bad_dt_is_refused_before_anything_changes() {
         let (mut world, mut collision) = resting_box();
         let before = fingerprint(&world);
         assert!(before.0 > 0, "the box should rest on contacts");
-        assert_refused(collision.step(&mut world, dt), "dt");
+        assert_refused(common::step(&mut collision, &mut world, dt), "dt");
         assert_eq!(fingerprint(&world), before, "step({dt}) changed the world");
         assert_refused(collision.update_contacts(&mut world, dt), "dt");
         assert_eq!(
@@ -60,7 +61,7 @@ fn a_bad_dt_is_refused_before_anything_changes() {
             "update_contacts({dt}) changed the world"
         );
         // And the world steps on normally afterwards.
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
+        common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     }
 }
 
@@ -81,7 +82,10 @@ fn bad_public_settings_are_refused_before_anything_changes() {
                 "margin" => std::mem::replace(&mut collision.margin, value),
                 _ => std::mem::replace(&mut collision.touch_distance, value),
             };
-            assert_refused(collision.step(&mut world, 1.0 / 60.0), setting);
+            assert_refused(
+                common::step(&mut collision, &mut world, 1.0 / 60.0),
+                setting,
+            );
             assert_eq!(
                 fingerprint(&world),
                 before,
@@ -91,7 +95,7 @@ fn bad_public_settings_are_refused_before_anything_changes() {
                 "margin" => collision.margin = good,
                 _ => collision.touch_distance = good,
             }
-            collision.step(&mut world, 1.0 / 60.0).unwrap();
+            common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use kea::{BodyDef, Real, Vec3, World};
 use kea_collision::{ColliderDef, CollisionWorld, ContactEventKind, Shape};
+mod common;
 
 const DT: Real = 1.0 / 60.0;
 
@@ -115,7 +116,7 @@ fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
     };
     // Fall 0.5 m onto the ground and rest there for 2 s.
     for _ in 0..150 {
-        collision.step(&mut world, DT).unwrap();
+        common::step(&mut collision, &mut world, DT).unwrap();
         count(&collision);
     }
     let weight = world.body(b).unwrap().mass() * 9.81;
@@ -136,7 +137,7 @@ fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
         .set_position(Vec3::new(0.0, 5.0, 0.0))
         .unwrap();
     for _ in 0..10 {
-        collision.step(&mut world, DT).unwrap();
+        common::step(&mut collision, &mut world, DT).unwrap();
         count(&collision);
     }
     assert_eq!((began, ended), (1, 1), "persisted {persisted}");
@@ -147,7 +148,7 @@ fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
         .unwrap()
         .set_position(Vec3::new(0.0, 0.5, 0.0))
         .unwrap();
-    collision.step(&mut world, DT).unwrap();
+    common::step(&mut collision, &mut world, DT).unwrap();
     assert_eq!(collision.events()[0].kind, ContactEventKind::Began);
     collision.remove_collider(&mut world, cb).unwrap();
     assert_eq!(world.constraint_count(), 0, "its contacts went with it");

@@ -7,6 +7,7 @@ use kea::{
     BodyDef, BodyHandle, DemMode, DemSettings, IslandList, Quat, Real, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 const DT: Real = 1.0 / 60.0;
 
@@ -90,7 +91,7 @@ fn each_island_lists_exactly_its_bodies() {
     w.create_ball_joint(j1, Some(j2), Vec3::new(11.0, 5.0, 0.0))
         .unwrap();
     for _ in 0..30 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
     }
     let list = islands(&w);
     assert_eq!(list.len(), 4, "{list:?}");
@@ -116,12 +117,12 @@ fn a_box_that_lands_on_a_pile_merges_with_it_and_splits_off_when_it_leaves() {
     let (mut w, mut c) = world(3, false);
     let pile = stack(&mut w, &mut c, 0.0, 2);
     let falling = add(&mut w, &mut c, unit_box(), Vec3::new(0.0, 4.0, 0.0));
-    c.step(&mut w, DT).unwrap();
+    common::step(&mut c, &mut w, DT).unwrap();
     let list = islands(&w);
     assert!(island_is(&list, &pile) && island_is(&list, &[falling]));
     // It lands within a second.
     for _ in 0..60 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
     }
     let mut merged = pile.clone();
     merged.push(falling);
@@ -132,7 +133,7 @@ fn a_box_that_lands_on_a_pile_merges_with_it_and_splits_off_when_it_leaves() {
         .set_linear_velocity(Vec3::new(3.0, 6.0, 0.0))
         .unwrap();
     for _ in 0..20 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
     }
     let list = islands(&w);
     assert!(w.body(falling).unwrap().position().y > 3.0);
@@ -147,7 +148,7 @@ fn a_sleeping_pile_is_one_sleeping_island_and_wakes_whole_when_a_ball_touches_it
     let (mut w, mut c) = world(4, true);
     let pile = stack(&mut w, &mut c, 0.0, 3);
     for _ in 0..180 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
     }
     let list = islands(&w);
     let k = list.island_of(pile[0]).unwrap();
@@ -162,7 +163,7 @@ fn a_sleeping_pile_is_one_sleeping_island_and_wakes_whole_when_a_ball_touches_it
     );
     let mut touched = false;
     for _ in 0..60 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
         let list = islands(&w);
         if list.island_of(ball) == list.island_of(pile[0]) {
             touched = true;
@@ -199,12 +200,12 @@ fn a_clone_taken_mid_run_lists_the_same_islands_and_steps_to_the_same_bits() {
     bodies.extend(stack(&mut w, &mut c, 3.0, 2));
     bodies.push(add(&mut w, &mut c, unit_box(), Vec3::new(3.0, 5.0, 0.0)));
     for _ in 0..30 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
     }
     let (mut w2, mut c2) = (w.clone(), c.clone());
     for step in 0..240 {
-        c.step(&mut w, DT).unwrap();
-        c2.step(&mut w2, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
+        common::step(&mut c2, &mut w2, DT).unwrap();
         let (a, b) = (islands(&w), islands(&w2));
         let lists = |l: &IslandList| l.iter().map(<[BodyHandle]>::to_vec).collect::<Vec<_>>();
         assert_eq!(lists(&a), lists(&b), "step {step}");

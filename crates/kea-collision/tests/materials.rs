@@ -5,6 +5,7 @@ use kea::{
     BodyDef, ContactParams, DemMode, DemSettings, FrictionModel, Real, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, Shape, Surface};
+mod common;
 
 const G: Real = 9.81;
 const DT: Real = 1.0 / 60.0;
@@ -30,7 +31,7 @@ fn deceleration(collision: &mut CollisionWorld, block: u32, ground: u32) -> Real
     d.material = block;
     collision.add_collider(&world, d).unwrap();
     for _ in 0..10 {
-        collision.step(&mut world, DT).unwrap(); // settle
+        common::step(collision, &mut world, DT).unwrap(); // settle
     }
     world
         .body_mut(b)
@@ -38,7 +39,7 @@ fn deceleration(collision: &mut CollisionWorld, block: u32, ground: u32) -> Real
         .set_linear_velocity(Vec3::new(5.0, 0.0, 0.0))
         .unwrap();
     for _ in 0..30 {
-        collision.step(&mut world, DT).unwrap();
+        common::step(collision, &mut world, DT).unwrap();
     }
     let v = world.body(b).unwrap().linear_velocity().x;
     let impulse = collision.body_pair_impulse(b, None);
@@ -147,7 +148,7 @@ fn restitution_is_the_larger_of_the_pair_and_sleeping_pairs_are_left_alone() {
     let mut ratio = None;
     for _ in 0..600 {
         let v_in = world.body(b).unwrap().linear_velocity().y;
-        collision.step(&mut world, DT).unwrap();
+        common::step(&mut collision, &mut world, DT).unwrap();
         let v = world.body(b).unwrap().linear_velocity().y;
         if ratio.is_none() && v_in < -1.0 && v > 0.0 {
             ratio = Some(v / -v_in);
@@ -163,7 +164,7 @@ fn restitution_is_the_larger_of_the_pair_and_sleeping_pairs_are_left_alone() {
     );
     let before: Vec<_> = world.contacts_between(b, None).collect();
     let kept = *world.contact(before[0]).unwrap();
-    collision.step(&mut world, DT).unwrap();
+    common::step(&mut collision, &mut world, DT).unwrap();
     let after: Vec<_> = world.contacts_between(b, None).collect();
     assert_eq!(before, after);
     assert_eq!(*world.contact(after[0]).unwrap(), kept);
@@ -205,7 +206,7 @@ fn ride_belt(direction: Vec3, box_first: bool, slide: Real, seconds: Real) -> (V
     let mut reached = Real::INFINITY;
     let steps = (seconds / DT).round() as usize;
     for i in 0..steps {
-        collision.step(&mut world, DT).unwrap();
+        common::step(&mut collision, &mut world, DT).unwrap();
         let v = world.body(b).unwrap().linear_velocity();
         if reached.is_infinite() && v.length() > 0.99 {
             reached = (i + 1) as Real * DT;

@@ -11,6 +11,7 @@
 
 use kea::{BodyDef, BodyHandle, Quat, Real, Routing, SolverMode, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape, Surface};
+mod common;
 
 const G: Real = 9.81;
 const DT: Real = 1.0 / 60.0;
@@ -63,7 +64,7 @@ fn add_box(
 
 fn run(c: &mut CollisionWorld, w: &mut World, steps: usize) {
     for _ in 0..steps {
-        c.step(w, DT).unwrap();
+        common::step(c, w, DT).unwrap();
     }
 }
 
@@ -130,7 +131,7 @@ fn slide(mode: SolverMode, heading: Real, speed: Real) -> (Real, Real, Real) {
         .unwrap();
     let mut spin: Real = 0.0;
     for _ in 0..300 + (speed / (0.4 * G) / DT) as usize {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
         spin = spin.max(w.body(b).unwrap().angular_velocity().length());
     }
     let body = w.body(b).unwrap();
@@ -279,7 +280,7 @@ fn column(mode: SolverMode, n: usize, heavy: Option<Real>, seconds: Real) -> (Re
     }
     let mut deepest: Real = 0.0;
     for step in 0..(seconds / DT).round() as usize {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
         if step >= 60 {
             for (_, contact, _) in w.contacts() {
                 deepest = deepest.max(contact.penetration());

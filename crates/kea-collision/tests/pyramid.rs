@@ -2,6 +2,7 @@
 
 use kea::{BodyDef, Real, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 #[test]
 fn a_pyramid_of_210_boxes_stands_for_20_seconds() {
@@ -44,7 +45,7 @@ fn a_pyramid_of_210_boxes_stands_for_20_seconds() {
     }
     let mut worst: Real = 0.0;
     for _ in 0..1200 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
+        common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     }
     for (b, start) in &boxes {
         worst = worst.max((world.body(*b).unwrap().position() - *start).length());

@@ -9,6 +9,7 @@
 
 use kea::{BodyDef, Quat, Real, Routing, SolverMode, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape, Surface};
+mod common;
 
 const G: Real = 9.81;
 const DT: Real = 1.0 / 60.0;
@@ -90,7 +91,7 @@ fn roll(mode: SolverMode, roller: Roller, degrees: Real) -> Roll {
     let (mut sink, mut slip): (Real, Real) = (0.0, 0.0);
     let (mut v1, mut v2) = (0.0, 0.0);
     for step in 1..=90 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
         let body = w.body(b).unwrap();
         let x = body.position();
         sink = sink.max(RADIUS - n.dot(x));

@@ -3,6 +3,7 @@
 
 use kea::{BodyDef, Quat, Real, Vec3, World};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 /// Each shape with the distance from its origin down to its lowest point.
 fn shapes() -> Vec<(&'static str, Shape, Real)> {
@@ -146,7 +147,7 @@ fn a_wheel_rolls_over_a_height_field_ramp() {
         .add_collider(&world, ColliderDef::new(Some(b), wheel))
         .unwrap();
     for _ in 0..120 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
+        common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     }
     let p = world.body(b).unwrap().position();
     assert!(

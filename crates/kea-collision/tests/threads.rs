@@ -9,6 +9,7 @@
 
 use kea::{BodyDef, Quat, Real, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 /// Steps the stacks for `steps` steps on a pool of `threads` threads; returns every body's
 /// position and orientation bits, and how many bodies moved more than 20 cm.
@@ -66,7 +67,7 @@ fn run(threads: usize, steps: usize) -> (Vec<u64>, usize) {
             }
         }
         for _ in 0..steps {
-            collision.step(&mut world, 1.0 / 60.0).unwrap();
+            common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
         }
         let (mut bits, mut moved) = (Vec::new(), 0);
         for (b, start) in bodies {

@@ -6,6 +6,7 @@ use kea::{BodyDef, Quat, Real, Vec3, World};
 use kea_collision::{
     ColliderDef, CollisionError, CollisionWorld, QueryFilter, Shape, ShapeCast, MAX_CAST_CELLS,
 };
+mod common;
 
 fn refused(result: Result<impl std::fmt::Debug, CollisionError>, arg: &str, value: &str) {
     let text = result.expect_err("a bad value was accepted").to_string();
@@ -167,7 +168,7 @@ fn crowded() -> (World, CollisionWorld, Vec<kea::BodyHandle>) {
 fn contacts_beyond_the_reserved_room_grow_the_world_and_every_box_rests() {
     let (mut world, mut collision, boxes) = crowded();
     for _ in 0..60 {
-        let stats = collision.step(&mut world, 1.0 / 60.0).unwrap();
+        let stats = common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
         assert_eq!(stats.collision.dropped_manifolds, 0);
     }
     assert!(

@@ -3,6 +3,7 @@
 
 use kea::{BodyDef, Real, Routing, SolverMode, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
+mod common;
 
 const DT: Real = 1.0 / 60.0;
 
@@ -40,7 +41,7 @@ fn lowest(mode: SolverMode, mass: Real, speed: Real) -> Real {
     c.add_collider(&w, ColliderDef::new(Some(b), ball)).unwrap();
     let mut lowest = Real::INFINITY;
     for _ in 0..60 {
-        c.step(&mut w, DT).unwrap();
+        common::step(&mut c, &mut w, DT).unwrap();
         lowest = lowest.min(w.body(b).unwrap().position().y);
     }
     lowest

@@ -8,6 +8,7 @@ use kea::{BodyDef, Quat, Vec3, World, WorldDef};
 use kea_collision::{ColliderDef, CollisionWorld, Shape};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+mod common;
 
 struct CountingAllocator;
 thread_local! {
@@ -84,12 +85,12 @@ fn a_warm_collision_step_allocates_nothing() {
             .unwrap();
     }
     for _ in 0..120 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
+        common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     }
     let contacts = world.constraint_count();
     let n = allocations_in(|| {
         for _ in 0..120 {
-            collision.step(&mut world, 1.0 / 60.0).unwrap();
+            common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
         }
     });
     eprintln!("{contacts} contacts; allocations over 120 warm steps: {n}");
@@ -122,11 +123,11 @@ fn plane_pairs_allocate_nothing_in_a_warm_step() {
         .add_collider(&world, ColliderDef::new(Some(b), cube))
         .unwrap();
     for _ in 0..60 {
-        collision.step(&mut world, 1.0 / 60.0).unwrap();
+        common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
     }
     let n = allocations_in(|| {
         for _ in 0..60 {
-            collision.step(&mut world, 1.0 / 60.0).unwrap();
+            common::step(&mut collision, &mut world, 1.0 / 60.0).unwrap();
         }
     });
     eprintln!("box on a plane: allocations over 60 warm steps: {n}");

@@ -114,7 +114,7 @@ fn fingerprint(s: &Sandbox) -> u64 {
     let mut eat = |bits: u64| {
         h = (h ^ bits).wrapping_mul(0x0100_0000_01b3);
     };
-    let w = &s.world;
+    let w = s.world();
     for (handle, b) in w.bodies() {
         eat(u64::from(handle.index()));
         let (p, q) = (b.position(), b.orientation());
@@ -146,12 +146,12 @@ fn fingerprint(s: &Sandbox) -> u64 {
     for x in [g.x, g.y, g.z, w.epsilon(), w.gamma()] {
         eat(bits(x));
     }
-    eat(s.collision.collider_count() as u64);
+    eat(s.collision().collider_count() as u64);
     h
 }
 
 fn poisoned(s: &Sandbox) -> bool {
-    s.world.bodies().any(|(_, b)| {
+    s.world().bodies().any(|(_, b)| {
         !(b.position().is_finite()
             && b.orientation().is_finite()
             && b.linear_velocity().is_finite()

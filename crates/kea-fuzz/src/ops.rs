@@ -6,14 +6,13 @@ use kea::{
     BodyDef, BodyHandle, ConstraintHandle, Contact, ContactPoint, Mat3, Real, Routing, SingleLimit,
     SolverMode, SpeedLimits, Vec3, World, WorldDef,
 };
+use kea3d::PhysicsWorld;
 use kea_collision::{ColliderDef, ColliderHandle, CollisionWorld, QueryFilter, Shape, ShapeCast};
 
 /// One world under test, with the handles made in it (some stale on purpose).
 pub struct Sandbox {
-    /// The dynamics.
-    pub world: World,
-    /// Its collision layer.
-    pub collision: CollisionWorld,
+    /// The world, stepped through its pipeline as an application steps it.
+    physics: PhysicsWorld,
     bodies: Vec<BodyHandle>,
     joints: Vec<ConstraintHandle>,
     colliders: Vec<ColliderHandle>,
@@ -41,12 +40,21 @@ impl Sandbox {
             .add_collider(&world, ColliderDef::new(None, ground))
             .expect("a static plane");
         Self {
-            world,
-            collision,
+            physics: PhysicsWorld::from_parts(world, collision),
             bodies: Vec::new(),
             joints: Vec::new(),
             colliders: vec![ground],
         }
+    }
+
+    /// The dynamics layer.
+    pub fn world(&self) -> &World {
+        self.physics.dynamics()
+    }
+
+    /// The collision layer.
+    pub fn collision(&self) -> &CollisionWorld {
+        self.physics.collision()
     }
 
     fn body(&self, rng: &mut Rng) -> Option<BodyHandle> {
@@ -100,7 +108,7 @@ impl Sandbox {
             fast_spin_axis: rng.chance(0.1).then(|| rng.direction()),
             ..BodyDef::default()
         };
-        let h = self.world.create_body(&def).map_err(err)?;
+        let h = self.physics.dynamics_mut().create_body(&def).map_err(err)?;
         self.bodies.push(h);
         Ok(())
     }
@@ -108,13 +116,13 @@ impl Sandbox {
     fn destroy_body(&mut self, rng: &mut Rng) -> Outcome {
         let b = self.body(rng).ok_or("no body")?;
         // The handle stays in the list: later calls with it must be refused as stale.
-        self.world.destroy_body(b).map_err(err)
+        self.physics.dynamics_mut().destroy_body(b).map_err(err)
     }
 
     fn set_body(&mut self, rng: &mut Rng) -> Outcome {
         let b = self.body(rng).ok_or("no body")?;
         let choice = rng.below(9);
-        let body = self.world.body_mut(b).map_err(err)?;
+        let body = self.physics.dynamics_mut().body_mut(b).map_err(err)?;
         match choice {
             0 => body.set_mass(rng.real(0.1, 50.0)),
             1 => body.set_inertia(Mat3::from_diagonal(rng.vec3(0.01, 5.0))),
@@ -136,7 +144,7 @@ impl Sandbox {
         let a = self.body(rng).ok_or("no body")?;
         let b = self.other(rng);
         let anchor = rng.vec3(-5.0, 5.0);
-        let w = &mut self.world;
+        let w = self.physics.dynamics_mut();
         let h = match rng.below(9) {
             0 => w.create_ball_joint(a, b, anchor),
             1 => w.create_hinge(a, b, anchor, rng.direction()),
@@ -176,7 +184,7 @@ impl Sandbox {
 
     fn set_joint(&mut self, rng: &mut Rng) -> Outcome {
         let j = self.joint(rng).ok_or("no joint")?;
-        let w = &mut self.world;
+        let w = self.physics.dynamics_mut();
         let lower = SingleLimit::hard(rng.real(-2.0, 0.0), rng.real(0.0, 1.0));
         let upper = if rng.chance(0.5) {
             SingleLimit::hard(rng.real(0.0, 2.0), rng.real(0.0, 1.0))
@@ -217,7 +225,11 @@ impl Sandbox {
             })
             .collect();
         let contact = Contact::with_points(rng.direction(), &points).map_err(err)?;
-        let h = self.world.create_contact(a, b, contact).map_err(err)?;
+        let h = self
+            .physics
+            .dynamics_mut()
+            .create_contact(a, b, contact)
+            .map_err(err)?;
         self.joints.push(h);
         Ok(())
     }
@@ -273,7 +285,8 @@ impl Sandbox {
         } else {
             rng.rotation()
         };
-        let h = self.collision.add_collider(&self.world, def).map_err(err)?;
+        let (w, c) = self.physics.layers_mut();
+        let h = c.add_collider(w, def).map_err(err)?;
         self.colliders.push(h);
         Ok(())
     }
@@ -283,13 +296,12 @@ impl Sandbox {
             return Err("no collider".into());
         }
         let h = self.colliders[rng.below(self.colliders.len())];
-        self.collision
-            .remove_collider(&mut self.world, h)
-            .map_err(err)
+        let (w, c) = self.physics.layers_mut();
+        c.remove_collider(w, h).map_err(err)
     }
 
     fn query(&mut self, rng: &mut Rng) -> Outcome {
-        let (w, c) = (&self.world, &self.collision);
+        let (w, c) = (self.physics.dynamics(), self.physics.collision());
         let filter = QueryFilter::default();
         match rng.below(5) {
             0 => c
@@ -339,14 +351,11 @@ impl Sandbox {
             8 => rng.range(0.2, 10.0),
             _ => rng.odd(),
         };
-        self.collision
-            .step(&mut self.world, dt)
-            .map(drop)
-            .map_err(err)
+        self.physics.step(dt).map(drop).map_err(err)
     }
 
     fn settings(&mut self, rng: &mut Rng) -> Outcome {
-        let w = &mut self.world;
+        let w = self.physics.dynamics_mut();
         match rng.below(9) {
             0 => w.set_gravity(rng.vec3(-20.0, 20.0)),
             1 => w.set_epsilon(rng.real(0.0, 0.1)),
@@ -369,7 +378,7 @@ impl Sandbox {
                 angular: rng.real(1.0, 1e4),
             }),
             6 => {
-                self.collision.margin = rng.real(0.0, 0.1);
+                self.physics.collision_mut().margin = rng.real(0.0, 0.1);
                 Ok(())
             }
             7 => {
@@ -377,7 +386,7 @@ impl Sandbox {
                 Ok(())
             }
             _ => {
-                self.collision.touch_distance = rng.real(0.0, 0.01);
+                self.physics.collision_mut().touch_distance = rng.real(0.0, 0.01);
                 Ok(())
             }
         }

@@ -49,13 +49,14 @@ fn every_demo_scene_is_framed_whole_and_large() {
         let path = format!("{}/../../scenes/{name}.json", env!("CARGO_MANIFEST_DIR"));
         let text = std::fs::read_to_string(&path).unwrap();
         let scene = kea_scene::Scene::from_json(&text).unwrap();
-        let mut built = kea_scene::build(&scene).unwrap();
+        let mut world = kea3d::PhysicsWorld::from_scene(kea_scene::build(&scene).unwrap());
         for _ in 0..60 {
-            built.step(1.0 / 60.0).unwrap();
+            world.step(1.0 / 60.0).unwrap();
         }
         let aspect = w as Real / h as Real;
-        let camera = Camera::framing_scene(&built.world, &built.collision, aspect);
-        let image = render(&built.world, &built.collision, &camera, w, h);
+        let (dynamics, collision) = (world.dynamics(), world.collision());
+        let camera = Camera::framing_scene(dynamics, collision, aspect);
+        let image = render(dynamics, collision, &camera, w, h);
         let ((x0, y0, x1, y1), count) =
             subject_box(&image).unwrap_or_else(|| panic!("{name}: no body in the picture"));
         eprintln!("{name}: subject box x {x0}..{x1}, y {y0}..{y1}, {count} pixels");

@@ -10,12 +10,14 @@ use crate::groups::{add_group, group_size};
 use crate::joints::{add_joint, ScenePaths};
 use kea::{
     BodyDef, BodyHandle, ConstraintHandle, ContactType, DemMode, DemSettings, FrictionModel,
-    IterativeParams, Mat3, Quat, Real, Routing, SolverMode, StepStats, Vec3, World, WorldDef,
+    IterativeParams, Mat3, Quat, Real, Routing, SolverMode, Vec3, World, WorldDef,
 };
 use kea_collision::{ColliderDef, CollisionWorld, MassProperties, Shape, Surface};
 use std::collections::HashMap;
 
-/// A built scene: the world, its collision layer, and the bodies and joints by name.
+/// A built scene: the world, its collision layer, the bodies and joints by name, and the
+/// keyframed paths. It is what a scene file builds; it does not step (`kea3d::PhysicsWorld`
+/// takes it whole with `from_scene`, and its pipeline runs the step).
 #[derive(Clone)]
 pub struct BuiltScene {
     /// The dynamics.
@@ -35,31 +37,13 @@ pub struct BuiltScene {
     pub(crate) body_index: HashMap<String, usize>,
     /// Index into `joints` by name.
     pub(crate) joint_index: HashMap<String, usize>,
-    /// Scene time, s: the sum of the steps taken.
-    pub(crate) time: Real,
 }
 
 impl BuiltScene {
-    /// Steps the scene by `dt`: sets each keyframed path to its position now with the velocity
-    /// that reaches its position at the end of the step, then contacts from geometry, then the
-    /// world's step.
-    pub fn step(&mut self, dt: Real) -> Result<StepStats, kea_collision::CollisionError> {
-        self.paths.drive(&mut self.world, self.time, dt)?;
-        let stats = self.collision.step(&mut self.world, dt)?;
-        self.time += dt;
-        Ok(stats)
-    }
-
-    /// The scene's keyframed path joints, for stepping its world some other way.
+    /// The scene's keyframed path joints (`kea3d`'s pipeline drives them before each step).
     #[must_use]
     pub fn paths(&self) -> &ScenePaths {
         &self.paths
-    }
-
-    /// Scene time, s: the sum of the steps taken since the scene was built.
-    #[must_use]
-    pub fn time(&self) -> Real {
-        self.time
     }
 
     /// The body of that name.
@@ -116,7 +100,6 @@ pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
         paths: ScenePaths::default(),
         body_index: HashMap::new(),
         joint_index: HashMap::new(),
-        time: 0.0,
     };
     let materials = add_materials(&mut built.collision, scene)?;
     for (i, c) in scene.statics.iter().enumerate() {

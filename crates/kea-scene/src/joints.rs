@@ -7,20 +7,25 @@ use crate::error::SceneError;
 use crate::joint_format::{JointKind, JointSpec, LimitSpec};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
 
-/// A scene's fixed-path joints with keyframed paths: each step first sets every path to its
+/// A scene's fixed-path joints with keyframed paths: before each step, every path is set to its
 /// position now, with the velocity that reaches its next position at the end of the step.
 #[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
 #[serde(transparent)]
 pub struct ScenePaths(pub(crate) Vec<PathDriver>);
 
 impl ScenePaths {
-    /// Sets each path joint in `world` for a step of `dt` starting at scene time `time`.
-    pub fn drive(&self, world: &mut World, time: Real, dt: Real) -> Result<(), KeaError> {
-        for p in &self.0 {
+    /// For a step of `dt` starting at scene time `time`: each path joint, where its path is now,
+    /// and the velocity that takes it to where the path is at the end of the step (the values
+    /// for [`World::set_path`], which the stepping pipeline writes).
+    pub fn samples(
+        &self,
+        time: Real,
+        dt: Real,
+    ) -> impl Iterator<Item = (ConstraintHandle, Vec3, Vec3)> + '_ {
+        self.0.iter().map(move |p| {
             let (position, velocity) = p.sample(time, dt);
-            world.set_path(p.joint, position, velocity)?;
-        }
-        Ok(())
+            (p.joint, position, velocity)
+        })
     }
 
     /// Whether the scene has no keyframed paths.

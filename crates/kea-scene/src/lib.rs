@@ -1,6 +1,9 @@
 //! Kea scene files: a documented, versioned JSON format (`docs/scene-format.md`) that describes a
 //! whole world — parameters, materials and their pairs, static geometry, bodies with their
-//! shapes, every joint type of the guide with limits and motors, and repeated structures — and builds it into a `kea::World` with a `kea_collision::CollisionWorld`.
+//! shapes, every joint type of the guide with limits and motors, and repeated structures — and
+//! builds it into a `kea::World` with a `kea_collision::CollisionWorld`, the bodies and joints
+//! by name and the keyframed paths ([`BuiltScene`]). It builds and saves; it does not step:
+//! `kea3d::PhysicsWorld::from_scene` takes the built scene and its pipeline steps it.
 //!
 //! ```
 //! let text = r#"{ "version": 1,
@@ -8,8 +11,8 @@
 //!   "bodies": [ { "name": "ball", "position": [0, 2, 0],
 //!                 "shapes": [ { "shape": { "sphere": { "radius": 0.5 } } } ] } ] }"#;
 //! let scene = kea_scene::Scene::from_json(text).unwrap();
-//! let mut built = kea_scene::build(&scene).unwrap();
-//! built.step(1.0 / 60.0).unwrap();
+//! let built = kea_scene::build(&scene).unwrap();
+//! assert!(built.body("ball").is_some());
 //! ```
 
 #![warn(missing_docs)]

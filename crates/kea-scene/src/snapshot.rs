@@ -1,22 +1,23 @@
-//! Snapshots of a built scene: the world, its collision layer and the scene's drivers, saved
-//! whole so that restoring and stepping reproduces the uninterrupted run bit for bit. Two
-//! forms: a binary one (a magic line, then postcard) and JSON. Both carry
-//! [`SNAPSHOT_VERSION`]; another version, the other precision, or a snapshot whose parts do
-//! not fit together is refused by name.
+//! Snapshots of a scene's world: the dynamics (its clock included), the collision layer and the
+//! scene's names and keyframed paths, saved whole so that restoring and stepping reproduces the
+//! uninterrupted run bit for bit. Two forms: a binary one (a magic line, then postcard) and
+//! JSON. Both carry [`SNAPSHOT_VERSION`]; another version, the other precision, or a snapshot
+//! whose parts do not fit together is refused by name.
 
 use crate::build::BuiltScene;
 use crate::error::SceneError;
-use kea::{BodyHandle, ConstraintHandle, Real, World, WorldSnapshot};
+use crate::joints::ScenePaths;
+use kea::{BodyHandle, ConstraintHandle, World, WorldSnapshot};
 use kea_collision::CollisionWorld;
 use serde::{Deserialize, Serialize};
 
-/// The scene snapshot format's version.
-pub const SNAPSHOT_VERSION: u32 = 1;
+/// The scene snapshot format's version (2: the scene's clock is the world's).
+pub const SNAPSHOT_VERSION: u32 = 2;
 
 /// The first bytes of a binary snapshot.
 const MAGIC: &[u8; 8] = b"KEASNAP\n";
 
-/// A built scene's whole state (see the module docs).
+/// A scene world's whole state (see the module docs).
 #[derive(Clone, Serialize, Deserialize)]
 pub struct SceneSnapshot {
     /// Format version ([`SNAPSHOT_VERSION`]).
@@ -25,8 +26,7 @@ pub struct SceneSnapshot {
     collision: CollisionWorld,
     bodies: Vec<(String, BodyHandle)>,
     joints: Vec<(String, ConstraintHandle)>,
-    paths: crate::joints::ScenePaths,
-    time: Real,
+    paths: ScenePaths,
 }
 
 fn invalid(message: impl std::fmt::Display) -> SceneError {
@@ -36,54 +36,60 @@ fn invalid(message: impl std::fmt::Display) -> SceneError {
     }
 }
 
-impl BuiltScene {
-    /// The scene's state now.
-    pub fn snapshot(&self) -> Result<SceneSnapshot, SceneError> {
-        Ok(SceneSnapshot {
+impl SceneSnapshot {
+    /// The state of a scene's world now: its dynamics and collision layers, and the scene's
+    /// named bodies and joints and keyframed paths.
+    pub fn capture(
+        world: &World,
+        collision: &CollisionWorld,
+        bodies: &[(String, BodyHandle)],
+        joints: &[(String, ConstraintHandle)],
+        paths: &ScenePaths,
+    ) -> Result<Self, SceneError> {
+        Ok(Self {
             version: SNAPSHOT_VERSION,
-            world: self.world.snapshot().map_err(invalid)?,
-            collision: self.collision.clone(),
-            bodies: self.bodies.clone(),
-            joints: self.joints.clone(),
-            paths: self.paths.clone(),
-            time: self.time,
+            world: world.snapshot().map_err(invalid)?,
+            collision: collision.clone(),
+            bodies: bodies.to_vec(),
+            joints: joints.to_vec(),
+            paths: paths.clone(),
         })
     }
 
-    /// The scene a snapshot was taken of, at that instant.
-    pub fn restore(snapshot: SceneSnapshot) -> Result<BuiltScene, SceneError> {
-        if snapshot.version != SNAPSHOT_VERSION {
+    /// The scene the snapshot was taken of, at that instant; the parts checked against each
+    /// other.
+    pub fn into_scene(self) -> Result<BuiltScene, SceneError> {
+        if self.version != SNAPSHOT_VERSION {
             return Err(SceneError::Version {
-                found: snapshot.version,
+                found: self.version,
                 expected: SNAPSHOT_VERSION,
             });
         }
-        let world = World::restore(snapshot.world).map_err(invalid)?;
-        let collision = snapshot.collision;
+        let world = World::restore(self.world).map_err(invalid)?;
+        let collision = self.collision;
         collision.check_against(&world).map_err(invalid)?;
         Ok(BuiltScene {
-            body_index: index(&snapshot.bodies),
-            joint_index: index(&snapshot.joints),
+            body_index: index(&self.bodies),
+            joint_index: index(&self.joints),
             world,
             collision,
-            bodies: snapshot.bodies,
-            joints: snapshot.joints,
-            paths: snapshot.paths,
-            time: snapshot.time,
+            bodies: self.bodies,
+            joints: self.joints,
+            paths: self.paths,
         })
     }
 
-    /// The scene's state now, in the binary form.
-    pub fn snapshot_binary(&self) -> Result<Vec<u8>, SceneError> {
+    /// The binary form.
+    pub fn to_binary(&self) -> Result<Vec<u8>, SceneError> {
         let mut out = MAGIC.to_vec();
         out.extend_from_slice(&SNAPSHOT_VERSION.to_le_bytes());
-        let body = postcard::to_stdvec(&self.snapshot()?).map_err(invalid)?;
+        let body = postcard::to_stdvec(self).map_err(invalid)?;
         out.extend_from_slice(&body);
         Ok(out)
     }
 
-    /// The scene saved by [`BuiltScene::snapshot_binary`].
-    pub fn restore_binary(bytes: &[u8]) -> Result<BuiltScene, SceneError> {
+    /// A snapshot from its binary form ([`SceneSnapshot::to_binary`]).
+    pub fn from_binary(bytes: &[u8]) -> Result<Self, SceneError> {
         let rest = bytes
             .strip_prefix(MAGIC.as_slice())
             .ok_or_else(|| invalid("not a Kea snapshot (its first bytes are not `KEASNAP`)"))?;
@@ -97,19 +103,30 @@ impl BuiltScene {
                 expected: SNAPSHOT_VERSION,
             });
         }
-        let snapshot: SceneSnapshot = postcard::from_bytes(body).map_err(invalid)?;
-        Self::restore(snapshot)
+        postcard::from_bytes(body).map_err(invalid)
     }
 
-    /// The scene's state now, as JSON.
-    pub fn snapshot_json(&self) -> Result<String, SceneError> {
-        serde_json::to_string(&self.snapshot()?).map_err(invalid)
+    /// The JSON form.
+    pub fn to_json(&self) -> Result<String, SceneError> {
+        serde_json::to_string(self).map_err(invalid)
     }
 
-    /// The scene saved by [`BuiltScene::snapshot_json`].
-    pub fn restore_json(text: &str) -> Result<BuiltScene, SceneError> {
-        let snapshot: SceneSnapshot = serde_json::from_str(text).map_err(invalid)?;
-        Self::restore(snapshot)
+    /// A snapshot from its JSON form ([`SceneSnapshot::to_json`]).
+    pub fn from_json(text: &str) -> Result<Self, SceneError> {
+        serde_json::from_str(text).map_err(invalid)
+    }
+}
+
+impl BuiltScene {
+    /// The scene's state now.
+    pub fn snapshot(&self) -> Result<SceneSnapshot, SceneError> {
+        SceneSnapshot::capture(
+            &self.world,
+            &self.collision,
+            &self.bodies,
+            &self.joints,
+            &self.paths,
+        )
     }
 }
 

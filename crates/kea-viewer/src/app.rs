@@ -4,8 +4,9 @@
 
 use crate::convert::{to_f64, to_real};
 use kea::{BodyDef, BodyHandle, ConstraintHandle, Quat, Real, StepStats, Vec3};
+use kea3d::PhysicsWorld;
 use kea_collision::{ColliderDef, QueryFilter, Shape};
-use kea_scene::{build, BuiltScene, Scene};
+use kea_scene::{build, Scene};
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
@@ -58,8 +59,8 @@ pub struct Timings {
 /// A running scene.
 pub struct App {
     spec: Scene,
-    /// The scene being simulated.
-    pub scene: BuiltScene,
+    /// The scene's world, stepped through its pipeline.
+    pub physics: PhysicsWorld,
     dt: Real,
     /// Stepping stopped (single steps still work).
     pub paused: bool,
@@ -82,10 +83,10 @@ impl App {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(format!("dt must be finite and > 0, got {dt}"));
         }
-        let scene = build_with_room(&spec)?;
+        let physics = build_with_room(&spec)?;
         let mut app = Self {
             spec,
-            scene,
+            physics,
             dt,
             paused: false,
             accumulator: 0.0,
@@ -109,13 +110,13 @@ impl App {
     /// Steps taken since the scene was (re)built.
     #[must_use]
     pub fn step_count(&self) -> u64 {
-        self.scene.world.step_count()
+        self.physics.dynamics().step_count()
     }
 
     /// Rebuilds the scene as it was loaded (the guide's Enter key).
     pub fn reset(&mut self) {
         match build_with_room(&self.spec) {
-            Ok(scene) => self.install(scene),
+            Ok(physics) => self.install(physics),
             Err(e) => self.message = Some(e),
         }
     }
@@ -123,15 +124,15 @@ impl App {
     /// Replaces the scene with `spec` (a reloaded file), as if the Viewer had been opened on
     /// it. A scene that does not build is an error and the running scene is kept.
     pub fn replace(&mut self, spec: Scene) -> Result<(), String> {
-        let scene = build_with_room(&spec)?;
+        let physics = build_with_room(&spec)?;
         self.spec = spec;
-        self.install(scene);
+        self.install(physics);
         Ok(())
     }
 
     /// Runs a freshly built scene from its start.
-    fn install(&mut self, scene: BuiltScene) {
-        self.scene = scene;
+    fn install(&mut self, physics: PhysicsWorld) {
+        self.physics = physics;
         self.previous.clear();
         self.drag = None;
         self.accumulator = 0.0;
@@ -143,7 +144,7 @@ impl App {
     /// body last grabbed, else the heaviest body; `None` in a scene without bodies.
     #[must_use]
     pub fn subject(&self) -> Option<BodyHandle> {
-        let world = &self.scene.world;
+        let world = self.physics.dynamics();
         if let Some(chassis) = self.chassis() {
             return Some(chassis);
         }
@@ -161,13 +162,13 @@ impl App {
     #[must_use]
     pub fn chassis(&self) -> Option<BodyHandle> {
         let (h, _) = self.wheels.first()?;
-        self.scene.world.constraint_bodies(*h).ok()?[0]
+        self.physics.dynamics().constraint_bodies(*h).ok()?[0]
     }
 
     fn after_build(&mut self) {
         self.last_grabbed = None;
         self.snapshot();
-        self.wheels = crate::car::car_wheels(&self.scene.world);
+        self.wheels = crate::car::car_wheels(self.physics.dynamics());
         self.timings = Timings::default();
     }
 
@@ -219,10 +220,13 @@ impl App {
             let reach = d.target - d.held;
             let moved = reach.clamp_length_max(DRAG_SPEED * self.dt);
             d.held += moved;
-            let _ = self.scene.world.set_path(d.joint, d.held, moved / self.dt);
+            let _ = self
+                .physics
+                .dynamics_mut()
+                .set_path(d.joint, d.held, moved / self.dt);
         }
         let start = Instant::now();
-        match self.scene.step(self.dt) {
+        match self.physics.step(self.dt) {
             Ok(stats) => {
                 let total = start.elapsed();
                 self.timings = Timings {
@@ -250,7 +254,7 @@ impl App {
     }
 
     fn snapshot(&mut self) {
-        for (h, b) in self.scene.world.bodies() {
+        for (h, b) in self.physics.dynamics().bodies() {
             self.previous.insert(h, (b.position(), b.orientation()));
         }
     }
@@ -258,7 +262,7 @@ impl App {
     /// A body's pose for drawing: between its pose before and after the last step.
     #[must_use]
     pub fn body_pose(&self, h: BodyHandle) -> Option<(Vec3, Quat)> {
-        let b = self.scene.world.body(h).ok()?;
+        let b = self.physics.dynamics().body(h).ok()?;
         let now = (b.position(), b.orientation());
         let Some(before) = self.previous.get(&h) else {
             return Some(now);
@@ -286,10 +290,10 @@ impl App {
             linear_velocity: direction.normalize_or_zero() * SHOT_SPEED,
             ..BodyDef::default()
         };
-        let world = &mut self.scene.world;
+        let (world, collision) = self.physics.layers_mut();
         let body = world.create_body(&def).map_err(|e| e.to_string())?;
         let collider = ColliderDef::new(Some(body), shape);
-        if let Err(e) = self.scene.collision.add_collider(world, collider) {
+        if let Err(e) = collision.add_collider(world, collider) {
             let _ = world.destroy_body(body);
             return Err(e.to_string());
         }
@@ -301,19 +305,19 @@ impl App {
     /// point with a fixed-path joint; false if the ray hits no body.
     pub fn begin_drag(&mut self, origin: Vec3, direction: Vec3) -> bool {
         self.end_drag();
-        let hit = self.scene.collision.cast_ray(
-            &self.scene.world,
+        let hit = self.physics.collision().cast_ray(
+            self.physics.dynamics(),
             origin,
             direction,
             1.0e4,
             QueryFilter::default(),
         );
         let Ok(Some(hit)) = hit else { return false };
-        let Ok(def) = self.scene.collision.collider(hit.collider) else {
+        let Ok(def) = self.physics.collision().collider(hit.collider) else {
             return false;
         };
         let Some(body) = def.body else { return false };
-        let world = &mut self.scene.world;
+        let world = self.physics.dynamics_mut();
         let _ = world.wake_body(body);
         match world.create_fixed_path(body, None, hit.point, false) {
             Ok(joint) => {
@@ -358,7 +362,7 @@ impl App {
     /// Lets go of the held body.
     pub fn end_drag(&mut self) {
         if let Some(d) = self.drag.take() {
-            let world = &mut self.scene.world;
+            let world = self.physics.dynamics_mut();
             let _ = world.destroy_constraint(d.joint);
             if let Ok(b) = world.body_mut(d.body) {
                 let _ = b.set_linear_damping(d.damping.0);
@@ -382,11 +386,16 @@ fn hold_damping(world: &mut kea::World, body: BodyHandle) -> (Real, Real) {
     own
 }
 
-/// Builds `spec`; when its world sizes itself (`max_bodies` 0), leaves room for
-/// [`SHOT_ROOM`] more bodies and their contacts (as far as the scene limits allow).
-fn build_with_room(spec: &Scene) -> Result<BuiltScene, String> {
+/// Builds `spec` into a world to step; when its world sizes itself (`max_bodies` 0), leaves
+/// room for [`SHOT_ROOM`] more bodies and their contacts (as far as the scene limits allow).
+fn build_with_room(spec: &Scene) -> Result<PhysicsWorld, String> {
+    let built = |spec: &Scene| {
+        build(spec)
+            .map(PhysicsWorld::from_scene)
+            .map_err(|e| e.to_string())
+    };
     if spec.world.max_bodies != 0 {
-        return build(spec).map_err(|e| e.to_string());
+        return built(spec);
     }
     let needed = kea_scene::body_count(spec);
     let mut roomy = spec.clone();
@@ -398,5 +407,5 @@ fn build_with_room(spec: &Scene) -> Result<BuiltScene, String> {
             .saturating_mul(16)
             .clamp(256, kea_scene::MAX_CONSTRAINTS);
     }
-    build(&roomy).map_err(|e| e.to_string())
+    built(&roomy)
 }

@@ -13,7 +13,7 @@ impl App {
     /// Drives every car wheel: `throttle` and `steer` in −1..1 (keys give −1, 0 or 1). Wheels
     /// whose steering the scene locked are not steered.
     pub fn drive(&mut self, throttle: Real, steer: Real) {
-        let world = &mut self.scene.world;
+        let world = self.physics.dynamics_mut();
         for &(h, forwards) in &self.wheels {
             let Ok(wheel) = world.car_wheel_mut(h) else {
                 continue;

@@ -141,8 +141,8 @@ impl Painter {
     /// Draws the scene from `eye` at the interpolated poses; returns the number of triangles
     /// drawn.
     pub fn draw_scene(&mut self, app: &App, eye: Eye, toggles: Toggles) -> usize {
-        let world = &app.scene.world;
-        let collision = &app.scene.collision;
+        let world = app.physics.dynamics();
+        let collision = app.physics.collision();
         if self.receivers.is_none() {
             self.receivers = Some(Receivers::new(world, collision));
             self.tile = kea_render::scene_tile(world, collision);
@@ -204,14 +204,15 @@ impl Painter {
     /// every other static collider checkered in [`STATIC_COLOUR`]; fog fades them into the
     /// sky.
     fn draw_statics(&mut self, app: &App, eye: Eye, fog: &Fog, light: Vec3) -> usize {
-        let collision = &app.scene.collision;
+        let collision = app.physics.collision();
         let reach = fog.far + (eye.position - eye.target).length();
         let mut count = 0;
         for (handle, def) in collision.colliders() {
             if def.body.is_some() {
                 continue;
             }
-            let Ok((position, rotation)) = collision.collider_pose(&app.scene.world, handle) else {
+            let Ok((position, rotation)) = collision.collider_pose(app.physics.dynamics(), handle)
+            else {
                 continue;
             };
             let triangles: Vec<([Vec3; 3], Tiling, [u8; 3])> =
@@ -254,7 +255,13 @@ impl Painter {
     }
 
     fn colour_of(&self, app: &App, b: BodyHandle, toggles: Toggles) -> [u8; 3] {
-        if toggles.sleeping && app.scene.world.body(b).is_ok_and(|b| b.is_sleeping()) {
+        if toggles.sleeping
+            && app
+                .physics
+                .dynamics()
+                .body(b)
+                .is_ok_and(|b| b.is_sleeping())
+        {
             return [90, 90, 110];
         }
         let index = if toggles.islands {
@@ -291,7 +298,7 @@ fn cast_shadow(
     if receivers.is_empty() {
         return;
     }
-    let (world, collision) = (&app.scene.world, &app.scene.collision);
+    let (world, collision) = (app.physics.dynamics(), app.physics.collision());
     let dropped: Vec<Option<Vec3>> = corners
         .iter()
         .map(|p| receivers.shadow_of(world, collision, *p, light))

@@ -74,7 +74,7 @@ impl Gizmos {
 
     /// Every enabled joint of the app's scene at the drawn (interpolated) poses.
     pub fn joints(&mut self, app: &App) {
-        let world = &app.scene.world;
+        let world = app.physics.dynamics();
         for (h, bodies) in world.enabled_joints() {
             let Ok(Some(sketch)) = world.joint_sketch(h) else {
                 continue;
@@ -176,7 +176,7 @@ impl Gizmos {
     /// Every contact point, with a line along its normal as long as its normal force: a force
     /// of `weight` newtons gets `length` metres, up to [`MAX_FORCE_LENGTH`] times that.
     pub fn contacts(&mut self, app: &App, weight: Real, length: Real) {
-        for (_, contact, _) in app.scene.world.contacts() {
+        for (_, contact, _) in app.physics.dynamics().contacts() {
             let n = contact.normal();
             for (point, force) in contact.points().iter().zip(contact.forces()) {
                 let p = point.position;
@@ -202,7 +202,7 @@ pub fn force_length(force: Real, weight: Real, length: Real) -> Real {
 /// drawn pose.
 fn relocate(app: &App, b: Option<BodyHandle>, p: Vec3, direction: bool) -> Vec3 {
     let Some(b) = b else { return p };
-    let (Some((x, q)), Ok(body)) = (app.body_pose(b), app.scene.world.body(b)) else {
+    let (Some((x, q)), Ok(body)) = (app.body_pose(b), app.physics.dynamics().body(b)) else {
         return p;
     };
     let turn = q * body.orientation().inverse();

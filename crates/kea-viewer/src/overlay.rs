@@ -33,7 +33,7 @@ fn ms(d: std::time::Duration) -> f64 {
 pub fn stats_lines(app: &App, frame: &FrameTimes) -> Vec<String> {
     let t = &app.timings;
     let s = &t.stats;
-    let world = &app.scene.world;
+    let world = app.physics.dynamics();
     let contacts = world.contacts().count();
     let mut lines = Vec::with_capacity(8);
     let state = if app.paused { "paused" } else { "running" };

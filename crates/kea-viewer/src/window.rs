@@ -179,7 +179,7 @@ impl Session {
                 self.app.shoot(eye, self.camera.forward());
                 self.say(&format!(
                     "shot bodies={}",
-                    self.app.scene.world.body_count()
+                    self.app.physics.dynamics().body_count()
                 ));
             }
             Action::Contacts => self.toggles.contacts = !self.toggles.contacts,
@@ -311,8 +311,8 @@ impl Session {
 
 /// A typical body's weight and the length a force of that weight gets: a quarter tile.
 fn force_scale(app: &crate::App) -> (Real, Real) {
-    let world = &app.scene.world;
-    let tile = kea_render::scene_tile(world, &app.scene.collision);
+    let world = app.physics.dynamics();
+    let tile = kea_render::scene_tile(world, app.physics.collision());
     (typical_weight(world), 0.25 * tile)
 }
 
@@ -340,7 +340,7 @@ fn smooth(average: std::time::Duration, now: std::time::Duration) -> std::time::
 }
 
 async fn run_loop(app: App, options: ViewerOptions) {
-    let camera = OrbitCamera::framing(&app.scene.world);
+    let camera = OrbitCamera::framing(app.physics.dynamics());
     let scene_file = options.scene_file.as_deref().map(SceneFile::new);
     let mut s = Session {
         app,

@@ -30,16 +30,16 @@ fn frames_take_whole_fixed_steps_and_keep_the_rest_for_interpolation() {
 #[test]
 fn the_drawn_pose_lies_between_the_last_two_steps() {
     let mut app = drop_app();
-    let body = app.scene.body("box").unwrap();
-    app.scene
-        .world
+    let body = app.physics.body_by_name("box").unwrap();
+    app.physics
+        .dynamics_mut()
         .body_mut(body)
         .unwrap()
         .set_linear_velocity(Vec3::new(0.0, -3.0, 0.0))
         .unwrap();
-    let before = app.scene.world.body(body).unwrap().position();
+    let before = app.physics.dynamics().body(body).unwrap().position();
     assert_eq!(app.advance(1.5 * kea::math::wide(app.dt())), 1);
-    let after = app.scene.world.body(body).unwrap().position();
+    let after = app.physics.dynamics().body(body).unwrap().position();
     let (drawn, _) = app.body_pose(body).unwrap();
     let expected = before.lerp(after, app.alpha());
     assert!((drawn - expected).length() < 1e-5, "{drawn} vs {expected}");
@@ -49,8 +49,8 @@ fn the_drawn_pose_lies_between_the_last_two_steps() {
 #[test]
 fn paused_scenes_do_not_step_and_reset_restores_the_loaded_scene() {
     let mut app = drop_app();
-    let body = app.scene.body("box").unwrap();
-    let start = app.scene.world.body(body).unwrap().position();
+    let body = app.physics.body_by_name("box").unwrap();
+    let start = app.physics.dynamics().body(body).unwrap().position();
     app.advance(0.5);
     app.paused = true;
     let n = app.step_count();
@@ -60,25 +60,25 @@ fn paused_scenes_do_not_step_and_reset_restores_the_loaded_scene() {
     assert_eq!(app.step_count(), n + 1);
     app.reset();
     assert_eq!(app.step_count(), 0);
-    let body = app.scene.body("box").unwrap();
-    assert_eq!(app.scene.world.body(body).unwrap().position(), start);
+    let body = app.physics.body_by_name("box").unwrap();
+    assert_eq!(app.physics.dynamics().body(body).unwrap().position(), start);
 }
 
 #[test]
 fn a_shot_ball_leaves_at_the_shot_speed_and_falls_under_gravity() {
     let mut app = drop_app();
-    let bodies = app.scene.world.body_count();
+    let bodies = app.physics.dynamics().body_count();
     let origin = Vec3::new(0.0, 20.0, 10.0);
     app.shoot(origin, Vec3::new(0.0, 0.0, -2.0));
     assert_eq!(
-        app.scene.world.body_count(),
+        app.physics.dynamics().body_count(),
         bodies + 1,
         "{:?}",
         app.message
     );
     let (ball, _) = app
-        .scene
-        .world
+        .physics
+        .dynamics()
         .bodies()
         .find(|(_, b)| b.position() == origin)
         .unwrap();
@@ -86,7 +86,7 @@ fn a_shot_ball_leaves_at_the_shot_speed_and_falls_under_gravity() {
     for _ in 0..6 {
         app.step_once();
     }
-    let v = app.scene.world.body(ball).unwrap().linear_velocity();
+    let v = app.physics.dynamics().body(ball).unwrap().linear_velocity();
     assert!((v.z + SHOT_SPEED).abs() < 1e-3, "{v}");
     assert!((v.y - (-9.81 * 6.0 * dt)).abs() < 1e-3, "{v}");
 }
@@ -94,7 +94,7 @@ fn a_shot_ball_leaves_at_the_shot_speed_and_falls_under_gravity() {
 #[test]
 fn dragging_holds_the_grabbed_point_where_the_mouse_puts_it() {
     let mut app = drop_app();
-    let body = app.scene.body("box").unwrap();
+    let body = app.physics.body_by_name("box").unwrap();
     // The box (half extent 0.5) starts at y = 3: a ray down from above hits its top face.
     let eye = Vec3::new(0.0, 10.0, 0.0);
     assert!(app.begin_drag(eye, -Vec3::Y));
@@ -110,14 +110,14 @@ fn dragging_holds_the_grabbed_point_where_the_mouse_puts_it() {
         app.step_once();
     }
     // Held at its top face's centre, the box hangs below the point instead of falling.
-    let p = app.scene.world.body(body).unwrap().position();
+    let p = app.physics.dynamics().body(body).unwrap().position();
     assert!((p - Vec3::new(1.0, 3.0, 0.0)).length() < 0.05, "{p}");
     app.end_drag();
     for _ in 0..30 {
         app.step_once();
     }
     assert!(
-        app.scene.world.body(body).unwrap().position().y < 2.5,
+        app.physics.dynamics().body(body).unwrap().position().y < 2.5,
         "falls once let go"
     );
 }
@@ -130,8 +130,8 @@ fn a_ray_that_misses_every_body_grabs_nothing() {
 }
 
 fn chassis_pose(app: &App) -> (Vec3, Vec3) {
-    let chassis = app.scene.body("chassis").unwrap();
-    let b = app.scene.world.body(chassis).unwrap();
+    let chassis = app.physics.body_by_name("chassis").unwrap();
+    let b = app.physics.dynamics().body(chassis).unwrap();
     (b.position(), b.orientation() * Vec3::X)
 }
 
@@ -170,8 +170,13 @@ fn the_throttle_drives_the_car_forwards_and_the_steering_turns_it_left() {
         app.step_once();
     }
     let (after, _) = chassis_pose(&app);
-    let chassis = app.scene.body("chassis").unwrap();
-    let v = app.scene.world.body(chassis).unwrap().linear_velocity();
+    let chassis = app.physics.body_by_name("chassis").unwrap();
+    let v = app
+        .physics
+        .dynamics()
+        .body(chassis)
+        .unwrap()
+        .linear_velocity();
     assert!(
         v.dot(heading) < -1.0,
         "backing up: velocity {v} along heading {heading}"

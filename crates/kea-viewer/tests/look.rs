@@ -82,9 +82,9 @@ fn contact_normals_grow_with_the_force_they_carry() {
     for _ in 0..180 {
         app.step_once();
     }
-    let world = &app.scene.world;
+    let world = app.physics.dynamics();
     let weight = typical_weight(world);
-    let box_body = app.scene.body("box").unwrap();
+    let box_body = app.physics.body_by_name("box").unwrap();
     let mass = world.body(box_body).unwrap().mass();
     assert!((weight - mass * 9.81).abs() < 1e-3 * weight, "{weight}");
     let carried: Real = world
@@ -106,19 +106,27 @@ fn a_reloaded_scene_replaces_the_running_one_and_a_bad_one_changes_nothing() {
     for _ in 0..10 {
         app.step_once();
     }
-    assert_eq!(app.subject(), app.scene.body("box"), "the only body");
+    assert_eq!(
+        app.subject(),
+        app.physics.body_by_name("box"),
+        "the only body"
+    );
     app.replace(scene("car.json")).unwrap();
     assert_eq!(app.step_count(), 0);
     assert_eq!(app.wheels().len(), 4);
     assert_eq!(
         app.subject(),
-        app.scene.body("chassis"),
+        app.physics.body_by_name("chassis"),
         "a car is followed by its chassis"
     );
     let mut broken = scene("drop.json");
     broken.world.epsilon = -1.0;
-    let bodies = app.scene.world.body_count();
+    let bodies = app.physics.dynamics().body_count();
     assert!(app.replace(broken).is_err());
-    assert_eq!(app.scene.world.body_count(), bodies, "the car is kept");
+    assert_eq!(
+        app.physics.dynamics().body_count(),
+        bodies,
+        "the car is kept"
+    );
     assert_eq!(app.wheels().len(), 4);
 }

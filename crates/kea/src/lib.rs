@@ -27,6 +27,7 @@ pub mod error;
 mod handle;
 pub mod math;
 pub mod solver;
+pub mod threads;
 pub mod timing;
 mod union_find;
 pub mod world;
@@ -45,9 +46,10 @@ pub use solver::{
     IslandReport, IterativeParams, Reaction, Routing, SimdLevel, Solver, SolverBody, SolverContact,
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
 };
+pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{
     CollisionStats, DemMode, DemSettings, IslandList, JointRange, JointSketch, QuarantineEvent,
-    QuarantineReason, SpeedLimits, StepStats, World, WorldDef, MAX_CAPACITY, PARALLEL_MIN_BODIES,
+    QuarantineReason, SpeedLimits, StepSize, StepStats, World, WorldDef, MAX_CAPACITY,
 };
 #[cfg(feature = "serde")]
 pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};

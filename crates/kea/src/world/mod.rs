@@ -17,6 +17,7 @@ mod sleep;
 #[cfg(feature = "serde")]
 mod snapshot;
 mod step;
+mod step_size;
 mod write_back;
 
 pub use islands::IslandList;
@@ -27,7 +28,8 @@ pub use sleep::{DemMode, DemSettings};
 pub(crate) use snapshot::serde_real;
 #[cfg(feature = "serde")]
 pub use snapshot::{WorldSnapshot, SNAPSHOT_VERSION};
-pub use step::{CollisionStats, StepStats, PARALLEL_MIN_BODIES, PROJECTION_TOLERANCE};
+pub use step::{CollisionStats, StepStats, PROJECTION_TOLERANCE};
+pub use step_size::StepSize;
 
 use crate::body::{Body, BodyDef};
 use crate::constraint::{Row, Spring};

@@ -9,9 +9,10 @@
 //! ```
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
+use super::StepSize;
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
-use crate::error::{check_positive, KeaResult};
+use crate::error::KeaResult;
 use crate::handle::{Arena, ConstraintHandle};
 use crate::math::{is_finite3, wide, Mat3, Real, Vec3};
 use crate::solver::{
@@ -85,11 +86,6 @@ pub struct StepStats {
     pub collision: CollisionStats,
 }
 
-/// With the `parallel` feature, the body count from which a step called from outside rayon's
-/// pool moves onto one of its threads: handing a step over costs tens of microseconds, which
-/// a smaller world does not win back (its work is too small to split anyway).
-pub const PARALLEL_MIN_BODIES: usize = 256;
-
 impl World {
     /// Advances the world by `dt` seconds (the guide's `MdtWorldStep`). Any finite `dt > 0` is
     /// allowed and it may change from step to step.
@@ -99,18 +95,17 @@ impl World {
     /// constraint that wrote a NaN row) and the world is unchanged: nothing is committed until
     /// the solver has accepted every row.
     pub fn step(&mut self, dt: Real) -> KeaResult<StepStats> {
-        // With threads, a big world's step called from outside rayon's pool runs on one of its
-        // threads (so its parallel sections do not each wait to be handed over).
-        #[cfg(feature = "parallel")]
-        if rayon::current_thread_index().is_none() && self.body_count() >= PARALLEL_MIN_BODIES {
-            return rayon::join(|| self.step_here(dt), || ()).0;
-        }
-        self.step_here(dt)
+        self.step_by(StepSize::new(dt)?)
     }
 
-    /// [`World::step`] on the calling thread.
+    /// [`World::step`] by a step already checked.
+    pub fn step_by(&mut self, dt: StepSize) -> KeaResult<StepStats> {
+        // Inside the pool (a pipeline that hopped already) it stays where it is.
+        crate::threads::on_pool(self.body_count(), || self.step_here(dt.seconds()))
+    }
+
+    /// [`World::step`] on the calling thread, `dt` checked.
     fn step_here(&mut self, dt: Real) -> KeaResult<StepStats> {
-        check_positive("dt", dt)?;
         let t0 = Stamp::now(self.step_timing);
         let params = self.solver_params(dt);
         let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;

@@ -206,33 +206,6 @@ impl PhysicsWorld {
         Ok(())
     }
 
-    /// Gives each position-driven kinematic body the velocity that takes it to its target in
-    /// `dt` (none without a target). The targets were checked when set, and `dt` by the
-    /// caller, so the setters here do not fail on user input.
-    pub(super) fn drive_kinematic_targets(&mut self, dt: Real) -> Result<()> {
-        for i in 0..self.driven.len() {
-            let h = self.driven[i];
-            let (target, com) = {
-                let m = self.meta(h)?;
-                (m.target, m.local_com)
-            };
-            let b = self.dynamics.body_mut(h)?;
-            let (v, w) = match target {
-                Some((p, q)) => {
-                    let v = (p + q * com - b.position()) / dt;
-                    let dq = (q * b.orientation().inverse()).normalize();
-                    let dq = if dq.w < 0.0 { -dq } else { dq };
-                    let (axis, angle) = dq.to_axis_angle();
-                    (v, axis * (angle / dt))
-                }
-                None => (Vec3::ZERO, Vec3::ZERO),
-            };
-            b.set_linear_velocity(v)?;
-            b.set_angular_velocity(w)?;
-        }
-        Ok(())
-    }
-
     /// Brings a body's mass, inertia and centre of mass in step with its colliders (the
     /// builder's mass and inertia win). Moving the centre of mass keeps the frame origin and
     /// moves the colliders to match; a body that already has joints refuses that, because

@@ -2,11 +2,13 @@
 
 mod attach;
 mod bodies;
+mod pipeline;
+mod snapshot;
 
 use crate::body::BodyType;
 use crate::collider::ColliderMass;
 use crate::Result;
-use kea::{BodyHandle, KeaError, Quat, Real, StepStats, Vec3, World, WorldDef};
+use kea::{BodyHandle, KeaError, Quat, Real, Vec3, World, WorldDef};
 use kea_collision::{ColliderHandle, CollisionWorld, MaterialId, Surface};
 use kea_scene::{BuiltScene, ScenePaths};
 
@@ -48,7 +50,6 @@ pub struct PhysicsWorld {
     /// A scene's bodies and joints by name.
     names: Vec<(String, BodyHandle)>,
     joint_names: Vec<(String, kea::ConstraintHandle)>,
-    time: Real,
 }
 
 /// What a body is beyond the dynamics layer's view.
@@ -117,7 +118,6 @@ impl PhysicsWorld {
             paths: ScenePaths::default(),
             names: Vec::new(),
             joint_names: Vec::new(),
-            time: 0.0,
         };
         let found: Vec<(BodyHandle, BodyType, Real)> = world
             .dynamics
@@ -155,43 +155,11 @@ impl PhysicsWorld {
     #[must_use]
     pub fn from_scene(scene: BuiltScene) -> Self {
         let paths = scene.paths().clone();
-        let time = scene.time();
         let mut world = Self::from_parts(scene.world, scene.collision);
         world.paths = paths;
-        world.time = time;
         world.names = scene.bodies;
         world.joint_names = scene.joints;
         world
-    }
-
-    /// Steps the world by `dt` seconds: drives kinematic bodies and scene paths, finds
-    /// contacts, and solves. The statistics include the collision stage's
-    /// ([`StepStats::collision`]). On error nothing has changed.
-    pub fn step(&mut self, dt: Real) -> Result<StepStats> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(KeaError::OutOfRange {
-                arg: "dt",
-                value: kea::error::format_real(dt),
-                expected: "a positive finite step, s",
-            }
-            .into());
-        }
-        self.paths.drive(&mut self.dynamics, self.time, dt)?;
-        self.drive_kinematic_targets(dt)?;
-        let stats = self.collision.step(&mut self.dynamics, dt)?;
-        for &h in &self.driven {
-            if let Some(Some(m)) = self.meta.get_mut(h.index() as usize) {
-                m.target = None;
-            }
-        }
-        self.time += dt;
-        Ok(stats)
-    }
-
-    /// Time simulated, s.
-    #[must_use]
-    pub fn time(&self) -> Real {
-        self.time
     }
 
     /// Gravity, m/s².

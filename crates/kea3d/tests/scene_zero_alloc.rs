@@ -5,6 +5,7 @@
 mod common;
 
 use kea::Real;
+use kea3d::PhysicsWorld;
 use kea_scene::{build, Scene};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -88,7 +89,7 @@ fn check_scenes(names: &[std::path::PathBuf]) {
     let mut failures = Vec::new();
     for path in names {
         let text = std::fs::read_to_string(path).unwrap();
-        let mut built = build(&Scene::from_json(&text).unwrap()).unwrap();
+        let mut built = PhysicsWorld::from_scene(build(&Scene::from_json(&text).unwrap()).unwrap());
         // Warm: the scene has found the contacts it makes and the sizes it needs.
         for _ in 0..240 {
             built.step(DT).unwrap();

@@ -1,23 +1,24 @@
-//! Issue 12: determinism and replay, on every demo scene.
+//! Issue 12: determinism and replay, on every demo scene, stepped through the pipeline.
 //!
-//! - A clone taken mid-run (world, collision layer and scene drivers) and stepped on gives the
+//! - A clone taken mid-run (dynamics, collision layer and drivers) and stepped on gives the
 //!   bits of the uninterrupted run: warm starts, contact ids, manifolds, sleep timers and joint
 //!   state all travel with it.
 //! - Each scene's state hash after 120 steps equals the one in `tests/golden/` for this precision:
 //!   the same across runs and processes (each test run is a new process), with the `parallel`
 //!   feature on and off (both builds check the same file), and for 1, 2 and 4 threads.
 //!
-//! - A snapshot saved mid-run, in the binary and the JSON form, restores to a scene that steps
+//! - A snapshot saved mid-run, in the binary and the JSON form, restores to a world that steps
 //!   on with the same bits, on every demo scene.
 //!
 //! After a change that moves the physics on purpose, write the new hashes with
-//! `KEA_BLESS=1 cargo test -p kea-scene --test determinism` (and again with
+//! `KEA_BLESS=1 cargo test -p kea3d --test determinism` (and again with
 //! `--features kea-collision/f64`).
 
 mod common;
 
 use kea::Real;
-use kea_scene::{build, BuiltScene, Scene};
+use kea3d::PhysicsWorld;
+use kea_scene::{build, Scene, SceneSnapshot};
 
 const STEPS: usize = 120;
 const DT: Real = 1.0 / 60.0;
@@ -40,7 +41,7 @@ fn bits(x: kea::Real) -> u64 {
 }
 
 /// FNV-1a over the bits of every body's pose and velocities, in slot order.
-fn state_hash(scene: &BuiltScene) -> u64 {
+fn state_hash(scene: &PhysicsWorld) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |bits: u64| {
         for byte in bits.to_le_bytes() {
@@ -48,7 +49,7 @@ fn state_hash(scene: &BuiltScene) -> u64 {
             h = h.wrapping_mul(0x0100_0000_01b3);
         }
     };
-    for (handle, body) in scene.world.bodies() {
+    for (handle, body) in scene.dynamics().bodies() {
         eat(u64::from(handle.index()));
         let (p, q) = (body.position(), body.orientation());
         let (v, w) = (body.linear_velocity(), body.angular_velocity());
@@ -62,15 +63,15 @@ fn state_hash(scene: &BuiltScene) -> u64 {
 }
 
 /// The scene's islands as lists of body handles, asleep or not.
-fn island_lists(scene: &BuiltScene) -> Vec<(bool, Vec<kea::BodyHandle>)> {
+fn island_lists(scene: &PhysicsWorld) -> Vec<(bool, Vec<kea::BodyHandle>)> {
     let mut list = kea::IslandList::default();
-    scene.world.islands(&mut list);
+    scene.dynamics().islands(&mut list);
     (0..list.len())
         .map(|k| (list.is_asleep(k), list.bodies(k).to_vec()))
         .collect()
 }
 
-fn run(scene: &mut BuiltScene, steps: usize) {
+fn run(scene: &mut PhysicsWorld, steps: usize) {
     for _ in 0..steps {
         scene.step(DT).unwrap();
     }
@@ -79,7 +80,7 @@ fn run(scene: &mut BuiltScene, steps: usize) {
 #[test]
 fn every_demo_scene_replays_bit_for_bit_from_a_clone_taken_mid_run() {
     for (name, scene) in demo_scenes() {
-        let mut original = build(&scene).unwrap();
+        let mut original = PhysicsWorld::from_scene(build(&scene).unwrap());
         run(&mut original, STEPS / 2);
         let mut copy = original.clone();
         run(&mut original, STEPS / 2);
@@ -91,8 +92,8 @@ fn every_demo_scene_replays_bit_for_bit_from_a_clone_taken_mid_run() {
         );
         // And the clone's contacts are the same contacts, with the same forces.
         assert_eq!(
-            copy.world.constraint_count(),
-            original.world.constraint_count(),
+            copy.dynamics().constraint_count(),
+            original.dynamics().constraint_count(),
             "{name}"
         );
     }
@@ -101,14 +102,16 @@ fn every_demo_scene_replays_bit_for_bit_from_a_clone_taken_mid_run() {
 #[test]
 fn every_demo_scene_replays_bit_for_bit_from_a_saved_snapshot() {
     for (name, scene) in demo_scenes() {
-        let mut original = build(&scene).unwrap();
+        let mut original = PhysicsWorld::from_scene(build(&scene).unwrap());
         run(&mut original, STEPS / 2);
-        let binary = original.snapshot_binary().unwrap();
-        let json = original.snapshot_json().unwrap();
-        let mut from_binary =
-            BuiltScene::restore_binary(&binary).unwrap_or_else(|e| panic!("{name}: binary: {e}"));
-        let mut from_json =
-            BuiltScene::restore_json(&json).unwrap_or_else(|e| panic!("{name}: JSON: {e}"));
+        let binary = original.snapshot().unwrap().to_binary().unwrap();
+        let json = original.snapshot().unwrap().to_json().unwrap();
+        let mut from_binary = SceneSnapshot::from_binary(&binary)
+            .and_then(PhysicsWorld::restore)
+            .unwrap_or_else(|e| panic!("{name}: binary: {e}"));
+        let mut from_json = SceneSnapshot::from_json(&json)
+            .and_then(PhysicsWorld::restore)
+            .unwrap_or_else(|e| panic!("{name}: JSON: {e}"));
         // The restored worlds hold the same islands (the guide's partition lists).
         let expected = island_lists(&original);
         assert_eq!(
@@ -130,29 +133,35 @@ fn every_demo_scene_replays_bit_for_bit_from_a_saved_snapshot() {
             "{name}: binary islands"
         );
         // The restored scene answers to the same handles.
-        let (body_name, body) = &original.bodies[0];
-        assert_eq!(from_binary.body(body_name), Some(*body));
-        assert!(from_binary.world.body(*body).is_ok());
+        let (body_name, body) = &original.named_bodies()[0];
+        assert_eq!(from_binary.body_by_name(body_name), Some(*body));
+        assert!(from_binary.dynamics().body(*body).is_ok());
+        // And keeps the clock.
+        assert_eq!(from_binary.time(), original.time());
     }
 }
 
 #[test]
 fn a_bad_snapshot_is_refused_by_name() {
     let (_, scene) = demo_scenes().remove(0);
-    let built = build(&scene).unwrap();
-    let mut binary = built.snapshot_binary().unwrap();
-    let e = BuiltScene::restore_binary(b"not a snapshot").err().unwrap();
+    let built = PhysicsWorld::from_scene(build(&scene).unwrap());
+    let snapshot = built.snapshot().unwrap();
+    let mut binary = snapshot.to_binary().unwrap();
+    let e = SceneSnapshot::from_binary(b"not a snapshot").err().unwrap();
     assert!(e.to_string().contains("KEASNAP"), "{e}");
     binary[8] = 99; // the version
-    let e = BuiltScene::restore_binary(&binary).err().unwrap();
+    let e = SceneSnapshot::from_binary(&binary).err().unwrap();
     assert!(e.to_string().contains("version 99"), "{e}");
-    let json = built
-        .snapshot_json()
-        .unwrap()
-        .replacen("\"version\":1", "\"version\":7", 1);
-    let e = BuiltScene::restore_json(&json).err().unwrap();
-    assert!(e.to_string().contains("version 7"), "{e}");
-    let e = BuiltScene::restore_json("{}").err().unwrap();
+    // A snapshot of the first format (its clock was the scene's, not the world's).
+    let json = snapshot.to_json().unwrap();
+    assert!(json.starts_with("{\"version\":2,"), "{json:.40}");
+    let json = json.replacen("\"version\":2", "\"version\":1", 1);
+    let e = SceneSnapshot::from_json(&json)
+        .and_then(PhysicsWorld::restore)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("version 1"), "{e}");
+    let e = SceneSnapshot::from_json("{}").err().unwrap();
     assert!(e.to_string().contains("snapshot"), "{e}");
 }
 
@@ -173,7 +182,7 @@ fn golden_path() -> String {
 fn hashes() -> String {
     let mut out = String::new();
     for (name, scene) in demo_scenes() {
-        let mut built = build(&scene).unwrap();
+        let mut built = PhysicsWorld::from_scene(build(&scene).unwrap());
         run(&mut built, STEPS);
         out.push_str(&format!("{name} {:016x}\n", state_hash(&built)));
     }

@@ -3,18 +3,21 @@
 //! within their limits, and the cradle's last ball swings out.
 
 use kea::{BodyHandle, Real};
-use kea_scene::{build, BuiltScene, Scene};
+use kea3d::PhysicsWorld;
+use kea_scene::{build, Scene};
 
 const DT: Real = 1.0 / 60.0;
 
-fn load(name: &str) -> BuiltScene {
+fn load(name: &str) -> PhysicsWorld {
     let path = format!("{}/../../scenes/{name}.json", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap();
-    build(&Scene::from_json(&text).unwrap()).unwrap()
+    PhysicsWorld::from_scene(build(&Scene::from_json(&text).unwrap()).unwrap())
 }
 
-fn body(built: &BuiltScene, name: &str) -> BodyHandle {
-    built.body(name).unwrap_or_else(|| panic!("no body {name}"))
+fn body(built: &PhysicsWorld, name: &str) -> BodyHandle {
+    built
+        .body_by_name(name)
+        .unwrap_or_else(|| panic!("no body {name}"))
 }
 
 #[test]
@@ -25,14 +28,14 @@ fn the_conveyor_carries_crates_at_the_belt_speed_and_drops_them_off_the_end() {
     for _ in 0..60 {
         built.step(DT).unwrap();
     }
-    let v = built.world.body(crate0).unwrap().linear_velocity();
+    let v = built.dynamics().body(crate0).unwrap().linear_velocity();
     eprintln!("crate0 after 1 s: {v}");
     assert!((v.x - 1.5).abs() < 0.03 * 1.5, "v = {v}");
     assert!(v.z.abs() < 0.05, "v = {v}");
     for _ in 0..180 {
         built.step(DT).unwrap();
     }
-    let p = built.world.body(last).unwrap().position();
+    let p = built.dynamics().body(last).unwrap().position();
     eprintln!("crate3 after 4 s: {p}");
     assert!(p.x > 4.0 && p.y < 0.6, "crate3 fell off the end: {p}");
 }
@@ -41,11 +44,11 @@ fn the_conveyor_carries_crates_at_the_belt_speed_and_drops_them_off_the_end() {
 fn the_car_drives_forward_on_its_rear_wheels() {
     let mut built = load("car");
     let chassis = body(&built, "chassis");
-    let x0 = built.world.body(chassis).unwrap().position().x;
+    let x0 = built.dynamics().body(chassis).unwrap().position().x;
     for _ in 0..180 {
         built.step(DT).unwrap();
     }
-    let c = built.world.body(chassis).unwrap();
+    let c = built.dynamics().body(chassis).unwrap();
     let (p, v) = (c.position(), c.linear_velocity());
     eprintln!("chassis after 3 s: position {p}, velocity {v}");
     assert!(p.x - x0 > 5.0, "moved {}", p.x - x0);
@@ -54,37 +57,40 @@ fn the_car_drives_forward_on_its_rear_wheels() {
     let up = c.orientation() * kea::Vec3::Y;
     assert!(up.y > 0.9, "stayed upright: {up}");
     for name in ["wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr"] {
-        let j = built.joint(name).unwrap();
-        assert_eq!(built.world.constraint_kind(j).unwrap(), "car wheel joint");
+        let j = built.joint_by_name(name).unwrap();
+        assert_eq!(
+            built.dynamics().constraint_kind(j).unwrap(),
+            "car wheel joint"
+        );
     }
 }
 
 #[test]
 fn the_animated_hand_drops_its_object_when_it_jerks() {
     let mut built = load("animated_hand");
-    let grip = built.joint("grip").unwrap();
+    let grip = built.joint_by_name("grip").unwrap();
     let hand = body(&built, "hand");
     let mut broke_at = None;
     for i in 0..300 {
         let stats = built.step(DT).unwrap();
-        if stats.broken_joints > 0 || built.world.broken_last_step().contains(&grip) {
+        if stats.broken_joints > 0 || built.dynamics().broken_last_step().contains(&grip) {
             broke_at.get_or_insert((i + 1) as Real * DT);
         }
         if i == 100 {
             // Still held while the hand moves smoothly; the hand is on its path.
-            assert!(built.world.is_constraint_enabled(grip).unwrap());
-            let p = built.world.body(hand).unwrap().position();
+            assert!(built.dynamics().is_constraint_enabled(grip).unwrap());
+            let p = built.dynamics().body(hand).unwrap().position();
             assert!((p.y - 1.3).abs() < 0.01, "hand at {p}");
         }
     }
     let t = broke_at.expect("the grip broke");
     eprintln!("the grip broke at t = {t:.3} s");
     assert!((2.4..2.7).contains(&t), "broke at {t}");
-    assert!(!built.world.is_constraint_enabled(grip).unwrap());
+    assert!(!built.dynamics().is_constraint_enabled(grip).unwrap());
 }
 
 /// How far each of the ragdolls' joints is beyond its limits: hinge angle, ball cone, ball twist.
-fn ragdoll_overshoot(built: &BuiltScene) -> [(Real, String); 3] {
+fn ragdoll_overshoot(built: &PhysicsWorld) -> [(Real, String); 3] {
     let mut worst = [
         (0.0, String::new()),
         (0.0, String::new()),
@@ -95,8 +101,8 @@ fn ragdoll_overshoot(built: &BuiltScene) -> [(Real, String); 3] {
             worst[k] = (v, name.to_string());
         }
     };
-    for (name, h) in &built.joints {
-        let w = &built.world;
+    for (name, h) in built.named_joints() {
+        let w = built.dynamics();
         if let Ok(hinge) = w.hinge(*h) {
             let l = hinge.limit();
             note(
@@ -117,7 +123,7 @@ fn ragdoll_overshoot(built: &BuiltScene) -> [(Real, String); 3] {
 /// twist) over the whole run and over the last second.
 fn run_ragdolls(dt: Real) -> ([Real; 3], [Real; 3]) {
     let mut built = load("ragdoll");
-    assert_eq!(built.joints.len(), 30);
+    assert_eq!(built.named_joints().len(), 30);
     let steps = (5.0 / dt).round() as usize;
     let (mut during, mut settled) = ([0.0 as Real; 3], [0.0 as Real; 3]);
     for i in 0..steps {
@@ -153,13 +159,13 @@ fn the_ragdolls_joints_stay_within_their_limits() {
 fn the_cradle_passes_the_swing_to_the_last_ball() {
     let mut built = load("newtons_cradle");
     let balls: Vec<_> = (0..5).map(|i| body(&built, &format!("ball{i}"))).collect();
-    let rest_y = built.world.body(balls[4]).unwrap().position().y;
-    let start_rise = built.world.body(balls[0]).unwrap().position().y - rest_y;
+    let rest_y = built.dynamics().body(balls[4]).unwrap().position().y;
+    let start_rise = built.dynamics().body(balls[0]).unwrap().position().y - rest_y;
     let mut rise = [0.0 as Real; 5];
     for _ in 0..90 {
         built.step(DT).unwrap();
         for (k, b) in balls.iter().enumerate() {
-            let y = built.world.body(*b).unwrap().position().y - rest_y;
+            let y = built.dynamics().body(*b).unwrap().position().y - rest_y;
             rise[k] = rise[k].max(y);
         }
     }

@@ -1,0 +1,84 @@
+//! The step pipeline: the one place a world is stepped. [`PhysicsWorld::step`] checks `dt` once
+//! and runs the stages in order, on one thread of the pool at most one hop away:
+//!
+//! ```text
+//! PhysicsWorld::step(dt)            dt checked once (StepSize), one hop onto the pool
+//!   drive                           scene paths at the world's clock, kinematic targets
+//!   CollisionWorld::update_contacts_by    broad phase, narrow phase → the world's contacts
+//!   World::step_by                  islands and routing, solve, integrate, sleep, clock + dt
+//!   CollisionWorld::record_impulses  each touching pair's impulse, for events and read-outs
+//! ```
+//!
+//! The clock is the dynamics world's ([`kea::World::time`]): one clock, saved in its snapshot.
+
+use super::PhysicsWorld;
+use crate::Result;
+use kea::{Real, StepSize, StepStats, Vec3};
+
+impl PhysicsWorld {
+    /// Steps the world by `dt` seconds: drives scene paths and kinematic bodies, finds contacts,
+    /// and solves. The statistics include the collision stage's ([`StepStats::collision`]). A
+    /// bad `dt` is refused, naming it, before anything changes.
+    ///
+    /// With the `parallel` feature, a big world's step called from outside rayon's pool runs
+    /// on one of its threads (so its parallel sections do not each wait to be handed over);
+    /// see [`kea::threads`].
+    pub fn step(&mut self, dt: Real) -> Result<StepStats> {
+        let dt = StepSize::new(dt)?;
+        kea::threads::on_pool(self.dynamics.body_count(), || self.run_stages(dt))
+    }
+
+    /// The stages of one step, on the calling thread.
+    fn run_stages(&mut self, dt: StepSize) -> Result<StepStats> {
+        self.drive(dt)?;
+        self.collision.update_contacts_by(&mut self.dynamics, dt)?;
+        let mut stats = self.dynamics.step_by(dt)?;
+        self.collision.record_impulses(&self.dynamics, dt);
+        stats.collision = *self.collision.stats();
+        for &h in &self.driven {
+            if let Some(Some(m)) = self.meta.get_mut(h.index() as usize) {
+                m.target = None;
+            }
+        }
+        Ok(stats)
+    }
+
+    /// The drivers: each keyframed path set to where it is at the world's clock, with the
+    /// velocity that reaches its next point at the end of the step; each position-driven
+    /// kinematic body given the velocity that takes it to its target in `dt` (none without a
+    /// target). Targets were checked when set, so nothing here fails on user input.
+    fn drive(&mut self, dt: StepSize) -> Result<()> {
+        let time = self.dynamics.time() as Real;
+        let h = dt.seconds();
+        for (joint, position, velocity) in self.paths.samples(time, h) {
+            self.dynamics.set_path(joint, position, velocity)?;
+        }
+        for i in 0..self.driven.len() {
+            let body = self.driven[i];
+            let (target, com) = {
+                let m = self.meta(body)?;
+                (m.target, m.local_com)
+            };
+            let b = self.dynamics.body_mut(body)?;
+            let (v, w) = match target {
+                Some((p, q)) => {
+                    let v = (p + q * com - b.position()) / h;
+                    let dq = (q * b.orientation().inverse()).normalize();
+                    let dq = if dq.w < 0.0 { -dq } else { dq };
+                    let (axis, angle) = dq.to_axis_angle();
+                    (v, axis * (angle / h))
+                }
+                None => (Vec3::ZERO, Vec3::ZERO),
+            };
+            b.set_linear_velocity(v)?;
+            b.set_angular_velocity(w)?;
+        }
+        Ok(())
+    }
+
+    /// Time simulated, s: the dynamics world's clock.
+    #[must_use]
+    pub fn time(&self) -> Real {
+        self.dynamics.time() as Real
+    }
+}
