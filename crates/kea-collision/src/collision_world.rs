@@ -439,6 +439,13 @@ impl CollisionWorld {
         self.slots.iter().filter(|s| s.collider.is_some()).count()
     }
 
+    /// Checks the public settings (`margin`, `touch_distance`: finite and not negative), naming
+    /// the first bad one. A pipeline calls it before its first stage changes anything.
+    pub fn check_settings(&self) -> CollisionResult<()> {
+        check_distance("margin", self.margin)?;
+        check_distance("touch_distance", self.touch_distance)
+    }
+
     /// Finds the colliding pairs and creates, updates or destroys the world's contacts so they
     /// match this step's contact manifolds. `dt` is the coming step, used to widen the search by
     /// each body's motion (speculative contacts) and must be positive; the public settings
@@ -453,8 +460,7 @@ impl CollisionWorld {
         let dt = dt.seconds();
         // Checked before anything moves: parry asserts on a negative loosening margin, and a
         // refused step must leave the contacts as they were.
-        check_distance("margin", self.margin)?;
-        check_distance("touch_distance", self.touch_distance)?;
+        self.check_settings()?;
         let t0 = Stamp::now(world.step_timing());
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);

@@ -347,6 +347,24 @@ fn bad_input_is_refused_by_name_and_changes_nothing() {
     assert!(matches!(err, Error::Kea(_)), "{err}");
     let err = w.step(-1.0).unwrap_err();
     assert!(err.to_string().contains("dt"), "{err}");
+    // A bad collision setting is refused before the drivers move anything: a kinematic body
+    // with a target keeps its velocity, the clock stands.
+    let k = w.insert_body(Body::kinematic_position_based()).unwrap();
+    w.set_kinematic_target(k, [1.0, 0.0, 0.0], Quat::IDENTITY)
+        .unwrap();
+    w.collision_mut().margin = -1.0;
+    let err = w.step(1.0 / 60.0).unwrap_err();
+    assert!(err.to_string().contains("margin"), "{err}");
+    assert_eq!(w.dynamics().body(k).unwrap().linear_velocity(), Vec3::ZERO);
+    assert_eq!(w.time(), 0.0);
+    w.collision_mut().margin = 0.0;
+    w.step(1.0 / 60.0).unwrap();
+    let v = w.dynamics().body(k).unwrap().linear_velocity();
+    assert!(
+        (v.x - 60.0).abs() < 1e-3,
+        "the target drives it once accepted: {v}"
+    );
+    w.remove_body(k).unwrap();
     let err = w
         .insert_joint(b, None, Joint::hinge([0.0, 0.0, 0.0], [0.0, 0.0, 0.0]))
         .unwrap_err();

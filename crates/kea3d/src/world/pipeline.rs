@@ -2,7 +2,8 @@
 //! and runs the stages in order, on one thread of the pool at most one hop away:
 //!
 //! ```text
-//! PhysicsWorld::step(dt)            dt checked once (StepSize), one hop onto the pool
+//! PhysicsWorld::step(dt)            dt checked once (StepSize), one hop onto the pool,
+//!                                   the collision settings checked
 //!   drive                           scene paths at the world's clock, kinematic targets
 //!   CollisionWorld::update_contacts_by    broad phase, narrow phase → the world's contacts
 //!   World::step_by                  islands and routing, solve, integrate, sleep, clock + dt
@@ -28,8 +29,11 @@ impl PhysicsWorld {
         kea::threads::on_pool(self.dynamics.body_count(), || self.run_stages(dt))
     }
 
-    /// The stages of one step, on the calling thread.
+    /// The stages of one step, on the calling thread. Every input is checked before the first
+    /// stage changes anything: `dt` by the caller, the collision settings here, targets and
+    /// paths when they were set.
     fn run_stages(&mut self, dt: StepSize) -> Result<StepStats> {
+        self.collision.check_settings()?;
         self.drive(dt)?;
         self.collision.update_contacts_by(&mut self.dynamics, dt)?;
         let mut stats = self.dynamics.step_by(dt)?;
