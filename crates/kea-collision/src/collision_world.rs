@@ -163,6 +163,18 @@ pub struct CollisionWorld {
     pub(crate) tree: DynamicTree,
     /// Colliders whose fat box changed this step (they look for new pairs).
     pub(crate) moved: Vec<u32>,
+    /// Per collider slot: whether it cannot move this step (static, asleep, disabled; false
+    /// for an empty slot), dense so that the narrow phase passes resting pairs without
+    /// reaching into their colliders.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) still: Vec<bool>,
+    /// The jointed pairs changed this step (resting pairs are filtered again).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) jointed_changed: bool,
+    /// The world's joint revision the jointed pairs were read at (`None`: read them, as after
+    /// a change of which joints may collide).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    jointed_revision: Option<u64>,
     pub(crate) new_pairs: Vec<(u32, u32)>,
     /// The narrow phase's chunks of pairs: what each wants this step.
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -223,6 +235,9 @@ impl CollisionWorld {
             pairs: Pairs::default(),
             tree: DynamicTree::new(),
             moved: Vec::new(),
+            still: Vec::new(),
+            jointed_changed: true,
+            jointed_revision: None,
             new_pairs: Vec::new(),
             workers: Vec::new(),
             active_workers: 0,
@@ -418,6 +433,7 @@ impl CollisionWorld {
         collide: bool,
     ) -> CollisionResult<()> {
         world.constraint_bodies(joint)?;
+        self.jointed_revision = None;
         match (self.colliding_joints.binary_search(&joint), collide) {
             (Err(i), true) => self.colliding_joints.insert(i, joint),
             (Ok(i), false) => {
@@ -508,6 +524,12 @@ impl CollisionWorld {
     /// changes, the colliders of the bodies concerned look for pairs again (a pair the filter
     /// refused was never made, and their boxes may not move).
     fn collect_jointed_pairs(&mut self, world: &World) {
+        // The joints are as they were when last read: so are their pairs.
+        if self.jointed_revision == Some(world.joint_revision()) {
+            self.jointed_changed = false;
+            return;
+        }
+        self.jointed_revision = Some(world.joint_revision());
         std::mem::swap(&mut self.jointed, &mut self.previously_jointed);
         self.jointed.clear();
         for (joint, [a, b]) in world.enabled_joints() {
@@ -518,7 +540,8 @@ impl CollisionWorld {
             }
         }
         self.jointed.sort_unstable();
-        if self.jointed == self.previously_jointed {
+        self.jointed_changed = self.jointed != self.previously_jointed;
+        if !self.jointed_changed {
             return;
         }
         for (i, slot) in self.slots.iter().enumerate() {

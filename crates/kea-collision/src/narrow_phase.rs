@@ -145,6 +145,9 @@ pub(crate) struct NarrowWorker {
     /// Pairs whose manifold failed this step (parry panicked, or gave a non-finite point):
     /// they get no contacts this step and are generated again the next.
     pub failed: Vec<u32>,
+    /// The chunk's pairs that may move this step (not resting), in slot order: the ones
+    /// whose manifolds, events and impulses change.
+    pub active: Vec<u32>,
     generator: Generator,
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     manifolds: u32,
@@ -160,6 +163,7 @@ impl Default for NarrowWorker {
             generated: Vec::with_capacity(PAIR_CHUNK),
             dropped: Vec::with_capacity(PAIR_CHUNK),
             failed: Vec::new(),
+            active: Vec::with_capacity(PAIR_CHUNK),
             generator: Generator::default(),
             reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
             manifolds: 0,
@@ -171,6 +175,10 @@ impl Default for NarrowWorker {
 /// What every worker reads.
 struct Shared<'a> {
     slots: &'a [Slot],
+    /// Per collider slot: still this step (see `CollisionWorld::still`).
+    still: &'a [bool],
+    /// The jointed pairs changed this step: resting pairs are filtered again.
+    jointed_changed: bool,
     jointed: &'a [(BodyHandle, BodyHandle)],
     materials: &'a MaterialTable,
     margin: Real,
@@ -190,6 +198,8 @@ impl CollisionWorld {
         self.active_workers = chunks;
         let shared = Shared {
             slots: &self.slots,
+            still: &self.still,
+            jointed_changed: self.jointed_changed,
             jointed: &self.jointed,
             materials: &self.materials,
             margin: self.margin,
@@ -240,12 +250,27 @@ impl CollisionWorld {
     }
 }
 
+/// Whether pair `p` rested last step and rests again, with nothing that could part it: both
+/// colliders still (so their fat boxes, which only a moving collider's update changes, still
+/// overlap as they did) and the jointed pairs unchanged (so the filter still lets it collide).
+/// The narrow phase would find it resting again; it is passed without reaching into its
+/// colliders (a sleeping pile's pairs cost a flag each).
+fn stays_at_rest(shared: &Shared<'_>, p: &PairState) -> bool {
+    let (a, b) = p.colliders;
+    p.alive
+        && p.resting
+        && !shared.jointed_changed
+        && shared.still[a as usize]
+        && shared.still[b as usize]
+}
+
 impl NarrowWorker {
     /// Reserves room for a chunk's pairs.
     pub(crate) fn reserve(&mut self, pairs: usize) {
         reserve_total(&mut self.wanted, pairs);
         reserve_total(&mut self.generated, pairs);
         reserve_total(&mut self.dropped, pairs);
+        reserve_total(&mut self.active, pairs);
     }
 
     /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
@@ -254,26 +279,35 @@ impl NarrowWorker {
         self.generated.clear();
         self.dropped.clear();
         self.failed.clear();
+        self.active.clear();
         self.manifolds = 0;
         self.reused = 0;
         for i in 0..pairs.len() {
-            // Pairs reach into colliders and manifolds all over memory: fetch a few ahead.
+            // Pairs reach into colliders and manifolds all over memory: fetch a few ahead
+            // (not for a pair that stays at rest, which reads neither).
             if let Some(ahead) = pairs.get(i + PREFETCH_AHEAD) {
-                prefetch(&shared.slots[ahead.colliders.0 as usize]);
-                prefetch(&shared.slots[ahead.colliders.1 as usize]);
-                if let Some(m) = ahead.manifolds.first() {
-                    prefetch(m);
+                if !stays_at_rest(shared, ahead) {
+                    prefetch(&shared.slots[ahead.colliders.0 as usize]);
+                    prefetch(&shared.slots[ahead.colliders.1 as usize]);
+                    if let Some(m) = ahead.manifolds.first() {
+                        prefetch(m);
+                    }
                 }
             }
             let p = &mut pairs[i];
-            self.pair(shared, first + i as u32, p);
-            // A resting pair keeps its manifolds and its touching; the others' are found anew
-            // when the wanted manifolds are applied.
-            let keep = p.resting;
-            for m in &mut p.manifolds {
-                m.seen = keep;
+            if stays_at_rest(shared, p) {
+                continue;
             }
-            p.touching_now = keep && p.touching;
+            self.pair(shared, first + i as u32, p);
+            // A resting pair keeps its manifolds and its touching (the events read `touching`
+            // for it); the others' are found anew when the wanted manifolds are applied.
+            if !p.resting {
+                for m in &mut p.manifolds {
+                    m.seen = false;
+                }
+                p.touching_now = false;
+                self.active.push(first + i as u32);
+            }
         }
     }
 

@@ -14,49 +14,58 @@ impl CollisionWorld {
     /// enabled), grown by the speculative margin and swept by its motion over `dt`. A
     /// collider whose box left its fat box gets a new one and is marked moved.
     pub(crate) fn update_bounds(&mut self, world: &World, dt: Real) {
-        let margin = self.margin;
-        for (i, slot) in self.slots.iter_mut().enumerate() {
-            let Some(c) = slot.collider.as_mut() else {
-                continue;
-            };
-            let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) else {
-                continue;
-            };
-            if body.is_sleeping() {
-                c.still = true;
-                continue;
-            }
-            // A disabled body can be placed by hand: its pose is refreshed, its box is not.
-            c.pose = collider_pose(world, &c.def);
-            c.still = !body.is_enabled();
-            c.motion = body.linear_velocity().length() + body.angular_velocity().length() * c.reach;
-            if c.still {
-                continue;
-            }
-            let pose = c.pose;
-            let aabb = c.def.shared_shape().compute_aabb(&pose);
-            let (mut min, mut max) = (
-                aabb.mins - Vec3::splat(margin),
-                aabb.maxs + Vec3::splat(margin),
-            );
-            let sweep = body.linear_velocity() * dt;
-            min += sweep.min(Vec3::ZERO);
-            max += sweep.max(Vec3::ZERO);
-            let turn = Vec3::splat(body.angular_velocity().length() * dt * c.reach);
-            min -= turn;
-            max += turn;
-            let tight = Aabb { min, max };
-            if !c.fat.contains(&tight) {
-                let ahead = sweep * FAT_LOOKAHEAD;
-                let fat = tight.grown(FAT_MARGIN);
-                c.fat = Aabb {
-                    min: fat.min + ahead.min(Vec3::ZERO),
-                    max: fat.max + ahead.max(Vec3::ZERO),
-                };
-                self.tree.update(c.leaf, c.fat);
-                self.moved.push(i as u32);
-            }
+        self.still.clear();
+        self.still.resize(self.slots.len(), false);
+        for i in 0..self.slots.len() {
+            self.still[i] = self.update_bound(i, world, dt);
         }
+    }
+
+    /// [`CollisionWorld::update_bounds`] for collider slot `i`: whether it is still this step
+    /// (false for an empty slot).
+    fn update_bound(&mut self, i: usize, world: &World, dt: Real) -> bool {
+        let margin = self.margin;
+        let Some(c) = self.slots[i].collider.as_mut() else {
+            return false;
+        };
+        let Some(body) = c.def.body.and_then(|b| world.body(b).ok()) else {
+            return c.still;
+        };
+        if body.is_sleeping() {
+            c.still = true;
+            return true;
+        }
+        // A disabled body can be placed by hand: its pose is refreshed, its box is not.
+        c.pose = collider_pose(world, &c.def);
+        c.still = !body.is_enabled();
+        c.motion = body.linear_velocity().length() + body.angular_velocity().length() * c.reach;
+        if c.still {
+            return true;
+        }
+        let pose = c.pose;
+        let aabb = c.def.shared_shape().compute_aabb(&pose);
+        let (mut min, mut max) = (
+            aabb.mins - Vec3::splat(margin),
+            aabb.maxs + Vec3::splat(margin),
+        );
+        let sweep = body.linear_velocity() * dt;
+        min += sweep.min(Vec3::ZERO);
+        max += sweep.max(Vec3::ZERO);
+        let turn = Vec3::splat(body.angular_velocity().length() * dt * c.reach);
+        min -= turn;
+        max += turn;
+        let tight = Aabb { min, max };
+        if !c.fat.contains(&tight) {
+            let ahead = sweep * FAT_LOOKAHEAD;
+            let fat = tight.grown(FAT_MARGIN);
+            c.fat = Aabb {
+                min: fat.min + ahead.min(Vec3::ZERO),
+                max: fat.max + ahead.max(Vec3::ZERO),
+            };
+            self.tree.update(c.leaf, c.fat);
+            self.moved.push(i as u32);
+        }
+        false
     }
 
     /// Looks up every moved collider in the tree and adds the pairs it did not have, in a

@@ -92,12 +92,12 @@ impl CollisionWorld {
     /// impulse.
     pub fn record_impulses(&mut self, world: &World, dt: StepSize) {
         let dt = dt.seconds();
-        for state in self
-            .pairs
-            .slots
-            .iter_mut()
-            .filter(|p| p.alive && !p.resting)
-        {
+        let workers = &self.workers[..self.active_workers];
+        for &slot in workers.iter().flat_map(|w| &w.active) {
+            let state = &mut self.pairs.slots[slot as usize];
+            if !state.alive || state.resting {
+                continue;
+            }
             let force: Vec3 = state
                 .manifolds
                 .iter()

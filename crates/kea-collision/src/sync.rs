@@ -160,7 +160,12 @@ impl CollisionWorld {
                     m.seen
                 });
             }
-            let now = p.touching_now;
+            // A resting pair touches as it did (the narrow phase passed it by).
+            let now = if p.resting {
+                p.touching
+            } else {
+                p.touching_now
+            };
             let kind = match (p.touching, now) {
                 (false, true) => Some(ContactEventKind::Began),
                 (true, true) => Some(ContactEventKind::Persisted),

@@ -86,6 +86,66 @@ fn groups_masks_and_joints_filter_pairs() {
     );
 }
 
+/// A joint made between two bodies of a sleeping pile, which the narrow phase passes by while
+/// they rest, still parts their contacts at the next update; contacts come and go without
+/// touching the world's joint revision, joints move it on.
+#[test]
+fn a_joint_made_in_a_sleeping_pile_parts_its_bodies_contacts() {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.set_gravity(Vec3::new(0.0, -9.81, 0.0)).unwrap();
+    world
+        .set_dem(kea::DemSettings {
+            mode: kea::DemMode::PartitionAutoDisable,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut collision = CollisionWorld::new();
+    collision
+        .add_collider(
+            &world,
+            ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap()),
+        )
+        .unwrap();
+    let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
+    let mp = cube.mass_properties(100.0).unwrap();
+    let mut boxes = Vec::new();
+    for i in 0..2 {
+        let b = world
+            .create_body(&BodyDef {
+                mass: mp.mass,
+                inertia: mp.inertia,
+                position: Vec3::new(0.0, 0.5 + i as Real, 0.0),
+                ..Default::default()
+            })
+            .unwrap();
+        let c = collision
+            .add_collider(&world, ColliderDef::new(Some(b), cube.clone()))
+            .unwrap();
+        boxes.push((b, c));
+    }
+    let revision = world.joint_revision();
+    for _ in 0..600 {
+        common::step(&mut collision, &mut world, DT).unwrap();
+    }
+    let [(a, ca), (b, cb)] = [boxes[0], boxes[1]];
+    assert!(world.body(b).unwrap().is_sleeping(), "the pile sleeps");
+    assert_eq!(world.joint_revision(), revision, "contacts are not joints");
+    assert!(!collision.contacts_between(ca, cb).unwrap().is_empty());
+    let joint = world
+        .create_ball_joint(a, Some(b), Vec3::new(0.0, 1.0, 0.0))
+        .unwrap();
+    assert_ne!(world.joint_revision(), revision, "a new joint");
+    collision.update_contacts(&mut world, DT).unwrap();
+    assert!(world.body(b).unwrap().is_sleeping(), "still asleep");
+    assert!(
+        collision.contacts_between(ca, cb).unwrap().is_empty(),
+        "joined: no contacts"
+    );
+    let revision = world.joint_revision();
+    world.set_constraint_enabled(joint, false).unwrap();
+    assert_ne!(world.joint_revision(), revision, "a disabled joint");
+}
+
 #[test]
 fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
     let mut world = World::with_capacity(8, 64).unwrap();

@@ -30,8 +30,12 @@ impl World {
         b2: Option<BodyHandle>,
     ) -> KeaResult<ConstraintHandle> {
         self.check_pair(b1, b2)?;
-        self.constraints
-            .insert(ConstraintEntry::new(kind, [Some(b1), b2]))
+        let joint = !matches!(kind, ConstraintKind::Contact(_));
+        let h = self
+            .constraints
+            .insert(ConstraintEntry::new(kind, [Some(b1), b2]))?;
+        self.index_constraint(h.index() as usize, joint);
+        Ok(h)
     }
 
     /// Creates an enabled contact between `body1` and `body2` (`None`: the static world), as
@@ -146,7 +150,9 @@ impl World {
     /// Destroys a constraint (the guide's `Mdt*Destroy`); its handle becomes stale.
     pub fn destroy_constraint(&mut self, h: ConstraintHandle) -> KeaResult<()> {
         let entry = self.constraints.remove(h)?;
-        if !matches!(entry.kind, ConstraintKind::Contact(_)) {
+        let joint = !matches!(entry.kind, ConstraintKind::Contact(_));
+        self.index_constraint(h.index() as usize, joint);
+        if joint {
             self.wake_bodies(entry.bodies);
         }
         Ok(())
@@ -169,6 +175,7 @@ impl World {
             matches!(entry.kind, ConstraintKind::Contact(_)),
             entry.bodies,
         );
+        self.index_constraint(h.index() as usize, changed && !is_contact);
         if changed && !is_contact {
             self.wake_bodies(bodies);
         }
@@ -196,6 +203,8 @@ impl World {
             });
         }
         entry.bodies = [Some(body1), body2];
+        let joint = self.is_joint_slot(h.index() as usize);
+        self.index_constraint(h.index() as usize, joint);
         Ok(())
     }
 

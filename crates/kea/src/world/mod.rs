@@ -8,6 +8,7 @@
 //! independent: create as many as you like, and handles of one are rejected by the others.
 
 mod constraint_entry;
+mod constraint_index;
 mod constraints;
 mod islands;
 mod joints;
@@ -182,6 +183,12 @@ pub struct World {
     id: u32,
     bodies: Arena<Body, BodyHandle>,
     constraints: Arena<ConstraintEntry, ConstraintHandle>,
+    /// Per constraint slot, the slots of its two bodies (`NO_BODY` for the static world), or
+    /// `[EMPTY; 2]` for an empty or disabled slot: what a step scans to pass constraints of
+    /// sleeping bodies without reading their entries (`constraint_index.rs`).
+    constraint_bodies: Vec<[u32; 2]>,
+    /// Changes whenever a joint is made, destroyed, enabled, disabled or re-bodied.
+    joint_revision: u64,
     gravity: Vec3,
     epsilon: Real,
     gamma: Real,
@@ -291,6 +298,8 @@ impl World {
             id,
             bodies: Arena::new(id, def.max_bodies, "bodies"),
             constraints: Arena::new(id, def.max_constraints, "constraints"),
+            constraint_bodies: Vec::with_capacity(def.max_constraints),
+            joint_revision: constraint_index::next_joint_revision(),
             gravity: def.gravity,
             epsilon: def.epsilon,
             gamma: def.gamma,
@@ -415,8 +424,10 @@ impl World {
                 .at(i)
                 .is_some_and(|c| c.bodies.contains(&Some(h)));
             if attached {
+                let joint = self.is_joint_slot(i);
                 let ch = self.constraints.handle_at(i).expect("occupied slot");
                 self.constraints.remove(ch)?;
+                self.index_constraint(i, joint);
             }
         }
         self.bodies.remove(h)?;

@@ -147,6 +147,7 @@ impl World {
         )?;
         check_bodies(&world)?;
         check_constraints(&world, snapshot.lambda.len(), snapshot.contact_lambda.len())?;
+        world.reindex_constraints();
         crate::handle::reserve_world_id(id);
         world.quarantine = snapshot.quarantine;
         let s = &mut world.scratch;

@@ -9,6 +9,7 @@
 //! ```
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
+use super::constraint_index::EMPTY;
 use super::StepSize;
 use super::World;
 use crate::constraint::{RowBody, RowContext, RowWriter};
@@ -337,13 +338,18 @@ impl World {
         self.scratch.unwritable.clear();
         self.scratch.contacts.clear();
         self.scratch.contact_constraint.clear();
-        for slot in 0..self.constraints.slot_count() {
+        for slot in 0..self.constraint_bodies.len() {
+            // Through the dense index: a constraint with no body in the solver (both asleep,
+            // disabled or static) is passed without reading its entry.
+            let [a, b] = self.constraint_bodies[slot];
+            let simulated =
+                |s: u32| s < EMPTY && self.scratch.slot_to_solver[s as usize] != u32::MAX;
+            if a == EMPTY || !(simulated(a) || simulated(b)) {
+                continue;
+            }
             let Some(entry) = self.constraints.at(slot) else {
                 continue;
             };
-            if !entry.enabled {
-                continue;
-            }
             let slots = entry.bodies.map(|b| b.map(|h| h.index()));
             if let ConstraintKind::Contact(c) = &entry.kind {
                 let solver_slot = |s: Option<u32>| {
@@ -475,6 +481,7 @@ impl World {
                 e.kind.name()
             );
             self.scratch.broken.push(h);
+            self.index_constraint(slot, true);
         }
         for k in 0..self.scratch.blocks.len() {
             let slot = self.scratch.block_constraint[k] as usize;
@@ -489,6 +496,8 @@ impl World {
                 if let Some(h) = self.constraints.handle_at(slot) {
                     self.scratch.broken.push(h);
                 }
+                let joint = self.is_joint_slot(slot);
+                self.index_constraint(slot, joint);
             }
         }
         self.scratch.broken.len() as u32
