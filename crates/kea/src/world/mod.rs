@@ -450,6 +450,18 @@ impl World {
         self.bodies.len()
     }
 
+    /// Bodies the last step simulated (enabled and awake; all bodies before the first step):
+    /// the work a coming step is likely to have, which decides whether it is worth handing to
+    /// the thread pool (`threads::on_pool`).
+    #[must_use]
+    pub fn awake_body_count(&self) -> usize {
+        if self.steps == 0 {
+            self.bodies.len()
+        } else {
+            self.scratch.solver_bodies.len()
+        }
+    }
+
     /// Every body with its handle, in slot order.
     pub fn bodies(&self) -> impl Iterator<Item = (BodyHandle, &Body)> + '_ {
         self.bodies.iter()

@@ -102,7 +102,7 @@ impl World {
     /// [`World::step`] by a step already checked.
     pub fn step_by(&mut self, dt: StepSize) -> KeaResult<StepStats> {
         // Inside the pool (a pipeline that hopped already) it stays where it is.
-        crate::threads::on_pool(self.body_count(), || self.step_here(dt.seconds()))
+        crate::threads::on_pool(self.awake_body_count(), || self.step_here(dt.seconds()))
     }
 
     /// [`World::step`] on the calling thread, `dt` checked.

@@ -26,7 +26,7 @@ impl PhysicsWorld {
     /// see [`kea::threads`].
     pub fn step(&mut self, dt: Real) -> Result<StepStats> {
         let dt = StepSize::new(dt)?;
-        kea::threads::on_pool(self.dynamics.body_count(), || self.run_stages(dt))
+        kea::threads::on_pool(self.dynamics.awake_body_count(), || self.run_stages(dt))
     }
 
     /// The stages of one step, on the calling thread. Every input is checked before the first
