@@ -13,6 +13,7 @@ mod constraints;
 mod islands;
 mod joints;
 mod quarantine;
+mod settings;
 mod sketch;
 mod sleep;
 #[cfg(feature = "serde")]
@@ -34,7 +35,7 @@ pub use step_size::StepSize;
 
 use crate::body::{Body, BodyDef};
 use crate::constraint::{Row, Spring};
-use crate::error::{check_non_negative, check_vec3, KeaError, KeaResult};
+use crate::error::{check_vec3, KeaError, KeaResult};
 use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::{
@@ -259,7 +260,7 @@ impl World {
         };
         params.validate()?;
         def.dem.validate()?;
-        check_projection(def.projection_iterations)?;
+        settings::check_projection(def.projection_iterations)?;
         def.speed_limits.validate()?;
         let id = next_world_id();
         let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
@@ -353,61 +354,6 @@ impl World {
     pub fn step_count(&self) -> u64 {
         self.steps
     }
-    /// Gravity, m/s².
-    #[must_use]
-    pub fn gravity(&self) -> Vec3 {
-        self.gravity
-    }
-    /// Sets gravity (the guide's `MdtWorldSetGravity`).
-    pub fn set_gravity(&mut self, g: Vec3) -> KeaResult<()> {
-        self.gravity = check_vec3("gravity", g)?;
-        for slot in 0..self.bodies.slot_count() {
-            if let Some(b) = self.bodies.at_mut(slot) {
-                b.wake();
-            }
-        }
-        Ok(())
-    }
-    /// Softness ε.
-    #[must_use]
-    pub fn epsilon(&self) -> Real {
-        self.epsilon
-    }
-    /// Sets softness ε (≥ 0).
-    pub fn set_epsilon(&mut self, eps: Real) -> KeaResult<()> {
-        self.epsilon = check_non_negative("epsilon", eps)?;
-        Ok(())
-    }
-    /// The default softness of contacts (see [`WorldDef::contact_spring`]).
-    #[must_use]
-    pub fn contact_spring(&self) -> Spring {
-        self.contact_spring
-    }
-    /// Sets the default softness of contacts (frequency > 0, damping ratio ≥ 0).
-    pub fn set_contact_spring(&mut self, spring: Spring) -> KeaResult<()> {
-        spring.validate("contact_spring")?;
-        self.contact_spring = spring;
-        Ok(())
-    }
-    /// Error reduction γ.
-    #[must_use]
-    pub fn gamma(&self) -> Real {
-        self.gamma
-    }
-    /// Sets error reduction γ in [0, 1].
-    pub fn set_gamma(&mut self, gamma: Real) -> KeaResult<()> {
-        check_non_negative("gamma", gamma)?;
-        if gamma > 1.0 {
-            return Err(KeaError::OutOfRange {
-                arg: "gamma",
-                value: format!("{gamma}"),
-                expected: "must be in [0, 1]",
-            });
-        }
-        self.gamma = gamma;
-        Ok(())
-    }
-
     /// Creates a body (the guide's `MdtBodyCreate` + setters). Errors name the bad field.
     pub fn create_body(&mut self, def: &BodyDef) -> KeaResult<BodyHandle> {
         let body = Body::from_def(def)?;
@@ -555,58 +501,6 @@ impl World {
             + s.projection_lambda.capacity() * std::mem::size_of::<Real>()
     }
 
-    /// Island routing (see [`Routing`]).
-    #[must_use]
-    pub fn routing(&self) -> &Routing {
-        &self.routing
-    }
-
-    /// Sets island routing: hybrid (default), or force the exact or iterative path.
-    pub fn set_routing(&mut self, routing: Routing) -> KeaResult<()> {
-        routing.validate()?;
-        self.routing = routing;
-        Ok(())
-    }
-
-    /// Settings of the iterative path.
-    #[must_use]
-    pub fn iterative_params(&self) -> &IterativeParams {
-        &self.iterative
-    }
-
-    /// Sets substeps, iterations and the correction speed cap of the iterative path.
-    pub fn set_iterative_params(&mut self, params: IterativeParams) -> KeaResult<()> {
-        params.validate()?;
-        self.iterative = params;
-        Ok(())
-    }
-
-    /// Position-projection passes after each step (see [`WorldDef::projection_iterations`]).
-    #[must_use]
-    pub fn projection_iterations(&self) -> u32 {
-        self.projection_iterations
-    }
-
-    /// Sets the position-projection passes (0 to 16).
-    pub fn set_projection_iterations(&mut self, iterations: u32) -> KeaResult<()> {
-        check_projection(iterations)?;
-        self.projection_iterations = iterations;
-        Ok(())
-    }
-
-    /// Whether steps time their stages ([`StepStats`]'s `time_*` fields; default true).
-    #[must_use]
-    pub fn step_timing(&self) -> bool {
-        self.step_timing
-    }
-
-    /// Turns the stage times of [`StepStats`] on or off. Off, they read zero and no clock is
-    /// read: worth it for small worlds stepped many times whose statistics nobody reads (see
-    /// [`crate::timing`]). Results are the same bits either way.
-    pub fn set_step_timing(&mut self, on: bool) {
-        self.step_timing = on;
-    }
-
     /// The breakable constraints that broke (and were disabled) in the last step.
     #[must_use]
     pub fn broken_last_step(&self) -> &[ConstraintHandle] {
@@ -641,17 +535,6 @@ fn check_capacity(arg: &'static str, capacity: usize) -> KeaResult<()> {
             arg,
             value: capacity.to_string(),
             expected: "must be in 1..=1048576 (kea::world::MAX_CAPACITY)",
-        });
-    }
-    Ok(())
-}
-
-fn check_projection(iterations: u32) -> KeaResult<()> {
-    if iterations > 16 {
-        return Err(KeaError::OutOfRange {
-            arg: "projection_iterations",
-            value: iterations.to_string(),
-            expected: "must be in 0..=16",
         });
     }
     Ok(())
