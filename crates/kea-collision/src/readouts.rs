@@ -94,7 +94,9 @@ impl CollisionWorld {
         let dt = dt.seconds();
         let workers = &self.workers[..self.active_workers];
         for &slot in workers.iter().flat_map(|w| &w.active) {
-            let state = &mut self.pairs.slots[slot as usize];
+            let Some(state) = self.pairs.slots.get_mut(slot as usize) else {
+                continue;
+            };
             if !state.alive || state.resting {
                 continue;
             }

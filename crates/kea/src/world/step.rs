@@ -350,6 +350,7 @@ impl World {
             let Some(entry) = self.constraints.at(slot) else {
                 continue;
             };
+            debug_assert!(entry.enabled, "the constraint index lists a disabled slot");
             let slots = entry.bodies.map(|b| b.map(|h| h.index()));
             if let ConstraintKind::Contact(c) = &entry.kind {
                 let solver_slot = |s: Option<u32>| {
