@@ -291,8 +291,11 @@ impl World {
     /// The total force a contact applied to its first body in the last step (normal plus
     /// friction, all its points), N.
     pub fn contact_force(&self, h: ConstraintHandle) -> KeaResult<Vec3> {
-        self.contact(h)?;
-        Ok(self.constraints.get(h)?.reaction[0].force)
+        let entry = self.constraints.get(h)?;
+        match &entry.kind {
+            ConstraintKind::Contact(_) => Ok(entry.reaction[0].force),
+            other => Err(wrong_kind(h, "contact", other.name())),
+        }
     }
 
     /// A ball joint, read-only.
