@@ -59,10 +59,9 @@ fn main() -> CollisionResult<()> {
     for second in 1..=8 {
         let start = Instant::now();
         for _ in 0..60 {
-            // Contacts from the geometry, the world's step, the pairs' impulses.
+            // Contacts from the geometry, then the world's step.
             collision.update_contacts(&mut world, dt)?;
             world.step(dt)?;
-            collision.record_impulses(&world, kea::StepSize::new(dt)?);
         }
         let ms = start.elapsed().as_secs_f64() * 1000.0 / 60.0;
         let top = world

@@ -34,10 +34,9 @@ fn main() -> CollisionResult<()> {
     let (mut rising, mut last_apex) = (false, None::<Real>);
     for n in 0..(6.0 / dt) as usize {
         let v_in = world.body(ball)?.linear_velocity().y;
-        // Contacts from the geometry, the world's step, the pairs' impulses.
+        // Contacts from the geometry, then the world's step.
         collision.update_contacts(&mut world, dt)?;
         world.step(dt)?;
-        collision.record_impulses(&world, kea::StepSize::new(dt)?);
         let b = world.body(ball)?;
         let v = b.linear_velocity().y;
         if v_in < 0.0 && v > 0.0 {

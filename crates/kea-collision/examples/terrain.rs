@@ -92,10 +92,9 @@ fn main() -> CollisionResult<()> {
     let dt: Real = 1.0 / 60.0;
     for second in 1..=10 {
         for _ in 0..60 {
-            // Contacts from the geometry, the world's step, the pairs' impulses.
+            // Contacts from the geometry, then the world's step.
             collision.update_contacts(&mut world, dt)?;
             world.step(dt)?;
-            collision.record_impulses(&world, kea::StepSize::new(dt)?);
         }
         if second % 5 == 0 {
             println!("after {second} s:");

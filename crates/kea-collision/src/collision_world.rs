@@ -112,7 +112,7 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 /// Colliders, materials, and the contacts they generate in a [`World`]. It produces contacts
 /// and never steps the world: `kea3d::PhysicsWorld` runs the whole step (drivers, contacts,
 /// solve), and a loop of one's own calls [`CollisionWorld::update_contacts`], then
-/// [`World::step`], then [`CollisionWorld::record_impulses`].
+/// [`World::step`].
 ///
 /// Clone it together with its [`World`]: the two clones step on bit for bit like the
 /// originals.
@@ -138,7 +138,6 @@ pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
 /// for _ in 0..120 {
 ///     collision.update_contacts_by(&mut world, dt)?; // contacts from geometry
 ///     world.step_by(dt)?; // the world's step
-///     collision.record_impulses(&world, dt); // the pairs' impulses, for events and read-outs
 /// }
 /// let y = world.body(body)?.position().y;
 /// assert!((y - 0.5).abs() < 0.02, "resting on the plane: y = {y}");
@@ -168,6 +167,8 @@ pub struct CollisionWorld {
     /// reaching into their colliders.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) still: Vec<bool>,
+    /// The step the contacts were last updated for, s (pair impulses are forces times it).
+    pub(crate) last_dt: Real,
     /// The jointed pairs changed this step (resting pairs are filtered again).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) jointed_changed: bool,
@@ -236,6 +237,7 @@ impl CollisionWorld {
             tree: DynamicTree::new(),
             moved: Vec::new(),
             still: Vec::new(),
+            last_dt: 0.0,
             jointed_changed: true,
             jointed_revision: None,
             new_pairs: Vec::new(),
@@ -477,6 +479,7 @@ impl CollisionWorld {
         // Checked before anything moves: parry asserts on a negative loosening margin, and a
         // refused step must leave the contacts as they were.
         self.check_settings()?;
+        self.last_dt = dt;
         let t0 = Stamp::now(world.step_timing());
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);

@@ -145,9 +145,6 @@ pub(crate) struct NarrowWorker {
     /// Pairs whose manifold failed this step (parry panicked, or gave a non-finite point):
     /// they get no contacts this step and are generated again the next.
     pub failed: Vec<u32>,
-    /// The chunk's pairs that may move this step (not resting), in slot order: the ones
-    /// whose manifolds, events and impulses change.
-    pub active: Vec<u32>,
     generator: Generator,
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     manifolds: u32,
@@ -163,7 +160,6 @@ impl Default for NarrowWorker {
             generated: Vec::with_capacity(PAIR_CHUNK),
             dropped: Vec::with_capacity(PAIR_CHUNK),
             failed: Vec::new(),
-            active: Vec::with_capacity(PAIR_CHUNK),
             generator: Generator::default(),
             reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
             manifolds: 0,
@@ -270,7 +266,6 @@ impl NarrowWorker {
         reserve_total(&mut self.wanted, pairs);
         reserve_total(&mut self.generated, pairs);
         reserve_total(&mut self.dropped, pairs);
-        reserve_total(&mut self.active, pairs);
     }
 
     /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
@@ -279,7 +274,6 @@ impl NarrowWorker {
         self.generated.clear();
         self.dropped.clear();
         self.failed.clear();
-        self.active.clear();
         self.manifolds = 0;
         self.reused = 0;
         for i in 0..pairs.len() {
@@ -306,7 +300,6 @@ impl NarrowWorker {
                     m.seen = false;
                 }
                 p.touching_now = false;
-                self.active.push(first + i as u32);
             }
         }
     }

@@ -61,8 +61,6 @@ pub(crate) struct PairState {
     /// Touching last step, and this step.
     pub touching: bool,
     pub touching_now: bool,
-    /// Impulse on the first collider's side over the last step, N·s.
-    pub impulse: Vec3,
     /// The first collider's body is body 2 of the pair's contacts (it is static).
     pub flipped: bool,
     /// Neither collider could move this step: its contacts were left as they are.
@@ -141,7 +139,6 @@ impl Pairs {
         p.generated_at = None;
         p.touching = false;
         p.touching_now = false;
-        p.impulse = Vec3::ZERO;
         p.flipped = false;
         p.resting = false;
         p.alive = true;

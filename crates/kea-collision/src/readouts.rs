@@ -4,7 +4,7 @@
 use crate::collision_world::{ColliderHandle, CollisionWorld};
 use crate::error::CollisionResult;
 use crate::events::ContactEvent;
-use kea::{BodyHandle, CollisionStats, ConstraintHandle, Contact, Real, StepSize, Vec3, World};
+use kea::{BodyHandle, CollisionStats, ConstraintHandle, Contact, Real, Vec3, World};
 
 impl CollisionWorld {
     /// The contact events of the last update (began, persisted, ended), in pair order.
@@ -14,15 +14,21 @@ impl CollisionWorld {
     }
 
     /// The total contact impulse on collider `a`'s body from collider `b` over the last step,
-    /// N·s (zero if they did not touch).
-    pub fn pair_impulse(&self, a: ColliderHandle, b: ColliderHandle) -> CollisionResult<Vec3> {
+    /// N·s (zero if they did not touch): their contacts' forces in `world` times the step.
+    /// Read from the contacts when asked, so the step itself does no bookkeeping for it.
+    pub fn pair_impulse(
+        &self,
+        world: &World,
+        a: ColliderHandle,
+        b: ColliderHandle,
+    ) -> CollisionResult<Vec3> {
         self.get(a)?;
         self.get(b)?;
         let key = (a.index.min(b.index), a.index.max(b.index));
         let on_first = self
             .pairs
             .find(key)
-            .map_or(Vec3::ZERO, |s| self.pairs.slots[s as usize].impulse);
+            .map_or(Vec3::ZERO, |s| self.impulse_on_first(world, s));
         Ok(if a.index <= b.index {
             on_first
         } else {
@@ -33,9 +39,14 @@ impl CollisionWorld {
     /// The total contact impulse on `body` from `other` (`None`: the static world) over the
     /// last step, summed over all their colliders' pairs, N·s.
     #[must_use]
-    pub fn body_pair_impulse(&self, body: BodyHandle, other: Option<BodyHandle>) -> Vec3 {
+    pub fn body_pair_impulse(
+        &self,
+        world: &World,
+        body: BodyHandle,
+        other: Option<BodyHandle>,
+    ) -> Vec3 {
         let mut total = Vec3::ZERO;
-        for (_, state) in self.pairs.live() {
+        for (slot, state) in self.pairs.live() {
             let (ia, ib) = state.colliders;
             let (Some(a), Some(b)) = (
                 &self.slots[ia as usize].collider,
@@ -44,12 +55,30 @@ impl CollisionWorld {
                 continue;
             };
             if a.def.body == Some(body) && b.def.body == other {
-                total += state.impulse;
+                total += self.impulse_on_first(world, slot);
             } else if b.def.body == Some(body) && a.def.body == other {
-                total -= state.impulse;
+                total -= self.impulse_on_first(world, slot);
             }
         }
         total
+    }
+
+    /// Pair `slot`'s impulse on its first collider over the last step. Contact forces act on
+    /// the contacts' body 1: the first collider's, unless the pair is flipped. A resting
+    /// pair's contacts kept their forces, so it keeps its impulse.
+    fn impulse_on_first(&self, world: &World, slot: u32) -> Vec3 {
+        let state = &self.pairs.slots[slot as usize];
+        let force: Vec3 = state
+            .manifolds
+            .iter()
+            .filter_map(|m| world.contact_force(m.handle).ok())
+            .sum();
+        let impulse = force * self.last_dt;
+        if state.flipped {
+            -impulse
+        } else {
+            impulse
+        }
     }
 
     /// The deepest penetration among the contacts this collision world made, m (0 if none
@@ -84,34 +113,6 @@ impl CollisionWorld {
                     .collect()
             })
             .unwrap_or_default())
-    }
-
-    /// After the world has stepped by `dt`: each touching pair's impulse over the step, from
-    /// its contacts' forces (what [`CollisionWorld::pair_impulse`] and contact events read). A
-    /// resting pair's bodies did not move: its contacts kept their forces, and the pair its
-    /// impulse.
-    pub fn record_impulses(&mut self, world: &World, dt: StepSize) {
-        let dt = dt.seconds();
-        let workers = &self.workers[..self.active_workers];
-        for &slot in workers.iter().flat_map(|w| &w.active) {
-            let Some(state) = self.pairs.slots.get_mut(slot as usize) else {
-                continue;
-            };
-            if !state.alive || state.resting {
-                continue;
-            }
-            let force: Vec3 = state
-                .manifolds
-                .iter()
-                .filter_map(|m| world.contact_force(m.handle).ok())
-                .sum();
-            // Contact forces act on the contacts' body 1: the first collider's, unless flipped.
-            state.impulse = if state.flipped {
-                -force * dt
-            } else {
-                force * dt
-            };
-        }
     }
 
     /// What the last [`CollisionWorld::update_contacts`] did.

@@ -42,7 +42,7 @@ fn deceleration(collision: &mut CollisionWorld, block: u32, ground: u32) -> Real
         common::step(collision, &mut world, DT).unwrap();
     }
     let v = world.body(b).unwrap().linear_velocity().x;
-    let impulse = collision.body_pair_impulse(b, None);
+    let impulse = collision.body_pair_impulse(&world, b, None);
     assert!(
         impulse.x < 0.0 && impulse.y > 0.0,
         "friction opposes, the ground holds: {impulse}"

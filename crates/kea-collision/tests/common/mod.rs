@@ -1,6 +1,6 @@
 //! One step driven by hand, as a user who brings their own loop writes it: contacts from the
-//! geometry, the world's step, then the pairs' impulses. (Applications step through
-//! `kea3d::PhysicsWorld`, whose pipeline runs these stages with its drivers around them.)
+//! geometry, then the world's step. (Applications step through `kea3d::PhysicsWorld`, whose
+//! pipeline runs these stages with its drivers around them.)
 
 use kea::{StepSize, StepStats, World};
 use kea_collision::{CollisionResult, CollisionWorld};
@@ -15,7 +15,6 @@ pub fn step(
     let dt = StepSize::new(dt)?;
     collision.update_contacts_by(world, dt)?;
     let mut stats = world.step_by(dt)?;
-    collision.record_impulses(world, dt);
     stats.collision = *collision.stats();
     Ok(stats)
 }

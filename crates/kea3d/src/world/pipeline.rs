@@ -7,8 +7,10 @@
 //!   drive                           scene paths at the world's clock, kinematic targets
 //!   CollisionWorld::update_contacts_by    broad phase, narrow phase → the world's contacts
 //!   World::step_by                  islands and routing, solve, integrate, sleep, clock + dt
-//!   CollisionWorld::record_impulses  each touching pair's impulse, for events and read-outs
 //! ```
+//!
+//! Read-outs derived from the contacts' forces (pair impulses) are computed when asked, not
+//! by a stage.
 //!
 //! The clock is the dynamics world's ([`kea::World::time`]): one clock, saved in its snapshot.
 
@@ -37,7 +39,6 @@ impl PhysicsWorld {
         self.drive(dt)?;
         self.collision.update_contacts_by(&mut self.dynamics, dt)?;
         let mut stats = self.dynamics.step_by(dt)?;
-        self.collision.record_impulses(&self.dynamics, dt);
         stats.collision = *self.collision.stats();
         for &h in &self.driven {
             if let Some(Some(m)) = self.meta.get_mut(h.index() as usize) {
