@@ -257,6 +257,7 @@ impl World {
             routing: def.routing,
             iterative: def.iterative,
             timing: true,
+            body_forces: false,
         };
         params.validate()?;
         def.dem.validate()?;

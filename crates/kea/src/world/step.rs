@@ -290,6 +290,8 @@ impl World {
             routing: self.routing,
             iterative: self.iterative,
             timing: self.step_timing,
+            // The world keeps each constraint's forces; nothing reads the per-body sums.
+            body_forces: false,
         }
     }
 

@@ -408,7 +408,8 @@ impl IterativeWorkspace {
             lambda,
             reactions,
         );
-        self.contacts.store(contacts, &self.states, scratch, h, hs);
+        self.contacts
+            .store(contacts, &self.states, scratch, (h, hs), params.body_forces);
         self.states.write_out(bodies, scratch, h);
         for &g in &self.states.global[1..] {
             let b = &mut bodies[g as usize];

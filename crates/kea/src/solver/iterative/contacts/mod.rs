@@ -438,16 +438,24 @@ impl ContactSolver {
         contacts: &mut [SolverContact],
         states: &BodyStates,
         scratch: &mut BodyScratch,
-        h: Real,
-        hs: Real,
+        (h, hs): (Real, Real),
+        body_forces: bool,
     ) {
-        store_lanes(&mut self.overflow, contacts, states, scratch, h, hs);
+        // Each body's force sums, only for a caller that reads them.
+        let mut sums = body_forces.then_some(scratch);
+        store_lanes(
+            &mut self.overflow,
+            contacts,
+            states,
+            sums.as_deref_mut(),
+            (h, hs),
+        );
         match self.level {
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Wide => store_lanes(&mut self.wide, contacts, states, scratch, h, hs),
+            SimdLevel::Wide => store_lanes(&mut self.wide, contacts, states, sums, (h, hs)),
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Narrow => store_lanes(&mut self.narrow, contacts, states, scratch, h, hs),
-            _ => store_lanes(&mut self.scalar, contacts, states, scratch, h, hs),
+            SimdLevel::Narrow => store_lanes(&mut self.narrow, contacts, states, sums, (h, hs)),
+            _ => store_lanes(&mut self.scalar, contacts, states, sums, (h, hs)),
         }
     }
 }
@@ -555,9 +563,8 @@ fn store_lanes<F: FloatW>(
     lanes: &mut Lanes<F>,
     contacts: &mut [SolverContact],
     states: &BodyStates,
-    scratch: &mut BodyScratch,
-    h: Real,
-    hs: Real,
+    sums: Option<&mut BodyScratch>,
+    (h, hs): (Real, Real),
 ) {
     {
         let shared = Disjoint::new(contacts);
@@ -565,5 +572,7 @@ fn store_lanes<F: FloatW>(
             store::write_chunk(chunk, &shared, h, hs);
         });
     }
-    store::add_body_forces(&lanes.batches, contacts, states, scratch);
+    if let Some(scratch) = sums {
+        store::add_body_forces(&lanes.batches, contacts, states, scratch);
+    }
 }
