@@ -193,6 +193,7 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             max_exact_bodies: r.max_exact_bodies,
             hysteresis: r.hysteresis,
             mass_ratio: r.mass_ratio,
+            stack_bodies: r.stack_bodies,
         },
         iterative: IterativeParams {
             substeps: it.substeps,

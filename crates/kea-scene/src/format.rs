@@ -173,6 +173,9 @@ pub struct RoutingSpec {
     /// A small island of contacts only goes exact when a contact joins masses differing by
     /// more than this ratio (≥ 1; a very large number: never).
     pub mass_ratio: Real,
+    /// An island of contacts only that joins at least this many bodies without a loop (a
+    /// column of boxes) goes exact (≥ 1; a very large number: never).
+    pub stack_bodies: u32,
 }
 
 impl Default for RoutingSpec {
@@ -183,6 +186,7 @@ impl Default for RoutingSpec {
             max_exact_bodies: d.max_exact_bodies,
             hysteresis: d.hysteresis,
             mass_ratio: d.mass_ratio,
+            stack_bodies: d.stack_bodies,
         }
     }
 }

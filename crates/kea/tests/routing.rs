@@ -205,6 +205,14 @@ fn bad_solver_settings_are_rejected_and_change_nothing() {
             .to_string();
         assert!(e.contains("hysteresis"), "{e}");
     }
+    let e = world
+        .set_routing(Routing {
+            stack_bodies: 0,
+            ..Default::default()
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("stack_bodies") && e.contains('0'), "{e}");
     let e = world.set_projection_iterations(17).unwrap_err().to_string();
     assert!(
         e.contains("projection_iterations") && e.contains("17"),

@@ -66,7 +66,7 @@ mod wide;
 
 pub use inputs::{ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact};
 pub use iterative::IterativeParams;
-pub use params::{SolverParams, DEFAULT_CONTACT_SPRING};
+pub use params::{SolverParams, DEFAULT_CONTACT_SPRING, EXACT_CONTACT_STIFFENING};
 pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
 pub use stats::SolverStats;
 pub use wide::SimdLevel;

@@ -16,7 +16,7 @@ use crate::solver::{IterativeParams, Reaction, Routing};
 use serde::{Deserialize, Serialize};
 
 /// The snapshot format's version: a snapshot of another version is refused by name.
-pub const SNAPSHOT_VERSION: u32 = 1;
+pub const SNAPSHOT_VERSION: u32 = 2;
 
 /// A world's state (see the module docs). Take one with [`World::snapshot`], write it with any
 /// serde format, and make a world of it with [`World::restore`].

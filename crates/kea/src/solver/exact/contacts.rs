@@ -12,6 +12,7 @@ use crate::constraint::{
     Contact, PointForce, Row, RowBody, RowContext, RowWriter, Spring, MAX_CONTACT_POINTS,
 };
 use crate::math::Real;
+use crate::solver::EXACT_CONTACT_STIFFENING;
 
 impl ExactWorkspace {
     /// Solves an island of joint blocks and contacts: the contacts write their rows (three
@@ -96,6 +97,7 @@ impl ExactWorkspace {
         mreactions.clear();
         mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
         self.with_contacts = true;
+        self.contact_rows_from = mblocks.get(island_blocks.len()).map(|b| b.first_row);
         self.solve_island(
             &order,
             &mblocks,
@@ -108,6 +110,7 @@ impl ExactWorkspace {
             stats,
         );
         self.with_contacts = false;
+        self.contact_rows_from = None;
         for (i, &k) in island_blocks.iter().enumerate() {
             let blk = &blocks[k as usize];
             let from = mblocks[i].first_row as usize;
@@ -168,17 +171,6 @@ fn store_point_forces(contact: &mut Contact, rows: &[Row], lambda: &[Real]) {
         contact.remember_direction(rows[1].jacobian[0].linear);
     }
 }
-
-/// How much stiffer the exact path's contacts are than the iterative path's in an island of
-/// contacts only (beside joints, contacts keep the world's spring: a ragdoll's limits, soft
-/// by the guide's ε, would yield to stiffer ground contacts): a direct solve stays stable
-/// however stiff its springs, so it runs them at eight times the frequency (240
-/// Hz by default), and eight times the damping ratio so that a step still removes the same
-/// fraction of a penetration (`hω/(hω + 2ζ)`, the step's γ, stays as it was) rather than
-/// kicking bodies out. Resting, such a contact yields 64 times less: a column of 40 unit boxes
-/// sags under 1 cm, and a 1 kg box under a 100 kg one sinks a millimetre or two, where the
-/// soft step's 30 Hz gives 44 cm and 13 cm.
-pub(crate) const EXACT_CONTACT_STIFFENING: Real = 8.0;
 
 /// The spring of the exact path's contacts for the world's contact spring.
 pub(crate) fn exact_contact_spring(spring: Spring) -> Spring {

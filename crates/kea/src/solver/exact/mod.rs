@@ -10,10 +10,15 @@
 //! [`pivoting`] solves the LCP over that fixed structure, warm started from last step's forces.
 //! A chain or an articulated tree costs time linear in its rows.
 //!
-//! Islands with contacts take the dense path ([`dense`]): the dense LCP with the Coulomb
-//! bounds `±μ·max(λₙ, 0)` iterated around it. The block-sparse pivoting can carry friction
-//! inside its loop (tested), but on piles of redundant contact points it does not yet converge
-//! as reliably as that loop, and contact graphs change too often for its cached analysis.
+//! Islands of contacts only whose blocks form a forest (a stack of boxes, a row of them: no
+//! body reached twice through the blocks) take the block-sparse path too, friction inside the
+//! pivoting: their factor has no fill, so a column of 40 boxes (480 rows) costs a fraction of
+//! a millisecond where the dense LCP took 30. Their normal rows with no force of their own
+//! yet start free, as if carrying load: a column that appears at rest then settles in one
+//! solve, where starting them at rest wakes the contacts one block pivot at a time from the
+//! ground up. Other islands with contacts take the dense path ([`dense`]): the dense LCP with
+//! the Coulomb bounds `±μ·max(λₙ, 0)` iterated around it; on a pile with loops (a pyramid)
+//! the block-sparse pivoting fills in and does not converge as reliably as that loop.
 
 // Dense kernels over row and block indices read clearest as index loops.
 #![allow(clippy::needless_range_loop)]
@@ -88,6 +93,11 @@ pub(crate) struct ExactWorkspace {
     with_contacts: bool,
     /// The system last filled is the dense one ([`ExactWorkspace::fill_system`]).
     dense_now: bool,
+    /// Union-find scratch of [`ExactWorkspace::blocks_form_forest`].
+    forest: Vec<u32>,
+    /// The first row of the island's contacts (in the rows the island was gathered from):
+    /// their normal rows without a warm force start free, as if carrying load.
+    contact_rows_from: Option<u32>,
     /// Counts assemblies of `a`, so that a factorisation of the same values can be reused.
     stamp: u64,
 }
@@ -126,6 +136,7 @@ impl ExactWorkspace {
         }
         reserve(&mut self.links, n);
         reserve(&mut self.state, n);
+        reserve(&mut self.forest, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -141,7 +152,8 @@ impl ExactWorkspace {
                 + self.block_position.capacity()
                 + self.local_body.capacity()
                 + self.island_bodies.capacity()
-                + self.body_start.capacity())
+                + self.body_start.capacity()
+                + self.forest.capacity())
                 * 4
             + self.block_key.capacity() * std::mem::size_of::<BlockBodies>()
             + self.body_entries.capacity() * 8
@@ -398,10 +410,44 @@ impl ExactWorkspace {
     /// Whether the gathered island takes the dense system: islands with contacts or Coulomb
     /// friction (see [`dense`]), and islands small enough that the block-sparse analysis,
     /// layout and held factor cost more than the dense `n³/6` they save.
-    fn dense_system(&self) -> bool {
-        self.with_contacts
-            || self.rows.len() <= DENSE_MAX_ROWS
-            || self.links.iter().any(Option::is_some)
+    fn dense_system(&mut self) -> bool {
+        if self.rows.len() <= DENSE_MAX_ROWS {
+            return true;
+        }
+        if self.with_contacts {
+            // Contacts only (no joint rows before them), joined without a loop.
+            let contacts_only = self.contact_rows_from == Some(0);
+            return !(contacts_only && self.blocks_form_forest());
+        }
+        self.links.iter().any(Option::is_some)
+    }
+
+    /// Whether the gathered blocks join the island's bodies without a loop (each block that
+    /// joins two bodies links two trees): then the factor has no fill.
+    fn blocks_form_forest(&mut self) -> bool {
+        let n = self.island_bodies.len();
+        let parent = &mut self.forest;
+        parent.clear();
+        parent.extend(0..n as u32);
+        let find = |parent: &mut Vec<u32>, mut x: u32| {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        };
+        for key in &self.block_key {
+            if key[0] == u32::MAX || key[1] == u32::MAX {
+                continue;
+            }
+            let (a, b) = (find(parent, key[0]), find(parent, key[1]));
+            if a == b {
+                return false;
+            }
+            parent[a as usize] = b;
+        }
+        true
     }
 
     /// Fills `A = J M⁻¹ Jᵀ` (no diagonal terms) for the gathered rows, dense or block-sparse
@@ -491,6 +537,13 @@ impl ExactWorkspace {
                 };
             }
             self.state[i] = pivoting::state_from_guess(self.lo[i], self.hi[i], g(i));
+            let ri = self.rows[i].global;
+            if self.contact_rows_from.is_some_and(|f| ri >= f) && g(i) == 0.0 {
+                let row = &rows[ri as usize];
+                if row.lo == 0.0 && row.hi == Real::INFINITY && row.friction.is_none() {
+                    self.state[i] = Bound::Free;
+                }
+            }
         }
     }
 
