@@ -378,6 +378,7 @@ impl NarrowWorker {
         });
         let finite = |g: &crate::manifold_gen::GenManifold| {
             g.normal_a.is_finite()
+                && g.normal_a.length_squared() > 0.5
                 && g.points()
                     .iter()
                     .all(|q| q.local_a.is_finite() && q.local_b.is_finite() && q.dist.is_finite())
@@ -409,7 +410,7 @@ impl NarrowWorker {
                 .map_or(Wanted::NEW, |k| k as u32);
             let mut m = ManifoldCache {
                 sub: g.sub,
-                normal: pose_a.rotation * g.normal_a,
+                normal: unit_normal(pose_a.rotation * g.normal_a),
                 points: [CachedPoint::default(); MAX_CONTACT_POINTS],
                 count: keep.len() as u8,
             };
@@ -488,5 +489,16 @@ pub(crate) fn should_collide(
     match (a.body, b.body) {
         (Some(x), Some(y)) => jointed.binary_search(&(x.min(y), x.max(y))).is_err(),
         _ => true,
+    }
+}
+
+/// `n` made unit again where rounding (a compound's part rotations composed with the pose's)
+/// left it off by more than Kea's contacts allow for noise; a normal already unit to within
+/// 10⁻⁵ is kept bit for bit.
+fn unit_normal(n: Vec3) -> Vec3 {
+    if (n.length_squared() - 1.0).abs() > 1.0e-5 {
+        n.normalize()
+    } else {
+        n
     }
 }

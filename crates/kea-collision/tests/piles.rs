@@ -377,3 +377,51 @@ fn ten_boxes_alternating_100_kg_and_1_kg_stand_20_s() {
         );
     }
 }
+
+#[test]
+fn a_pile_too_big_for_the_dense_exact_path_is_solved_iteratively_and_says_so() {
+    // A 3 × 3 × 2 block of unit boxes forced exact: its contacts make loops (no stack), and
+    // its rows pass DENSE_EXACT_MAX_ROWS, so each step solves it on the iterative path and
+    // reports the island as rerouted, rather than stalling in the dense LCP.
+    let mut w = world(18, SolverMode::Exact);
+    let mut c = CollisionWorld::new();
+    ground(&mut c, &w, Vec3::Y);
+    let mut boxes = Vec::new();
+    for i in 0..18 {
+        let at = Vec3::new(
+            (i % 3) as Real,
+            0.5 + (i / 9) as Real,
+            ((i / 3) % 3) as Real,
+        );
+        boxes.push(add_box(
+            &mut w,
+            &mut c,
+            Vec3::splat(0.5),
+            1.0,
+            at,
+            Quat::IDENTITY,
+        ));
+    }
+    let start: Vec<Vec3> = boxes
+        .iter()
+        .map(|&b| w.body(b).unwrap().position())
+        .collect();
+    let mut rerouted = 0;
+    for _ in 0..120 {
+        let stats = common::step(&mut c, &mut w, DT).unwrap();
+        if stats.solver.rerouted_islands > 0 {
+            assert_eq!(stats.solver.exact_islands, 0, "{:?}", stats.solver);
+            assert_eq!(stats.solver.iterative_islands, 1, "{:?}", stats.solver);
+            assert!(stats.solver.rows > kea::DENSE_EXACT_MAX_ROWS);
+            assert!(!stats.solver.is_clean(), "a rerouted island is a warning");
+            rerouted += 1;
+        }
+    }
+    assert!(rerouted > 100, "rerouted in {rerouted} of 120 steps");
+    let moved = boxes
+        .iter()
+        .zip(&start)
+        .map(|(&b, p)| (w.body(b).unwrap().position() - *p).length())
+        .fold(0.0, Real::max);
+    assert!(moved < 0.01, "the block moved {moved} m");
+}

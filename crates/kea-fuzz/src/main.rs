@@ -24,7 +24,7 @@ fn main() -> std::process::ExitCode {
             arg(&args, "--seeds", 10)?,
             arg(&args, "--first", 0)?,
             arg(&args, "--ops", 10_000)?,
-            arg(&args, "--bound-ms", 5000)?,
+            arg(&args, "--bound-ms", 100)?,
         ))
     })();
     let (seeds, first, ops, bound) = match parsed {

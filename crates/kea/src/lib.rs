@@ -45,7 +45,7 @@ pub use math::{Mat3, Mat4, Quat, Real, Vec3, PI as PI_REAL};
 pub use solver::{
     IslandReport, IterativeParams, Reaction, Routing, SimdLevel, Solver, SolverBody, SolverContact,
     SolverMode, SolverParams, SolverPath, SolverStats, DEFAULT_CONTACT_SPRING,
-    EXACT_CONTACT_STIFFENING,
+    DENSE_EXACT_MAX_ROWS, EXACT_CONTACT_STIFFENING,
 };
 pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{

@@ -67,7 +67,7 @@ mod wide;
 pub use inputs::{ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact};
 pub use iterative::IterativeParams;
 pub use params::{SolverParams, DEFAULT_CONTACT_SPRING, EXACT_CONTACT_STIFFENING};
-pub use routing::{IslandReport, Routing, SolverMode, SolverPath};
+pub use routing::{IslandReport, Routing, SolverMode, SolverPath, DENSE_EXACT_MAX_ROWS};
 pub use stats::SolverStats;
 pub use wide::SimdLevel;
 
@@ -245,8 +245,13 @@ impl Solver {
         self.iterative_islands.clear();
         self.split.clear();
         for k in 0..self.islands.count() {
-            let path = routing::choose(&params.routing, &self.islands, k, blocks, contacts, bodies);
-            let island_rows = self.island_rows(k, blocks, contacts);
+            let choice =
+                routing::choose(&params.routing, &self.islands, k, blocks, contacts, bodies);
+            let path = choice.path;
+            if choice.rerouted {
+                stats.rerouted_islands += 1;
+            }
+            let island_rows = routing::island_rows(&self.islands, k, blocks, contacts);
             let mut report = IslandReport {
                 path,
                 bodies: self.islands.island_bodies[k],
@@ -280,6 +285,12 @@ impl Solver {
                 self.split.push(path == SolverPath::Split);
             }
             self.reports.push(report);
+        }
+        if stats.rerouted_islands > 0 {
+            log::warn!(
+                "kea: {} islands with contacts too big for the exact path's dense LCP (over {DENSE_EXACT_MAX_ROWS} rows) solved on the iterative path",
+                stats.rerouted_islands
+            );
         }
         if !self.iterative_islands.is_empty() {
             let t = Stamp::now(params.timing);
@@ -335,23 +346,6 @@ impl Solver {
         stats.time_integrate = t2.elapsed();
         stats.workspace_grew = self.memory_used() > before;
         Ok(stats)
-    }
-
-    /// Rows of island `k`: its constraints' rows and three per contact point.
-    fn island_rows(&self, k: usize, blocks: &[ConstraintBlock], contacts: &[SolverContact]) -> u32 {
-        let joint: u32 = self
-            .islands
-            .blocks(k)
-            .iter()
-            .map(|&b| blocks[b as usize].row_count)
-            .sum();
-        let contact: u32 = self
-            .islands
-            .contacts(k)
-            .iter()
-            .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
-            .sum();
-        joint + contact
     }
 }
 

@@ -141,8 +141,104 @@ pub struct IslandReport {
     pub pivots: u32,
 }
 
-/// Chooses the path of island `k`.
+/// Most rows of an island with contacts that the exact path's dense LCP takes, whatever the
+/// mode: its factorisations cost rows³ (one of 256 rows takes about 2 ms here, and a hard
+/// step may need tens of them), so a bigger island of contacts with loops, or of contacts and
+/// joints, goes to the iterative path (split when it holds joints) and the step says so
+/// ([`super::SolverStats::rerouted_islands`]). Stacks (contacts only, no loop) are not held to
+/// it: their block-sparse system costs time linear in their rows.
+pub const DENSE_EXACT_MAX_ROWS: u32 = 256;
+
+/// The path chosen for an island, and whether it was turned away from the exact path
+/// ([`DENSE_EXACT_MAX_ROWS`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Choice {
+    pub(crate) path: SolverPath,
+    pub(crate) rerouted: bool,
+}
+
+/// Chooses the path of island `k`: [`choose_by_structure`], held to
+/// [`DENSE_EXACT_MAX_ROWS`].
 pub(crate) fn choose(
+    routing: &Routing,
+    islands: &Islands,
+    k: usize,
+    blocks: &[ConstraintBlock],
+    contacts: &[SolverContact],
+    bodies: &[SolverBody],
+) -> Choice {
+    let path = choose_by_structure(routing, islands, k, blocks, contacts, bodies);
+    if path != SolverPath::Exact || islands.contacts(k).is_empty() {
+        return Choice {
+            path,
+            rerouted: false,
+        };
+    }
+    let joints = !islands.blocks(k).is_empty();
+    let rows = island_rows(islands, k, blocks, contacts);
+    let dense = joints || !is_stack(islands, k, contacts, bodies);
+    if dense && rows > DENSE_EXACT_MAX_ROWS {
+        let path = if joints {
+            SolverPath::Split
+        } else {
+            SolverPath::Iterative
+        };
+        return Choice {
+            path,
+            rerouted: true,
+        };
+    }
+    Choice {
+        path,
+        rerouted: false,
+    }
+}
+
+/// Rows of island `k`: its joints' and three per contact point.
+pub(crate) fn island_rows(
+    islands: &Islands,
+    k: usize,
+    blocks: &[ConstraintBlock],
+    contacts: &[SolverContact],
+) -> u32 {
+    let contact_rows: u32 = islands
+        .contacts(k)
+        .iter()
+        .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
+        .sum();
+    islands
+        .blocks(k)
+        .iter()
+        .map(|&b| blocks[b as usize].row_count)
+        .sum::<u32>()
+        + contact_rows
+}
+
+/// Whether island `k`'s contacts join its moving bodies without a loop (as many contacts
+/// between two moving bodies as it has bodies less one: an island is connected), with few
+/// contacts against the world besides (at most two per body: a row of boxes on the ground
+/// has one each).
+fn is_stack(
+    islands: &Islands,
+    k: usize,
+    contacts: &[SolverContact],
+    bodies: &[SolverBody],
+) -> bool {
+    let joining = islands
+        .contacts(k)
+        .iter()
+        .map(|&c| contacts[c as usize].bodies)
+        .filter(|p| {
+            p.iter()
+                .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
+        })
+        .count();
+    let n = islands.island_bodies[k] as usize;
+    joining + 1 == n && islands.contacts(k).len() <= 3 * n
+}
+
+/// Chooses the path of island `k` by its structure (module docs).
+fn choose_by_structure(
     routing: &Routing,
     islands: &Islands,
     k: usize,
@@ -162,17 +258,7 @@ pub(crate) fn choose(
         }
         SolverMode::Hybrid => {}
     }
-    let contact_rows: u32 = islands
-        .contacts(k)
-        .iter()
-        .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
-        .sum();
-    let rows: u32 = islands
-        .blocks(k)
-        .iter()
-        .map(|&b| blocks[b as usize].row_count)
-        .sum::<u32>()
-        + contact_rows;
+    let rows = island_rows(islands, k, blocks, contacts);
     let n_bodies = islands.island_bodies[k];
     let mut was_iterative = false;
     let mut prefer_exact = false;
@@ -215,15 +301,7 @@ pub(crate) fn choose(
                 .map(|&c| contacts[c as usize].bodies)
         };
         let uneven = small && mass_ratio(pairs(), bodies) > routing.mass_ratio;
-        // A connected island whose contacts between moving bodies number one less than its
-        // bodies has no loop.
-        let joining = pairs()
-            .filter(|p| {
-                p.iter()
-                    .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
-            })
-            .count();
-        let stack = n_bodies >= routing.stack_bodies && joining + 1 == n_bodies as usize;
+        let stack = n_bodies >= routing.stack_bodies && is_stack(islands, k, contacts, bodies);
         return if uneven || stack {
             SolverPath::Exact
         } else {

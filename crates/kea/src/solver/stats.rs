@@ -30,6 +30,10 @@ pub struct SolverStats {
     pub workspace_grew: bool,
     /// Islands solved by the exact path.
     pub exact_islands: u32,
+    /// Islands with contacts that the exact path was asked for (forced, or by the routing) but
+    /// whose dense system was too big for a step to afford ([`super::DENSE_EXACT_MAX_ROWS`]):
+    /// solved on the iterative path instead (split when they hold joints). A warning.
+    pub rerouted_islands: u32,
     /// Islands solved by the iterative path (split islands not included).
     pub iterative_islands: u32,
     /// Islands split: joints solved directly inside the substeps, contacts iteratively.
@@ -74,12 +78,14 @@ pub struct SolverStats {
 }
 
 impl SolverStats {
-    /// True when every island converged without regularisation.
+    /// True when every island converged without regularisation, each on the path it was
+    /// routed to.
     #[must_use]
     pub fn is_clean(&self) -> bool {
         self.singular_islands == 0
             && self.cycled_islands == 0
             && self.capped_islands == 0
             && self.friction_unconverged_islands == 0
+            && self.rerouted_islands == 0
     }
 }

@@ -106,6 +106,12 @@ pub(crate) struct ExactWorkspace {
 /// its own block's row (up to 12) and the rows of the blocks it couples to (a few).
 const VALUES_PER_ROW: usize = 48;
 
+/// Most blocks on one body in an island of contacts that takes the block-sparse system (see
+/// [`ExactWorkspace::blocks_form_forest`]): a box in a row on tiled ground has a few; a body
+/// with dozens of contact manifolds couples them all, densely, and goes to the dense path
+/// and its work budget.
+const STACK_MAX_BLOCKS_PER_BODY: usize = 6;
+
 /// Islands of up to this many rows take the dense system whatever they hold (see
 /// [`ExactWorkspace::dense_system`]).
 const DENSE_MAX_ROWS: usize = 16;
@@ -423,9 +429,22 @@ impl ExactWorkspace {
     }
 
     /// Whether the gathered blocks join the island's bodies without a loop (each block that
-    /// joins two bodies links two trees): then the factor has no fill.
+    /// joins two bodies links two trees), and no body holds more than
+    /// [`STACK_MAX_BLOCKS_PER_BODY`] of them: then the factor has no fill and small dense
+    /// parts (the blocks on one body all couple).
     fn blocks_form_forest(&mut self) -> bool {
         let n = self.island_bodies.len();
+        let degree = &mut self.forest;
+        degree.clear();
+        degree.resize(n, 0);
+        for key in &self.block_key {
+            for &b in key.iter().filter(|&&b| b != u32::MAX) {
+                degree[b as usize] += 1;
+                if degree[b as usize] as usize > STACK_MAX_BLOCKS_PER_BODY {
+                    return false;
+                }
+            }
+        }
         let parent = &mut self.forest;
         parent.clear();
         parent.extend(0..n as u32);
