@@ -4,7 +4,8 @@
 //!
 //! Run: `cargo run --release --example kea_only`
 
-use kea::constraint::ball::write_point_rows;
+use kea::constraint::ball::write_anchor_rows;
+use kea::constraint::RowBody;
 use kea::solver::{memory_required, ConstraintBlock};
 use kea::{Mat3, Quat, Reaction, Real, Row, RowWriter, Solver, SolverBody, SolverParams, Vec3};
 
@@ -62,10 +63,17 @@ fn main() -> Result<(), kea::KeaError> {
         let b = &bodies[0];
         let p = b.orientation * joint_in_body;
         rows.clear();
-        write_point_rows(
-            p,
+        // Its pose and spin: the rows' anchor and their curvature (`Row::curvature`).
+        let body = RowBody {
+            angular_velocity: b.angular_velocity,
+            ..RowBody::fixed(b.position, b.orientation)
+        };
+        write_anchor_rows(
+            &body,
+            &RowBody::STATIC,
+            b.position + p,
             joint_in_world,
-            b.position + p - joint_in_world,
+            params.dt,
             &mut RowWriter::new(&mut rows),
         );
         let stats = solver.step(

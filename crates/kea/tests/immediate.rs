@@ -2,7 +2,8 @@
 //! It gives bit-identical results to the world for the same problem, reports islands, and
 //! rejects inconsistent input.
 
-use kea::constraint::ball::write_point_rows;
+use kea::constraint::ball::write_anchor_rows;
+use kea::constraint::RowBody;
 use kea::solver::ConstraintBlock;
 use kea::{
     inertia, BodyDef, Quat, Reaction, Real, Routing, Row, RowWriter, Solver, SolverBody,
@@ -11,6 +12,16 @@ use kea::{
 
 const ANCHOR: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 const LOCAL: Vec3 = Vec3::new(-1.0, 0.0, 0.0);
+
+/// The body as the joint's rows see it: pose and spin (the world's ball joint writes the
+/// same, its anchors' curvature included).
+fn row_body(b: &SolverBody) -> RowBody {
+    RowBody {
+        angular_velocity: b.angular_velocity,
+        linear_velocity: b.linear_velocity,
+        ..RowBody::fixed(b.position, b.orientation)
+    }
+}
 
 fn cuboid_inertia() -> kea::Mat3 {
     inertia::solid_box(2.0, Vec3::new(0.15, 0.15, 1.5)).unwrap()
@@ -60,10 +71,12 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
         rows.clear();
         let body = &bodies[0];
         let a1 = body.position + body.orientation * LOCAL;
-        write_point_rows(
-            a1 - body.position,
+        write_anchor_rows(
+            &row_body(body),
+            &RowBody::STATIC,
+            a1,
             ANCHOR,
-            a1 - ANCHOR,
+            h,
             &mut RowWriter::new(&mut rows),
         );
         let blocks = [ConstraintBlock {
@@ -274,10 +287,12 @@ fn memory_required_covers_what_a_step_uses() {
     let mut rows: Vec<Row> = Vec::new();
     let b = &bodies[0];
     let a1 = b.position + b.orientation * LOCAL;
-    write_point_rows(
-        a1 - b.position,
+    write_anchor_rows(
+        &row_body(b),
+        &RowBody::STATIC,
+        a1,
         ANCHOR,
-        a1 - ANCHOR,
+        SolverParams::default().dt,
         &mut RowWriter::new(&mut rows),
     );
     let blocks = [ConstraintBlock {

@@ -149,7 +149,7 @@ impl BallJoint {
         let [b1, b2] = &ctx.bodies;
         let a1 = b1.point_to_world(self.local_anchor1);
         let a2 = b2.point_to_world(self.local_anchor2);
-        write_anchor_rows(b1, b2, a1, a2, out);
+        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         if let Some(l) = &self.limits {
             l.write_rows(b1, b2, ctx.dt, out);
         }
@@ -171,23 +171,52 @@ impl BallJoint {
     }
 }
 
-/// The three rows of any joint that holds anchor `a1` of body 1 on anchor `a2` of body 2.
+/// The three rows of any joint that holds anchor `a1` of body 1 on anchor `a2` of body 2,
+/// over a step of `h` (for their curvature, [`Row::curvature`]).
 ///
 /// Both bodies are pushed at the same point, the anchors' midpoint: the joint's force on the
 /// pair then has no net moment even while the anchors are apart, so the pair's angular momentum
 /// is kept (a first-order change of the Jacobian, of the size of the gap, that the error term
 /// corrects anyway). A joint to the world, or one torn far apart, keeps its own anchors.
-pub fn write_anchor_rows(b1: &RowBody, b2: &RowBody, a1: Vec3, a2: Vec3, out: &mut RowWriter<'_>) {
+pub fn write_anchor_rows(
+    b1: &RowBody,
+    b2: &RowBody,
+    a1: Vec3,
+    a2: Vec3,
+    h: Real,
+    out: &mut RowWriter<'_>,
+) {
     let (r1, r2) = (a1 - b1.position, a2 - b2.position);
     let gap = (a1 - a2).length();
     let reach = r1.length().max(r2.length());
-    if b2.dynamic && gap <= 0.1 * reach {
+    let (r1, r2) = if b2.dynamic && gap <= 0.1 * reach {
         let mid = 0.5 * (a1 + a2);
-        write_point_rows(mid - b1.position, mid - b2.position, a1 - a2, out);
+        (mid - b1.position, mid - b2.position)
     } else {
-        write_point_rows(r1, r2, a1 - a2, out);
+        (r1, r2)
+    };
+    let first = out.len();
+    write_point_rows(r1, r2, a1 - a2, out);
+    // The anchors' centripetal accelerations: the rows' J̇·v (see `Row::curvature`), while
+    // a step turns the bodies little enough for the chord to be a second-order correction.
+    let (w1, w2) = (b1.angular_velocity, b2.angular_velocity);
+    let turn = w1.length().max(w2.length()) * h;
+    let weight = ((CHORD_TURN_END - turn) / (CHORD_TURN_END - CHORD_TURN_FULL)).clamp(0.0, 1.0);
+    if weight > 0.0 {
+        let k = w1.cross(w1.cross(r1)) - w2.cross(w2.cross(r2));
+        out.set_curvatures(first, (weight * k).to_array());
     }
 }
+
+/// Up to this turn of either body in one step (rad) an anchor's rows carry their whole
+/// curvature; from it to [`CHORD_TURN_END`] less and less, and past it none. The chord is a
+/// second-order correction: a link whipped at a radian and more a step (the tip of a
+/// released chain at 60 Hz) is past what one linearisation follows, and the term there fed
+/// the motion until the chain tore.
+const CHORD_TURN_FULL: Real = 0.25;
+
+/// See [`CHORD_TURN_FULL`].
+const CHORD_TURN_END: Real = 0.5;
 
 /// Writes the three rows that hold a point of body 1 (lever arm `r1`) on a point of body 2
 /// (lever arm `r2`), with current separation `error = a₁ − a₂`. Shared by every joint that

@@ -38,6 +38,7 @@ impl FixedJoint {
             b2,
             b1.point_to_world(self.local_anchor1),
             b2.point_to_world(self.local_anchor2),
+            ctx.dt,
             out,
         );
         write_orientation_rows(b1, b2, self.relative_orientation, out);

@@ -96,7 +96,7 @@ impl Hinge {
         let [b1, b2] = &ctx.bodies;
         let a1 = b1.point_to_world(self.local_anchor1);
         let a2 = b2.point_to_world(self.local_anchor2);
-        write_anchor_rows(b1, b2, a1, a2, out);
+        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         let u1 = b1.vector_to_world(self.local_axis1);
         let u2 = b2.vector_to_world(self.local_axis2);
         // The free axis: a spinning body's own axle when it has one (see `RowBody`).

@@ -42,6 +42,7 @@ impl UniversalJoint {
             b2,
             b1.point_to_world(self.local_anchor1),
             b2.point_to_world(self.local_anchor2),
+            ctx.dt,
             out,
         );
         let u1 = b1.vector_to_world(self.local_axis1);

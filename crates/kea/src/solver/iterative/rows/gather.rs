@@ -107,6 +107,7 @@ impl JointRows {
                 let c = if row.bounce { 0.0 } else { row.c };
                 self.target.push(c - kinematic);
                 self.bounce_target.push(row.c - kinematic);
+                self.chord.push(0.5 * hs * row.curvature);
                 self.lo.push(row.lo * hs);
                 self.hi.push(row.hi * hs);
                 match row.friction {

@@ -77,6 +77,10 @@ pub(crate) struct JointRows {
     xi0: Vec<Real>,
     target: Vec<Real>,
     bounce_target: Vec<Real>,
+    /// `(hs/2)·J̇v`: what a substep's velocity solve takes off the target so that it aims
+    /// along the chord of the substep ([`crate::constraint::Row::curvature`]); the error's
+    /// tracking keeps the plain target.
+    chord: Vec<Real>,
     lo: Vec<Real>,
     hi: Vec<Real>,
     link: Vec<u32>,
@@ -163,6 +167,7 @@ impl JointRows {
             &mut self.xi0,
             &mut self.target,
             &mut self.bounce_target,
+            &mut self.chord,
             &mut self.lo,
             &mut self.hi,
             &mut self.mu,
@@ -249,6 +254,7 @@ impl JointRows {
             xi0,
             target,
             bounce_target,
+            chord,
             lo,
             hi,
             link,

