@@ -87,7 +87,7 @@ fn pendulums(mode: SolverMode) -> [(Real, Real); 2] {
 #[test]
 fn pendulums_keep_their_energy_on_the_substepped_paths() {
     // Iterative: 0.44% rise, +0.15% (pendulum); −0.40% (conical). Split: 0.65%, +0.61%;
-    // −0.004%; the double pendulum 0.55%, −0.05% (it lost 31% before the chord). Split
+    // −0.005%; the double pendulum 0.55%, +0.22% (it lost 31% before the chord). Split
     // islands' rise is the substeps' first-order swing of energy, past VALIDATION's 0.5%
     // by a little (the ignored test below holds every path to it).
     let [simple, conical] = pendulums(SolverMode::Iterative);

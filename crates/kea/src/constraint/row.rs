@@ -64,13 +64,12 @@ pub struct Row {
     pub c: Real,
     /// The row's velocity-product acceleration `J̇·v` at the present state (m/s², or rad/s²):
     /// how its velocity would drift with no force, from the bodies' rotation alone (a jointed
-    /// point's centripetal acceleration). Inside the iterative path's substeps of `hs` the
-    /// row's velocity aims at `c − (hs/2)·curvature`, the velocity along the chord of the
-    /// substep: the error after it is of third order, not second, and the joint's force does
-    /// next to no work (a double pendulum released horizontal lost 31% of its energy in 10 s
-    /// at 60 Hz on split islands without it, 0.05% with it). The exact path, one
-    /// linearisation a step, does not use it (there it turned a slow loss into a gain). 0
-    /// where a row does not write it.
+    /// point's centripetal acceleration). In the relax pass of the iterative path's substeps
+    /// of `hs` the row's velocity aims at `c − (hs/2)·curvature`, the velocity along the chord
+    /// of the substep, so that the joint's force does next to no work (a double pendulum
+    /// released horizontal lost 31% of its energy in 10 s at 60 Hz on split islands without
+    /// it, and keeps it to 0.2% with it). The exact path, one linearisation a step, does not
+    /// use it (there it turned a slow loss into a gain). 0 where a row does not write it.
     pub curvature: Real,
     /// Lower bound on λ (force); may be `-INFINITY`.
     pub lo: Real,

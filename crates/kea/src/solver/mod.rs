@@ -288,7 +288,7 @@ impl Solver {
         }
         if stats.rerouted_islands > 0 {
             log::warn!(
-                "kea: {} islands with contacts too big for the exact path's dense LCP (over {DENSE_EXACT_MAX_ROWS} rows) solved on the iterative path",
+                "kea: {} islands turned away from the path they were routed to (contacts past the dense exact LCP's {DENSE_EXACT_MAX_ROWS} rows, or a light chain carrying a heavy end forced exact or iterative)",
                 stats.rerouted_islands
             );
         }

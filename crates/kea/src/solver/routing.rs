@@ -149,8 +149,10 @@ pub struct IslandReport {
 /// it: their block-sparse system costs time linear in their rows.
 pub const DENSE_EXACT_MAX_ROWS: u32 = 256;
 
-/// The path chosen for an island, and whether it was turned away from the exact path
-/// ([`DENSE_EXACT_MAX_ROWS`]).
+/// The path chosen for an island, and whether it was turned away from the path its mode
+/// asked for: the exact path's dense LCP past [`DENSE_EXACT_MAX_ROWS`], or a light chain
+/// carrying a body more than [`Routing::mass_ratio`] times heavier forced exact or iterative
+/// (solved split).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Choice {
     pub(crate) path: SolverPath,
@@ -168,6 +170,18 @@ pub(crate) fn choose(
     bodies: &[SolverBody],
 ) -> Choice {
     let path = choose_by_structure(routing, islands, k, blocks, contacts, bodies);
+    let forced_one_way = matches!(routing.mode, SolverMode::Exact | SolverMode::Iterative);
+    if forced_one_way && path != SolverPath::Split && !islands.blocks(k).is_empty() {
+        // A light chain carrying a heavy end: one linearisation a step tears it by metres,
+        // Gauss-Seidel opens it by decimetres and blows up hanging; the direct solves inside
+        // the substeps hold it to a fraction of a millimetre.
+        if carries_heavy_end(islands.blocks(k), blocks, bodies, routing.mass_ratio) {
+            return Choice {
+                path: SolverPath::Split,
+                rerouted: true,
+            };
+        }
+    }
     if path != SolverPath::Exact || islands.contacts(k).is_empty() {
         return Choice {
             path,
@@ -331,6 +345,34 @@ fn choose_by_structure(
     } else {
         SolverPath::Split
     }
+}
+
+/// Whether one of `island`'s joints joins a body to one more than `ratio` times heavier while
+/// the light one is held by another joint too: a link of a light chain carrying a heavy end.
+/// (A light body on one joint, a car's wheel on its 50 times heavier chassis, is not: one
+/// linearisation a step holds it.)
+fn carries_heavy_end(
+    island: &[u32],
+    blocks: &[ConstraintBlock],
+    bodies: &[SolverBody],
+    ratio: Real,
+) -> bool {
+    let inv_mass = |b: u32| bodies[b as usize].inv_mass;
+    island.iter().any(|&j| {
+        let [Some(a), Some(b)] = blocks[j as usize].bodies else {
+            return false;
+        };
+        let (ia, ib) = (inv_mass(a), inv_mass(b));
+        if ia <= 0.0 || ib <= 0.0 || (ia / ib).max(ib / ia) <= ratio {
+            return false;
+        }
+        let light = if ia > ib { a } else { b };
+        island
+            .iter()
+            .filter(|&&o| blocks[o as usize].bodies.contains(&Some(light)))
+            .nth(1)
+            .is_some()
+    })
 }
 
 /// The largest ratio of the masses of two bodies joined by one of `pairs` (a contact's or a

@@ -30,9 +30,11 @@ pub struct SolverStats {
     pub workspace_grew: bool,
     /// Islands solved by the exact path.
     pub exact_islands: u32,
-    /// Islands with contacts that the exact path was asked for (forced, or by the routing) but
-    /// whose dense system was too big for a step to afford ([`super::DENSE_EXACT_MAX_ROWS`]):
-    /// solved on the iterative path instead (split when they hold joints). A warning.
+    /// Islands turned away from the path they were routed to, because it could not hold them
+    /// (a warning): islands with contacts whose dense exact system was too big for a step to
+    /// afford ([`super::DENSE_EXACT_MAX_ROWS`]), solved on the iterative path (split when
+    /// they hold joints); a light chain carrying a body more than
+    /// [`super::Routing::mass_ratio`] times heavier, forced exact or iterative, solved split.
     pub rerouted_islands: u32,
     /// Islands solved by the iterative path (split islands not included).
     pub iterative_islands: u32,

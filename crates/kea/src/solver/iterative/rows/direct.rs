@@ -126,7 +126,11 @@ impl JointRows {
             } else {
                 self.bias(i, xi, hs, use_bias, max_speed)
             };
-            let r = self.target[i] - self.chord[i] - bias - jv - self.extra[i] * self.impulse[i];
+            let r = self.target[i]
+                - self.chord_for(i, use_bias)
+                - bias
+                - jv
+                - self.extra[i] * self.impulse[i];
             let (lo, hi) = (wide(self.lo[i]), wide(self.hi[i]));
             sys.push(wide(r), lo, hi, wide(self.impulse[i]));
         }
