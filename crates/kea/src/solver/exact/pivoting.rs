@@ -243,6 +243,35 @@ pub(crate) fn solve(
     report
 }
 
+/// Solves the system when every row is an equality (no bound, no Coulomb link): `x` holds the
+/// right-hand side on entry and `A⁻¹` times it on return, by the kept factorisation of `A`
+/// with no row held (one numeric factorisation while the values' stamp is unchanged, then a
+/// forward and a backward substitution: none of the pivoting's bookkeeping).
+pub(crate) fn solve_equalities(
+    sys: &System<'_>,
+    state: &mut [Bound],
+    x: &mut [f64],
+    ws: &mut LcpWorkspace,
+) -> LcpReport {
+    let diag_max = diagonal_max(sys);
+    let tiny = 1.0e-13 * diag_max.max(1.0e-300);
+    let floor = 1.0e-9 * diag_max.max(1.0e-300);
+    state.fill(Bound::Free);
+    let singular = ws.factor.update(sys, state, tiny, floor);
+    factor_solve(sys.pattern, sys.layout, &ws.factor.factor, x);
+    for v in x.iter_mut() {
+        if !v.is_finite() {
+            *v = 0.0; // no force rather than a wild one
+        }
+    }
+    LcpReport {
+        iterations: 1,
+        converged: true,
+        singular,
+        ..LcpReport::default()
+    }
+}
+
 /// Largest diagonal entry of the system.
 fn diagonal_max(sys: &System<'_>) -> f64 {
     let mut m = 0.0f64;

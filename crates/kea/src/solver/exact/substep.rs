@@ -168,6 +168,30 @@ impl SubstepSystem {
         }
         ws.size_vectors(n);
         let pattern = ws.patterns.current();
+        let equalities = ws.links.iter().all(Option::is_none)
+            && lo.iter().all(|&l| l == f64::NEG_INFINITY)
+            && hi.iter().all(|&h| h == f64::INFINITY);
+        if equalities {
+            // Equalities first: `A (y − y₀) = r` straight through the factor, no pivoting.
+            ws.x[..n].copy_from_slice(&r[..n]);
+            let report = pivoting::solve_equalities(
+                &System {
+                    pattern,
+                    layout: &ws.layout,
+                    a: &ws.a,
+                    b: &ws.b,
+                    links: &ws.links,
+                    stamp: ws.stamp,
+                },
+                &mut ws.state,
+                &mut ws.x,
+                &mut ws.lcp,
+            );
+            for (yi, dx) in y[..n].iter_mut().zip(&ws.x[..n]) {
+                *yi += dx;
+            }
+            return report;
+        }
         self.product.clear();
         self.product.resize(n, 0.0);
         super::factor::multiply(pattern, &ws.layout, &ws.a, y, &mut self.product);
