@@ -38,6 +38,9 @@ fn column(mode: SolverMode) -> (Real, Real, f64) {
         }
         let stats = world.step(h).unwrap();
         assert_eq!(stats.solver.islands, 1, "{mode:?} {:?}", stats.solver);
+        if mode == SolverMode::Hybrid {
+            assert_eq!(stats.solver.exact_islands, 1, "{:?}", stats.solver);
+        }
     }
     let ms = start.elapsed().as_secs_f64() * 1000.0 / 300.0;
     let top = world.body(boxes[N - 1]).unwrap().position();
@@ -47,6 +50,20 @@ fn column(mode: SolverMode) -> (Real, Real, f64) {
         .map(|c| world.contact_force(c).unwrap())
         .sum();
     (drift, ground_force.y, ms)
+}
+
+#[test]
+fn a_column_with_a_contact_per_corner_is_a_stack_and_goes_exact_by_default() {
+    // Four one-point contacts on each face pair follow one another on one pair of bodies:
+    // the column is still a stack (`Routing::stack_bodies`), routed exact, and holds there.
+    let (drift, normal, _) = column(SolverMode::Hybrid);
+    let weight = N as Real * 9.81;
+    eprintln!("hybrid: top drift {drift:e} m, ground force {normal} N (weight {weight})");
+    assert!(drift < 1e-3, "hybrid: top drifted {drift} m");
+    assert!(
+        (normal - weight).abs() < 5e-3 * weight,
+        "ground force {normal}"
+    );
 }
 
 #[test]

@@ -228,16 +228,19 @@ pub(crate) fn island_rows(
         + contact_rows
 }
 
-/// Whether island `k`'s contacts join its moving bodies without a loop (as many contacts
-/// between two moving bodies as it has bodies less one: an island is connected), with few
-/// contacts against the world besides (at most two per body: a row of boxes on the ground
-/// has one each).
+/// Whether island `k`'s contacts join its moving bodies without a loop (as many pairs of
+/// moving bodies in contact as it has bodies less one: an island is connected; contacts that
+/// follow one another on one pair count once), with few contacts in all (at most three per
+/// body).
 fn is_stack(
     islands: &Islands,
     k: usize,
     contacts: &[SolverContact],
     bodies: &[SolverBody],
 ) -> bool {
+    // Contacts between two moving bodies, a run of them on one pair (a manifold per corner,
+    // or per part of a compound) counted once.
+    let mut last = None;
     let joining = islands
         .contacts(k)
         .iter()
@@ -246,9 +249,10 @@ fn is_stack(
             p.iter()
                 .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
         })
+        .filter(|&p| last.replace(p) != Some(p))
         .count();
     let n = islands.island_bodies[k] as usize;
-    joining + 1 == n && islands.contacts(k).len() <= 3 * n
+    joining + 1 == n && islands.contacts(k).len() <= 3 * n * crate::constraint::MAX_CONTACT_POINTS
 }
 
 /// Chooses the path of island `k` by its structure (module docs).

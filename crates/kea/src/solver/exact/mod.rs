@@ -107,10 +107,10 @@ pub(crate) struct ExactWorkspace {
 const VALUES_PER_ROW: usize = 48;
 
 /// Most blocks on one body in an island of contacts that takes the block-sparse system (see
-/// [`ExactWorkspace::blocks_form_forest`]): a box in a row on tiled ground has a few; a body
-/// with dozens of contact manifolds couples them all, densely, and goes to the dense path
-/// and its work budget.
-const STACK_MAX_BLOCKS_PER_BODY: usize = 6;
+/// [`ExactWorkspace::blocks_form_forest`]): a box in a column with a contact per corner has
+/// eight; a body with dozens of contact manifolds couples them all, densely, and goes to the
+/// dense path and its work budget.
+const STACK_MAX_BLOCKS_PER_BODY: usize = 12;
 
 /// Islands of up to this many rows take the dense system whatever they hold (see
 /// [`ExactWorkspace::dense_system`]).
@@ -429,7 +429,8 @@ impl ExactWorkspace {
     }
 
     /// Whether the gathered blocks join the island's bodies without a loop (each block that
-    /// joins two bodies links two trees), and no body holds more than
+    /// joins two bodies links two trees; blocks that follow one another on one pair count
+    /// once, their couplings stay within the pair), and no body holds more than
     /// [`STACK_MAX_BLOCKS_PER_BODY`] of them: then the factor has no fill and small dense
     /// parts (the blocks on one body all couple).
     fn blocks_form_forest(&mut self) -> bool {
@@ -456,8 +457,10 @@ impl ExactWorkspace {
             }
             x
         };
+        let mut last = None;
         for key in &self.block_key {
-            if key[0] == u32::MAX || key[1] == u32::MAX {
+            if key[0] == u32::MAX || key[1] == u32::MAX || last.replace(key) == Some(key) {
+                // On one body, or another block on the pair just linked.
                 continue;
             }
             let (a, b) = (find(parent, key[0]), find(parent, key[1]));
