@@ -7,17 +7,22 @@
 //! contacts only whose contacts join its bodies without a loop, a column of boxes, and at
 //! least `stack_bodies` of them) goes exact too: the soft step's contacts yield under every
 //! box they carry, so a column of 40 sags 44 cm and a taller one falls, and a stack's system
-//! factorises without fill, so the exact path solves it in time linear in its boxes. An island with
-//! joints only goes to the exact solver when small, where pivoting is cheap and its answer is
-//! the reference, and is split when big: its joints solved directly (the exact path's sparse
-//! factorisation, time linear in the rows of a tree) inside the iterative path's substeps,
-//! which follow fast rotation better than one solve a step. An island of joints and contacts
-//! (a ragdoll on the ground, a vehicle on rubble) is split too, its contacts going to the
-//! contact solver. An island that was iterative
-//! or split last step returns to exact only once it is clearly small again (below the
-//! thresholds times `hysteresis`), so an island near the threshold does not flip every step.
-//! A body can ask for exact solving of its island's joints (vehicles, ragdolls: exact when the
-//! island has no contact, split when it has), and the world can force any path.
+//! factorises without fill, so the exact path solves it in time linear in its boxes. An
+//! island with joints only goes to the exact solver when small, where pivoting is cheap and
+//! its answer is the reference, and is split when big: its joints solved directly (the exact
+//! path's sparse factorisation, time linear in the rows of a tree) inside the iterative path's
+//! substeps, which follow fast rotation better than one solve a step. An island of joints and
+//! contacts (a ragdoll on the ground, a vehicle on rubble) is split too, its contacts going to
+//! the contact solver. An island that was iterative or split last step returns to exact only
+//! once it is clearly small again (below the thresholds times `hysteresis`), so an island near
+//! the threshold does not flip every step. A body can ask for exact solving of its island's
+//! joints (vehicles, ragdolls: exact when the island has no contact, split when it has), and
+//! the world can force any path.
+//!
+//! Whatever the mode, an island is then turned away from a path that cannot hold it, and the
+//! step counts it as a warning ([`super::SolverStats::rerouted_islands`]): contacts whose
+//! dense exact system would pass [`DENSE_EXACT_MAX_ROWS`] (a step would stall), and, forced
+//! exact or iterative, a light chain carrying a body `mass_ratio` times heavier (it tears).
 
 use super::island::Islands;
 use super::{ConstraintBlock, SolverBody, SolverContact};
@@ -77,7 +82,7 @@ pub struct Routing {
     /// never.
     pub mass_ratio: Real,
     /// An island of contacts only whose contacts join its bodies without a loop (a column or a
-    /// row of boxes: as many contacts between its bodies as it has bodies less one) goes to
+    /// row of boxes: as many pairs of its bodies in contact as it has bodies less one) goes to
     /// the exact path once it has at least this many bodies, whatever its size: its system
     /// factorises without fill, so its cost is linear in the bodies (a column of 40 boxes
     /// sags 7 mm there at about 0.2 ms a step; the iterative path's sags 44 cm, and columns of
@@ -159,8 +164,8 @@ pub(crate) struct Choice {
     pub(crate) rerouted: bool,
 }
 
-/// Chooses the path of island `k`: [`choose_by_structure`], held to
-/// [`DENSE_EXACT_MAX_ROWS`].
+/// Chooses the path of island `k`: [`choose_by_structure`], then turned away from a path
+/// that cannot hold the island (see [`Choice`]).
 pub(crate) fn choose(
     routing: &Routing,
     islands: &Islands,
@@ -230,8 +235,8 @@ pub(crate) fn island_rows(
 
 /// Whether island `k`'s contacts join its moving bodies without a loop (as many pairs of
 /// moving bodies in contact as it has bodies less one: an island is connected; contacts that
-/// follow one another on one pair count once), with few contacts in all (at most three per
-/// body).
+/// follow one another on one pair count once), with few contacts in all (at most three a
+/// body for each point a manifold may have).
 fn is_stack(
     islands: &Islands,
     k: usize,

@@ -38,7 +38,7 @@ impl World {
         Ok(())
     }
 
-    /// The default softness of contacts (see [`WorldDef::contact_spring`]).
+    /// The default softness of contacts (see [`crate::WorldDef::contact_spring`]).
     #[must_use]
     pub fn contact_spring(&self) -> Spring {
         self.contact_spring
@@ -97,7 +97,7 @@ impl World {
         Ok(())
     }
 
-    /// Position-projection passes after each step (see [`WorldDef::projection_iterations`]).
+    /// Position-projection passes after each step (see [`crate::WorldDef::projection_iterations`]).
     #[must_use]
     pub fn projection_iterations(&self) -> u32 {
         self.projection_iterations
@@ -110,13 +110,13 @@ impl World {
         Ok(())
     }
 
-    /// Whether steps time their stages ([`StepStats`]'s `time_*` fields; default true).
+    /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     #[must_use]
     pub fn step_timing(&self) -> bool {
         self.step_timing
     }
 
-    /// Turns the stage times of [`StepStats`] on or off. Off, they read zero and no clock is
+    /// Turns the stage times of [`crate::StepStats`] on or off. Off, they read zero and no clock is
     /// read: worth it for small worlds stepped many times whose statistics nobody reads (see
     /// [`crate::timing`]). Results are the same bits either way.
     pub fn set_step_timing(&mut self, on: bool) {

@@ -4,7 +4,7 @@ use crate::error::{check_positive, KeaResult};
 use crate::math::Real;
 
 /// A step length that has been checked: finite and positive, s. The one check of `dt` in a
-/// pipeline that hands the step to several layers ([`World::step_by`], the collision layer's
+/// pipeline that hands the step to several layers ([`crate::World::step_by`], the collision layer's
 /// contact update): made once, passed on, never checked again.
 #[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
 pub struct StepSize(Real);
