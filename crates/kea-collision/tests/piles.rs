@@ -425,3 +425,46 @@ fn a_pile_too_big_for_the_dense_exact_path_is_solved_iteratively_and_says_so() {
         .fold(0.0, Real::max);
     assert!(moved < 0.01, "the block moved {moved} m");
 }
+
+#[test]
+fn a_row_of_boxes_sliding_on_the_ground_stops_where_friction_says() {
+    // Eight unit boxes side by side, all launched at 3 m/s along the row, μ = 0.5: they
+    // slide together and stop after v²/(2μg). Side by side is not a stack (their contacts
+    // face across gravity), so by default the contact solver takes them; forced exact, the
+    // exact path either settles them or hands them to the contact solver for the step, and
+    // nothing runs away.
+    let want = 3.0 * 3.0 / (2.0 * 0.5 * G);
+    for mode in [SolverMode::Hybrid, SolverMode::Exact] {
+        let mut w = world(8, mode);
+        let mut c = CollisionWorld::new();
+        ground(&mut c, &w, Vec3::Y);
+        let boxes: Vec<_> = (0..8)
+            .map(|i| {
+                let at = Vec3::new(i as Real, 0.5, 0.0);
+                add_box(&mut w, &mut c, Vec3::splat(0.5), 1.0, at, Quat::IDENTITY)
+            })
+            .collect();
+        for &b in &boxes {
+            w.body_mut(b)
+                .unwrap()
+                .set_linear_velocity(Vec3::new(3.0, 0.0, 0.0))
+                .unwrap();
+        }
+        for _ in 0..180 {
+            let stats = common::step(&mut c, &mut w, DT).unwrap();
+            assert_eq!(stats.quarantined_bodies, 0, "{mode:?}");
+        }
+        for (i, &b) in boxes.iter().enumerate() {
+            let body = w.body(b).unwrap();
+            let slid = body.position().x - i as Real;
+            assert!(
+                (slid - want).abs() < 0.03 * want,
+                "{mode:?}: box {i} slid {slid} m (friction: {want} m)"
+            );
+            assert!(
+                body.linear_velocity().length() < 1e-3,
+                "{mode:?}: box {i} moves"
+            );
+        }
+    }
+}

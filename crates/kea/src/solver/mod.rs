@@ -245,8 +245,15 @@ impl Solver {
         self.iterative_islands.clear();
         self.split.clear();
         for k in 0..self.islands.count() {
-            let choice =
-                routing::choose(&params.routing, &self.islands, k, blocks, contacts, bodies);
+            let choice = routing::choose(
+                &params.routing,
+                &self.islands,
+                k,
+                blocks,
+                contacts,
+                bodies,
+                params.gravity,
+            );
             let path = choice.path;
             if choice.rerouted {
                 stats.rerouted_islands += 1;
@@ -262,7 +269,7 @@ impl Solver {
             if path == SolverPath::Exact {
                 let t = Stamp::now(params.timing);
                 let before = stats;
-                self.exact.solve_island_with_contacts(
+                let solved = self.exact.solve_island_with_contacts(
                     self.islands.blocks(k),
                     self.islands.contacts(k),
                     blocks,
@@ -275,11 +282,22 @@ impl Solver {
                     reactions,
                     &mut stats,
                 );
-                stats.exact_islands += 1;
-                stats.exact_rows += stats.rows - before.rows;
                 stats.time_solve_exact += t.elapsed();
-                report.iterations = stats.lcp_iterations - before.lcp_iterations;
-                report.pivots = stats.pivots - before.pivots;
+                if solved {
+                    stats.exact_islands += 1;
+                    stats.exact_rows += stats.rows - before.rows;
+                    report.iterations = stats.lcp_iterations - before.lcp_iterations;
+                    report.pivots = stats.pivots - before.pivots;
+                } else {
+                    // A stack the exact path did not settle (sliding): the contact solver
+                    // takes it this step; a warning only where the world forced exact.
+                    report.path = SolverPath::Iterative;
+                    self.iterative_islands.push(k as u32);
+                    self.split.push(false);
+                    if params.routing.mode == SolverMode::Exact {
+                        stats.rerouted_islands += 1;
+                    }
+                }
             } else {
                 self.iterative_islands.push(k as u32);
                 self.split.push(path == SolverPath::Split);

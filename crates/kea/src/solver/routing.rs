@@ -27,7 +27,7 @@
 use super::island::Islands;
 use super::{ConstraintBlock, SolverBody, SolverContact};
 use crate::error::{KeaError, KeaResult};
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// Which solver handled an island.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -81,8 +81,9 @@ pub struct Routing {
     /// (direct solves in the substeps) when a joint does. At least 1; default 10; infinity
     /// never.
     pub mass_ratio: Real,
-    /// An island of contacts only whose contacts join its bodies without a loop (a column or a
-    /// row of boxes: as many pairs of its bodies in contact as it has bodies less one) goes to
+    /// An island of contacts only whose bodies rest on one another (their contacts face along
+    /// gravity, within 45°) and whose contacts join them without a loop (a column of boxes: as
+    /// many pairs of its bodies in contact as it has bodies less one) goes to
     /// the exact path once it has at least this many bodies, whatever its size: its system
     /// factorises without fill, so its cost is linear in the bodies (a column of 40 boxes
     /// sags 7 mm there at about 0.2 ms a step; the iterative path's sags 44 cm, and columns of
@@ -173,8 +174,9 @@ pub(crate) fn choose(
     blocks: &[ConstraintBlock],
     contacts: &[SolverContact],
     bodies: &[SolverBody],
+    gravity: Vec3,
 ) -> Choice {
-    let path = choose_by_structure(routing, islands, k, blocks, contacts, bodies);
+    let path = choose_by_structure(routing, islands, k, blocks, contacts, bodies, gravity);
     let forced_one_way = matches!(routing.mode, SolverMode::Exact | SolverMode::Iterative);
     if forced_one_way && path != SolverPath::Split && !islands.blocks(k).is_empty() {
         // A light chain carrying a heavy end: one linearisation a step tears it by metres,
@@ -195,7 +197,7 @@ pub(crate) fn choose(
     }
     let joints = !islands.blocks(k).is_empty();
     let rows = island_rows(islands, k, blocks, contacts);
-    let dense = joints || !is_stack(islands, k, contacts, bodies);
+    let dense = joints || !is_stack(islands, k, contacts, bodies, gravity);
     if dense && rows > DENSE_EXACT_MAX_ROWS {
         let path = if joints {
             SolverPath::Split
@@ -233,7 +235,12 @@ pub(crate) fn island_rows(
         + contact_rows
 }
 
-/// Whether island `k`'s contacts join its moving bodies without a loop (as many pairs of
+/// The least cosine between gravity and the normal of a contact between two bodies of a stack
+/// (45°).
+const STACK_NORMAL_COS: Real = 0.7;
+
+/// Whether island `k`'s bodies rest on one another (every contact between two of them faces
+/// along gravity, within 45°) and its contacts join them without a loop (as many pairs of
 /// moving bodies in contact as it has bodies less one: an island is connected; contacts that
 /// follow one another on one pair count once), with few contacts in all (at most three a
 /// body for each point a manifold may have).
@@ -242,7 +249,22 @@ fn is_stack(
     k: usize,
     contacts: &[SolverContact],
     bodies: &[SolverBody],
+    gravity: Vec3,
 ) -> bool {
+    let up = -gravity.normalize_or_zero();
+    let moving = |p: &[Option<u32>; 2]| {
+        p.iter()
+            .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
+    };
+    // Bodies resting on one another: a row of boxes side by side, whose sliding moves the
+    // Coulomb bounds under the pivoting, is left to the contact solver.
+    let resting = islands.contacts(k).iter().all(|&c| {
+        let sc = &contacts[c as usize];
+        !moving(&sc.bodies) || sc.contact.normal().dot(up).abs() >= STACK_NORMAL_COS
+    });
+    if !resting {
+        return false;
+    }
     // Contacts between two moving bodies, a run of them on one pair (a manifold per corner,
     // or per part of a compound) counted once.
     let mut last = None;
@@ -250,10 +272,7 @@ fn is_stack(
         .contacts(k)
         .iter()
         .map(|&c| contacts[c as usize].bodies)
-        .filter(|p| {
-            p.iter()
-                .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
-        })
+        .filter(moving)
         .filter(|&p| last.replace(p) != Some(p))
         .count();
     let n = islands.island_bodies[k] as usize;
@@ -268,6 +287,7 @@ fn choose_by_structure(
     blocks: &[ConstraintBlock],
     contacts: &[SolverContact],
     bodies: &[SolverBody],
+    gravity: Vec3,
 ) -> SolverPath {
     match routing.mode {
         SolverMode::Exact => return SolverPath::Exact,
@@ -324,7 +344,8 @@ fn choose_by_structure(
                 .map(|&c| contacts[c as usize].bodies)
         };
         let uneven = small && mass_ratio(pairs(), bodies) > routing.mass_ratio;
-        let stack = n_bodies >= routing.stack_bodies && is_stack(islands, k, contacts, bodies);
+        let stack =
+            n_bodies >= routing.stack_bodies && is_stack(islands, k, contacts, bodies, gravity);
         return if uneven || stack {
             SolverPath::Exact
         } else {

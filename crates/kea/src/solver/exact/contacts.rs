@@ -17,7 +17,8 @@ use crate::solver::EXACT_CONTACT_STIFFENING;
 impl ExactWorkspace {
     /// Solves an island of joint blocks and contacts: the contacts write their rows (three
     /// per point) next to a copy of the joints' rows, the whole is solved as one LCP, and the
-    /// forces go back to the joints' λ and reactions and to each contact point.
+    /// forces go back to the joints' λ and reactions and to each contact point. Returns false,
+    /// having written nothing, for a stack its pivoting did not settle.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_island_with_contacts(
         &mut self,
@@ -32,7 +33,7 @@ impl ExactWorkspace {
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
         stats: &mut SolverStats,
-    ) {
+    ) -> bool {
         if island_contacts.is_empty() {
             return self.solve_island(
                 island_blocks,
@@ -98,7 +99,7 @@ impl ExactWorkspace {
         mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
         self.with_contacts = true;
         self.contact_rows_from = mblocks.get(island_blocks.len()).map(|b| b.first_row);
-        self.solve_island(
+        let solved = self.solve_island(
             &order,
             &mblocks,
             &mrows,
@@ -111,7 +112,7 @@ impl ExactWorkspace {
         );
         self.with_contacts = false;
         self.contact_rows_from = None;
-        for (i, &k) in island_blocks.iter().enumerate() {
+        for (i, &k) in island_blocks.iter().enumerate().filter(|_| solved) {
             let blk = &blocks[k as usize];
             let from = mblocks[i].first_row as usize;
             let n = blk.row_count as usize;
@@ -119,7 +120,7 @@ impl ExactWorkspace {
                 .copy_from_slice(&mlambda[from..from + n]);
             reactions[k as usize] = mreactions[i];
         }
-        for (i, &c) in island_contacts.iter().enumerate() {
+        for (i, &c) in island_contacts.iter().enumerate().filter(|_| solved) {
             let blk = &mblocks[island_blocks.len() + i];
             let block_rows =
                 &mrows[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
@@ -133,6 +134,7 @@ impl ExactWorkspace {
         self.mixed_lambda = mlambda;
         self.mixed_reactions = mreactions;
         self.mixed_guess = mguess;
+        solved
     }
 }
 

@@ -194,6 +194,7 @@ impl ExactWorkspace {
 
     /// Solves one island and accumulates its constraint forces into `scratch`. `lambda` holds
     /// each row's force of the last step on entry (the warm start) and of this step on return.
+    /// Returns false, having written nothing, for a stack its pivoting did not settle.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_island(
         &mut self,
@@ -206,18 +207,23 @@ impl ExactWorkspace {
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
         stats: &mut SolverStats,
-    ) {
+    ) -> bool {
         let h = wide(params.dt);
         self.gather(island_blocks, blocks, rows, bodies, scratch, |_| true);
         let n = self.rows.len();
         if n == 0 {
-            return;
+            return true;
+        }
+        self.assemble(rows, scratch, params, h, lambda);
+        if !self.solve_lcp(params, stats) {
+            // A stack whose block-sparse pivoting did not settle (a row of boxes sliding:
+            // the Coulomb bounds move under it): nothing written, the caller hands the
+            // island to the iterative path.
+            return false;
         }
         stats.islands += 1;
         stats.rows += n as u32;
         stats.largest_island_rows = stats.largest_island_rows.max(n as u32);
-        self.assemble(rows, scratch, params, h, lambda);
-        self.solve_lcp(params, stats);
 
         // Forces back to rows, bodies and constraints.
         for (i, r) in self.rows.iter().enumerate() {
@@ -231,6 +237,7 @@ impl ExactWorkspace {
             }
         }
         block_reactions(island_blocks, blocks, rows, lambda, reactions);
+        true
     }
 
     /// Gathers the island's rows that `keep` accepts, block by block, with each block's
@@ -504,13 +511,15 @@ impl ExactWorkspace {
     }
 
     /// Solves the assembled LCP and reports its outcome. An island with Coulomb friction
-    /// takes the dense path (see [`dense`]); the others the block-sparse one.
-    fn solve_lcp(&mut self, params: &SolverParams, stats: &mut SolverStats) {
+    /// takes the dense path (see [`dense`]); the others the block-sparse one. Returns false
+    /// only for a stack (contacts on the block-sparse system) whose pivoting did not
+    /// converge: nothing is reported then, and the caller solves it dense.
+    fn solve_lcp(&mut self, params: &SolverParams, stats: &mut SolverStats) -> bool {
         let n = self.rows.len();
         if self.dense_now {
             self.dense
                 .solve_with_friction(&self.b, &self.lo, &self.hi, &mut self.x, params, stats);
-            return;
+            return true;
         }
         let pattern = self.patterns.current();
         let rep = pivoting::solve(
@@ -535,6 +544,9 @@ impl ExactWorkspace {
                 bound_updates: params.max_friction_passes,
             },
         );
+        if self.with_contacts && !rep.converged {
+            return false;
+        }
         stats.friction_passes += rep.bound_updates.max(1);
         stats.lcp_iterations += rep.iterations;
         stats.pivots += rep.pivots;
@@ -560,6 +572,7 @@ impl ExactWorkspace {
                 params.max_lcp_iterations
             );
         }
+        true
     }
 }
 
