@@ -10,13 +10,15 @@
 //! [`pivoting`] solves the LCP over that fixed structure, warm started from last step's forces.
 //! A chain or an articulated tree costs time linear in its rows.
 //!
-//! Islands of contacts only whose blocks form a forest (a stack of boxes, a row of them: no
-//! body reached twice through the blocks) take the block-sparse path too, friction inside the
-//! pivoting: their factor has no fill, so a column of 40 boxes (480 rows) costs a fraction of
-//! a millisecond where the dense LCP took 30. Their normal rows with no force of their own
-//! yet start free, as if carrying load: a column that appears at rest then settles in one
-//! solve, where starting them at rest wakes the contacts one block pivot at a time from the
-//! ground up. Other islands with contacts take the dense path ([`dense`]): the dense LCP with
+//! Islands of contacts only whose blocks form a forest (a stack of boxes: no body reached
+//! twice through the blocks) take the block-sparse path too, friction inside the pivoting:
+//! their factor has no fill, so a column of 40 boxes (480 rows) costs a fraction of a
+//! millisecond where the dense LCP took 30. Their normal rows with no force of their own yet
+//! start free, as if carrying load: a column that appears at rest then settles in one solve,
+//! where starting them at rest wakes the contacts one block pivot at a time from the ground
+//! up. A stack whose pivoting does not settle (sliding, the Coulomb bounds move under it) is
+//! handed back unsolved, and the contact solver takes it for the step. Other islands with
+//! contacts take the dense path ([`dense`]): the dense LCP with
 //! the Coulomb bounds `±μ·max(λₙ, 0)` iterated around it; on a pile with loops (a pyramid)
 //! the block-sparse pivoting fills in and does not converge as reliably as that loop.
 
