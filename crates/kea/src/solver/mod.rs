@@ -245,20 +245,19 @@ impl Solver {
         self.iterative_islands.clear();
         self.split.clear();
         for k in 0..self.islands.count() {
-            let choice = routing::choose(
-                &params.routing,
-                &self.islands,
+            let island = routing::IslandView {
+                islands: &self.islands,
                 k,
                 blocks,
                 contacts,
                 bodies,
-                params.gravity,
-            );
+            };
+            let choice = routing::choose(&params.routing, &island, params.gravity);
+            let island_rows = island.rows();
             let path = choice.path;
             if choice.rerouted {
                 stats.rerouted_islands += 1;
             }
-            let island_rows = routing::island_rows(&self.islands, k, blocks, contacts);
             let mut report = IslandReport {
                 path,
                 bodies: self.islands.island_bodies[k],

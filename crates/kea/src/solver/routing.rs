@@ -165,40 +165,161 @@ pub(crate) struct Choice {
     pub(crate) rerouted: bool,
 }
 
-/// Chooses the path of island `k`: [`choose_by_structure`], then turned away from a path
-/// that cannot hold the island (see [`Choice`]).
-pub(crate) fn choose(
-    routing: &Routing,
-    islands: &Islands,
-    k: usize,
-    blocks: &[ConstraintBlock],
-    contacts: &[SolverContact],
-    bodies: &[SolverBody],
-    gravity: Vec3,
-) -> Choice {
-    let path = choose_by_structure(routing, islands, k, blocks, contacts, bodies, gravity);
-    let forced_one_way = matches!(routing.mode, SolverMode::Exact | SolverMode::Iterative);
-    if forced_one_way && path != SolverPath::Split && !islands.blocks(k).is_empty() {
-        // A light chain carrying a heavy end: one linearisation a step tears it by metres,
-        // Gauss-Seidel opens it by decimetres and blows up hanging; the direct solves inside
-        // the substeps hold it to a fraction of a millimetre.
-        if carries_heavy_end(islands.blocks(k), blocks, bodies, routing.mass_ratio) {
-            return Choice {
-                path: SolverPath::Split,
-                rerouted: true,
-            };
+/// One island as the routing reads it: its blocks and contacts, over the step's arrays.
+#[derive(Clone, Copy)]
+pub(crate) struct IslandView<'a> {
+    pub(crate) islands: &'a Islands,
+    pub(crate) k: usize,
+    pub(crate) blocks: &'a [ConstraintBlock],
+    pub(crate) contacts: &'a [SolverContact],
+    pub(crate) bodies: &'a [SolverBody],
+}
+
+impl IslandView<'_> {
+    /// The island's joint blocks (indices into `blocks`).
+    fn joints(&self) -> &[u32] {
+        self.islands.blocks(self.k)
+    }
+
+    /// The island's contacts (indices into `contacts`).
+    fn contact_list(&self) -> &[u32] {
+        self.islands.contacts(self.k)
+    }
+
+    /// Bodies in the island.
+    fn body_count(&self) -> u32 {
+        self.islands.island_bodies[self.k]
+    }
+
+    /// Rows: its joints' and three per contact point.
+    pub(crate) fn rows(&self) -> u32 {
+        let contact_rows: u32 = self
+            .contact_list()
+            .iter()
+            .map(|&c| 3 * self.contacts[c as usize].contact.points().len() as u32)
+            .sum();
+        self.joints()
+            .iter()
+            .map(|&b| self.blocks[b as usize].row_count)
+            .sum::<u32>()
+            + contact_rows
+    }
+
+    /// Whether both of `pair` are bodies that move.
+    fn moving(&self, pair: &[Option<u32>; 2]) -> bool {
+        pair.iter()
+            .all(|b| b.is_some_and(|b| !self.bodies[b as usize].is_fixed()))
+    }
+
+    /// The ratio of the masses of `a` and `b`, larger over smaller (1 when either cannot
+    /// move).
+    fn pair_ratio(&self, a: u32, b: u32) -> Real {
+        let (ia, ib) = (
+            self.bodies[a as usize].inv_mass,
+            self.bodies[b as usize].inv_mass,
+        );
+        if ia > 0.0 && ib > 0.0 {
+            (ia / ib).max(ib / ia)
+        } else {
+            1.0
         }
     }
-    if path != SolverPath::Exact || islands.contacts(k).is_empty() {
+
+    /// The largest mass ratio across one of `pairs` (a contact's or a joint's).
+    fn mass_ratio(&self, pairs: impl Iterator<Item = [Option<u32>; 2]>) -> Real {
+        pairs
+            .filter_map(|pair| match pair {
+                [Some(a), Some(b)] => Some(self.pair_ratio(a, b)),
+                _ => None,
+            })
+            .fold(1.0, Real::max)
+    }
+
+    /// Whether the island's bodies rest on one another (every contact between two of them
+    /// faces along gravity, within 45°) and its contacts join them without a loop (as many
+    /// pairs of moving bodies in contact as it has bodies less one: an island is connected;
+    /// contacts that follow one another on one pair count once), with few contacts in all (at
+    /// most three a body for each point a manifold may have).
+    fn is_stack(&self, gravity: Vec3) -> bool {
+        let up = -gravity.normalize_or_zero();
+        // Bodies resting on one another: a row of boxes side by side, whose sliding moves the
+        // Coulomb bounds under the pivoting, is left to the contact solver.
+        let resting = self.contact_list().iter().all(|&c| {
+            let sc = &self.contacts[c as usize];
+            !self.moving(&sc.bodies) || sc.contact.normal().dot(up).abs() >= STACK_NORMAL_COS
+        });
+        if !resting {
+            return false;
+        }
+        // Contacts between two moving bodies, a run of them on one pair (a manifold per
+        // corner, or per part of a compound) counted once.
+        let mut last = None;
+        let joining = self
+            .contact_list()
+            .iter()
+            .map(|&c| self.contacts[c as usize].bodies)
+            .filter(|p| self.moving(p))
+            .filter(|&p| last.replace(p) != Some(p))
+            .count();
+        let n = self.body_count() as usize;
+        joining + 1 == n
+            && self.contact_list().len() <= 3 * n * crate::constraint::MAX_CONTACT_POINTS
+    }
+
+    /// Whether one of the island's joints joins a body to one more than `ratio` times heavier
+    /// while the light one is held by another joint too: a link of a light chain carrying a
+    /// heavy end. (A light body on one joint, a car's wheel on its 50 times heavier chassis,
+    /// is not: one linearisation a step holds it.)
+    fn carries_heavy_end(&self, ratio: Real) -> bool {
+        let joints = self.joints();
+        joints.iter().any(|&j| {
+            let [Some(a), Some(b)] = self.blocks[j as usize].bodies else {
+                return false;
+            };
+            if self.pair_ratio(a, b) <= ratio {
+                return false;
+            }
+            let light = if self.bodies[a as usize].inv_mass > self.bodies[b as usize].inv_mass {
+                a
+            } else {
+                b
+            };
+            joints
+                .iter()
+                .filter(|&&o| self.blocks[o as usize].bodies.contains(&Some(light)))
+                .nth(1)
+                .is_some()
+        })
+    }
+}
+
+/// The least cosine between gravity and the normal of a contact between two bodies of a stack
+/// (45°).
+const STACK_NORMAL_COS: Real = 0.7;
+
+/// Chooses the path of an island: [`choose_by_structure`], then turned away from a path that
+/// cannot hold the island (see [`Choice`]).
+pub(crate) fn choose(routing: &Routing, island: &IslandView<'_>, gravity: Vec3) -> Choice {
+    let path = choose_by_structure(routing, island, gravity);
+    let joints = !island.joints().is_empty();
+    let forced_one_way = matches!(routing.mode, SolverMode::Exact | SolverMode::Iterative);
+    // A light chain carrying a heavy end: one linearisation a step tears it by metres,
+    // Gauss-Seidel opens it by decimetres and blows up hanging; the direct solves inside the
+    // substeps hold it to a fraction of a millimetre.
+    if forced_one_way
+        && path != SolverPath::Split
+        && joints
+        && island.carries_heavy_end(routing.mass_ratio)
+    {
         return Choice {
-            path,
-            rerouted: false,
+            path: SolverPath::Split,
+            rerouted: true,
         };
     }
-    let joints = !islands.blocks(k).is_empty();
-    let rows = island_rows(islands, k, blocks, contacts);
-    let dense = joints || !is_stack(islands, k, contacts, bodies, gravity);
-    if dense && rows > DENSE_EXACT_MAX_ROWS {
+    let dense = path == SolverPath::Exact
+        && !island.contact_list().is_empty()
+        && (joints || !island.is_stack(gravity));
+    if dense && island.rows() > DENSE_EXACT_MAX_ROWS {
         let path = if joints {
             SolverPath::Split
         } else {
@@ -215,85 +336,14 @@ pub(crate) fn choose(
     }
 }
 
-/// Rows of island `k`: its joints' and three per contact point.
-pub(crate) fn island_rows(
-    islands: &Islands,
-    k: usize,
-    blocks: &[ConstraintBlock],
-    contacts: &[SolverContact],
-) -> u32 {
-    let contact_rows: u32 = islands
-        .contacts(k)
-        .iter()
-        .map(|&c| 3 * contacts[c as usize].contact.points().len() as u32)
-        .sum();
-    islands
-        .blocks(k)
-        .iter()
-        .map(|&b| blocks[b as usize].row_count)
-        .sum::<u32>()
-        + contact_rows
-}
-
-/// The least cosine between gravity and the normal of a contact between two bodies of a stack
-/// (45°).
-const STACK_NORMAL_COS: Real = 0.7;
-
-/// Whether island `k`'s bodies rest on one another (every contact between two of them faces
-/// along gravity, within 45°) and its contacts join them without a loop (as many pairs of
-/// moving bodies in contact as it has bodies less one: an island is connected; contacts that
-/// follow one another on one pair count once), with few contacts in all (at most three a
-/// body for each point a manifold may have).
-fn is_stack(
-    islands: &Islands,
-    k: usize,
-    contacts: &[SolverContact],
-    bodies: &[SolverBody],
-    gravity: Vec3,
-) -> bool {
-    let up = -gravity.normalize_or_zero();
-    let moving = |p: &[Option<u32>; 2]| {
-        p.iter()
-            .all(|b| b.is_some_and(|b| !bodies[b as usize].is_fixed()))
-    };
-    // Bodies resting on one another: a row of boxes side by side, whose sliding moves the
-    // Coulomb bounds under the pivoting, is left to the contact solver.
-    let resting = islands.contacts(k).iter().all(|&c| {
-        let sc = &contacts[c as usize];
-        !moving(&sc.bodies) || sc.contact.normal().dot(up).abs() >= STACK_NORMAL_COS
-    });
-    if !resting {
-        return false;
-    }
-    // Contacts between two moving bodies, a run of them on one pair (a manifold per corner,
-    // or per part of a compound) counted once.
-    let mut last = None;
-    let joining = islands
-        .contacts(k)
-        .iter()
-        .map(|&c| contacts[c as usize].bodies)
-        .filter(moving)
-        .filter(|&p| last.replace(p) != Some(p))
-        .count();
-    let n = islands.island_bodies[k] as usize;
-    joining + 1 == n && islands.contacts(k).len() <= 3 * n * crate::constraint::MAX_CONTACT_POINTS
-}
-
-/// Chooses the path of island `k` by its structure (module docs).
-fn choose_by_structure(
-    routing: &Routing,
-    islands: &Islands,
-    k: usize,
-    blocks: &[ConstraintBlock],
-    contacts: &[SolverContact],
-    bodies: &[SolverBody],
-    gravity: Vec3,
-) -> SolverPath {
+/// Chooses the path of an island by its structure (module docs).
+fn choose_by_structure(routing: &Routing, island: &IslandView<'_>, gravity: Vec3) -> SolverPath {
+    let joints = island.joints();
     match routing.mode {
         SolverMode::Exact => return SolverPath::Exact,
         SolverMode::Iterative => return SolverPath::Iterative,
         SolverMode::Split => {
-            return if islands.blocks(k).is_empty() {
+            return if joints.is_empty() {
                 SolverPath::Iterative
             } else {
                 SolverPath::Split
@@ -301,25 +351,24 @@ fn choose_by_structure(
         }
         SolverMode::Hybrid => {}
     }
-    let rows = island_rows(islands, k, blocks, contacts);
-    let n_bodies = islands.island_bodies[k];
+    let (blocks, contacts, bodies) = (island.blocks, island.contacts, island.bodies);
+    let k = island.k;
+    let rows = island.rows();
+    let n_bodies = island.body_count();
     let mut was_iterative = false;
     let mut prefer_exact = false;
     let mut fast_spin = false;
-    let pairs = islands
-        .blocks(k)
-        .iter()
-        .map(|&b| blocks[b as usize].bodies)
-        .chain(
-            islands
-                .contacts(k)
-                .iter()
-                .map(|&c| contacts[c as usize].bodies),
-        );
-    for pair in pairs {
+    let joint_pairs = || joints.iter().map(|&b| blocks[b as usize].bodies);
+    let contact_pairs = || {
+        island
+            .contact_list()
+            .iter()
+            .map(|&c| contacts[c as usize].bodies)
+    };
+    for pair in joint_pairs().chain(contact_pairs()) {
         for i in pair.iter().flatten() {
             let body = &bodies[*i as usize];
-            if islands.body_island[*i as usize] == k as u32 {
+            if island.islands.body_island[*i as usize] == k as u32 {
                 was_iterative |=
                     matches!(body.last_path, SolverPath::Iterative | SolverPath::Split);
                 prefer_exact |= body.prefer_exact;
@@ -333,26 +382,19 @@ fn choose_by_structure(
         1.0
     };
     let fits = |n: u32, max: u32| n as Real <= max as Real * scale;
-    if islands.blocks(k).is_empty() {
+    if joints.is_empty() {
         // Contacts only: the contact solver's work, unless masses differ too much for it.
         let small =
             fits(rows, 4 * routing.max_exact_rows) && fits(n_bodies, routing.max_exact_bodies);
-        let pairs = || {
-            islands
-                .contacts(k)
-                .iter()
-                .map(|&c| contacts[c as usize].bodies)
-        };
-        let uneven = small && mass_ratio(pairs(), bodies) > routing.mass_ratio;
-        let stack =
-            n_bodies >= routing.stack_bodies && is_stack(islands, k, contacts, bodies, gravity);
+        let uneven = small && island.mass_ratio(contact_pairs()) > routing.mass_ratio;
+        let stack = n_bodies >= routing.stack_bodies && island.is_stack(gravity);
         return if uneven || stack {
             SolverPath::Exact
         } else {
             SolverPath::Iterative
         };
     }
-    if !islands.contacts(k).is_empty() {
+    if !island.contact_list().is_empty() {
         // Joints among contacts (a ragdoll on the ground, a vehicle on rubble): the joints
         // solved directly inside the substeps, the contacts by the contact solver.
         return SolverPath::Split;
@@ -363,8 +405,7 @@ fn choose_by_structure(
     // wheel on a turning chassis keeps its axle to 0.2 µrad there, 3 mrad with one
     // linearisation per step; a light chain swinging a 100× heavier end stays closed to
     // 0.01 mm there, and tears by metres with one).
-    let joint_pairs = islands.blocks(k).iter().map(|&b| blocks[b as usize].bodies);
-    let uneven = mass_ratio(joint_pairs, bodies) > routing.mass_ratio;
+    let uneven = island.mass_ratio(joint_pairs()) > routing.mass_ratio;
     if prefer_exact
         || (!fast_spin
             && !uneven
@@ -375,48 +416,4 @@ fn choose_by_structure(
     } else {
         SolverPath::Split
     }
-}
-
-/// Whether one of `island`'s joints joins a body to one more than `ratio` times heavier while
-/// the light one is held by another joint too: a link of a light chain carrying a heavy end.
-/// (A light body on one joint, a car's wheel on its 50 times heavier chassis, is not: one
-/// linearisation a step holds it.)
-fn carries_heavy_end(
-    island: &[u32],
-    blocks: &[ConstraintBlock],
-    bodies: &[SolverBody],
-    ratio: Real,
-) -> bool {
-    let inv_mass = |b: u32| bodies[b as usize].inv_mass;
-    island.iter().any(|&j| {
-        let [Some(a), Some(b)] = blocks[j as usize].bodies else {
-            return false;
-        };
-        let (ia, ib) = (inv_mass(a), inv_mass(b));
-        if ia <= 0.0 || ib <= 0.0 || (ia / ib).max(ib / ia) <= ratio {
-            return false;
-        }
-        let light = if ia > ib { a } else { b };
-        island
-            .iter()
-            .filter(|&&o| blocks[o as usize].bodies.contains(&Some(light)))
-            .nth(1)
-            .is_some()
-    })
-}
-
-/// The largest ratio of the masses of two bodies joined by one of `pairs` (a contact's or a
-/// joint's; bodies that cannot move do not count).
-fn mass_ratio(pairs: impl Iterator<Item = [Option<u32>; 2]>, bodies: &[SolverBody]) -> Real {
-    let mut worst: Real = 1.0;
-    for pair in pairs {
-        let [Some(a), Some(b)] = pair else {
-            continue;
-        };
-        let (ia, ib) = (bodies[a as usize].inv_mass, bodies[b as usize].inv_mass);
-        if ia > 0.0 && ib > 0.0 {
-            worst = worst.max(ia / ib).max(ib / ia);
-        }
-    }
-    worst
 }
