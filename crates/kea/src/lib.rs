@@ -34,10 +34,10 @@ pub mod world;
 
 pub use body::{inertia, Body, BodyDef};
 pub use constraint::{
-    BallJoint, Contact, ContactParams, ContactPoint, ContactType, CustomConstraint, FixedJoint,
-    FrictionModel, Hinge, Jacobian, Limit, Linear1, Linear2, Motor, PointForce, Prismatic, Row,
-    RowBody, RowContext, RowWriter, SingleLimit, Softness, Spring, UniversalJoint,
-    MAX_CONTACT_POINTS,
+    Actuator, BallJoint, Contact, ContactParams, ContactPoint, ContactType, CustomConstraint,
+    FixedJoint, FrictionModel, Hinge, Jacobian, JointDynamics, Limit, Linear1, Linear2, Motor,
+    Planar, PointForce, Prismatic, Row, RowBody, RowContext, RowWriter, SingleLimit, Softness,
+    Spring, UniversalJoint, MAX_CONTACT_POINTS,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};

@@ -48,6 +48,7 @@ pub struct Body {
     pub(crate) angular_velocity: Vec3,
     pub(crate) mass: Option<Real>,
     pub(crate) inertia: Option<Mat3>,
+    pub(crate) center_of_mass: Option<Vec3>,
     pub(crate) linear_damping: Real,
     pub(crate) angular_damping: Real,
     pub(crate) user_data: u64,
@@ -66,6 +67,7 @@ impl Body {
             angular_velocity: Vec3::ZERO,
             mass: None,
             inertia: None,
+            center_of_mass: None,
             linear_damping: 0.0,
             angular_damping: 0.0,
             user_data: 0,
@@ -127,6 +129,13 @@ impl Body {
     /// An explicit inertia tensor about the centre of mass, body frame, kg·m².
     pub fn inertia(mut self, inertia: Mat3) -> Self {
         self.inertia = Some(inertia);
+        self
+    }
+
+    /// An explicit centre of mass in the body's frame, m (a robot link's inertial frame): it
+    /// wins over the colliders'. Without it the centre of mass follows the colliders.
+    pub fn center_of_mass(mut self, com: impl Into<Vec3>) -> Self {
+        self.center_of_mass = Some(com.into());
         self
     }
 

@@ -55,7 +55,7 @@ impl Collider {
         Self::from_result(Ok(shape))
     }
 
-    fn from_result(shape: CollisionResult<Shape>) -> Self {
+    pub(crate) fn from_result(shape: CollisionResult<Shape>) -> Self {
         Self {
             shape,
             shape_offset: Vec3::ZERO,

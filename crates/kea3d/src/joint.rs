@@ -4,8 +4,8 @@
 use crate::PhysicsWorld;
 use kea::constraint::{BallLimits, CarWheel, FixedPath};
 use kea::{
-    BallJoint, ConstraintHandle, FixedJoint, Hinge, KeaResult, Limit, Linear1, Linear2, Prismatic,
-    Quat, Reaction, Real, SingleLimit, UniversalJoint, Vec3, World,
+    BallJoint, ConstraintHandle, FixedJoint, Hinge, KeaResult, Limit, Linear1, Linear2, Planar,
+    Prismatic, Quat, Reaction, Real, SingleLimit, UniversalJoint, Vec3, World,
 };
 use std::marker::PhantomData;
 
@@ -38,6 +38,7 @@ joint_kind! {
     UniversalJoint => universal_joint,
     Linear1 => linear1_joint,
     Linear2 => linear2_joint,
+    Planar => planar_joint,
     FixedPath => fixed_path,
     CarWheel => car_wheel,
 }
@@ -225,6 +226,12 @@ pub(crate) enum Spec {
     Universal(Vec3, Vec3, Vec3),
     Linear1(Vec3, Vec3),
     Linear2(Vec3, Vec3),
+    Planar {
+        anchor: Vec3,
+        normal: Vec3,
+        axis: Vec3,
+        rotates: bool,
+    },
     FixedPath(Vec3, bool),
     CarWheel {
         steering: Vec3,
@@ -333,6 +340,26 @@ impl Joint<Linear2> {
     /// Keeps a point of body 1 on a line of body 2 (world point and unit direction).
     pub fn linear2(anchor: impl Into<Vec3>, direction: impl Into<Vec3>) -> Self {
         Self::of(Spec::Linear2(anchor.into(), direction.into()))
+    }
+}
+
+impl Joint<Planar> {
+    /// Keeps a point of body 1 (world `anchor`) in the plane of body 2 with world unit
+    /// `normal`; body 1 turns about the normal when `rotates`, else keeps its orientation.
+    /// Its coordinates: travel along world unit `axis` (in the plane), along `normal × axis`,
+    /// and the turn.
+    pub fn planar(
+        anchor: impl Into<Vec3>,
+        normal: impl Into<Vec3>,
+        axis: impl Into<Vec3>,
+        rotates: bool,
+    ) -> Self {
+        Self::of(Spec::Planar {
+            anchor: anchor.into(),
+            normal: normal.into(),
+            axis: axis.into(),
+            rotates,
+        })
     }
 }
 

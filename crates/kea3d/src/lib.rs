@@ -31,6 +31,7 @@ mod body;
 mod collider;
 mod joint;
 mod mass;
+pub mod robot;
 mod world;
 
 pub use body::{Body, BodyType};
@@ -62,5 +63,7 @@ pub mod prelude {
         Body, BodyHandle, BodyType, Collider, ColliderHandle, Joint, JointHandle, PhysicsWorld,
         Quat, Real, Vec3,
     };
-    pub use kea::{BallJoint, FixedJoint, Hinge, Linear1, Linear2, Prismatic, UniversalJoint};
+    pub use kea::{
+        BallJoint, FixedJoint, Hinge, Linear1, Linear2, Planar, Prismatic, UniversalJoint,
+    };
 }

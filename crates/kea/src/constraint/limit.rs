@@ -10,6 +10,18 @@
 //!   `xi = hi − p`, `λ ≥ 0`. A stop row is written once the coordinate is within one step's
 //!   travel of the stop (speculatively, like a contact, so a fast joint cannot step through it).
 //!
+//! * **joint dynamics** ([`JointDynamics`]): armature `a` (a rotor's inertia on the
+//!   coordinate), viscous damping `d` and dry friction `f` (MuJoCo's `armature`, `damping`,
+//!   `frictionloss`; URDF's `damping`, `friction`). Armature and damping are one implicit row:
+//!   its force `λ = −a·(ṗ⁺ − ṗ)/h − d·ṗ⁺` is the row `J·v⁺ = a·ṗ/(a + d·h) − λ·h/(a + d·h)`,
+//!   i.e. target `c = a·ṗ/(a + d·h)` and softness `ε = 1/(a + d·h)`, so a joint of inertia
+//!   `I` swings as one of `I + a` and decays at `d/(I + a)` whatever the step. Friction is a
+//!   rigid brake bounded by `±f`;
+//! * **actuator** ([`Actuator`]): a set force along the coordinate (a row with `lo = hi`), or a
+//!   servo — stiffness `kp` toward a target position and gain `kv` toward a target velocity,
+//!   implicit (a [`crate::Softness::from_spring`] row with error `p − p_target`), force within
+//!   `±max_force` (MuJoCo's `motor`, `position` and `velocity` actuators).
+//!
 //! A stop is **hard** when its stiffness is above its damping threshold (the guide's rule): it
 //! is then rigid and bounces with its restitution. At or below the threshold it is **soft**: a
 //! spring of that stiffness and damping ([`crate::Softness::from_spring`]), restitution ignored,
@@ -126,6 +138,93 @@ pub struct Motor {
     pub max_force: Real,
 }
 
+/// The passive dynamics of a joint's coordinate: a rotor's inertia, viscous damping and dry
+/// friction (all ≥ 0; all 0, the default, writes no row).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct JointDynamics {
+    /// Armature: inertia added on the coordinate, kg·m² (or kg for a slider), as a geared
+    /// rotor adds it (MuJoCo's `armature`).
+    pub armature: Real,
+    /// Viscous damping, N·m·s/rad (or N·s/m): a force `−d·ṗ`.
+    pub damping: Real,
+    /// Dry friction, N·m (or N): the coordinate holds until pushed harder than this.
+    pub friction: Real,
+}
+
+impl JointDynamics {
+    /// Checks that every field is finite and ≥ 0, naming the first that is not.
+    pub fn validate(&self) -> KeaResult<()> {
+        check_non_negative("armature", self.armature)?;
+        check_non_negative("damping", self.damping)?;
+        check_non_negative("friction", self.friction)?;
+        Ok(())
+    }
+
+    fn is_zero(&self) -> bool {
+        self.armature == 0.0 && self.damping == 0.0 && self.friction == 0.0
+    }
+}
+
+/// What drives a coordinate besides its motor: a set force, or an implicit servo.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Actuator {
+    /// This force or torque along the coordinate, N or N·m (MuJoCo's `motor`).
+    Force(Real),
+    /// A servo: force `kp·(p_target − p) + kv·(ṗ_target − ṗ)`, implicit in the step, within
+    /// `±max_force` (MuJoCo's `position` with `kp`, `kv`; `velocity` with `kp = 0`).
+    Servo {
+        /// Target position, rad or m (unused when `stiffness` is 0).
+        position: Real,
+        /// Target velocity, rad/s or m/s.
+        velocity: Real,
+        /// Stiffness kp, N·m/rad or N/m (≥ 0).
+        stiffness: Real,
+        /// Gain kv, N·m·s/rad or N·s/m (≥ 0; kp + kv > 0).
+        damping: Real,
+        /// Largest force, N or N·m (> 0, `INFINITY` for none).
+        #[cfg_attr(feature = "serde", serde(with = "crate::world::serde_real"))]
+        max_force: Real,
+    },
+}
+
+impl Actuator {
+    /// Checks the numbers, naming the first bad one.
+    pub fn validate(&self) -> KeaResult<()> {
+        match *self {
+            Self::Force(f) => check_finite("force", f).map(|_| ()),
+            Self::Servo {
+                position,
+                velocity,
+                stiffness,
+                damping,
+                max_force,
+            } => {
+                check_finite("position", position)?;
+                check_finite("velocity", velocity)?;
+                check_non_negative("stiffness", stiffness)?;
+                check_non_negative("damping", damping)?;
+                if max_force.is_nan() || max_force <= 0.0 {
+                    return Err(KeaError::OutOfRange {
+                        arg: "max_force",
+                        value: format!("{max_force}"),
+                        expected: "must be > 0 (INFINITY for no limit)",
+                    });
+                }
+                if stiffness + damping <= 0.0 {
+                    return Err(KeaError::OutOfRange {
+                        arg: "stiffness",
+                        value: format!("{stiffness} with damping {damping}"),
+                        expected: "a servo needs stiffness or damping > 0",
+                    });
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
 /// Limits and motor of one coordinate, with the read-outs of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -134,6 +233,8 @@ pub struct Limit {
     lower: SingleLimit,
     upper: SingleLimit,
     motor: Option<Motor>,
+    dynamics: JointDynamics,
+    actuator: Option<Actuator>,
     position: Real,
     velocity: Real,
 }
@@ -173,6 +274,31 @@ impl Limit {
     /// Turns the motor off.
     pub fn clear_motor(&mut self) {
         self.motor = None;
+    }
+    /// Sets the coordinate's armature, damping and friction. Errors, changing nothing, if a
+    /// field is negative or not finite.
+    pub fn set_dynamics(&mut self, dynamics: JointDynamics) -> KeaResult<()> {
+        dynamics.validate()?;
+        self.dynamics = dynamics;
+        Ok(())
+    }
+    /// The coordinate's armature, damping and friction.
+    #[must_use]
+    pub fn dynamics(&self) -> JointDynamics {
+        self.dynamics
+    }
+    /// Sets (or with `None` removes) the actuator. Errors, changing nothing, on a bad number.
+    pub fn set_actuator(&mut self, actuator: Option<Actuator>) -> KeaResult<()> {
+        if let Some(a) = &actuator {
+            a.validate()?;
+        }
+        self.actuator = actuator;
+        Ok(())
+    }
+    /// The actuator, if any.
+    #[must_use]
+    pub fn actuator(&self) -> Option<Actuator> {
+        self.actuator
     }
     /// Whether the stops are active.
     #[must_use]
@@ -226,6 +352,65 @@ impl Limit {
                 || self.position <= self.lower.stop + tolerance)
     }
 
+    /// The joint dynamics' and the actuator's rows (see the module docs).
+    fn write_drive_rows(
+        &self,
+        p: Real,
+        v: Real,
+        j: [Jacobian; 2],
+        dt: Real,
+        out: &mut RowWriter<'_>,
+    ) {
+        let JointDynamics {
+            armature: a,
+            damping: d,
+            friction,
+        } = self.dynamics;
+        if !self.dynamics.is_zero() {
+            let inertia = a + d * dt;
+            if inertia > 0.0 {
+                let mut row = Row::new(j[0], j[1])
+                    .with_target_velocity(a * v / inertia)
+                    .with_gamma(0.0);
+                row.softness = Some(1.0 / inertia);
+                out.push(row);
+            }
+            if friction > 0.0 {
+                let mut row = Row::new(j[0], j[1])
+                    .with_bounds(-friction, friction)
+                    .with_gamma(0.0);
+                row.softness = Some(RIGID);
+                out.push(row);
+            }
+        }
+        match self.actuator {
+            None => {}
+            Some(Actuator::Force(f)) => {
+                let mut row = Row::new(j[0], j[1]).with_bounds(f, f).with_gamma(0.0);
+                row.softness = Some(RIGID);
+                out.push(row);
+            }
+            Some(Actuator::Servo {
+                position,
+                velocity,
+                stiffness,
+                damping,
+                max_force,
+            }) => {
+                if let Some(soft) = Softness::from_spring(stiffness, damping, dt) {
+                    let error = if stiffness > 0.0 { p - position } else { 0.0 };
+                    out.push(
+                        Row::new(j[0], j[1])
+                            .with_error(error)
+                            .with_target_velocity(velocity)
+                            .with_bounds(-max_force, max_force)
+                            .with_softness(soft),
+                    );
+                }
+            }
+        }
+    }
+
     pub(crate) fn record(&mut self, position: Real, velocity: Real) {
         self.position = position;
         self.velocity = velocity;
@@ -240,6 +425,7 @@ impl Limit {
         dt: Real,
         out: &mut RowWriter<'_>,
     ) {
+        self.write_drive_rows(p, v, j, dt, out);
         if let Some(m) = self.motor {
             let mut row = Row::new(j[0], j[1])
                 .with_target_velocity(m.desired_velocity)

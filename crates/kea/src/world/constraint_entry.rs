@@ -2,7 +2,7 @@
 
 use crate::constraint::{
     BallJoint, CarWheel, Contact, CustomConstraint, FixedJoint, FixedPath, Hinge, Linear1, Linear2,
-    Prismatic, RowContext, RowWriter, UniversalJoint,
+    Planar, Prismatic, RowContext, RowWriter, UniversalJoint,
 };
 use crate::handle::BodyHandle;
 use crate::math::Real;
@@ -25,6 +25,7 @@ pub(crate) enum ConstraintKind {
     Universal(UniversalJoint),
     Linear1(Linear1),
     Linear2(Linear2),
+    Planar(Planar),
     Path(FixedPath),
     Wheel(Box<CarWheel>),
     /// (A snapshot refuses a world holding one: user code cannot be saved.)
@@ -43,6 +44,7 @@ impl ConstraintKind {
             ConstraintKind::Universal(_) => "universal joint",
             ConstraintKind::Linear1(_) => "linear1 joint",
             ConstraintKind::Linear2(_) => "linear2 joint",
+            ConstraintKind::Planar(_) => "planar joint",
             ConstraintKind::Path(j) if j.orientation.is_some() => {
                 "fixed-path-fixed-orientation joint"
             }
@@ -62,6 +64,7 @@ impl ConstraintKind {
             ConstraintKind::Universal(j) => j.write_rows(ctx, out),
             ConstraintKind::Linear1(j) => j.write_rows(ctx, out),
             ConstraintKind::Linear2(j) => j.write_rows(ctx, out),
+            ConstraintKind::Planar(j) => j.write_rows(ctx, out),
             ConstraintKind::Path(j) => j.write_rows(ctx, out),
             ConstraintKind::Wheel(j) => j.write_rows(ctx, out),
             ConstraintKind::Custom(c) => c.write_rows(ctx, out),
@@ -72,7 +75,10 @@ impl ConstraintKind {
     pub(crate) fn tracks_state(&self) -> bool {
         matches!(
             self,
-            ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_) | ConstraintKind::Wheel(_)
+            ConstraintKind::Hinge(_)
+                | ConstraintKind::Prismatic(_)
+                | ConstraintKind::Planar(_)
+                | ConstraintKind::Wheel(_)
         ) || matches!(self, ConstraintKind::Ball(j) if j.limits.is_some())
     }
 
@@ -83,6 +89,7 @@ impl ConstraintKind {
             ConstraintKind::Prismatic(j) => j.commit(ctx),
             ConstraintKind::Ball(j) => j.commit(ctx),
             ConstraintKind::Wheel(j) => j.commit(ctx),
+            ConstraintKind::Planar(j) => j.commit(ctx),
             _ => {}
         }
     }

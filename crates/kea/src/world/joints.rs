@@ -6,12 +6,12 @@ use super::constraints::wrong_kind;
 use super::World;
 use crate::constraint::ball::BallLimits;
 use crate::constraint::{
-    CarWheel, FixedJoint, FixedPath, Hinge, Limit, Linear1, Linear2, Prismatic, RowBody,
+    CarWheel, FixedJoint, FixedPath, Hinge, Limit, Linear1, Linear2, Planar, Prismatic, RowBody,
     RowContext, UniversalJoint,
 };
 use crate::error::{
-    check_coordinate, check_non_negative, check_positive, check_unit, check_vec3, KeaError,
-    KeaResult,
+    check_coordinate, check_finite, check_non_negative, check_positive, check_unit, check_vec3,
+    KeaError, KeaResult,
 };
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
@@ -298,6 +298,9 @@ impl World {
                 ConstraintKind::Universal(UniversalJoint::new(&ctx, o, Vec3::X, Vec3::Y))
             }
             ConstraintKind::Linear1(_) => ConstraintKind::Linear1(Linear1::new(&ctx, o, Vec3::Y)),
+            ConstraintKind::Planar(j) => {
+                ConstraintKind::Planar(Planar::new(&ctx, o, Vec3::Y, Vec3::X, j.rotates))
+            }
             ConstraintKind::Linear2(_) => ConstraintKind::Linear2(Linear2::new(&ctx, o, Vec3::Y)),
             ConstraintKind::Path(j) => {
                 ConstraintKind::Path(FixedPath::new(&ctx, o, j.orientation.is_some()))
@@ -398,6 +401,68 @@ impl World {
         match &mut self.constraints.get_mut(h)?.kind {
             ConstraintKind::Hinge(j) => Ok(j.limit_mut()),
             other => Err(wrong_kind(h, "hinge", other.name())),
+        }
+    }
+
+    /// Tells a hinge (or a planar joint, of its turn) the continuous angle it has now, rad,
+    /// after its bodies were re-posed by hand (a robot set to new joint positions): the next
+    /// step unwraps against it, so an angle past ±π is kept, and the limit's read-outs start
+    /// from it (rate 0).
+    pub fn rebase_joint_angle(&mut self, h: ConstraintHandle, angle: Real) -> KeaResult<()> {
+        check_finite("angle", angle)?;
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Hinge(j) => {
+                j.angle = angle;
+                j.limit.record(angle, 0.0);
+                Ok(())
+            }
+            ConstraintKind::Planar(j) => {
+                j.rebase(angle);
+                Ok(())
+            }
+            other => Err(wrong_kind(h, "hinge or planar joint", other.name())),
+        }
+    }
+
+    /// Creates a planar joint: the world point `anchor` of body 1 moves in the plane through it
+    /// with world unit `normal`, fixed in body 2; its first coordinate runs along world
+    /// `axis` (in the plane), the second along `normal × axis`, and the third turns about the
+    /// normal when `rotates` (else body 1 keeps its orientation).
+    pub fn create_planar(
+        &mut self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+        anchor: Vec3,
+        normal: Vec3,
+        axis: Vec3,
+        rotates: bool,
+    ) -> KeaResult<ConstraintHandle> {
+        check_coordinate("anchor", anchor)?;
+        let normal = check_unit("normal", normal)?;
+        let axis = check_unit("axis", axis)?;
+        check_perpendicular("axis", axis, normal, "must be perpendicular to normal")?;
+        self.insert_joint(body1, body2, |ctx| {
+            ConstraintKind::Planar(Planar::new(ctx, anchor, normal, axis, rotates))
+        })
+    }
+
+    /// A planar joint, read-only.
+    pub fn planar_joint(&self, h: ConstraintHandle) -> KeaResult<&Planar> {
+        match &self.constraints.get(h)?.kind {
+            ConstraintKind::Planar(j) => Ok(j),
+            other => Err(wrong_kind(h, "planar joint", other.name())),
+        }
+    }
+
+    /// Coordinate `k`'s limits, motor and dynamics on a planar joint (0, 1: travels; 2: turn).
+    pub fn planar_limit_mut(&mut self, h: ConstraintHandle, k: usize) -> KeaResult<&mut Limit> {
+        match &mut self.constraints.get_mut(h)?.kind {
+            ConstraintKind::Planar(j) => j.limit_mut(k).ok_or(KeaError::OutOfRange {
+                arg: "k",
+                value: format!("{k}"),
+                expected: "a planar joint has coordinates 0, 1 and 2",
+            }),
+            other => Err(wrong_kind(h, "planar joint", other.name())),
         }
     }
 

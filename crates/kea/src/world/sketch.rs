@@ -131,6 +131,10 @@ impl World {
                 let axis = Some(vector(b2, j.local_normal2));
                 sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)
             }
+            ConstraintKind::Planar(j) => {
+                let axis = Some(vector(b2, j.local_normal2));
+                sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)
+            }
             ConstraintKind::Linear2(j) => {
                 let axis = Some(vector(b2, j.local_direction2));
                 sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)

@@ -120,6 +120,12 @@ impl PhysicsWorld {
             Spec::Universal(a, x, y) => w.create_universal_joint(body1, body2, a, x, y),
             Spec::Linear1(a, n) => w.create_linear1(body1, body2, a, n),
             Spec::Linear2(a, d) => w.create_linear2(body1, body2, a, d),
+            Spec::Planar {
+                anchor,
+                normal,
+                axis,
+                rotates,
+            } => w.create_planar(body1, body2, anchor, normal, axis, rotates),
             Spec::FixedPath(a, fixed) => w.create_fixed_path(body1, body2, a, fixed),
             Spec::CarWheel {
                 steering,

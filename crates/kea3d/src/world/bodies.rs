@@ -24,12 +24,16 @@ impl PhysicsWorld {
             .into());
         }
         let mass = b.mass.unwrap_or(1.0);
+        let com = match b.center_of_mass {
+            Some(c) => kea::error::check_coordinate("center_of_mass", c)?,
+            None => Vec3::ZERO,
+        };
         let def = BodyDef {
             mass,
             inertia: b
                 .inertia
                 .unwrap_or(Mat3::IDENTITY * (PLAIN_INERTIA_PER_KG * mass)),
-            position: b.position,
+            position: b.position + b.rotation * com,
             orientation: b.rotation,
             linear_velocity: b.linear_velocity,
             angular_velocity: b.angular_velocity,
@@ -52,7 +56,8 @@ impl PhysicsWorld {
                 kind: b.kind,
                 explicit_mass: b.mass,
                 explicit_inertia: b.inertia,
-                local_com: Vec3::ZERO,
+                explicit_com: b.center_of_mass,
+                local_com: com,
                 colliders: Vec::new(),
                 target: None,
             },
@@ -239,6 +244,7 @@ impl PhysicsWorld {
             (None, None) => (body.mass(), body.inertia(), Vec3::ZERO),
         };
         let inertia = meta.explicit_inertia.unwrap_or(inertia);
+        let com = meta.explicit_com.unwrap_or(com);
         body.set_mass(mass)?;
         body.set_inertia(inertia)?;
         if com != meta.local_com {

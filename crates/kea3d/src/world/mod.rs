@@ -60,6 +60,8 @@ pub(crate) struct BodyMeta {
     /// The builder's mass and inertia, which win over the colliders'.
     pub explicit_mass: Option<Real>,
     pub explicit_inertia: Option<kea::Mat3>,
+    /// The builder's centre of mass (body frame), which wins over the colliders'.
+    pub explicit_com: Option<Vec3>,
     /// Centre of mass in the body's frame (the dynamics layer's body sits there).
     pub local_com: Vec3,
     pub colliders: Vec<Attached>,
@@ -141,6 +143,7 @@ impl PhysicsWorld {
                     kind,
                     explicit_mass: Some(mass),
                     explicit_inertia: None,
+                    explicit_com: None,
                     local_com: Vec3::ZERO,
                     colliders: Vec::new(),
                     target: None,

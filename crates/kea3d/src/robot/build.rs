@@ -1,0 +1,408 @@
+//! Building a [`RobotSpec`] into a world: links welded by fixed joints become one body, each
+//! other joint a Kea joint between bodies, each geometry a collider; the result is a
+//! [`Robot`] that knows where every link and coordinate went.
+
+use super::model::{Robot, RobotJoint, RobotLink};
+use super::spec::{GeomShape, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec};
+use super::xml::above;
+use super::ImportError;
+use crate::{Body, Collider, Joint, PhysicsWorld};
+use kea::{BodyHandle, ConstraintHandle, Limit, Quat, Real, SingleLimit, Vec3};
+use kea_collision::{MassProperties, Shape};
+use std::path::Path;
+
+/// Collision bit of robot links whose own links must not collide with each other.
+pub(crate) const NO_SELF_COLLISION_BIT: u32 = 1 << 31;
+
+/// How a spec is built.
+pub(crate) struct BuildOptions {
+    /// Where the world link sits in the world (the robot's base pose for a fixed base).
+    pub base: Pose,
+    pub self_collision: bool,
+}
+
+/// Builds `spec` into `world`; on error the world is left as it was.
+pub(crate) fn build(
+    world: &mut PhysicsWorld,
+    spec: &RobotSpec,
+    file: &Path,
+    options: &BuildOptions,
+) -> Result<Robot, ImportError> {
+    let mut scratch = world.clone();
+    let robot = build_into(&mut scratch, spec, file, options)?;
+    *world = scratch;
+    Ok(robot)
+}
+
+/// Links in an order where every parent comes before its children, with each link's joint.
+fn topological(spec: &RobotSpec) -> (Vec<usize>, Vec<Option<usize>>) {
+    let mut parent_joint = vec![None; spec.links.len()];
+    for (j, joint) in spec.joints.iter().enumerate() {
+        parent_joint[joint.child] = Some(j);
+    }
+    let mut order = vec![0];
+    let mut k = 0;
+    while k < order.len() {
+        let link = order[k];
+        order.extend(
+            spec.joints
+                .iter()
+                .filter(|j| j.parent == link)
+                .map(|j| j.child),
+        );
+        k += 1;
+    }
+    (order, parent_joint)
+}
+
+fn build_into(
+    world: &mut PhysicsWorld,
+    spec: &RobotSpec,
+    file: &Path,
+    options: &BuildOptions,
+) -> Result<Robot, ImportError> {
+    let wrap = |element: &str| {
+        let element = element.to_string();
+        move |source: crate::Error| ImportError::World {
+            file: file.to_path_buf(),
+            element: element.clone(),
+            source,
+        }
+    };
+    let (order, parent_joint) = topological(spec);
+    // Each link's pose in the world at the file's pose, and the link that heads its body.
+    let n = spec.links.len();
+    let mut pose = vec![Pose::IDENTITY; n];
+    let mut head = vec![0usize; n];
+    pose[0] = options.base;
+    for &link in &order[1..] {
+        let j = &spec.joints[parent_joint[link].expect("every link but the world has a joint")];
+        pose[link] = pose[j.parent].then(&j.origin);
+        head[link] = if j.kind == JointType::Fixed {
+            head[j.parent]
+        } else {
+            link
+        };
+    }
+    // Mass properties and geometry of each body, in its head link's frame.
+    let mut inertial = vec![Inertial::NONE; n];
+    let mut geoms: Vec<Vec<(usize, GeomSpec)>> = vec![Vec::new(); n];
+    for &link in &order {
+        let h = head[link];
+        let in_head = pose[h].inverse().then(&pose[link]);
+        let own = link_inertial(spec, link)
+            .map_err(wrap(&format!("link \"{}\"", spec.links[link].name)))?;
+        inertial[h] = inertial[h].merged(&own, &in_head);
+        for g in &spec.links[link].geoms {
+            let mut g = g.clone();
+            g.pose = in_head.then(&g.pose);
+            geoms[h].push((link, g));
+        }
+    }
+    let filters = collision_filters(spec, &geoms, options.self_collision);
+    // Bodies.
+    let mut body_of = vec![None::<BodyHandle>; n];
+    for &link in &order {
+        if head[link] != link {
+            continue;
+        }
+        let name = &spec.links[link].name;
+        let body = if link == 0 {
+            Body::fixed()
+                .position(pose[0].translation)
+                .rotation(pose[0].rotation)
+        } else {
+            let m = &inertial[link];
+            if !above(m.mass, 0.0) {
+                return Err(ImportError::World {
+                    file: file.to_path_buf(),
+                    element: format!("link \"{name}\""),
+                    source: kea::KeaError::OutOfRange {
+                        arg: "mass",
+                        value: format!("{}", m.mass),
+                        expected: "a moving link (with the links welded to it) needs a mass > 0",
+                    }
+                    .into(),
+                });
+            }
+            Body::dynamic()
+                .position(pose[link].translation)
+                .rotation(pose[link].rotation)
+                .mass(m.mass)
+                .inertia(positive_inertia(m.inertia, m.mass))
+                .center_of_mass(m.com)
+        };
+        let h = world
+            .insert_body(body)
+            .map_err(wrap(&format!("link \"{name}\"")))?;
+        body_of[link] = Some(h);
+        for (k, (owner, g)) in geoms[link].iter().enumerate() {
+            let collider = collider(g, filters[link][k]);
+            world
+                .insert_collider(collider, Some(h))
+                .map_err(wrap(&format!(
+                    "collision of link \"{}\"",
+                    spec.links[*owner].name
+                )))?;
+        }
+    }
+    // Joints, in the file's order.
+    let mut joints = Vec::with_capacity(spec.joints.len());
+    let (mut nq, mut nv) = (0, 0);
+    for j in &spec.joints {
+        let child = body_of[head[j.child]];
+        let parent = body_of[head[j.parent]];
+        let raw = if j.kind == JointType::Fixed {
+            None
+        } else {
+            let child = child.expect("a moving link heads its body");
+            make_joint(world, j, &pose[j.child], child, parent)
+                .map_err(wrap(&format!("joint \"{}\"", j.name)))?
+        };
+        joints.push(RobotJoint {
+            name: j.name.clone(),
+            parts: j.parts.clone(),
+            kind: j.kind,
+            raw,
+            parent_link: j.parent,
+            child_link: j.child,
+            origin: j.origin,
+            anchor: j.anchor,
+            coords: j.coords.clone(),
+            first_position: nq,
+            first_velocity: nv,
+        });
+        nq += j.kind.position_count();
+        nv += j.kind.velocity_count();
+    }
+    let links = (0..n)
+        .map(|l| RobotLink {
+            name: spec.links[l].name.clone(),
+            body: body_of[head[l]].expect("every head has a body"),
+            offset: pose[head[l]].inverse().then(&pose[l]),
+        })
+        .collect();
+    let joint_of: Vec<Option<usize>> = parent_joint;
+    Ok(Robot::new(
+        spec.name.clone(),
+        links,
+        joints,
+        order,
+        joint_of,
+        nq,
+        nv,
+        spec.skipped.clone(),
+    ))
+}
+
+/// A link's own mass properties: given, or from its geometry's density and mass.
+fn link_inertial(spec: &RobotSpec, link: usize) -> crate::Result<Inertial> {
+    let l = &spec.links[link];
+    if let Some(i) = l.inertial {
+        return Ok(i);
+    }
+    let mut total = Inertial::NONE;
+    for g in &l.geoms {
+        let shape = shape_of(&g.shape)?;
+        if !shape.has_volume() {
+            continue;
+        }
+        let (offset, rotation) = placement(g);
+        let unit = MassProperties::of_shapes(&[(offset, rotation, shape)], 1.0)?;
+        let scale = match (g.mass, g.density) {
+            (Some(m), _) => m / unit.mass,
+            (None, Some(rho)) => rho,
+            (None, None) => crate::DEFAULT_DENSITY,
+        };
+        let part = Inertial {
+            mass: unit.mass * scale,
+            com: unit.center_of_mass,
+            inertia: unit.inertia * scale,
+        };
+        total = total.merged(&part, &Pose::IDENTITY);
+    }
+    Ok(total)
+}
+
+/// A link's inertia with its diagonal kept positive (a file's point mass has none).
+fn positive_inertia(i: kea::Mat3, mass: Real) -> kea::Mat3 {
+    let floor = 1e-9 * mass.max(1e-6);
+    let mut out = i;
+    for k in 0..3 {
+        if !above(out.col(k)[k], floor) {
+            let mut c = out.col(k);
+            c[k] = floor;
+            *out.col_mut(k) = c;
+        }
+    }
+    out
+}
+
+/// The shape's own placement in the geometry's frame (cylinders and capsules: z to y).
+fn placement(g: &GeomSpec) -> (Vec3, Quat) {
+    let turn = match g.shape {
+        GeomShape::Cylinder { .. } | GeomShape::Capsule { .. } => {
+            Quat::from_rotation_x(kea::PI_REAL / 2.0)
+        }
+        GeomShape::Plane => Quat::from_rotation_arc(Vec3::Y, Vec3::Z),
+        _ => Quat::IDENTITY,
+    };
+    (g.pose.translation, (g.pose.rotation * turn).normalize())
+}
+
+fn shape_of(shape: &GeomShape) -> crate::Result<Shape> {
+    match shape {
+        GeomShape::Cuboid(h) => Shape::cuboid(*h),
+        GeomShape::Sphere(r) => Shape::sphere(*r),
+        GeomShape::Cylinder {
+            radius,
+            half_length,
+        } => Shape::cylinder(*half_length, *radius),
+        GeomShape::Capsule {
+            radius,
+            half_length,
+        } => Shape::capsule(*half_length, *radius),
+        GeomShape::Hull(points) => Shape::convex_hull(points),
+        GeomShape::Mesh(v, i) => Shape::trimesh(v.clone(), i.clone()),
+        GeomShape::Plane => Shape::plane(Vec3::Y),
+    }
+}
+
+/// Each body's geometries' Kea collision groups and mask.
+///
+/// URDF geometry keeps the default (group 1, every mask bit). MJCF's rule — a pair collides if
+/// either one's `contype` meets the other's `conaffinity` — is an OR that Kea's filter (both
+/// ways must meet) cannot say bit for bit, so each distinct (contype, conaffinity) pair of the
+/// file becomes a class with its own bit (1 to 30) as its group, whose mask holds the classes
+/// it collides with and bit 0 (the world's default group) when it collides with anything at
+/// all. A robot
+/// without self-collision sets bit 31 in its moving links' groups and clears it from their
+/// masks.
+fn collision_filters(
+    spec: &RobotSpec,
+    geoms: &[Vec<(usize, GeomSpec)>],
+    self_collision: bool,
+) -> Vec<Vec<(u32, u32)>> {
+    let mut classes: Vec<(u32, u32)> = Vec::new();
+    if spec.mujoco_filter {
+        for (_, g) in geoms.iter().flatten() {
+            if !classes.contains(&(g.groups, g.mask)) {
+                classes.push((g.groups, g.mask));
+            }
+        }
+    }
+    let by_class = spec.mujoco_filter && classes.len() <= 30;
+    let meets = |a: (u32, u32), b: (u32, u32)| a.0 & b.1 != 0 || b.0 & a.1 != 0;
+    geoms
+        .iter()
+        .enumerate()
+        .map(|(link, list)| {
+            list.iter()
+                .map(|(_, g)| {
+                    let (mut groups, mut mask) = if by_class {
+                        let me = (g.groups, g.mask);
+                        let bit = |i: usize| 1u32 << (i + 1);
+                        let own = classes.iter().position(|c| *c == me).map_or(0, bit);
+                        let mut mask = classes
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, c)| meets(me, **c))
+                            .fold(0, |m, (i, _)| m | bit(i));
+                        if me.0 != 0 || me.1 != 0 {
+                            mask |= 1;
+                        }
+                        (own, mask)
+                    } else {
+                        (g.groups, g.mask)
+                    };
+                    if link != 0 && !self_collision {
+                        groups |= NO_SELF_COLLISION_BIT;
+                        mask &= !NO_SELF_COLLISION_BIT;
+                    }
+                    (groups, mask)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn collider(g: &GeomSpec, (groups, mask): (u32, u32)) -> Collider {
+    let (offset, rotation) = placement(g);
+    let mut c = Collider::from_result(shape_of(&g.shape))
+        .translation(offset)
+        .rotation(rotation)
+        .collision_groups(groups, mask);
+    if let Some(mu) = g.friction {
+        c = c.friction(mu);
+    }
+    c
+}
+
+/// The Kea joint of a spec joint (`None` for a free one).
+fn make_joint(
+    world: &mut PhysicsWorld,
+    j: &JointSpec,
+    child_pose: &Pose,
+    child: BodyHandle,
+    parent: Option<BodyHandle>,
+) -> crate::Result<Option<ConstraintHandle>> {
+    let anchor = child_pose.point(j.anchor);
+    let axis = |k: usize| (child_pose.rotation * j.coords[k].axis).normalize();
+    let raw = match j.kind {
+        JointType::Free | JointType::Fixed => return Ok(None),
+        JointType::Revolute | JointType::Continuous => world
+            .insert_joint(child, parent, Joint::hinge(anchor, axis(0)))?
+            .raw(),
+        JointType::Prismatic => world
+            .insert_joint(child, parent, Joint::prismatic(anchor, axis(0)))?
+            .raw(),
+        JointType::Ball => world
+            .insert_joint(child, parent, Joint::ball(anchor))?
+            .raw(),
+        JointType::Planar | JointType::Slide2 => {
+            let rotates = j.kind == JointType::Planar;
+            let normal = if rotates {
+                axis(2)
+            } else {
+                axis(0).cross(axis(1)).normalize()
+            };
+            world
+                .insert_joint(
+                    child,
+                    parent,
+                    Joint::planar(anchor, normal, axis(0), rotates),
+                )?
+                .raw()
+        }
+    };
+    for (k, c) in j.coords.iter().enumerate() {
+        if let Some(limit) = coordinate_limit(world, raw, j.kind, k)? {
+            let mut changed = *limit;
+            if let Some((lo, hi)) = c.limits {
+                changed.set_limits(
+                    SingleLimit::hard(lo - c.reference, 0.0),
+                    SingleLimit::hard(hi - c.reference, 0.0),
+                )?;
+            }
+            changed.set_dynamics(c.dynamics)?;
+            *coordinate_limit(world, raw, j.kind, k)?.expect("found above") = changed;
+        }
+    }
+    Ok(Some(raw))
+}
+
+/// The limit of coordinate `k` of a joint, where it has one.
+pub(crate) fn coordinate_limit(
+    world: &mut PhysicsWorld,
+    raw: ConstraintHandle,
+    kind: JointType,
+    k: usize,
+) -> crate::Result<Option<&mut Limit>> {
+    let w = world.dynamics_mut();
+    Ok(match kind {
+        JointType::Revolute | JointType::Continuous => Some(w.hinge_limit_mut(raw)?),
+        JointType::Prismatic => Some(w.prismatic_limit_mut(raw)?),
+        JointType::Planar | JointType::Slide2 => Some(w.planar_limit_mut(raw, k)?),
+        _ => None,
+    })
+}

@@ -1,0 +1,681 @@
+//! MJCF (MuJoCo's format), the subset real models use: the `worldbody` tree with body frames
+//! (`pos`, `quat`, `euler`, `axisangle`, `xyaxes`, `zaxis`, in the compiler's angle unit),
+//! `inertial` or mass from geometry, `hinge`/`slide`/`ball`/`free` joints (with `range`,
+//! `damping`, `armature`, `frictionloss`, `ref`), geoms (sphere, capsule and cylinder with
+//! `size` or `fromto`, box, ellipsoid as a hull, plane, mesh), `default` classes,
+//! `contype`/`conaffinity`, and `motor`/`position`/`velocity` actuators on joints.
+//!
+//! A body with several joints is one Kea joint when they make one: two slides and a hinge
+//! about their common normal (a planar root, as in Hopper and Walker2d) or two slides. What
+//! would change the physics and is not read — tendons, equality constraints, contact pairs and
+//! exclusions, joint springs, composites — is refused by name; what does not (lights,
+//! cameras, sites, sensors, visual settings) is passed over.
+
+use super::mesh;
+use super::mjcf_defaults::{Compiler, Defaults, Element, MAIN};
+use super::spec::{
+    Coordinate, GeomShape, GeomSpec, Inertial, JointSpec, JointType, LinkSpec, Pose, RobotSpec,
+    WORLD,
+};
+use super::xml::{above, children, Source};
+use super::{ImportError, MjcfOptions};
+use kea::{JointDynamics, Mat3, Quat, Real, Vec3};
+use roxmltree::{Document, Node};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// What an actuator does with its control.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ActuatorKind {
+    /// Force = gear · control.
+    Motor,
+    /// A servo to position `control`, stiffness `kp`, damping `kv`.
+    Position {
+        /// Stiffness.
+        kp: Real,
+        /// Damping.
+        kv: Real,
+    },
+    /// A servo to velocity `control`, gain `kv`.
+    Velocity {
+        /// Gain.
+        kv: Real,
+    },
+}
+
+/// An actuator as the file gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuatorSpec {
+    /// Its name (or `actuator<N>`).
+    pub name: String,
+    /// The joint it drives, by the file's name.
+    pub joint: String,
+    /// What it does.
+    pub kind: ActuatorKind,
+    /// Gear ratio (the first entry of `gear`).
+    pub gear: Real,
+    /// The control's range, where limited.
+    pub ctrl_range: Option<(Real, Real)>,
+    /// The force's range, where limited.
+    pub force_range: Option<(Real, Real)>,
+}
+
+/// A read MJCF file.
+pub(crate) struct MjcfModel {
+    pub spec: RobotSpec,
+    pub gravity: Vec3,
+    pub timestep: Option<Real>,
+    pub actuators: Vec<ActuatorSpec>,
+}
+
+/// Top-level sections passed over: they do not change the physics.
+const PASSIVE_SECTIONS: [&str; 7] = [
+    "visual",
+    "statistic",
+    "size",
+    "custom",
+    "sensor",
+    "keyframe",
+    "extension",
+];
+/// Top-level sections refused: the model's behaviour depends on them.
+const REFUSED_SECTIONS: [&str; 4] = ["tendon", "equality", "contact", "deformable"];
+
+struct Reader<'a, 'd> {
+    src: Source<'a>,
+    compiler: Compiler,
+    defaults: Defaults,
+    meshes: HashMap<String, (PathBuf, Vec3)>,
+    options: &'a MjcfOptions,
+    spec: RobotSpec,
+    _doc: std::marker::PhantomData<&'d ()>,
+}
+
+/// Parses MJCF text; `file` names it in errors and anchors mesh paths.
+pub(crate) fn parse(
+    text: &str,
+    file: &Path,
+    options: &MjcfOptions,
+) -> Result<MjcfModel, ImportError> {
+    let doc = Document::parse(text)
+        .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
+    let src = Source { file, doc: &doc };
+    let root = doc.root_element();
+    if root.tag_name().name() != "mujoco" {
+        return Err(src.error(root, "an MJCF file's root element must be <mujoco>"));
+    }
+    for section in root.children().filter(|c| c.is_element()) {
+        let tag = section.tag_name().name();
+        if REFUSED_SECTIONS.contains(&tag) {
+            return Err(src.error(
+                section,
+                format!("<{tag}> is not supported: the model's behaviour depends on it"),
+            ));
+        }
+        let known = [
+            "compiler",
+            "option",
+            "default",
+            "asset",
+            "worldbody",
+            "actuator",
+        ];
+        if !known.contains(&tag) && !PASSIVE_SECTIONS.contains(&tag) {
+            return Err(src.error(section, format!("<{tag}> is not supported")));
+        }
+        if tag == "include" {
+            return Err(src.error(section, "<include> is not supported: merge the files first"));
+        }
+    }
+    let compiler = Compiler::read(&src, root)?;
+    let defaults = Defaults::read(&src, root)?;
+    let (gravity, timestep) = read_option(&src, root)?;
+    let mut reader = Reader {
+        meshes: HashMap::new(),
+        compiler,
+        defaults,
+        options,
+        spec: RobotSpec {
+            name: root.attribute("model").unwrap_or("model").to_string(),
+            links: vec![LinkSpec {
+                name: WORLD.to_string(),
+                inertial: Some(Inertial::NONE),
+                geoms: Vec::new(),
+            }],
+            joints: Vec::new(),
+            skipped: Vec::new(),
+            mujoco_filter: true,
+        },
+        src,
+        _doc: std::marker::PhantomData,
+    };
+    reader.read_assets(root)?;
+    for world in children(root, "worldbody") {
+        reader.read_body_contents(world, 0, MAIN)?;
+    }
+    let actuators = reader.read_actuators(root)?;
+    Ok(MjcfModel {
+        spec: reader.spec,
+        gravity,
+        timestep,
+        actuators,
+    })
+}
+
+fn read_option(src: &Source<'_>, root: Node<'_, '_>) -> Result<(Vec3, Option<Real>), ImportError> {
+    let mut gravity = Vec3::new(0.0, 0.0, -9.81);
+    let mut timestep = None;
+    for o in children(root, "option") {
+        if let Some(g) = src.vec3(o, "gravity")? {
+            gravity = g;
+        }
+        if let Some(t) = src.number(o, "timestep")? {
+            if !above(t, 0.0) {
+                return Err(src.error(o, format!("`timestep` = {t}: must be > 0")));
+            }
+            timestep = Some(t);
+        }
+    }
+    Ok((gravity, timestep))
+}
+
+impl<'a, 'd> Reader<'a, 'd> {
+    fn element<'s>(
+        &'s self,
+        node: Node<'s, 's>,
+        class: &'s str,
+    ) -> Result<Element<'s>, ImportError> {
+        let class = match node.attribute("class") {
+            Some(c) if self.defaults.has(c) => c,
+            Some(c) => return Err(self.src.error(node, format!("no default class \"{c}\""))),
+            None => class,
+        };
+        Ok(Element {
+            node,
+            class,
+            defaults: &self.defaults,
+            src: &self.src,
+            tag: node.tag_name().name(),
+        })
+    }
+
+    fn read_assets(&mut self, root: Node<'_, '_>) -> Result<(), ImportError> {
+        for asset in children(root, "asset") {
+            for m in children(asset, "mesh") {
+                let el = self.element(m, MAIN)?;
+                let Some(file) = m.attribute("file") else {
+                    return Err(self.src.error(
+                        m,
+                        "a mesh without `file` (inline vertices are not supported)",
+                    ));
+                };
+                let name = m.attribute("name").map(str::to_string).unwrap_or_else(|| {
+                    Path::new(file)
+                        .file_stem()
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_default()
+                });
+                let scale = el.vec3("scale")?.unwrap_or(Vec3::ONE);
+                let mut search = Vec::new();
+                if let Some(dir) = &self.compiler.meshdir {
+                    let base = self.src.file.parent().unwrap_or(Path::new("."));
+                    search.push(base.join(dir));
+                }
+                search.extend(self.options.mesh_search_path.iter().cloned());
+                let path = mesh::resolve(file, self.src.file, &search).ok_or_else(|| {
+                    self.src.error(m, format!("mesh file \"{file}\" not found (looked beside the model, in meshdir and the search path)"))
+                })?;
+                self.meshes.insert(name, (path, scale));
+            }
+        }
+        Ok(())
+    }
+
+    /// The geoms and child bodies of a body (or of the worldbody, link 0).
+    fn read_body_contents(
+        &mut self,
+        body: Node<'_, '_>,
+        link: usize,
+        class: &str,
+    ) -> Result<(), ImportError> {
+        for c in body.children().filter(|c| c.is_element()) {
+            match c.tag_name().name() {
+                "geom" => {
+                    let g = self.read_geom(c, class, link == 0)?;
+                    self.spec.links[link].geoms.push(g);
+                }
+                "body" => self.read_body(c, link, class)?,
+                "joint" | "freejoint" | "inertial" if link == 0 => {
+                    return Err(self
+                        .src
+                        .error(c, "the worldbody cannot have joints or an inertial"));
+                }
+                "joint" | "freejoint" | "inertial" => {}
+                "site" | "camera" | "light" => {}
+                "frame" | "composite" | "flexcomp" | "plugin" | "attach" | "replicate" => {
+                    return Err(self
+                        .src
+                        .error(c, format!("<{}> is not supported", c.tag_name().name())));
+                }
+                other => {
+                    return Err(self
+                        .src
+                        .error(c, format!("<{other}> is not an element of a body")))
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn read_body(
+        &mut self,
+        body: Node<'_, '_>,
+        parent: usize,
+        class: &str,
+    ) -> Result<(), ImportError> {
+        let childclass = match body.attribute("childclass") {
+            Some(c) if self.defaults.has(c) => c.to_string(),
+            Some(c) => return Err(self.src.error(body, format!("no default class \"{c}\""))),
+            None => class.to_string(),
+        };
+        let el = self.element(body, &childclass)?;
+        let pos = el.vec3("pos")?.unwrap_or(Vec3::ZERO);
+        let rot = el.orientation(&self.compiler)?;
+        let link = self.spec.links.len();
+        let name = body
+            .attribute("name")
+            .map(str::to_string)
+            .unwrap_or_else(|| format!("body{link}"));
+        if self.spec.links.iter().any(|l| l.name == name) {
+            return Err(self
+                .src
+                .error(body, format!("a second body named \"{name}\"")));
+        }
+        let inertial = self.read_inertial(body, &childclass)?;
+        self.spec.links.push(LinkSpec {
+            name: name.clone(),
+            inertial,
+            geoms: Vec::new(),
+        });
+        let joint = self.read_joints(body, &childclass, parent, link, Pose::new(pos, rot))?;
+        self.spec.joints.push(joint);
+        self.read_body_contents(body, link, &childclass)
+    }
+
+    fn read_inertial(
+        &self,
+        body: Node<'_, '_>,
+        class: &str,
+    ) -> Result<Option<Inertial>, ImportError> {
+        let node = children(body, "inertial").next();
+        let use_file = match (self.compiler.inertia_from_geom, node) {
+            (Some(true), _) | (None, None) => return Ok(None),
+            (Some(false), None) => return Ok(Some(Inertial::NONE)),
+            (_, Some(n)) => n,
+        };
+        let el = self.element(use_file, class)?;
+        let mass = el.non_negative("mass")?;
+        let frame = el.orientation(&self.compiler)?;
+        let tensor = if let Some(d) = el.vec3("diaginertia")? {
+            Mat3::from_diagonal(d)
+        } else if let Some([xx, yy, zz, xy, xz, yz]) = el.numbers::<6>("fullinertia")? {
+            Mat3::from_cols(
+                Vec3::new(xx, xy, xz),
+                Vec3::new(xy, yy, yz),
+                Vec3::new(xz, yz, zz),
+            )
+        } else {
+            return Err(el.error("an <inertial> needs diaginertia or fullinertia"));
+        };
+        let r = Mat3::from_quat(frame);
+        Ok(Some(Inertial {
+            mass,
+            com: el.vec3("pos")?.unwrap_or(Vec3::ZERO),
+            inertia: r * tensor * r.transpose(),
+        }))
+    }
+
+    fn read_geom(
+        &self,
+        node: Node<'_, '_>,
+        class: &str,
+        static_body: bool,
+    ) -> Result<GeomSpec, ImportError> {
+        let el = self.element(node, class)?;
+        let kind = el.text("type").unwrap_or("sphere");
+        let size = el.up_to::<3>("size")?;
+        let need = |k: usize| -> Result<[Real; 3], ImportError> {
+            match size {
+                Some((s, n)) if n >= k && s[..k].iter().all(|&v| v > 0.0) => Ok(s),
+                Some((s, _)) => {
+                    Err(el.error(format!("a {kind} needs {k} positive sizes, found {s:?}")))
+                }
+                None => Err(el.error(format!("a {kind} needs `size`"))),
+            }
+        };
+        let mut pose = Pose::new(
+            el.vec3("pos")?.unwrap_or(Vec3::ZERO),
+            el.orientation(&self.compiler)?,
+        );
+        let fromto = el.numbers::<6>("fromto")?;
+        let along = |pose: &mut Pose, half_from_size: Real| -> Result<Real, ImportError> {
+            let Some(f) = fromto else {
+                return Ok(half_from_size);
+            };
+            let (a, b) = (Vec3::new(f[0], f[1], f[2]), Vec3::new(f[3], f[4], f[5]));
+            let d = b - a;
+            if !above(d.length(), 1e-9) {
+                return Err(el.error("`fromto` ends coincide"));
+            }
+            *pose = Pose::new(
+                (a + b) * 0.5,
+                Quat::from_rotation_arc(Vec3::Z, d.normalize()),
+            );
+            Ok(0.5 * d.length())
+        };
+        let shape = match kind {
+            "sphere" => GeomShape::Sphere(need(1)?[0]),
+            "capsule" | "cylinder" => {
+                let s = need(1)?;
+                let half = along(&mut pose, s[1])?;
+                if !above(half, 0.0) {
+                    return Err(el.error(format!("a {kind} needs a half-length (size's 2nd number) or fromto")));
+                }
+                if kind == "capsule" {
+                    GeomShape::Capsule { radius: s[0], half_length: half }
+                } else {
+                    GeomShape::Cylinder { radius: s[0], half_length: half }
+                }
+            }
+            "box" => GeomShape::Cuboid(Vec3::from_array(need(3)?)),
+            "ellipsoid" => GeomShape::Hull(ellipsoid_points(Vec3::from_array(need(3)?))),
+            "plane" => {
+                if !static_body {
+                    return Err(el.error("a plane can only belong to the worldbody or a static body"));
+                }
+                GeomShape::Plane
+            }
+            "mesh" => {
+                let Some(name) = el.text("mesh") else {
+                    return Err(el.error("a mesh geom needs `mesh`"));
+                };
+                let (path, scale) = self
+                    .meshes
+                    .get(name)
+                    .ok_or_else(|| el.error(format!("no mesh asset named \"{name}\"")))?;
+                let m = mesh::load(path, *scale).map_err(|e| el.error(e.to_string()))?;
+                if self.options.meshes_as_trimesh {
+                    GeomShape::Mesh(m.vertices, m.triangles)
+                } else {
+                    GeomShape::Hull(m.vertices)
+                }
+            }
+            other => return Err(el.error(format!("geom type \"{other}\" is not supported (sphere, capsule, cylinder, box, ellipsoid, plane, mesh)"))),
+        };
+        let bits = |attr: &str| -> Result<u32, ImportError> {
+            match el.number(attr)? {
+                None => Ok(1),
+                Some(v) if v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as Real => Ok(v as u32),
+                Some(v) => Err(el.error(format!(
+                    "`{attr}` = {v}: expected a non-negative whole number"
+                ))),
+            }
+        };
+        let friction = match el.up_to::<3>("friction")? {
+            Some((f, _)) if f[0] >= 0.0 => Some(f[0]),
+            Some((f, _)) => return Err(el.error(format!("`friction` = {}: must be >= 0", f[0]))),
+            None => None,
+        };
+        let density = el.number("density")?;
+        let mass = el.number("mass")?;
+        if let Some(d) = density.filter(|d| *d < 0.0) {
+            return Err(el.error(format!("`density` = {d}: must be >= 0")));
+        }
+        if let Some(m) = mass.filter(|m| *m < 0.0) {
+            return Err(el.error(format!("`mass` = {m}: must be >= 0")));
+        }
+        Ok(GeomSpec {
+            shape,
+            pose,
+            groups: bits("contype")?,
+            mask: bits("conaffinity")?,
+            friction,
+            density,
+            mass,
+        })
+    }
+
+    /// The body's joints as one joint spec (fixed without any).
+    fn read_joints(
+        &mut self,
+        body: Node<'_, '_>,
+        class: &str,
+        parent: usize,
+        link: usize,
+        origin: Pose,
+    ) -> Result<JointSpec, ImportError> {
+        let mut parts: Vec<(String, &'static str, Coordinate, Vec3, Node<'_, '_>)> = Vec::new();
+        for j in body.children().filter(|c| c.is_element()) {
+            let tag = j.tag_name().name();
+            if tag != "joint" && tag != "freejoint" {
+                continue;
+            }
+            let el = self.element(j, class)?;
+            let kind: &'static str = if tag == "freejoint" {
+                "free"
+            } else {
+                match el.text("type").unwrap_or("hinge") {
+                    "hinge" => "hinge",
+                    "slide" => "slide",
+                    "ball" => "ball",
+                    "free" => "free",
+                    other => return Err(el.error(format!("joint type \"{other}\" is not an MJCF joint type (hinge, slide, ball, free)"))),
+                }
+            };
+            let name = j
+                .attribute("name")
+                .map(str::to_string)
+                .unwrap_or_else(|| format!("{}_joint{}", self.spec.links[link].name, parts.len()));
+            let (coord, anchor) = self.read_coordinate(&el, kind)?;
+            parts.push((name, kind, coord, anchor, j));
+        }
+        let link_name = self.spec.links[link].name.clone();
+        let kinds: Vec<&str> = parts.iter().map(|p| p.1).collect();
+        let (kind, anchor) = match kinds.as_slice() {
+            [] => (JointType::Fixed, Vec3::ZERO),
+            ["hinge"] => (
+                if parts[0].2.limits.is_some() { JointType::Revolute } else { JointType::Continuous },
+                parts[0].3,
+            ),
+            ["slide"] => (JointType::Prismatic, parts[0].3),
+            ["ball"] => (JointType::Ball, parts[0].3),
+            ["free"] => {
+                if parent != 0 {
+                    return Err(self.src.error(parts[0].4, "a free joint belongs to a body at the top of the worldbody"));
+                }
+                (JointType::Free, Vec3::ZERO)
+            }
+            ["slide", "slide"] if perpendicular(parts[0].2.axis, parts[1].2.axis) => {
+                (JointType::Slide2, parts[0].3)
+            }
+            ["slide", "slide", "hinge"]
+                if perpendicular(parts[0].2.axis, parts[1].2.axis)
+                    && parts[2].2.axis.cross(parts[0].2.axis.cross(parts[1].2.axis)).length() < 1e-6 =>
+            {
+                (JointType::Planar, parts[2].3)
+            }
+            _ => {
+                return Err(self.src.error(
+                    body,
+                    format!(
+                        "{} joints in body \"{link_name}\" ({}): one joint, two perpendicular slides, or two slides and a hinge about their normal are supported",
+                        parts.len(),
+                        kinds.join(", ")
+                    ),
+                ))
+            }
+        };
+        for (name, k, c, _, node) in &parts {
+            let d = c.dynamics;
+            if matches!(*k, "free" | "ball")
+                && (d.damping > 0.0 || d.armature > 0.0 || d.friction > 0.0)
+            {
+                self.spec.skipped.push(format!(
+                    "{}:{}: damping, armature and frictionloss of {k} joint \"{name}\": not supported, left out",
+                    self.src.file.display(),
+                    self.src.line(*node)
+                ));
+            }
+        }
+        let names: Vec<String> = parts.iter().map(|p| p.0.clone()).collect();
+        Ok(JointSpec {
+            name: names
+                .first()
+                .cloned()
+                .unwrap_or_else(|| format!("{link_name}_weld")),
+            parts: names,
+            kind,
+            parent,
+            child: link,
+            origin,
+            anchor,
+            coords: if matches!(kind, JointType::Free | JointType::Ball) {
+                Vec::new()
+            } else {
+                parts.iter().map(|p| p.2).collect()
+            },
+        })
+    }
+
+    /// One joint's coordinate (axis, range, dynamics, reference) and its point.
+    fn read_coordinate(
+        &self,
+        el: &Element<'_>,
+        kind: &str,
+    ) -> Result<(Coordinate, Vec3), ImportError> {
+        let axis = el.vec3("axis")?.unwrap_or(Vec3::Z);
+        if !above(axis.length(), 1e-9) {
+            return Err(el.error("`axis` cannot be zero"));
+        }
+        let angular = kind == "hinge";
+        let unit = |v: Real| if angular { self.compiler.angle(v) } else { v };
+        let range = el.numbers::<2>("range")?;
+        let limited = el
+            .flag("limited")?
+            .unwrap_or(self.compiler.auto_limits && el.node.attribute("range").is_some());
+        let limits = match (limited, range) {
+            (true, Some([lo, hi])) if lo < hi => Some((unit(lo), unit(hi))),
+            (true, Some([lo, hi])) => {
+                return Err(el.error(format!("`range` = {lo} {hi}: lower must be below upper")))
+            }
+            (true, None) => return Err(el.error("limited=\"true\" needs a `range`")),
+            (false, _) => None,
+        };
+        let stiffness = el.non_negative("stiffness")?;
+        if stiffness > 0.0 {
+            return Err(el.error(format!(
+                "`stiffness` = {stiffness}: joint springs are not supported"
+            )));
+        }
+        let mut c = Coordinate::along(axis.normalize());
+        c.limits = if matches!(kind, "ball" | "free") {
+            None
+        } else {
+            limits
+        };
+        c.dynamics = JointDynamics {
+            armature: el.non_negative("armature")?,
+            damping: el.non_negative("damping")?,
+            friction: el.non_negative("frictionloss")?,
+        };
+        c.reference = unit(el.number("ref")?.unwrap_or(0.0));
+        Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
+    }
+
+    fn read_actuators(&self, root: Node<'_, '_>) -> Result<Vec<ActuatorSpec>, ImportError> {
+        let mut out = Vec::new();
+        for section in children(root, "actuator") {
+            for a in section.children().filter(|c| c.is_element()) {
+                let el = self.element(a, MAIN)?;
+                let tag = a.tag_name().name();
+                let kind = match tag {
+                    "motor" => ActuatorKind::Motor,
+                    "position" => ActuatorKind::Position {
+                        kp: el.number("kp")?.unwrap_or(1.0),
+                        kv: el.number("kv")?.unwrap_or(0.0),
+                    },
+                    "velocity" => ActuatorKind::Velocity {
+                        kv: el.number("kv")?.unwrap_or(1.0),
+                    },
+                    other => {
+                        return Err(el.error(format!(
+                            "actuator <{other}> is not supported (motor, position, velocity)"
+                        )))
+                    }
+                };
+                let Some(joint) = a.attribute("joint") else {
+                    return Err(el.error("only actuators on a `joint` are supported"));
+                };
+                if !self
+                    .spec
+                    .joints
+                    .iter()
+                    .any(|j| j.parts.iter().any(|p| p == joint))
+                {
+                    return Err(el.error(format!("no joint named \"{joint}\"")));
+                }
+                let range = |attr: &str, flag: &str| -> Result<Option<(Real, Real)>, ImportError> {
+                    let r = el.numbers::<2>(attr)?;
+                    let on = el.flag(flag)?.unwrap_or(r.is_some());
+                    match (on, r) {
+                        (true, Some([lo, hi])) if lo <= hi => Ok(Some((lo, hi))),
+                        (true, Some([lo, hi])) => Err(
+                            el.error(format!("`{attr}` = {lo} {hi}: lower must not exceed upper"))
+                        ),
+                        (true, None) => Err(el.error(format!("{flag}=\"true\" needs `{attr}`"))),
+                        (false, _) => Ok(None),
+                    }
+                };
+                let gear = el.up_to::<6>("gear")?.map(|(g, _)| g[0]).unwrap_or(1.0);
+                if gear == 0.0 {
+                    return Err(el.error("`gear` = 0 drives nothing"));
+                }
+                out.push(ActuatorSpec {
+                    name: a
+                        .attribute("name")
+                        .map(str::to_string)
+                        .unwrap_or_else(|| format!("actuator{}", out.len())),
+                    joint: joint.to_string(),
+                    kind,
+                    gear,
+                    ctrl_range: range("ctrlrange", "ctrllimited")?,
+                    force_range: range("forcerange", "forcelimited")?,
+                });
+            }
+        }
+        Ok(out)
+    }
+}
+
+fn perpendicular(a: Vec3, b: Vec3) -> bool {
+    a.dot(b).abs() < 1e-6
+}
+
+/// Points on an ellipsoid of these radii, for its convex hull.
+fn ellipsoid_points(r: Vec3) -> Vec<Vec3> {
+    let (rings, segments) = (8, 16);
+    let mut points = vec![Vec3::new(0.0, 0.0, r.z), Vec3::new(0.0, 0.0, -r.z)];
+    for i in 1..rings {
+        let theta = kea::PI_REAL * i as Real / rings as Real;
+        for k in 0..segments {
+            let phi = 2.0 * kea::PI_REAL * k as Real / segments as Real;
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            points.push(d * r);
+        }
+    }
+    points
+}

@@ -1,0 +1,185 @@
+//! Robots from their own files. URDF ([`PhysicsWorld::load_urdf`]) and MJCF
+//! ([`PhysicsWorld::load_mjcf`]) are read into one tree of links and joints, checked whole,
+//! and built into the world in one go — links welded by fixed joints become one body, every
+//! other joint a Kea joint, every collision geometry a collider. The [`Robot`] that comes back
+//! names its links and joints and reads and writes its joint coordinates as one vector.
+//!
+//! ```
+//! use kea3d::prelude::*;
+//! use kea3d::robot::UrdfOptions;
+//!
+//! let urdf = r#"<robot name="pendulum">
+//!   <link name="base"/>
+//!   <link name="arm">
+//!     <inertial><origin xyz="0 0 -0.5"/><mass value="1"/>
+//!       <inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+//!   </link>
+//!   <joint name="swing" type="continuous">
+//!     <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+//!   </joint>
+//! </robot>"#;
+//! let mut world = PhysicsWorld::new();
+//! world.set_gravity([0.0, 0.0, -9.81])?;
+//! let options = UrdfOptions { fixed_base: true, ..UrdfOptions::default() };
+//! let robot = world.load_urdf_str(urdf, "pendulum.urdf", &options)?;
+//! robot.set_joint_positions(&mut world, &[0.5])?;
+//! assert!((robot.joint_positions(&world)?[0] - 0.5).abs() < 1e-6);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod actuator;
+mod build;
+mod error;
+mod mesh;
+mod mjcf;
+mod mjcf_defaults;
+mod model;
+mod spec;
+mod urdf;
+mod xml;
+
+pub use error::ImportError;
+pub use mjcf::{ActuatorKind, ActuatorSpec};
+pub use model::{Robot, RobotJoint, RobotLink};
+pub use spec::{JointType, Pose};
+
+use crate::PhysicsWorld;
+use kea::{Quat, Vec3};
+use std::path::{Path, PathBuf};
+
+/// How a URDF file is loaded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfOptions {
+    /// Weld the root link to the world (an arm on a table); else it is free (PyBullet's
+    /// default; its pose then leads the joint position vector). Default false.
+    pub fixed_base: bool,
+    /// Where the root link's frame is placed, m.
+    pub base_position: Vec3,
+    /// How the root link is turned.
+    pub base_rotation: Quat,
+    /// Folders to find meshes in (after the file's own folder): where `package://` names
+    /// point.
+    pub mesh_search_path: Vec<PathBuf>,
+    /// Meshes as triangle meshes instead of their convex hulls (default: hulls).
+    pub meshes_as_trimesh: bool,
+    /// Let the robot's links collide with each other (those a joint joins never do); off by
+    /// default, as in PyBullet, since many files' meshes overlap at rest.
+    pub self_collision: bool,
+}
+
+impl Default for UrdfOptions {
+    fn default() -> Self {
+        Self {
+            fixed_base: false,
+            base_position: Vec3::ZERO,
+            base_rotation: Quat::IDENTITY,
+            mesh_search_path: Vec::new(),
+            meshes_as_trimesh: false,
+            self_collision: false,
+        }
+    }
+}
+
+/// How an MJCF file is loaded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MjcfOptions {
+    /// Folders to find meshes in, after the file's `compiler meshdir`.
+    pub mesh_search_path: Vec<PathBuf>,
+    /// Meshes as triangle meshes instead of their convex hulls (MuJoCo collides hulls).
+    pub meshes_as_trimesh: bool,
+    /// Let bodies collide with each other as `contype`/`conaffinity` allow (MuJoCo's rule;
+    /// bodies a joint joins never do). Default true.
+    pub self_collision: bool,
+}
+
+impl Default for MjcfOptions {
+    fn default() -> Self {
+        Self {
+            mesh_search_path: Vec::new(),
+            meshes_as_trimesh: false,
+            self_collision: true,
+        }
+    }
+}
+
+impl PhysicsWorld {
+    /// Loads a URDF robot: links become bodies (with the file's mass, centre of mass and full
+    /// inertia), joints Kea joints (with limits, damping and friction), collision geometry
+    /// colliders. Gravity is the world's: URDF files are z-up, so set it along −z. On error,
+    /// which names the file, line and element, nothing is added.
+    pub fn load_urdf(
+        &mut self,
+        path: impl AsRef<Path>,
+        options: &UrdfOptions,
+    ) -> Result<Robot, ImportError> {
+        let path = path.as_ref();
+        let spec = urdf::read(path, options)?;
+        self.build_robot(&spec, path, Vec3::ZERO, options.self_collision)
+    }
+
+    /// [`PhysicsWorld::load_urdf`] from text; `name` stands for the file in errors and relative
+    /// mesh paths.
+    pub fn load_urdf_str(
+        &mut self,
+        text: &str,
+        name: impl AsRef<Path>,
+        options: &UrdfOptions,
+    ) -> Result<Robot, ImportError> {
+        let path = name.as_ref();
+        let spec = urdf::parse(text, path, options)?;
+        self.build_robot(&spec, path, Vec3::ZERO, options.self_collision)
+    }
+
+    /// Loads an MJCF model (MuJoCo's format): its `worldbody` tree, joints, geometry,
+    /// defaults and actuators. Gravity comes from its `option` (−9.81 along z by default). On
+    /// error, which names the file, line and element, nothing is added.
+    pub fn load_mjcf(
+        &mut self,
+        path: impl AsRef<Path>,
+        options: &MjcfOptions,
+    ) -> Result<Robot, ImportError> {
+        let path = path.as_ref();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| ImportError::file(path, e.to_string()))?;
+        self.load_mjcf_str(&text, path, options)
+    }
+
+    /// [`PhysicsWorld::load_mjcf`] from text; `name` stands for the file.
+    pub fn load_mjcf_str(
+        &mut self,
+        text: &str,
+        name: impl AsRef<Path>,
+        options: &MjcfOptions,
+    ) -> Result<Robot, ImportError> {
+        let path = name.as_ref();
+        let model = mjcf::parse(text, path, options)?;
+        let mut staged = self.clone();
+        staged
+            .set_gravity(model.gravity)
+            .map_err(|source| ImportError::World {
+                file: path.to_path_buf(),
+                element: "option".into(),
+                source,
+            })?;
+        let mut robot =
+            staged.build_robot(&model.spec, path, Vec3::ZERO, options.self_collision)?;
+        robot.set_actuators(model.actuators);
+        robot.timestep = model.timestep;
+        *self = staged;
+        Ok(robot)
+    }
+
+    fn build_robot(
+        &mut self,
+        spec: &spec::RobotSpec,
+        path: &Path,
+        base: Vec3,
+        self_collision: bool,
+    ) -> Result<Robot, ImportError> {
+        let options = build::BuildOptions {
+            base: Pose::new(base, Quat::IDENTITY),
+            self_collision,
+        };
+        build::build(self, spec, path, &options)
+    }
+}

@@ -1,0 +1,265 @@
+//! A robot as a file describes it, before it is built: links (mass, inertia, collision
+//! geometry) joined into a tree by joints, every frame given in its parent's. Both importers
+//! read into this; [`super::build`] turns it into bodies, colliders and joints.
+
+use kea::{JointDynamics, Mat3, Quat, Real, Vec3};
+
+/// A rigid transform: rotate, then translate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Translation, m.
+    pub translation: Vec3,
+    /// Rotation (unit).
+    pub rotation: Quat,
+}
+
+impl Default for Pose {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl Pose {
+    /// No motion.
+    pub const IDENTITY: Self = Self {
+        translation: Vec3::ZERO,
+        rotation: Quat::IDENTITY,
+    };
+
+    /// A pose from its parts.
+    #[must_use]
+    pub fn new(translation: Vec3, rotation: Quat) -> Self {
+        Self {
+            translation,
+            rotation,
+        }
+    }
+
+    /// `self ∘ other`: `other` given in this pose's frame, expressed in the outer frame.
+    #[must_use]
+    pub fn then(&self, other: &Pose) -> Pose {
+        Pose {
+            translation: self.translation + self.rotation * other.translation,
+            rotation: (self.rotation * other.rotation).normalize(),
+        }
+    }
+
+    /// The inverse transform.
+    #[must_use]
+    pub fn inverse(&self) -> Pose {
+        let r = self.rotation.inverse();
+        Pose {
+            translation: -(r * self.translation),
+            rotation: r,
+        }
+    }
+
+    /// A point of this frame in the outer frame.
+    #[must_use]
+    pub fn point(&self, p: Vec3) -> Vec3 {
+        self.translation + self.rotation * p
+    }
+}
+
+/// Mass properties of a link in its own frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Inertial {
+    pub mass: Real,
+    /// Centre of mass, link frame.
+    pub com: Vec3,
+    /// Inertia about the centre of mass, link axes.
+    pub inertia: Mat3,
+}
+
+impl Inertial {
+    pub const NONE: Self = Self {
+        mass: 0.0,
+        com: Vec3::ZERO,
+        inertia: Mat3::ZERO,
+    };
+
+    /// The mass properties of `self` and `other` (placed by `pose` in this frame) together.
+    pub fn merged(&self, other: &Inertial, pose: &Pose) -> Inertial {
+        let m = self.mass + other.mass;
+        if m <= 0.0 {
+            return Inertial::NONE;
+        }
+        let r = Mat3::from_quat(pose.rotation);
+        let other_com = pose.point(other.com);
+        let other_inertia = r * other.inertia * r.transpose();
+        let com = (self.com * self.mass + other_com * other.mass) / m;
+        let inertia = self.inertia
+            + parallel_axis(self.mass, self.com - com)
+            + other_inertia
+            + parallel_axis(other.mass, other_com - com);
+        Inertial {
+            mass: m,
+            com,
+            inertia,
+        }
+    }
+}
+
+/// The inertia a point mass `m` at `d` from the centre adds.
+fn parallel_axis(m: Real, d: Vec3) -> Mat3 {
+    let outer = Mat3::from_cols(d * d.x, d * d.y, d * d.z);
+    (Mat3::IDENTITY * d.length_squared() - outer) * m
+}
+
+/// A collision shape as files give them (cylinders and capsules along z).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum GeomShape {
+    Cuboid(Vec3),
+    Sphere(Real),
+    /// Along z.
+    Cylinder {
+        radius: Real,
+        half_length: Real,
+    },
+    /// Along z.
+    Capsule {
+        radius: Real,
+        half_length: Real,
+    },
+    /// The convex hull of these points.
+    Hull(Vec<Vec3>),
+    /// A triangle mesh.
+    Mesh(Vec<Vec3>, Vec<[u32; 3]>),
+    /// The plane z = 0 of its frame, solid below.
+    Plane,
+}
+
+/// One collision geometry of a link.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct GeomSpec {
+    pub shape: GeomShape,
+    /// In the link's frame.
+    pub pose: Pose,
+    /// Collision groups and mask (MJCF `contype`, `conaffinity`).
+    pub groups: u32,
+    pub mask: u32,
+    pub friction: Option<Real>,
+    /// Mass from this geometry when the link has no inertial: density or mass (MJCF).
+    pub density: Option<Real>,
+    pub mass: Option<Real>,
+}
+
+/// A link.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct LinkSpec {
+    pub name: String,
+    /// Given mass properties; `None`: from the geometry's density (MJCF without `inertial`).
+    pub inertial: Option<Inertial>,
+    pub geoms: Vec<GeomSpec>,
+}
+
+/// The kinds of joint the importers read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointType {
+    /// Rotation about an axis, with limits.
+    Revolute,
+    /// Rotation about an axis, no limits.
+    Continuous,
+    /// Translation along an axis.
+    Prismatic,
+    /// Welded: the link is merged into its parent's body.
+    Fixed,
+    /// Free motion (URDF `floating`, MJCF `free`): 7 positions (x, y, z, qw, qx, qy, qz) and 6
+    /// velocities (linear in the world frame, angular in the body's), as MuJoCo orders them.
+    Free,
+    /// Rotation about a point: 4 positions (a quaternion) and 3 velocities (body frame).
+    Ball,
+    /// Motion in a plane and rotation about its normal (URDF `planar`; MJCF two slides and a
+    /// hinge in one body): 3 coordinates.
+    Planar,
+    /// Motion in a plane, no rotation (MJCF two slides in one body): 2 coordinates.
+    Slide2,
+}
+
+impl JointType {
+    /// Entries in the joint position vector.
+    #[must_use]
+    pub fn position_count(self) -> usize {
+        match self {
+            Self::Fixed => 0,
+            Self::Revolute | Self::Continuous | Self::Prismatic => 1,
+            Self::Slide2 => 2,
+            Self::Planar => 3,
+            Self::Ball => 4,
+            Self::Free => 7,
+        }
+    }
+
+    /// Entries in the joint velocity vector.
+    #[must_use]
+    pub fn velocity_count(self) -> usize {
+        match self {
+            Self::Ball => 3,
+            Self::Free => 6,
+            other => other.position_count(),
+        }
+    }
+}
+
+/// One scalar coordinate of a joint: its axis, stops and dynamics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Coordinate {
+    /// Unit axis in the child's frame.
+    pub axis: Vec3,
+    pub limits: Option<(Real, Real)>,
+    /// Largest actuator force (URDF `effort`).
+    pub effort: Option<Real>,
+    /// Largest speed (URDF `velocity`).
+    pub speed: Option<Real>,
+    pub dynamics: JointDynamics,
+    /// The coordinate's value in the file's pose (MJCF `ref`).
+    pub reference: Real,
+}
+
+impl Coordinate {
+    pub fn along(axis: Vec3) -> Self {
+        Self {
+            axis,
+            limits: None,
+            effort: None,
+            speed: None,
+            dynamics: JointDynamics::default(),
+            reference: 0.0,
+        }
+    }
+}
+
+/// A joint: a child link placed in its parent's frame, free to move as its type says.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct JointSpec {
+    pub name: String,
+    /// Names of the file's joints this one stands for (MJCF: several in one body).
+    pub parts: Vec<String>,
+    pub kind: JointType,
+    pub parent: usize,
+    pub child: usize,
+    /// The child's frame in the parent's at the file's pose.
+    pub origin: Pose,
+    /// The joint's point in the child's frame.
+    pub anchor: Vec3,
+    /// Its coordinates, in order (a planar joint: two slides then the turn).
+    pub coords: Vec<Coordinate>,
+}
+
+/// A whole robot file. Link 0 is the world (static; MJCF's `worldbody` geometry); the
+/// robot's root hangs from it by a fixed joint (a fixed base) or a free one.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct RobotSpec {
+    pub name: String,
+    pub links: Vec<LinkSpec>,
+    /// In the file's order; each link but the world is the child of exactly one.
+    pub joints: Vec<JointSpec>,
+    /// What was left out and why, one line each (file, line, element).
+    pub skipped: Vec<String>,
+    /// Geometry's `groups`/`mask` are MuJoCo's `contype`/`conaffinity` (a pair collides if
+    /// either's type meets the other's affinity) rather than Kea's groups and mask.
+    pub mujoco_filter: bool,
+}
+
+/// Name of the world link.
+pub(crate) const WORLD: &str = "world";

@@ -1,0 +1,388 @@
+//! URDF (the ROS robot description): links with their inertial frames and collision geometry,
+//! joined by `revolute`, `continuous`, `prismatic`, `fixed`, `floating` and `planar` joints
+//! with limits and dynamics. Visual geometry, materials, transmissions and Gazebo tags are not
+//! physics and are passed over; `mimic` and `safety_controller` are reported as skipped.
+
+use super::mesh;
+use super::spec::{
+    Coordinate, GeomShape, GeomSpec, Inertial, JointSpec, JointType, LinkSpec, Pose, RobotSpec,
+    WORLD,
+};
+use super::xml::{child, children, rpy, Source};
+use super::{ImportError, UrdfOptions};
+use kea::{JointDynamics, Mat3, Real, Vec3};
+use roxmltree::{Document, Node};
+use std::path::Path;
+
+/// Reads a URDF file into a robot spec.
+pub(crate) fn read(file: &Path, options: &UrdfOptions) -> Result<RobotSpec, ImportError> {
+    let text = std::fs::read_to_string(file).map_err(|e| ImportError::file(file, e.to_string()))?;
+    parse(&text, file, options)
+}
+
+/// Parses URDF text; `file` names it in errors and anchors relative mesh paths.
+pub(crate) fn parse(
+    text: &str,
+    file: &Path,
+    options: &UrdfOptions,
+) -> Result<RobotSpec, ImportError> {
+    let doc = Document::parse(text)
+        .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
+    let src = Source { file, doc: &doc };
+    let robot = doc.root_element();
+    if robot.tag_name().name() != "robot" {
+        return Err(src.error(robot, "a URDF file's root element must be <robot>"));
+    }
+    let mut spec = RobotSpec {
+        name: robot.attribute("name").unwrap_or("robot").to_string(),
+        links: vec![LinkSpec {
+            name: WORLD.to_string(),
+            inertial: Some(Inertial::NONE),
+            geoms: Vec::new(),
+        }],
+        joints: Vec::new(),
+        skipped: Vec::new(),
+        mujoco_filter: false,
+    };
+    for link in children(robot, "link") {
+        let name = src.required(link, "name")?;
+        if spec.links.iter().any(|l| l.name == name) {
+            return Err(src.error(link, format!("a second link named \"{name}\"")));
+        }
+        spec.links.push(read_link(&src, link, options)?);
+    }
+    if spec.links.len() == 1 {
+        return Err(src.error(robot, "the robot has no <link>"));
+    }
+    for joint in children(robot, "joint") {
+        let j = read_joint(&src, joint, &spec)?;
+        if spec.joints.iter().any(|o| o.name == j.name) {
+            return Err(src.error(joint, format!("a second joint named \"{}\"", j.name)));
+        }
+        if let Some(other) = spec.joints.iter().find(|o| o.child == j.child) {
+            return Err(src.error(
+                joint,
+                format!(
+                    "link \"{}\" already has a parent joint (\"{}\"): a URDF is a tree, and a \
+                     second parent would close a loop",
+                    spec.links[j.child].name, other.name
+                ),
+            ));
+        }
+        for tag in ["mimic", "safety_controller", "calibration"] {
+            if let Some(n) = child(joint, tag) {
+                spec.skipped.push(format!(
+                    "{}:{}: <{tag}> of joint \"{}\": not supported, left out",
+                    file.display(),
+                    src.line(n),
+                    j.name
+                ));
+            }
+        }
+        spec.joints.push(j);
+    }
+    attach_root(&src, robot, &mut spec, options)?;
+    Ok(spec)
+}
+
+/// Hangs the root link (the one link no joint has as child) from the world: welded at the
+/// base pose, or free. Refuses a file whose joints do not make one tree.
+fn attach_root(
+    src: &Source<'_>,
+    robot: Node<'_, '_>,
+    spec: &mut RobotSpec,
+    options: &UrdfOptions,
+) -> Result<(), ImportError> {
+    let roots: Vec<usize> = (1..spec.links.len())
+        .filter(|&l| !spec.joints.iter().any(|j| j.child == l))
+        .collect();
+    let root = match roots.as_slice() {
+        [r] => *r,
+        [] => {
+            return Err(src.error(
+                robot,
+                "every link has a parent joint: the joints make a loop",
+            ))
+        }
+        many => {
+            let names: Vec<&str> = many.iter().map(|&l| spec.links[l].name.as_str()).collect();
+            return Err(src.error(
+                robot,
+                format!(
+                    "the links do not make one tree: {} have no parent joint",
+                    names.join(", ")
+                ),
+            ));
+        }
+    };
+    // Every link must hang from the root (a loop among the others leaves them unreached).
+    let mut reached = vec![false; spec.links.len()];
+    let mut stack = vec![root];
+    while let Some(l) = stack.pop() {
+        reached[l] = true;
+        stack.extend(
+            spec.joints
+                .iter()
+                .filter(|j| j.parent == l)
+                .map(|j| j.child),
+        );
+    }
+    if let Some(l) = (1..spec.links.len()).find(|&l| !reached[l]) {
+        return Err(src.error(
+            robot,
+            format!(
+                "link \"{}\" is on a loop of joints, not on the tree from \"{}\"",
+                spec.links[l].name, spec.links[root].name
+            ),
+        ));
+    }
+    let base = Pose::new(options.base_position, options.base_rotation.normalize());
+    let name = format!("{}_base", spec.links[root].name);
+    spec.joints.insert(
+        0,
+        JointSpec {
+            name: name.clone(),
+            parts: vec![name],
+            kind: if options.fixed_base {
+                JointType::Fixed
+            } else {
+                JointType::Free
+            },
+            parent: 0,
+            child: root,
+            origin: base,
+            anchor: Vec3::ZERO,
+            coords: Vec::new(),
+        },
+    );
+    Ok(())
+}
+
+/// An `<origin xyz rpy>` child as a pose (identity without one).
+fn origin(src: &Source<'_>, node: Node<'_, '_>) -> Result<Pose, ImportError> {
+    let Some(o) = child(node, "origin") else {
+        return Ok(Pose::IDENTITY);
+    };
+    let xyz = src.vec3(o, "xyz")?.unwrap_or(Vec3::ZERO);
+    let [r, p, y] = src.numbers::<3>(o, "rpy")?.unwrap_or([0.0; 3]);
+    Ok(Pose::new(xyz, rpy(r, p, y)))
+}
+
+fn read_link(
+    src: &Source<'_>,
+    link: Node<'_, '_>,
+    options: &UrdfOptions,
+) -> Result<LinkSpec, ImportError> {
+    let name = src.required(link, "name")?.to_string();
+    let inertial = match child(link, "inertial") {
+        None => Inertial::NONE,
+        Some(node) => read_inertial(src, node)?,
+    };
+    let mut geoms = Vec::new();
+    for c in children(link, "collision") {
+        let pose = origin(src, c)?;
+        let Some(g) = child(c, "geometry") else {
+            return Err(src.error(c, "<collision> without <geometry>"));
+        };
+        let Some(shape) = g.children().find(|n| n.is_element()) else {
+            return Err(src.error(g, "<geometry> names no shape"));
+        };
+        geoms.push(GeomSpec {
+            shape: read_shape(src, shape, options)?,
+            pose,
+            groups: 1,
+            mask: u32::MAX,
+            friction: None,
+            density: None,
+            mass: None,
+        });
+    }
+    Ok(LinkSpec {
+        name,
+        inertial: Some(inertial),
+        geoms,
+    })
+}
+
+fn read_inertial(src: &Source<'_>, node: Node<'_, '_>) -> Result<Inertial, ImportError> {
+    let frame = origin(src, node)?;
+    let mass = match child(node, "mass") {
+        Some(m) => src.non_negative(m, "value")?.unwrap_or(0.0),
+        None => 0.0,
+    };
+    let inertia = match child(node, "inertia") {
+        None => Mat3::ZERO,
+        Some(i) => {
+            let get = |a: &str| src.number(i, a).map(|v| v.unwrap_or(0.0));
+            let (xx, xy, xz, yy, yz, zz) = (
+                get("ixx")?,
+                get("ixy")?,
+                get("ixz")?,
+                get("iyy")?,
+                get("iyz")?,
+                get("izz")?,
+            );
+            if xx < 0.0 || yy < 0.0 || zz < 0.0 {
+                return Err(src.error(
+                    i,
+                    format!("a negative moment of inertia: ixx {xx}, iyy {yy}, izz {zz}"),
+                ));
+            }
+            let tensor = Mat3::from_cols(
+                Vec3::new(xx, xy, xz),
+                Vec3::new(xy, yy, yz),
+                Vec3::new(xz, yz, zz),
+            );
+            let r = Mat3::from_quat(frame.rotation);
+            r * tensor * r.transpose()
+        }
+    };
+    Ok(Inertial {
+        mass,
+        com: frame.translation,
+        inertia,
+    })
+}
+
+fn positive(src: &Source<'_>, node: Node<'_, '_>, attr: &str) -> Result<Real, ImportError> {
+    src.required(node, attr)?;
+    match src.number(node, attr)? {
+        Some(v) if v > 0.0 => Ok(v),
+        v => Err(src.error(
+            node,
+            format!("`{attr}` = {}: must be > 0", v.unwrap_or(0.0)),
+        )),
+    }
+}
+
+fn read_shape(
+    src: &Source<'_>,
+    shape: Node<'_, '_>,
+    options: &UrdfOptions,
+) -> Result<GeomShape, ImportError> {
+    Ok(match shape.tag_name().name() {
+        "box" => {
+            src.required(shape, "size")?;
+            let size = src.vec3(shape, "size")?.unwrap_or(Vec3::ONE);
+            if size.min_element() <= 0.0 {
+                return Err(src.error(shape, format!("`size` = {size}: every side must be > 0")));
+            }
+            GeomShape::Cuboid(size * 0.5)
+        }
+        "sphere" => GeomShape::Sphere(positive(src, shape, "radius")?),
+        "cylinder" => GeomShape::Cylinder {
+            radius: positive(src, shape, "radius")?,
+            half_length: 0.5 * positive(src, shape, "length")?,
+        },
+        "capsule" => GeomShape::Capsule {
+            radius: positive(src, shape, "radius")?,
+            half_length: 0.5 * positive(src, shape, "length")?,
+        },
+        "mesh" => {
+            let name = src.required(shape, "filename")?;
+            let scale = src.vec3(shape, "scale")?.unwrap_or(Vec3::ONE);
+            let path = mesh::resolve(name, src.file, &options.mesh_search_path).ok_or_else(|| {
+                src.error(shape, format!("mesh \"{name}\" not found (looked beside the file and in the search path)"))
+            })?;
+            let m = mesh::load(&path, scale).map_err(|e| src.error(shape, e.to_string()))?;
+            if options.meshes_as_trimesh {
+                GeomShape::Mesh(m.vertices, m.triangles)
+            } else {
+                GeomShape::Hull(m.vertices)
+            }
+        }
+        other => {
+            return Err(src.error(
+                shape,
+                format!("geometry <{other}> is not a URDF shape (box, cylinder, sphere, mesh)"),
+            ))
+        }
+    })
+}
+
+fn read_joint(
+    src: &Source<'_>,
+    joint: Node<'_, '_>,
+    spec: &RobotSpec,
+) -> Result<JointSpec, ImportError> {
+    let name = src.required(joint, "name")?.to_string();
+    let kind = match src.required(joint, "type")? {
+        "revolute" => JointType::Revolute,
+        "continuous" => JointType::Continuous,
+        "prismatic" => JointType::Prismatic,
+        "fixed" => JointType::Fixed,
+        "floating" => JointType::Free,
+        "planar" => JointType::Planar,
+        other => {
+            return Err(src.error(
+                joint,
+                format!("joint type \"{other}\" is not a URDF joint type (revolute, continuous, prismatic, fixed, floating, planar)"),
+            ))
+        }
+    };
+    let link_of = |tag: &'static str| -> Result<usize, ImportError> {
+        let node =
+            child(joint, tag).ok_or_else(|| src.error(joint, format!("<{tag}> is missing")))?;
+        let link = src.required(node, "link")?;
+        spec.links
+            .iter()
+            .position(|l| l.name == link && link != WORLD)
+            .ok_or_else(|| src.error(node, format!("no link named \"{link}\"")))
+    };
+    let (parent, child_link) = (link_of("parent")?, link_of("child")?);
+    if parent == child_link {
+        return Err(src.error(joint, "a joint cannot join a link to itself"));
+    }
+    let axis = match child(joint, "axis") {
+        Some(a) => src.direction(a, "xyz")?.unwrap_or(Vec3::X),
+        None => Vec3::X,
+    };
+    let mut c = Coordinate::along(axis);
+    if let Some(limit) = child(joint, "limit") {
+        let lower = src.number(limit, "lower")?.unwrap_or(0.0);
+        let upper = src.number(limit, "upper")?.unwrap_or(0.0);
+        if matches!(kind, JointType::Revolute | JointType::Prismatic) && lower < upper {
+            c.limits = Some((lower, upper));
+        }
+        c.effort = src.non_negative(limit, "effort")?;
+        c.speed = src.non_negative(limit, "velocity")?;
+    }
+    if let Some(d) = child(joint, "dynamics") {
+        c.dynamics = JointDynamics {
+            armature: 0.0,
+            damping: src.non_negative(d, "damping")?.unwrap_or(0.0),
+            friction: src.non_negative(d, "friction")?.unwrap_or(0.0),
+        };
+    }
+    let coords = match kind {
+        JointType::Revolute | JointType::Continuous | JointType::Prismatic => vec![c],
+        JointType::Planar => {
+            // Travel along two directions in the plane normal to the axis, and the turn.
+            let (e1, e2) = kea::math::orthonormal_basis(axis);
+            vec![
+                Coordinate {
+                    axis: e1,
+                    limits: None,
+                    ..c
+                },
+                Coordinate {
+                    axis: e2,
+                    limits: None,
+                    ..c
+                },
+                Coordinate { limits: None, ..c },
+            ]
+        }
+        _ => Vec::new(),
+    };
+    Ok(JointSpec {
+        parts: vec![name.clone()],
+        name,
+        kind,
+        parent,
+        child: child_link,
+        origin: origin(src, joint)?,
+        anchor: Vec3::ZERO,
+        coords,
+    })
+}
