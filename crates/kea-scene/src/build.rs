@@ -206,6 +206,7 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             kea::Spring::new(s.hertz, s.damping_ratio)
         }),
         projection_iterations: w.projection_iterations,
+        world_substeps: w.world_substeps,
         speed_limits: w
             .speed_limits
             .map_or(defaults.speed_limits, |s| kea::SpeedLimits {

@@ -81,6 +81,10 @@ pub struct WorldSpec {
     /// Position-projection passes after each exact step, 0 to 16 (default 0).
     #[serde(skip_serializing_if = "is_zero_u32")]
     pub projection_iterations: u32,
+    /// Substeps of the whole step, 1 to 64 (default 1): each step runs this many steps of
+    /// `dt / n`, collision included.
+    #[serde(default = "one_u32", skip_serializing_if = "is_one_u32")]
+    pub world_substeps: u32,
     /// Pivoting iteration cap per LCP (default: kea's, 100).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_lcp_iterations: Option<u32>,
@@ -229,6 +233,7 @@ impl Default for WorldSpec {
             max_constraints: 0,
             sleep_thresholds: None,
             projection_iterations: 0,
+            world_substeps: 1,
             max_lcp_iterations: None,
             max_friction_passes: None,
             max_island_rows: None,
@@ -482,4 +487,12 @@ fn is_true(v: &bool) -> bool {
 }
 fn yes() -> bool {
     true
+}
+
+fn one_u32() -> u32 {
+    1
+}
+
+fn is_one_u32(x: &u32) -> bool {
+    *x == 1
 }

@@ -11,12 +11,14 @@
 //!   travel of the stop (speculatively, like a contact, so a fast joint cannot step through it).
 //!
 //! * **joint dynamics** ([`JointDynamics`]): armature `a` (a rotor's inertia on the
-//!   coordinate), viscous damping `d` and dry friction `f` (MuJoCo's `armature`, `damping`,
-//!   `frictionloss`; URDF's `damping`, `friction`). Armature and damping are one implicit row:
-//!   its force `λ = −a·(ṗ⁺ − ṗ)/h − d·ṗ⁺` is the row `J·v⁺ = a·ṗ/(a + d·h) − λ·h/(a + d·h)`,
-//!   i.e. target `c = a·ṗ/(a + d·h)` and softness `ε = 1/(a + d·h)`, so a joint of inertia
-//!   `I` swings as one of `I + a` and decays at `d/(I + a)` whatever the step. Friction is a
-//!   rigid brake bounded by `±f`;
+//!   coordinate), viscous damping `d`, a spring `k` towards a rest position `p₀`, and dry
+//!   friction `f` (MuJoCo's `armature`, `damping`, `stiffness`/`springref`, `frictionloss`;
+//!   URDF's `damping`, `friction`). Armature, damping and spring are one implicit row: its force
+//!   `λ = −a·(ṗ⁺ − ṗ)/h − d·ṗ⁺ − k·(p − p₀ + h·ṗ⁺)` is the row
+//!   `J·v⁺ = a·ṗ/m − (h²k/m)/h·(p − p₀) − (h/m)·λ` with `m = a + h·d + h²·k`: target
+//!   `c = a·ṗ/m`, relaxation `γ = h²k/m` on the error `p − p₀`, softness `ε = 1/m`. So a joint
+//!   of inertia `I` swings as one of `I + a`, decays at `d/(I + a)` and springs at
+//!   `√(k/(I + a))` whatever the step. Friction is a rigid brake bounded by `±f`;
 //! * **actuator** ([`Actuator`]): a set force along the coordinate (a row with `lo = hi`), or a
 //!   servo — stiffness `kp` toward a target position and gain `kv` toward a target velocity,
 //!   implicit (a [`crate::Softness::from_spring`] row with error `p − p_target`), force within
@@ -36,6 +38,12 @@ use crate::math::Real;
 const RIGID: Real = 1.0e-10;
 /// Approach speed below which a hard stop does not bounce.
 const BOUNCE_MIN_SPEED: Real = 1.0e-3;
+/// Fastest a hard stop pushes a coordinate found beyond it back, rad/s or m/s: a joint
+/// started far outside its range (MJCF models often are: Gymnasium's ant starts 30° below
+/// its ankles' range) is brought in without being flung to the other stop.
+const STOP_RECOVERY_SPEED: Real = 0.5;
+/// The relaxation γ up to which a stop's recovery is left alone (the solver's default).
+const STOP_RECOVERY_GAMMA: Real = 0.2;
 
 /// One stop of a limit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,6 +156,10 @@ pub struct JointDynamics {
     pub armature: Real,
     /// Viscous damping, N·m·s/rad (or N·s/m): a force `−d·ṗ`.
     pub damping: Real,
+    /// Spring stiffness, N·m/rad (or N/m): a force `−k·(p − rest)`.
+    pub stiffness: Real,
+    /// Where the spring rests, rad or m (the coordinate as the joint measures it).
+    pub rest: Real,
     /// Dry friction, N·m (or N): the coordinate holds until pushed harder than this.
     pub friction: Real,
 }
@@ -157,12 +169,14 @@ impl JointDynamics {
     pub fn validate(&self) -> KeaResult<()> {
         check_non_negative("armature", self.armature)?;
         check_non_negative("damping", self.damping)?;
+        check_non_negative("stiffness", self.stiffness)?;
+        check_finite("rest", self.rest)?;
         check_non_negative("friction", self.friction)?;
         Ok(())
     }
 
     fn is_zero(&self) -> bool {
-        self.armature == 0.0 && self.damping == 0.0 && self.friction == 0.0
+        self.armature == 0.0 && self.damping == 0.0 && self.stiffness == 0.0 && self.friction == 0.0
     }
 }
 
@@ -364,15 +378,18 @@ impl Limit {
         let JointDynamics {
             armature: a,
             damping: d,
+            stiffness: k,
+            rest,
             friction,
         } = self.dynamics;
         if !self.dynamics.is_zero() {
-            let inertia = a + d * dt;
-            if inertia > 0.0 {
+            let m = a + dt * d + dt * dt * k;
+            if m > 0.0 {
                 let mut row = Row::new(j[0], j[1])
-                    .with_target_velocity(a * v / inertia)
-                    .with_gamma(0.0);
-                row.softness = Some(1.0 / inertia);
+                    .with_target_velocity(a * v / m)
+                    .with_error(p - rest)
+                    .with_gamma(dt * dt * k / m);
+                row.softness = Some(1.0 / m);
                 out.push(row);
             }
             if friction > 0.0 {
@@ -456,6 +473,11 @@ impl Limit {
                 row.softness = Some(RIGID);
                 if gap > 0.0 {
                     row.gamma = Some(1.0); // close the gap exactly, no more
+                } else if gap < 0.0 {
+                    let cap = STOP_RECOVERY_SPEED * dt / -gap;
+                    if cap < STOP_RECOVERY_GAMMA {
+                        row.gamma = Some(cap);
+                    }
                 }
                 if stop.restitution > 0.0 && closing > BOUNCE_MIN_SPEED && closing * dt >= gap {
                     row.c = stop.restitution * closing;

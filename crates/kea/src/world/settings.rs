@@ -110,6 +110,19 @@ impl World {
         Ok(())
     }
 
+    /// Substeps of the whole step (see [`crate::WorldDef::world_substeps`]).
+    #[must_use]
+    pub fn world_substeps(&self) -> u32 {
+        self.world_substeps
+    }
+
+    /// Sets the substeps per step (1 to 64).
+    pub fn set_world_substeps(&mut self, substeps: u32) -> KeaResult<()> {
+        check_substeps(substeps)?;
+        self.world_substeps = substeps;
+        Ok(())
+    }
+
     /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     #[must_use]
     pub fn step_timing(&self) -> bool {
@@ -131,6 +144,18 @@ pub(super) fn check_projection(iterations: u32) -> KeaResult<()> {
             arg: "projection_iterations",
             value: iterations.to_string(),
             expected: "must be in 0..=16",
+        });
+    }
+    Ok(())
+}
+
+/// Substeps must be 1 to 64.
+pub(crate) fn check_substeps(substeps: u32) -> KeaResult<()> {
+    if !(1..=64).contains(&substeps) {
+        return Err(KeaError::OutOfRange {
+            arg: "world_substeps",
+            value: format!("{substeps}"),
+            expected: "1 to 64",
         });
     }
     Ok(())

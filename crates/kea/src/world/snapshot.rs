@@ -43,6 +43,8 @@ pub struct WorldSnapshot {
     iterative: IterativeParams,
     projection_iterations: u32,
     speed_limits: SpeedLimits,
+    #[serde(default = "one")]
+    world_substeps: u32,
     quarantine: Vec<QuarantineEvent>,
     /// Last step's λ (joints' warm starts, through each constraint's `last_rows`).
     lambda: Vec<Real>,
@@ -91,6 +93,7 @@ impl World {
             iterative: self.iterative,
             projection_iterations: self.projection_iterations,
             speed_limits: self.speed_limits,
+            world_substeps: self.world_substeps,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -134,6 +137,7 @@ impl World {
             iterative: snapshot.iterative,
             projection_iterations: snapshot.projection_iterations,
             speed_limits: snapshot.speed_limits,
+            world_substeps: snapshot.world_substeps,
         })?;
         let id = snapshot.id;
         world.id = id;
@@ -257,4 +261,9 @@ pub(crate) mod serde_real {
             },
         }
     }
+}
+
+/// Snapshots from before substeps step once.
+fn one() -> u32 {
+    1
 }

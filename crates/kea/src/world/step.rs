@@ -99,14 +99,32 @@ impl World {
         self.step_by(StepSize::new(dt)?)
     }
 
-    /// [`World::step`] by a step already checked.
+    /// [`World::step`] by a step already checked: [`World::world_substeps`] steps of `dt / n`.
     pub fn step_by(&mut self, dt: StepSize) -> KeaResult<StepStats> {
+        let n = self.world_substeps;
+        let h = dt.seconds() / n as Real;
         // Inside the pool (a pipeline that hopped already) it stays where it is.
-        crate::threads::on_pool(self.awake_body_count(), || self.step_here(dt.seconds()))
+        crate::threads::on_pool(self.awake_body_count(), || {
+            let mut stats = self.step_here(h, n == 1)?;
+            for k in 1..n {
+                stats = self.step_here(h, k + 1 == n)?;
+            }
+            Ok(stats)
+        })
     }
 
-    /// [`World::step`] on the calling thread, `dt` checked.
-    fn step_here(&mut self, dt: Real) -> KeaResult<StepStats> {
+    /// One substep of `h` for a pipeline that runs its own stages between substeps (collision,
+    /// drivers): the applied forces are kept for the next substep unless this is the `last`.
+    /// A pipeline calls it [`World::world_substeps`] times with `h = dt / n`.
+    pub fn substep_by(&mut self, h: StepSize, last: bool) -> KeaResult<StepStats> {
+        crate::threads::on_pool(self.awake_body_count(), || {
+            self.step_here(h.seconds(), last)
+        })
+    }
+
+    /// One (sub)step on the calling thread, `dt` checked; the applied forces are cleared after
+    /// it when `last`.
+    fn step_here(&mut self, dt: Real, last: bool) -> KeaResult<StepStats> {
         let t0 = Stamp::now(self.step_timing);
         let params = self.solver_params(dt);
         let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
@@ -150,7 +168,7 @@ impl World {
         // where they were, frozen.
         let quarantined_bodies = self.quarantine_bad_islands();
         self.apply_wake();
-        self.write_back();
+        self.write_back(last);
         let t_proj = Stamp::now(self.step_timing);
         let projected = if solver_stats.exact_islands > 0 {
             self.project_positions(&params)

@@ -9,7 +9,7 @@ use crate::solver::Reaction;
 impl World {
     /// Copies the solver's new states to the bodies and forces to the constraints, and clears
     /// the force accumulators.
-    pub(super) fn write_back(&mut self) {
+    pub(super) fn write_back(&mut self, clear_forces: bool) {
         self.write_back_contacts();
         let s = &self.scratch;
         for (i, sb) in s.solver_bodies.iter().enumerate() {
@@ -24,9 +24,10 @@ impl World {
             b.last_path = sb.last_path;
             b.update_transform();
         }
-        // Accumulators are cleared for every body, simulated or not (the guide's rule).
+        // Accumulators are cleared for every body, simulated or not (the guide's rule), after
+        // the step's last substep.
         for slot in 0..self.bodies.slot_count() {
-            if let Some(b) = self.bodies.at_mut(slot) {
+            if let Some(b) = self.bodies.at_mut(slot).filter(|_| clear_forces) {
                 b.clear_forces();
             }
         }

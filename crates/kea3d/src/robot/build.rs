@@ -100,6 +100,7 @@ fn build_into(
         }
     }
     let filters = collision_filters(spec, &geoms, options.self_collision);
+    let mut skipped = spec.skipped.clone();
     // Bodies.
     let mut body_of = vec![None::<BodyHandle>; n];
     for &link in &order {
@@ -112,7 +113,17 @@ fn build_into(
                 .position(pose[0].translation)
                 .rotation(pose[0].rotation)
         } else {
-            let m = &inertial[link];
+            let mut m = inertial[link];
+            let floor = kea::error::MASS_RANGE.0;
+            if above(m.mass, 0.0) && m.mass < floor {
+                skipped.push(format!(
+                    "{}: link \"{name}\" weighs {} kg, below Kea's least mass: made {floor} kg",
+                    file.display(),
+                    m.mass
+                ));
+                m.inertia *= floor / m.mass;
+                m.mass = floor;
+            }
             if !above(m.mass, 0.0) {
                 return Err(ImportError::World {
                     file: file.to_path_buf(),
@@ -191,7 +202,7 @@ fn build_into(
         joint_of,
         nq,
         nv,
-        spec.skipped.clone(),
+        skipped,
     ))
 }
 
@@ -326,9 +337,47 @@ fn collision_filters(
         .collect()
 }
 
+/// The shape grown by `skin` on every side (a plane moves out by it; a mesh stays as it is).
+fn grown(shape: &GeomShape, skin: Real) -> GeomShape {
+    if skin <= 0.0 {
+        return shape.clone();
+    }
+    match shape {
+        GeomShape::Cuboid(h) => GeomShape::Cuboid(*h + Vec3::splat(skin)),
+        GeomShape::Sphere(r) => GeomShape::Sphere(r + skin),
+        GeomShape::Cylinder {
+            radius,
+            half_length,
+        } => GeomShape::Cylinder {
+            radius: radius + skin,
+            half_length: half_length + skin,
+        },
+        GeomShape::Capsule {
+            radius,
+            half_length,
+        } => GeomShape::Capsule {
+            radius: radius + skin,
+            half_length: *half_length,
+        },
+        GeomShape::Hull(points) => {
+            let centre = points.iter().copied().sum::<Vec3>() / points.len().max(1) as Real;
+            GeomShape::Hull(
+                points
+                    .iter()
+                    .map(|&p| p + (p - centre).normalize_or_zero() * skin)
+                    .collect(),
+            )
+        }
+        GeomShape::Mesh(..) | GeomShape::Plane => shape.clone(),
+    }
+}
+
 fn collider(g: &GeomSpec, (groups, mask): (u32, u32)) -> Collider {
-    let (offset, rotation) = placement(g);
-    let mut c = Collider::from_result(shape_of(&g.shape))
+    let (mut offset, rotation) = placement(g);
+    if g.shape == GeomShape::Plane {
+        offset += g.pose.rotation * Vec3::Z * g.skin.max(0.0);
+    }
+    let mut c = Collider::from_result(shape_of(&grown(&g.shape, g.skin)))
         .translation(offset)
         .rotation(rotation)
         .collision_groups(groups, mask);

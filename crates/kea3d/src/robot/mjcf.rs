@@ -442,6 +442,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             friction,
             density,
             mass,
+            skin: (el.number("margin")?.unwrap_or(0.0) - el.number("gap")?.unwrap_or(0.0)).max(0.0),
         })
     }
 
@@ -572,9 +573,9 @@ impl<'a, 'd> Reader<'a, 'd> {
             (false, _) => None,
         };
         let stiffness = el.non_negative("stiffness")?;
-        if stiffness > 0.0 {
+        if stiffness > 0.0 && matches!(kind, "ball" | "free") {
             return Err(el.error(format!(
-                "`stiffness` = {stiffness}: joint springs are not supported"
+                "`stiffness` = {stiffness}: springs on {kind} joints are not supported"
             )));
         }
         let mut c = Coordinate::along(axis.normalize());
@@ -583,12 +584,16 @@ impl<'a, 'd> Reader<'a, 'd> {
         } else {
             limits
         };
+        c.reference = unit(el.number("ref")?.unwrap_or(0.0));
         c.dynamics = JointDynamics {
             armature: el.non_negative("armature")?,
             damping: el.non_negative("damping")?,
+            stiffness,
+            // MuJoCo's spring rests at `springref` (file coordinates); Kea's coordinate is 0
+            // at the file's pose, where the file's coordinate is `ref`.
+            rest: unit(el.number("springref")?.unwrap_or(0.0)) - c.reference,
             friction: el.non_negative("frictionloss")?,
         };
-        c.reference = unit(el.number("ref")?.unwrap_or(0.0));
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
 

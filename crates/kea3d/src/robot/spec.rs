@@ -79,7 +79,11 @@ impl Inertial {
     };
 
     /// The mass properties of `self` and `other` (placed by `pose` in this frame) together.
+    /// A massless part adds nothing, whatever inertia its file gives it (as in MuJoCo).
     pub fn merged(&self, other: &Inertial, pose: &Pose) -> Inertial {
+        if other.mass <= 0.0 {
+            return *self;
+        }
         let m = self.mass + other.mass;
         if m <= 0.0 {
             return Inertial::NONE;
@@ -142,6 +146,10 @@ pub(crate) struct GeomSpec {
     /// Mass from this geometry when the link has no inertial: density or mass (MJCF).
     pub density: Option<Real>,
     pub mass: Option<Real>,
+    /// How far from the shape its contacts act, m (MJCF's `margin − gap`): the collider is
+    /// the shape grown by it, so two such geometries rest the sum of theirs apart, as in
+    /// MuJoCo. Mass comes from the shape itself.
+    pub skin: Real,
 }
 
 /// A link.

@@ -44,9 +44,17 @@ pub(crate) fn parse(
         skipped: Vec::new(),
         mujoco_filter: false,
     };
+    let mut world_link = false;
     for link in children(robot, "link") {
         let name = src.required(link, "name")?;
-        if spec.links.iter().any(|l| l.name == name) {
+        if name == WORLD && !world_link {
+            // ROS's convention: a link named "world" is the world, and a joint to it fixes
+            // the robot's base. Its geometry is static.
+            world_link = true;
+            spec.links[0].geoms = read_link(&src, link, options)?.geoms;
+            continue;
+        }
+        if spec.links.iter().skip(1).any(|l| l.name == name) || name == WORLD {
             return Err(src.error(link, format!("a second link named \"{name}\"")));
         }
         spec.links.push(read_link(&src, link, options)?);
@@ -81,7 +89,7 @@ pub(crate) fn parse(
         }
         spec.joints.push(j);
     }
-    attach_root(&src, robot, &mut spec, options)?;
+    attach_root(&src, robot, &mut spec, options, world_link)?;
     Ok(spec)
 }
 
@@ -92,11 +100,13 @@ fn attach_root(
     robot: Node<'_, '_>,
     spec: &mut RobotSpec,
     options: &UrdfOptions,
+    world_link: bool,
 ) -> Result<(), ImportError> {
     let roots: Vec<usize> = (1..spec.links.len())
         .filter(|&l| !spec.joints.iter().any(|j| j.child == l))
         .collect();
     let root = match roots.as_slice() {
+        [] if world_link => 0,
         [r] => *r,
         [] => {
             return Err(src.error(
@@ -135,6 +145,9 @@ fn attach_root(
                 spec.links[l].name, spec.links[root].name
             ),
         ));
+    }
+    if root == 0 {
+        return Ok(()); // the file welds its base to the world itself
     }
     let base = Pose::new(options.base_position, options.base_rotation.normalize());
     let name = format!("{}_base", spec.links[root].name);
@@ -195,6 +208,7 @@ fn read_link(
             friction: None,
             density: None,
             mass: None,
+            skin: 0.0,
         });
     }
     Ok(LinkSpec {
@@ -326,16 +340,17 @@ fn read_joint(
         let link = src.required(node, "link")?;
         spec.links
             .iter()
-            .position(|l| l.name == link && link != WORLD)
+            .position(|l| l.name == link)
             .ok_or_else(|| src.error(node, format!("no link named \"{link}\"")))
     };
     let (parent, child_link) = (link_of("parent")?, link_of("child")?);
     if parent == child_link {
         return Err(src.error(joint, "a joint cannot join a link to itself"));
     }
+    let moves_along_axis = !matches!(kind, JointType::Fixed | JointType::Free);
     let axis = match child(joint, "axis") {
-        Some(a) => src.direction(a, "xyz")?.unwrap_or(Vec3::X),
-        None => Vec3::X,
+        Some(a) if moves_along_axis => src.direction(a, "xyz")?.unwrap_or(Vec3::X),
+        _ => Vec3::X,
     };
     let mut c = Coordinate::along(axis);
     if let Some(limit) = child(joint, "limit") {
@@ -350,6 +365,8 @@ fn read_joint(
     if let Some(d) = child(joint, "dynamics") {
         c.dynamics = JointDynamics {
             armature: 0.0,
+            stiffness: 0.0,
+            rest: 0.0,
             damping: src.non_negative(d, "damping")?.unwrap_or(0.0),
             friction: src.non_negative(d, "friction")?.unwrap_or(0.0),
         };

@@ -3,10 +3,11 @@
 //!
 //! ```text
 //! PhysicsWorld::step(dt)            dt checked once (StepSize), one hop onto the pool,
-//!                                   the collision settings checked
+//!                                   the collision settings checked; then n = the world's
+//!                                   `world_substeps` times, with h = dt / n:
 //!   drive                           scene paths at the world's clock, kinematic targets
 //!   CollisionWorld::update_contacts_by    broad phase, narrow phase → the world's contacts
-//!   World::step_by                  islands and routing, solve, integrate, sleep, clock + dt
+//!   World::substep_by               islands and routing, solve, integrate, sleep, clock + h
 //! ```
 //!
 //! Read-outs derived from the contacts' forces (pair impulses) are computed when asked, not
@@ -36,9 +37,19 @@ impl PhysicsWorld {
     /// paths when they were set.
     fn run_stages(&mut self, dt: StepSize) -> Result<StepStats> {
         self.collision.check_settings()?;
-        self.drive(dt)?;
-        self.collision.update_contacts_by(&mut self.dynamics, dt)?;
-        let mut stats = self.dynamics.step_by(dt)?;
+        let n = self.dynamics.world_substeps();
+        let h = if n == 1 {
+            dt
+        } else {
+            StepSize::new(dt.seconds() / n as Real)?
+        };
+        let mut stats = StepStats::default();
+        for k in 0..n {
+            let remaining = dt.seconds() - k as Real * h.seconds();
+            self.drive(h, remaining)?;
+            self.collision.update_contacts_by(&mut self.dynamics, h)?;
+            stats = self.dynamics.substep_by(h, k + 1 == n)?;
+        }
         stats.collision = *self.collision.stats();
         for &h in &self.driven {
             if let Some(Some(m)) = self.meta.get_mut(h.index() as usize) {
@@ -49,10 +60,11 @@ impl PhysicsWorld {
     }
 
     /// The drivers: each keyframed path set to where it is at the world's clock, with the
-    /// velocity that reaches its next point at the end of the step; each position-driven
-    /// kinematic body given the velocity that takes it to its target in `dt` (none without a
-    /// target). Targets were checked when set, so nothing here fails on user input.
-    fn drive(&mut self, dt: StepSize) -> Result<()> {
+    /// velocity that reaches its next point at the end of the (sub)step `dt`; each
+    /// position-driven kinematic body given the velocity that takes it to its target in the
+    /// `remaining` time of the step (none without a target). Targets were checked when set, so
+    /// nothing here fails on user input.
+    fn drive(&mut self, dt: StepSize, remaining: Real) -> Result<()> {
         let time = self.dynamics.time() as Real;
         let h = dt.seconds();
         for (joint, position, velocity) in self.paths.samples(time, h) {
@@ -67,11 +79,11 @@ impl PhysicsWorld {
             let b = self.dynamics.body_mut(body)?;
             let (v, w) = match target {
                 Some((p, q)) => {
-                    let v = (p + q * com - b.position()) / h;
+                    let v = (p + q * com - b.position()) / remaining;
                     let dq = (q * b.orientation().inverse()).normalize();
                     let dq = if dq.w < 0.0 { -dq } else { dq };
                     let (axis, angle) = dq.to_axis_angle();
-                    (v, axis * (angle / h))
+                    (v, axis * (angle / remaining))
                 }
                 None => (Vec3::ZERO, Vec3::ZERO),
             };

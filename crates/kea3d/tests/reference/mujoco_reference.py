@@ -1,0 +1,114 @@
+"""Reference trajectories from MuJoCo for Kea's robot tests.
+
+    python mujoco_reference.py paths
+        prints JSON with the folders of the installed models (pybullet_data, Gymnasium's
+        MuJoCo assets, dm_control's suite)
+    python mujoco_reference.py swing MODEL DT STEPS EVERY Q0 [V0]
+        loads MODEL (URDF or MJCF) in MuJoCo, sets joint positions Q0 (and velocities V0,
+        comma-separated, in MuJoCo's qpos/qvel order), turns contacts off, steps STEPS times
+        of DT and prints JSON {"t": [...], "q": [[...], ...]} every EVERY steps
+    python mujoco_reference.py drop MODEL DT STEPS INDEX
+        drops an MJCF model from its file pose and prints qpos[INDEX] (the torso's height) at
+        the end
+
+A URDF is given to MuJoCo without its visual and collision geometry (MuJoCo's URDF reader
+cannot resolve `package://` meshes; a swing with contacts off does not need them) and with
+its links' own inertias (no inertia from geometry), and without `mimic` couplings, which
+Kea does not read (it reports them as skipped).
+"""
+import importlib.util
+import json
+import os
+import re
+import sys
+import tempfile
+
+
+def paths():
+    out = {}
+    spec = importlib.util.find_spec("pybullet_data")
+    if spec and spec.submodule_search_locations:
+        out["pybullet_data"] = list(spec.submodule_search_locations)[0]
+    spec = importlib.util.find_spec("gymnasium")
+    if spec and spec.submodule_search_locations:
+        out["gymnasium_assets"] = os.path.join(
+            list(spec.submodule_search_locations)[0], "envs", "mujoco", "assets")
+    spec = importlib.util.find_spec("dm_control")
+    if spec and spec.submodule_search_locations:
+        out["dm_control_suite"] = os.path.join(list(spec.submodule_search_locations)[0], "suite")
+    return out
+
+
+def load(model_path):
+    import mujoco
+    if model_path.endswith(".urdf"):
+        text = open(model_path).read()
+        text = re.sub(r"<visual\b.*?</visual>", "", text, flags=re.S)
+        text = re.sub(r"<collision\b.*?</collision>", "", text, flags=re.S)
+        # Kea has no mimic coupling (it would tie three bodies in one row): both engines
+        # run the file without it.
+        text = re.sub(r"<mimic\b[^>]*/>", "", text)
+        text = re.sub(r"(<robot\b[^>]*>)",
+                      r'\1<mujoco><compiler inertiafromgeom="false" fusestatic="true" '
+                      r'discardvisual="true"/></mujoco>', text, count=1)
+        with tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False) as f:
+            f.write(text)
+            name = f.name
+        try:
+            return mujoco.MjModel.from_xml_path(name)
+        finally:
+            os.unlink(name)
+    return mujoco.MjModel.from_xml_path(model_path)
+
+
+def numbers(text):
+    return [float(x) for x in text.split(",")] if text else []
+
+
+def swing(model_path, dt, steps, every, q0, v0):
+    import mujoco
+    m = load(model_path)
+    m.opt.timestep = dt
+    m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    if os.environ.get("KEA_REF_INTEGRATOR"):
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, "mjINT_" + os.environ["KEA_REF_INTEGRATOR"])
+    d = mujoco.MjData(m)
+    d.qpos[:] = q0
+    if v0:
+        d.qvel[:] = v0
+    mujoco.mj_forward(m, d)
+    t, q = [0.0], [d.qpos.tolist()]
+    for k in range(1, steps + 1):
+        mujoco.mj_step(m, d)
+        if k % every == 0:
+            t.append(k * dt)
+            q.append(d.qpos.tolist())
+    return {"t": t, "q": q, "nq": m.nq}
+
+
+def drop(model_path, dt, steps, index):
+    import mujoco
+    m = load(model_path)
+    m.opt.timestep = dt
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    for _ in range(steps):
+        mujoco.mj_step(m, d)
+    return {"height": float(d.qpos[index]), "speed": float(abs(d.qvel).max())}
+
+
+def main(argv):
+    if argv[0] == "paths":
+        out = paths()
+    elif argv[0] == "swing":
+        out = swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]),
+                    numbers(argv[6]) if len(argv) > 6 else [])
+    elif argv[0] == "drop":
+        out = drop(argv[1], float(argv[2]), int(argv[3]), int(argv[4]))
+    else:
+        raise SystemExit(__doc__)
+    json.dump(out, sys.stdout)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

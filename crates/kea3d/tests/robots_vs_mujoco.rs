@@ -1,0 +1,234 @@
+//! Robots no one here wrote, from the packages that ship them (`pybullet_data`, Gymnasium's
+//! MuJoCo assets), against MuJoCo on the same files (VALIDATION #36): a passive swing under
+//! gravity, 1 ms steps, every joint within 0.01 rad of MuJoCo's; and walkers dropped on the
+//! floor coming to rest at MuJoCo's torso height within 2 cm.
+
+mod reference;
+
+use kea3d::prelude::*;
+use kea3d::robot::{MjcfOptions, Robot, UrdfOptions};
+use std::path::PathBuf;
+
+const DT: f64 = 1e-3;
+
+fn dirs() -> Option<(PathBuf, PathBuf)> {
+    let d = reference::model_dirs()?;
+    Some((
+        PathBuf::from(d["pybullet_data"].as_str()?),
+        PathBuf::from(d["gymnasium_assets"].as_str()?),
+    ))
+}
+
+fn csv(x: &[f64]) -> String {
+    x.iter()
+        .map(|v| format!("{v:.17}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Steps `world` as MuJoCo did and returns the largest joint-position gap at its samples.
+fn swing_gap(
+    world: &mut PhysicsWorld,
+    robot: &Robot,
+    file: &str,
+    q0: &[f64],
+    v0: &[f64],
+    steps: usize,
+) -> Option<f64> {
+    let every = steps / 10;
+    let mut args = vec![
+        "swing".to_string(),
+        file.to_string(),
+        DT.to_string(),
+        steps.to_string(),
+        every.to_string(),
+        csv(q0),
+    ];
+    if !v0.is_empty() {
+        args.push(csv(v0));
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let reference = reference::run(&args)?;
+    let q_ref: Vec<Vec<f64>> = reference["q"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(reference::numbers)
+        .collect();
+    let to_real = |x: &[f64]| x.iter().map(|&v| v as Real).collect::<Vec<Real>>();
+    robot.set_joint_positions(world, &to_real(q0)).unwrap();
+    if !v0.is_empty() {
+        robot.set_joint_velocities(world, &to_real(v0)).unwrap();
+    }
+    let mut worst: f64 = 0.0;
+    for k in 0..=steps {
+        if k > 0 {
+            world.step(DT as Real).unwrap();
+        }
+        if k % every == 0 {
+            let q = robot.joint_positions(world).unwrap();
+            let expected = &q_ref[k / every];
+            for (i, (a, b)) in q.iter().zip(expected).enumerate() {
+                let gap = (*a as f64 - b).abs();
+                if gap > worst {
+                    worst = gap;
+                    println!(
+                        "{file}: t = {:.3} s, joint {i}: Kea {a:.5}, MuJoCo {b:.5}",
+                        k as f64 * DT
+                    );
+                }
+            }
+        }
+    }
+    println!("{file}: largest gap to MuJoCo {worst:.2e} rad over {steps} steps");
+    Some(worst)
+}
+
+fn z_up() -> PhysicsWorld {
+    let mut w = PhysicsWorld::new();
+    w.set_gravity([0.0, 0.0, -9.81]).unwrap();
+    w
+}
+
+fn urdf_swing(relative: &str, q0: &[f64]) {
+    let Some((pybullet_data, _)) = dirs() else {
+        return;
+    };
+    let file = pybullet_data.join(relative);
+    let mut world = z_up();
+    let options = UrdfOptions {
+        fixed_base: true,
+        ..UrdfOptions::default()
+    };
+    let robot = world.load_urdf(&file, &options).unwrap();
+    assert_eq!(robot.position_count(), q0.len());
+    let gap = swing_gap(&mut world, &robot, file.to_str().unwrap(), q0, &[], 300).unwrap();
+    assert!(gap < 0.01, "{relative}: {gap} rad from MuJoCo");
+}
+
+#[test]
+fn kuka_iiwa_swings_as_in_mujoco() {
+    urdf_swing(
+        "kuka_iiwa/model.urdf",
+        &[0.4, 0.5, -0.3, -1.1, 0.5, 0.8, 0.2],
+    );
+}
+
+#[test]
+fn franka_panda_swings_as_in_mujoco() {
+    urdf_swing(
+        "franka_panda/panda.urdf",
+        &[0.4, 0.5, -0.3, -1.1, 0.5, 0.8, 0.2, 0.02, 0.02],
+    );
+}
+
+/// A small deterministic generator for random starts.
+fn uniform(seed: &mut u64, lo: f64, hi: f64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    lo + (hi - lo) * ((*seed >> 11) as f64 / (1u64 << 53) as f64)
+}
+
+fn mjcf_swing(name: &str, ranges: &[(f64, f64)], speeds: &[f64], seeds: u64, substeps: u32) {
+    let Some((_, assets)) = dirs() else { return };
+    let file = assets.join(name);
+    for s in 0..seeds {
+        let mut seed = 0x5eed + s;
+        let q0: Vec<f64> = ranges
+            .iter()
+            .map(|&(lo, hi)| uniform(&mut seed, lo, hi))
+            .collect();
+        let v0: Vec<f64> = speeds.iter().map(|&s| uniform(&mut seed, -s, s)).collect();
+        let mut world = PhysicsWorld::new();
+        let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
+        world.dynamics_mut().set_world_substeps(substeps).unwrap();
+        let gap = swing_gap(&mut world, &robot, file.to_str().unwrap(), &q0, &v0, 1000).unwrap();
+        assert!(
+            gap < 0.01,
+            "{name} from {q0:?}, {v0:?}: {gap} rad from MuJoCo"
+        );
+    }
+}
+
+#[test]
+fn gymnasium_reacher_swings_as_in_mujoco() {
+    mjcf_swing(
+        "reacher.xml",
+        // The target's slides stop at ±0.27 m: slow enough not to reach them in 1 s.
+        &[(-3.0, 3.0), (-2.0, 2.0), (-0.15, 0.15), (-0.15, 0.15)],
+        &[2.0, 2.0, 0.05, 0.05],
+        3,
+        1,
+    );
+}
+
+#[test]
+fn gymnasium_inverted_double_pendulum_swings_as_in_mujoco() {
+    mjcf_swing(
+        "inverted_double_pendulum.xml",
+        &[(-0.3, 0.3), (-0.3, 0.3), (-0.3, 0.3)],
+        &[0.3, 0.5, 0.5],
+        3,
+        // Chaotic: at 1 ms a first-order step parts from the file's RK4 by 1–3 cm in 1 s
+        // (MuJoCo's own Euler by 1.5–5 cm); 8 substeps of the 1 ms step keep within 5 mm.
+        8,
+    );
+}
+
+fn drop_height(name: &str, seconds: f64) {
+    let Some((_, assets)) = dirs() else { return };
+    let file = assets.join(name);
+    let steps = (seconds / DT) as usize;
+    let mut world = PhysicsWorld::new();
+    let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
+    // The torso's height: a free root's z, or a planar root's second slide.
+    let index = if robot.joints()[0].kind == kea3d::robot::JointType::Free {
+        2
+    } else {
+        1
+    };
+    let args = [
+        "drop",
+        file.to_str().unwrap(),
+        &DT.to_string(),
+        &steps.to_string(),
+        &index.to_string(),
+    ];
+    let reference = reference::run(&args).unwrap();
+    let expected = reference["height"].as_f64().unwrap();
+    let settled = reference["speed"].as_f64().unwrap();
+    assert!(
+        settled < 1e-3,
+        "{name}: MuJoCo still moves at {settled} after {seconds} s"
+    );
+    for _ in 0..steps {
+        world.step(DT as Real).unwrap();
+    }
+    let height = robot.joint_positions(&world).unwrap()[index] as f64;
+    let speed = robot
+        .joint_velocities(&world)
+        .unwrap()
+        .iter()
+        .fold(0.0 as Real, |m, v| m.max(v.abs()));
+    println!("{name}: torso at {height:.4} m after {seconds} s (joint speeds ≤ {speed:.1e}), MuJoCo {expected:.4} m");
+    assert!(
+        speed < 1e-2,
+        "{name}: Kea still moves at {speed} after {seconds} s"
+    );
+    assert!(
+        (height - expected).abs() < 0.02,
+        "{name}: Kea {height} m, MuJoCo {expected} m"
+    );
+}
+
+#[test]
+fn gymnasium_ant_comes_to_rest_at_mujocos_height() {
+    // MuJoCo's ant creeps on its soft contacts until its ankles reach their stops, at 10 s.
+    drop_height("ant.xml", 12.0);
+}
+
+#[test]
+fn gymnasium_hopper_comes_to_rest_at_mujocos_height() {
+    drop_height("hopper.xml", 5.0);
+}
