@@ -38,10 +38,6 @@ use crate::math::Real;
 const RIGID: Real = 1.0e-10;
 /// Approach speed below which a hard stop does not bounce.
 const BOUNCE_MIN_SPEED: Real = 1.0e-3;
-/// Fastest a hard stop pushes a coordinate found beyond it back, rad/s or m/s: a joint
-/// started far outside its range (MJCF models often are: Gymnasium's ant starts 30° below
-/// its ankles' range) is brought in without being flung to the other stop.
-const STOP_RECOVERY_SPEED: Real = 0.5;
 /// The relaxation γ up to which a stop's recovery is left alone (the solver's default).
 const STOP_RECOVERY_GAMMA: Real = 0.2;
 
@@ -63,6 +59,20 @@ pub struct SingleLimit {
     /// stiff stop is hard.
     #[cfg_attr(feature = "serde", serde(with = "crate::world::serde_real"))]
     pub damping_threshold: Real,
+    /// Fastest a hard stop pushes back a coordinate found beyond it, rad/s or m/s (default
+    /// `INFINITY`: the solver's γ alone). A robot file's joints start far outside their
+    /// range at times (Gymnasium's ant: 30° below its ankles' range); capped, the joint comes
+    /// in without being flung to the other stop. The importers set 0.5.
+    #[cfg_attr(
+        feature = "serde",
+        serde(with = "crate::world::serde_real", default = "unbounded")
+    )]
+    pub recovery_speed: Real,
+}
+
+#[cfg(feature = "serde")]
+fn unbounded() -> Real {
+    Real::INFINITY
 }
 
 impl Default for SingleLimit {
@@ -73,6 +83,7 @@ impl Default for SingleLimit {
             damping: 0.0,
             restitution: 0.0,
             damping_threshold: Real::INFINITY,
+            recovery_speed: Real::INFINITY,
         }
     }
 }
@@ -125,6 +136,17 @@ impl SingleLimit {
         }
         check_non_negative(arg("damping"), self.damping)?;
         check_non_negative(arg("restitution"), self.restitution)?;
+        if self.recovery_speed.is_nan() || self.recovery_speed <= 0.0 {
+            return Err(KeaError::OutOfRange {
+                arg: if which == "lower" {
+                    "lower.recovery_speed"
+                } else {
+                    "upper.recovery_speed"
+                },
+                value: format!("{}", self.recovery_speed),
+                expected: "must be > 0 (INFINITY for no cap)",
+            });
+        }
         if self.damping_threshold.is_nan() || self.damping_threshold < 0.0 {
             return Err(KeaError::OutOfRange {
                 arg: arg("damping_threshold"),
@@ -473,8 +495,8 @@ impl Limit {
                 row.softness = Some(RIGID);
                 if gap > 0.0 {
                     row.gamma = Some(1.0); // close the gap exactly, no more
-                } else if gap < 0.0 {
-                    let cap = STOP_RECOVERY_SPEED * dt / -gap;
+                } else if gap < 0.0 && stop.recovery_speed.is_finite() {
+                    let cap = stop.recovery_speed * dt / -gap;
                     if cap < STOP_RECOVERY_GAMMA {
                         row.gamma = Some(cap);
                     }

@@ -11,6 +11,10 @@ use kea::{BodyHandle, ConstraintHandle, Limit, Quat, Real, SingleLimit, Vec3};
 use kea_collision::{MassProperties, Shape};
 use std::path::Path;
 
+/// How fast a robot's joint found beyond a stop is brought back, rad/s or m/s (MJCF models
+/// start outside their ranges at times; see [`SingleLimit::recovery_speed`]).
+const STOP_RECOVERY_SPEED: Real = 0.5;
+
 /// Collision bit of robot links whose own links must not collide with each other.
 pub(crate) const NO_SELF_COLLISION_BIT: u32 = 1 << 31;
 
@@ -428,10 +432,11 @@ fn make_joint(
         if let Some(limit) = coordinate_limit(world, raw, j.kind, k)? {
             let mut changed = *limit;
             if let Some((lo, hi)) = c.limits {
-                changed.set_limits(
-                    SingleLimit::hard(lo - c.reference, 0.0),
-                    SingleLimit::hard(hi - c.reference, 0.0),
-                )?;
+                let stop = |at: Real| SingleLimit {
+                    recovery_speed: STOP_RECOVERY_SPEED,
+                    ..SingleLimit::hard(at - c.reference, 0.0)
+                };
+                changed.set_limits(stop(lo), stop(hi))?;
             }
             changed.set_dynamics(c.dynamics)?;
             *coordinate_limit(world, raw, j.kind, k)?.expect("found above") = changed;
