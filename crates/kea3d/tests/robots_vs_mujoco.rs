@@ -69,7 +69,7 @@ fn swing_gap(
             let q = robot.joint_positions(world).unwrap();
             let expected = &q_ref[k / every];
             for (i, (a, b)) in q.iter().zip(expected).enumerate() {
-                let gap = (*a as f64 - b).abs();
+                let gap = (f64::from(*a) - b).abs();
                 if gap > worst {
                     worst = gap;
                     println!(
@@ -205,7 +205,7 @@ fn drop_height(name: &str, seconds: f64) {
     for _ in 0..steps {
         world.step(DT as Real).unwrap();
     }
-    let height = robot.joint_positions(&world).unwrap()[index] as f64;
+    let height = f64::from(robot.joint_positions(&world).unwrap()[index]);
     let speed = robot
         .joint_velocities(&world)
         .unwrap()
