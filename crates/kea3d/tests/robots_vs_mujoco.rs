@@ -5,6 +5,7 @@
 
 mod reference;
 
+use kea3d::dynamics::math::wide;
 use kea3d::prelude::*;
 use kea3d::robot::{MjcfOptions, Robot, UrdfOptions};
 use std::path::PathBuf;
@@ -69,7 +70,7 @@ fn swing_gap(
             let q = robot.joint_positions(world).unwrap();
             let expected = &q_ref[k / every];
             for (i, (a, b)) in q.iter().zip(expected).enumerate() {
-                let gap = (f64::from(*a) - b).abs();
+                let gap = (wide(*a) - b).abs();
                 if gap > worst {
                     worst = gap;
                     println!(
@@ -205,7 +206,7 @@ fn drop_height(name: &str, seconds: f64) {
     for _ in 0..steps {
         world.step(DT as Real).unwrap();
     }
-    let height = f64::from(robot.joint_positions(&world).unwrap()[index]);
+    let height = wide(robot.joint_positions(&world).unwrap()[index]);
     let speed = robot
         .joint_velocities(&world)
         .unwrap()
