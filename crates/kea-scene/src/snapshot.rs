@@ -11,8 +11,9 @@ use kea::{BodyHandle, ConstraintHandle, World, WorldSnapshot};
 use kea_collision::CollisionWorld;
 use serde::{Deserialize, Serialize};
 
-/// The scene snapshot format's version (2: the scene's clock is the world's).
-pub const SNAPSHOT_VERSION: u32 = 2;
+/// The scene snapshot format's version (2: the scene's clock is the world's; 3: the layer
+/// above's own state rides along, [`SceneSnapshot::facade`]).
+pub const SNAPSHOT_VERSION: u32 = 3;
 
 /// The first bytes of a binary snapshot.
 const MAGIC: &[u8; 8] = b"KEASNAP\n";
@@ -27,6 +28,9 @@ pub struct SceneSnapshot {
     bodies: Vec<(String, BodyHandle)>,
     joints: Vec<(String, ConstraintHandle)>,
     paths: ScenePaths,
+    /// What the layer that owns the world adds to it (`kea3d`'s body types, centres of mass
+    /// and collider placements), in its own encoding; empty when it adds nothing.
+    pub facade: Vec<u8>,
 }
 
 fn invalid(message: impl std::fmt::Display) -> SceneError {
@@ -53,6 +57,7 @@ impl SceneSnapshot {
             bodies: bodies.to_vec(),
             joints: joints.to_vec(),
             paths: paths.clone(),
+            facade: Vec::new(),
         })
     }
 

@@ -3,7 +3,7 @@
 use kea::{Mat3, Quat, Real, Vec3};
 
 /// How a body moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum BodyType {
     /// Moved by gravity, forces, contacts and joints.
     Dynamic,

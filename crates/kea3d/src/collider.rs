@@ -43,7 +43,7 @@ pub struct Collider {
 }
 
 /// How a collider weighs in on its body's mass.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) enum ColliderMass {
     Density(Real),
     Mass(Real),

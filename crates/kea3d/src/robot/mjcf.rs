@@ -25,7 +25,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// What an actuator does with its control.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ActuatorKind {
     /// Force = gear · control.
     Motor,
@@ -44,7 +44,7 @@ pub enum ActuatorKind {
 }
 
 /// An actuator as the file gives it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ActuatorSpec {
     /// Its name (or `actuator<N>`).
     pub name: String,

@@ -8,7 +8,7 @@ use crate::{PhysicsWorld, Result};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Quat, Real, Vec3};
 
 /// A link of a loaded robot.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RobotLink {
     /// The link's name in the file.
     pub name: String,
@@ -19,7 +19,7 @@ pub struct RobotLink {
 }
 
 /// A joint of a loaded robot.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RobotJoint {
     /// The joint's name in the file (for a joint made of several of the file's joints, the
     /// first one's).
@@ -58,7 +58,7 @@ impl RobotJoint {
 }
 
 /// A robot loaded into a [`PhysicsWorld`]: see [`PhysicsWorld::load_urdf`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Robot {
     name: String,
     links: Vec<RobotLink>,

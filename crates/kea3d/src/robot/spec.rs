@@ -5,7 +5,7 @@
 use kea::{JointDynamics, Mat3, Quat, Real, Vec3};
 
 /// A rigid transform: rotate, then translate.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
     /// Translation, m.
     pub translation: Vec3,
@@ -162,7 +162,7 @@ pub(crate) struct LinkSpec {
 }
 
 /// The kinds of joint the importers read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum JointType {
     /// Rotation about an axis, with limits.
     Revolute,
@@ -210,7 +210,7 @@ impl JointType {
 }
 
 /// One scalar coordinate of a joint: its axis, stops and dynamics.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Coordinate {
     /// Unit axis in the child's frame.
     pub axis: Vec3,

@@ -53,7 +53,7 @@ pub struct PhysicsWorld {
 }
 
 /// What a body is beyond the dynamics layer's view.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct BodyMeta {
     pub handle: BodyHandle,
     pub kind: BodyType,
@@ -70,7 +70,7 @@ pub(crate) struct BodyMeta {
 }
 
 /// A collider as its body holds it: placed in the body's frame (about its origin).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Attached {
     pub handle: ColliderHandle,
     pub offset: Vec3,
