@@ -2,14 +2,12 @@
 //! states, actions and observations as (N, …) numpy arrays that each world reads or writes
 //! in place.
 
-use crate::convert::{bad, py, py_err, real};
+use crate::convert::{any_block, bad, block, matrix, py, py_err, real};
+use crate::queries;
 use crate::state::{self, JointEntry, STATE_WIDTH};
 use crate::world::PyWorld;
 use kea3d::{BodyHandle, PhysicsWorld};
-use numpy::{
-    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3,
-    PyUntypedArrayMethods,
-};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -145,11 +143,9 @@ impl PyBatch {
 
     /// Sets every world's bodies from an (N, bodies, 13) array; a world with a bad row is
     /// refused by number, and nothing changes in it.
-    fn set_state(&mut self, py_: Python<'_>, state: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
-        self.check_rows("state", state.shape(), &[self.bodies.len(), STATE_WIDTH])?;
-        let src = state
-            .as_slice()
-            .map_err(|e| bad("state", e, "a contiguous array"))?;
+    fn set_state(&mut self, py_: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<()> {
+        let shape = [self.worlds.len(), self.bodies.len(), STATE_WIDTH];
+        let src = block("state", state, shape)?;
         let width = self.bodies.len() * STATE_WIDTH;
         let bodies = self.bodies.clone();
         self.each(py_, |i, w| {
@@ -158,15 +154,9 @@ impl PyBatch {
     }
 
     /// Adds forces (N, bodies, 3) at the bodies' centres of mass for the next step, N.
-    fn apply_forces(&mut self, py_: Python<'_>, forces: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
+    fn apply_forces(&mut self, py_: Python<'_>, forces: &Bound<'_, PyAny>) -> PyResult<()> {
         let nb = self.bodies.len();
-        self.check_rows("forces", forces.shape(), &[nb, 3])?;
-        let src = forces
-            .as_slice()
-            .map_err(|e| bad("forces", e, "a contiguous array"))?;
-        if let Some(x) = src.iter().find(|x| !x.is_finite()) {
-            return Err(bad("forces", x, "finite forces"));
-        }
+        let src = block("forces", forces, [self.worlds.len(), nb, 3])?;
         let bodies = self.bodies.clone();
         self.each(py_, |i, w| {
             for (b, &h) in bodies.iter().enumerate() {
@@ -179,16 +169,10 @@ impl PyBatch {
 
     /// Sets the motor speeds (N, joints) of the joints that have motors; columns of joints
     /// without a motor must be 0.
-    fn set_motors(
-        &mut self,
-        py_: Python<'_>,
-        velocities: PyReadonlyArray2<'_, f64>,
-    ) -> PyResult<()> {
+    fn set_motors(&mut self, py_: Python<'_>, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
         let nj = self.joints.len();
-        self.check_rows("velocities", velocities.shape(), &[nj])?;
-        let src = velocities
-            .as_slice()
-            .map_err(|e| bad("velocities", e, "a contiguous array"))?;
+        let (rows, src) = matrix("velocities", velocities, nj)?;
+        self.check_rows("velocities", &[rows, nj], &[nj])?;
         let joints = self.joints.clone();
         let motorised: Vec<bool> = joints
             .iter()
@@ -240,6 +224,54 @@ impl PyBatch {
             PyArray1::from_vec(py_, pos).reshape([n, nj])?,
             PyArray1::from_vec(py_, vel).reshape([n, nj])?,
         ))
+    }
+
+    /// Casts rays in every world: `origins` and `directions` of shape (N, rays, 3), any real
+    /// dtype. Returns `(hit, distance, normal, body)` of shapes (N, rays), (N, rays),
+    /// (N, rays, 3), (N, rays), as `World.cast_rays` does for one world, in parallel.
+    #[pyo3(signature = (origins, directions, max_distance = 100.0))]
+    fn cast_rays<'py>(
+        &self,
+        py_: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        max_distance: f64,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let n = self.worlds.len();
+        let (shape, o) = any_block("origins", origins)?;
+        let rays = shape[1];
+        if shape != [n, rays, 3] {
+            return Err(bad(
+                "origins",
+                format!("an array of shape {shape:?}"),
+                &format!("shape ({n}, rays, 3)"),
+            ));
+        }
+        let d = block("directions", directions, [n, rays, 3])?;
+        queries::check_rays(&d, max_distance)?;
+        let mut answers = vec![(false, 0.0, [0.0; 3], -1); n * rays];
+        let bodies = &self.bodies;
+        let (pool, worlds) = (&self.pool, &self.worlds);
+        let width = rays.max(1) * 3;
+        py(py_.detach(|| {
+            pool.install(|| {
+                worlds
+                    .par_iter()
+                    .zip(answers.par_chunks_mut(rays.max(1)))
+                    .enumerate()
+                    .try_for_each(|(i, (w, out))| {
+                        queries::cast_rays(
+                            w,
+                            bodies,
+                            &o[i * width..(i + 1) * width],
+                            &d[i * width..(i + 1) * width],
+                            max_distance,
+                            out,
+                        )
+                    })
+            })
+        }))?;
+        queries::answers_to_arrays(py_, &answers, &[n, rays])
     }
 
     /// A copy of world `index` as a `kea.World`.

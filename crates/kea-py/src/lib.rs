@@ -7,6 +7,9 @@
 
 mod batch;
 mod convert;
+mod pickle;
+mod queries;
+mod robot;
 mod state;
 mod world;
 

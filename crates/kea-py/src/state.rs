@@ -12,7 +12,7 @@ use kea3d::{BodyHandle, PhysicsWorld, Result, Vec3};
 pub const STATE_WIDTH: usize = 13;
 
 /// What a joint is, for reading its coordinate and driving its motor.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum JointTag {
     Hinge,
     Prismatic,
@@ -20,7 +20,7 @@ pub enum JointTag {
 }
 
 /// A joint as the Python side numbers it.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub struct JointEntry {
     pub raw: ConstraintHandle,
     pub tag: JointTag,

@@ -1,10 +1,11 @@
 //! `kea.World`: one world, built in code or from a scene file.
 
-use crate::convert::{bad, no_such, py, quat, real, tuple3, vec3};
+use crate::convert::{bad, matrix, no_such, py, quat, real, tuple3, vec3};
 use crate::state::{self, JointEntry, JointTag, STATE_WIDTH};
 use kea3d::collision::ColliderHandle;
+use kea3d::robot::Robot;
 use kea3d::{Body, BodyHandle, BodyType, Collider, Joint, PhysicsWorld};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 /// A world: bodies, colliders and joints, stepped together.
@@ -21,6 +22,8 @@ pub struct PyWorld {
     pub(crate) joints: Vec<JointEntry>,
     pub(crate) body_names: Vec<String>,
     pub(crate) joint_names: Vec<String>,
+    /// The robot loaded from a URDF or MJCF file, if the world was made from one.
+    pub(crate) robot: Option<Robot>,
 }
 
 impl PyWorld {
@@ -51,13 +54,14 @@ impl PyWorld {
             colliders: Vec::new(),
             joints: joints.iter().map(|&(_, j)| j).collect(),
             joint_names: joints.into_iter().map(|(n, _)| n).collect(),
+            robot: None,
             inner,
         }
     }
 }
 
 /// A joint's entry, tagged with its kind.
-fn entry(w: &PhysicsWorld, raw: kea3d::dynamics::ConstraintHandle) -> JointEntry {
+pub(crate) fn entry(w: &PhysicsWorld, raw: kea3d::dynamics::ConstraintHandle) -> JointEntry {
     let tag = match w.dynamics().constraint_kind(raw) {
         Ok("hinge") => JointTag::Hinge,
         Ok("prismatic joint") => JointTag::Prismatic,
@@ -326,20 +330,18 @@ impl PyWorld {
         flat.reshape([self.bodies.len(), STATE_WIDTH])
     }
 
-    /// Sets every body from a (bodies, 13) array; nothing changes if a row is bad.
-    fn set_state(&mut self, state: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        let shape = state.shape();
-        if shape != [self.bodies.len(), STATE_WIDTH] {
+    /// Sets every body from a (bodies, 13) array of any real dtype and layout; nothing
+    /// changes if a row is bad.
+    fn set_state(&mut self, state: &Bound<'_, PyAny>) -> PyResult<()> {
+        let (rows, values) = matrix("state", state, STATE_WIDTH)?;
+        if rows != self.bodies.len() {
             return Err(bad(
                 "state",
-                format!("an array of shape {shape:?}"),
+                format!("{rows} rows"),
                 &format!("shape ({}, {STATE_WIDTH})", self.bodies.len()),
             ));
         }
-        let rows = state
-            .as_slice()
-            .map_err(|e| bad("state", e, "a contiguous array"))?;
-        py(state::write_bodies(&mut self.inner, &self.bodies, rows))
+        py(state::write_bodies(&mut self.inner, &self.bodies, &values))
     }
 
     /// Position of a body's frame origin, m.
