@@ -282,14 +282,22 @@ fn load_scene(path: Option<&std::path::Path>) -> Result<(String, Scene), String>
         None => ("(embedded pyramid)".to_string(), DEFAULT_SCENE.to_string()),
     };
     let scene = Scene::from_json(&text).map_err(|e| format!("{name}: {e}"))?;
-    Ok((name, scene))
+    // Robot files are named relative to the scene file.
+    let folder = path
+        .and_then(std::path::Path::parent)
+        .unwrap_or(std::path::Path::new("."));
+    Ok((name, scene.with_paths_from(folder)))
 }
 
 /// Loads and builds a scene file (or the embedded default), naming the file in any error.
 pub(crate) fn load(path: Option<&std::path::Path>) -> Result<(String, PhysicsWorld), String> {
     let (name, scene) = load_scene(path)?;
     let built = build(&scene).map_err(|e| format!("{name}: {e}"))?;
-    Ok((name, PhysicsWorld::from_scene(built)))
+    let mut world = PhysicsWorld::from_scene(built);
+    world
+        .load_scene_robots(&scene.robots)
+        .map_err(|e| format!("{name}: {e}"))?;
+    Ok((name, world))
 }
 
 /// Refuses, before any work, an output whose folder does not exist.

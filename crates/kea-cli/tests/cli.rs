@@ -429,3 +429,39 @@ fn a_run_saved_at_a_step_and_restored_ends_bit_for_bit_where_the_whole_run_ends(
     assert!(err.contains("STEP"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_scene_with_a_urdf_robot_runs_and_renders_and_a_missing_robot_file_is_named() {
+    let arm = scene("robots/arm.json");
+    let (code, out, err) = kea(&["run", &arm, "--steps", "60"]);
+    assert_eq!(code, 0, "{err}");
+    // The arm's 4 moving bodies (turret, upper arm, forearm with its hand) and the crate.
+    assert!(out.contains("4 awake"), "{out}");
+    let dir = std::env::temp_dir().join(format!("kea-cli-robot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("arm.png");
+    let (code, _, err) = kea(&[
+        "render",
+        &arm,
+        "--out",
+        png.to_str().unwrap(),
+        "--steps",
+        "30",
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"version": 1, "robots": [{"urdf": "missing.urdf"}]}"#,
+    )
+    .unwrap();
+    let (code, _, err) = kea(&["run", bad.to_str().unwrap(), "--steps", "1"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("missing.urdf"), "{err}");
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -60,6 +60,22 @@ impl PyWorld {
     }
 }
 
+impl PyWorld {
+    /// A scene's world, its robots' files found from `folder`.
+    fn scene_from(text: &str, folder: &std::path::Path) -> PyResult<Self> {
+        let value = |e: String| pyo3::exceptions::PyValueError::new_err(e);
+        let scene = kea3d::scene::Scene::from_json(text)
+            .map_err(|e| value(e.to_string()))?
+            .with_paths_from(folder);
+        let built = kea3d::scene::build(&scene).map_err(|e| value(e.to_string()))?;
+        let mut world = PhysicsWorld::from_scene(built);
+        world
+            .load_scene_robots(&scene.robots)
+            .map_err(|e| value(e.to_string()))?;
+        Ok(Self::from_physics(world))
+    }
+}
+
 /// A joint's entry, tagged with its kind.
 pub(crate) fn entry(w: &PhysicsWorld, raw: kea3d::dynamics::ConstraintHandle) -> JointEntry {
     let tag = match w.dynamics().constraint_kind(raw) {
@@ -146,17 +162,15 @@ impl PyWorld {
         let text = std::fs::read_to_string(&path).map_err(|e| {
             pyo3::exceptions::PyOSError::new_err(format!("path = {}: {e}", path.display()))
         })?;
-        Self::from_scene_json(&text)
+        let folder = path.parent().unwrap_or(std::path::Path::new("."));
+        Self::scene_from(&text, folder)
     }
 
-    /// A world built from a scene given as JSON text.
+    /// A world built from a scene given as JSON text (robot files relative to the current
+    /// folder).
     #[staticmethod]
     fn from_scene_json(text: &str) -> PyResult<Self> {
-        let scene = kea3d::scene::Scene::from_json(text)
-            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
-        let built = kea3d::scene::build(&scene)
-            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
-        Ok(Self::from_physics(PhysicsWorld::from_scene(built)))
+        Self::scene_from(text, std::path::Path::new("."))
     }
 
     /// An independent copy of this world at this instant.

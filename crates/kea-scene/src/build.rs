@@ -80,6 +80,9 @@ pub fn body_count(scene: &Scene) -> usize {
 
 /// Builds `scene` into a new world.
 pub fn build(scene: &Scene) -> Result<BuiltScene, SceneError> {
+    for (i, r) in scene.robots.iter().enumerate() {
+        r.validate(i)?;
+    }
     let mut body_count = scene.bodies.len();
     for (i, g) in scene.groups.iter().enumerate() {
         body_count = body_count.saturating_add(group_size(g));

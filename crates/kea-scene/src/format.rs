@@ -55,6 +55,9 @@ pub struct Scene {
     /// Repeated structures, expanded when the scene is built.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub groups: Vec<GroupSpec>,
+    /// Robots from their own files (URDF, MJCF), loaded by the layer that owns the world.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub robots: Vec<crate::robots::RobotEntry>,
 }
 
 /// World parameters (see `kea::WorldDef`).

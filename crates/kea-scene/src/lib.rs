@@ -24,6 +24,7 @@ mod format;
 mod groups;
 mod joint_format;
 mod joints;
+mod robots;
 mod snapshot;
 
 pub use build::{body_count, build, BuiltScene, MAX_BODIES, MAX_CONSTRAINTS};
@@ -34,6 +35,7 @@ pub use format::{
 };
 pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
 pub use joints::ScenePaths;
+pub use robots::RobotEntry;
 pub use snapshot::{SceneSnapshot, SNAPSHOT_VERSION};
 
 impl Scene {
@@ -47,6 +49,14 @@ impl Scene {
             });
         }
         Ok(scene)
+    }
+
+    /// The scene with its robots' file paths made absolute against `folder` (the scene
+    /// file's), so that it can be built from anywhere.
+    #[must_use]
+    pub fn with_paths_from(mut self, folder: &std::path::Path) -> Self {
+        self.robots = self.robots.iter().map(|r| r.resolved(folder)).collect();
+        self
     }
 
     /// Writes the scene as JSON (two-space indentation, fields in a fixed order, defaults

@@ -390,9 +390,13 @@ fn hold_damping(world: &mut kea::World, body: BodyHandle) -> (Real, Real) {
 /// room for [`SHOT_ROOM`] more bodies and their contacts (as far as the scene limits allow).
 fn build_with_room(spec: &Scene) -> Result<PhysicsWorld, String> {
     let built = |spec: &Scene| {
-        build(spec)
+        let mut world = build(spec)
             .map(PhysicsWorld::from_scene)
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+        world
+            .load_scene_robots(&spec.robots)
+            .map_err(|e| e.to_string())?;
+        Ok::<_, String>(world)
     };
     if spec.world.max_bodies != 0 {
         return built(spec);

@@ -169,6 +169,52 @@ impl PhysicsWorld {
         Ok(robot)
     }
 
+    /// Loads a scene file's robots (their paths resolved: see `kea_scene::Scene::with_paths_from`),
+    /// naming their links' bodies and their joints `robot<i>.<name>` among the world's named
+    /// bodies and joints. On error nothing is added.
+    pub fn load_scene_robots(
+        &mut self,
+        robots: &[kea_scene::RobotEntry],
+    ) -> Result<Vec<Robot>, ImportError> {
+        let mut staged = self.clone();
+        let mut loaded = Vec::with_capacity(robots.len());
+        for (i, entry) in robots.iter().enumerate() {
+            let (file, mjcf) = entry
+                .file(i)
+                .map_err(|e| ImportError::file(Path::new("scene"), e.to_string()))?;
+            let robot = if mjcf {
+                staged.load_mjcf(file, &MjcfOptions::default())?
+            } else {
+                let [x, y, z, w] = entry.rotation;
+                let q = kea::math::from_f64(kea::math::DVec3::new(x, y, z));
+                let position = kea::math::from_f64(kea::math::DVec3::from_array(entry.position));
+                let w = kea::math::from_f64(kea::math::DVec3::splat(w)).x;
+                let options = UrdfOptions {
+                    fixed_base: entry.fixed_base,
+                    base_position: position,
+                    base_rotation: Quat::from_xyzw(q.x, q.y, q.z, w).normalize(),
+                    ..UrdfOptions::default()
+                };
+                staged.load_urdf(file, &options)?
+            };
+            let mut bodies = Vec::new();
+            for link in robot.links() {
+                if !bodies.iter().any(|(_, b)| *b == link.body) {
+                    bodies.push((format!("robot{i}.{}", link.name), link.body));
+                }
+            }
+            let joints: Vec<_> = robot
+                .joints()
+                .iter()
+                .filter_map(|j| j.raw.map(|raw| (format!("robot{i}.{}", j.name), raw)))
+                .collect();
+            staged.add_names(bodies, joints);
+            loaded.push(robot);
+        }
+        *self = staged;
+        Ok(loaded)
+    }
+
     fn build_robot(
         &mut self,
         spec: &spec::RobotSpec,

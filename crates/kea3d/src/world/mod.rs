@@ -246,6 +246,16 @@ impl PhysicsWorld {
         &self.joint_names
     }
 
+    /// Names more bodies and joints (a robot's links and joints, loaded from a scene file).
+    pub(crate) fn add_names(
+        &mut self,
+        bodies: impl IntoIterator<Item = (String, BodyHandle)>,
+        joints: impl IntoIterator<Item = (String, kea::ConstraintHandle)>,
+    ) {
+        self.names.extend(bodies);
+        self.joint_names.extend(joints);
+    }
+
     fn set_meta(&mut self, h: BodyHandle, meta: BodyMeta) {
         let i = h.index() as usize;
         if self.meta.len() <= i {
