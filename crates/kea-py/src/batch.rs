@@ -18,17 +18,19 @@ use rayon::prelude::*;
 /// threads: each world is stepped by one thread, and worlds share nothing.
 #[pyclass(name = "Batch", module = "kea")]
 pub struct PyBatch {
-    template: PhysicsWorld,
-    worlds: Vec<PhysicsWorld>,
+    pub(crate) template: PhysicsWorld,
+    pub(crate) worlds: Vec<PhysicsWorld>,
+    /// The robot every world holds, when the batch was made from a robot's world.
+    pub(crate) robot: Option<kea3d::robot::Robot>,
     bodies: Vec<BodyHandle>,
-    joints: Vec<JointEntry>,
+    pub(crate) joints: Vec<JointEntry>,
     pool: rayon::ThreadPool,
 }
 
 impl PyBatch {
     /// Runs `f` on every world with its index, on the pool, without the GIL; the first error
     /// comes back naming its world.
-    fn each<F>(&mut self, py_: Python<'_>, f: F) -> PyResult<()>
+    pub(crate) fn each<F>(&mut self, py_: Python<'_>, f: F) -> PyResult<()>
     where
         F: Fn(usize, &mut PhysicsWorld) -> kea3d::Result<()> + Sync + Send,
     {
@@ -89,6 +91,7 @@ impl PyBatch {
             template,
             bodies: world.bodies.clone(),
             joints: world.joints.clone(),
+            robot: world.robot.clone(),
             pool,
         })
     }
@@ -283,6 +286,7 @@ impl PyBatch {
         let mut out = PyWorld::from_physics(w.clone());
         out.bodies.clone_from(&self.bodies);
         out.joints.clone_from(&self.joints);
+        out.robot.clone_from(&self.robot);
         Ok(out)
     }
 

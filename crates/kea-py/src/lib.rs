@@ -6,6 +6,7 @@
 //! exist, `RuntimeError` for a failure inside the engine.
 
 mod batch;
+mod batch_robot;
 mod convert;
 mod pickle;
 mod queries;

@@ -63,6 +63,43 @@ fn reals(v: &[f64]) -> Vec<Real> {
     v.iter().map(|&x| crate::convert::real(x)).collect()
 }
 
+/// A link's index by name, refused by name.
+pub(crate) fn link_index(robot: &Robot, name: &str) -> PyResult<usize> {
+    robot
+        .links()
+        .iter()
+        .position(|l| l.name == name)
+        .ok_or_else(|| {
+            bad(
+                "name",
+                format!("{name:?}"),
+                "the name of one of the robot's links",
+            )
+        })
+}
+
+/// Motor force caps per velocity coordinate: given, or each joint's effort limit (infinite
+/// where its file gives none).
+pub(crate) fn motor_forces(robot: &Robot, given: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Real>> {
+    let n = robot.velocity_count();
+    if let Some(x) = given {
+        let f = vector("max_forces", x, Some(n))?;
+        if let Some(v) = f.iter().find(|v| **v < 0.0) {
+            return Err(bad("max_forces", v, "forces >= 0"));
+        }
+        return Ok(reals(&f));
+    }
+    let mut out = vec![Real::INFINITY; n];
+    for j in robot.joints() {
+        for (k, e) in j.efforts().into_iter().enumerate() {
+            if let (Some(e), Some(o)) = (e, out.get_mut(j.first_velocity + k)) {
+                *o = e;
+            }
+        }
+    }
+    Ok(out)
+}
+
 fn search_path(paths: Option<Vec<PathBuf>>) -> Vec<PathBuf> {
     paths.unwrap_or_default()
 }
@@ -181,6 +218,27 @@ impl PyWorld {
         let u = vector("controls", controls, Some(n))?;
         let robot = self.robot()?.clone();
         py(robot.set_controls(&mut self.inner, &reals(&u)))
+    }
+
+    /// Drives each joint coordinate at `velocities` (the layout of `joint_velocities`) with a
+    /// motor of at most `max_forces` (one per coordinate; default each joint's effort limit
+    /// from its file), until changed. Free and ball joints' entries must be 0.
+    #[pyo3(signature = (velocities, max_forces = None))]
+    fn set_joint_motors(
+        &mut self,
+        velocities: &Bound<'_, PyAny>,
+        max_forces: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let robot = self.robot()?.clone();
+        let v = vector("velocities", velocities, Some(robot.velocity_count()))?;
+        let forces = motor_forces(&robot, max_forces)?;
+        py(robot.set_joint_motors(&mut self.inner, &reals(&v), &forces))
+    }
+
+    /// Splits each step into this many substeps (1 to 64; default 1): finer integration
+    /// at that many times the cost.
+    fn set_substeps(&mut self, substeps: u32) -> PyResult<()> {
+        py(self.inner.dynamics_mut().set_world_substeps(substeps))
     }
 
     /// Length of the joint position vector (MuJoCo's `nq`).

@@ -8,6 +8,9 @@ use super::spec::JointType;
 use crate::{PhysicsWorld, Result};
 use kea::{Actuator, KeaError, Real};
 
+/// The force or torque a motor asked for "no cap" gets, N or N·m (motors need a finite one).
+pub const UNCAPPED_MOTOR_FORCE: Real = 1.0e6;
+
 impl Robot {
     /// The file's actuators, in its order.
     #[must_use]
@@ -80,27 +83,7 @@ impl Robot {
     /// ball joint.
     pub fn set_joint_forces(&self, world: &mut PhysicsWorld, forces: &[Real]) -> Result<()> {
         check_len("forces", forces, self.velocity_count())?;
-        for j in self.joints() {
-            if matches!(j.kind, JointType::Free | JointType::Ball) {
-                let f = &forces[j.first_velocity..j.first_velocity + j.kind.velocity_count()];
-                if let Some(x) = f.iter().find(|x| **x != 0.0) {
-                    return Err(KeaError::OutOfRange {
-                        arg: "forces",
-                        value: format!(
-                            "{x} on {} joint \"{}\"",
-                            if j.kind == JointType::Free {
-                                "free"
-                            } else {
-                                "ball"
-                            },
-                            j.name
-                        ),
-                        expected: "0: free and ball joints have no actuated coordinate",
-                    }
-                    .into());
-                }
-            }
-        }
+        self.check_free_and_ball("forces", forces)?;
         for (i, j) in self.joints().iter().enumerate() {
             if matches!(j.kind, JointType::Free | JointType::Ball | JointType::Fixed) {
                 continue;
@@ -108,6 +91,60 @@ impl Robot {
             for k in 0..j.kind.velocity_count() {
                 let f = forces[j.first_velocity + k];
                 self.drive(world, i, k, (f != 0.0).then_some(Actuator::Force(f)))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Drives each joint coordinate at `velocities` (the layout of
+    /// [`Robot::joint_velocities`]) with a motor of at most `max_forces` (one per coordinate;
+    /// an infinite cap stands for [`UNCAPPED_MOTOR_FORCE`]), until changed; entries of free and
+    /// ball joints must be 0. Errors, changing nothing, on bad lengths or values.
+    pub fn set_joint_motors(
+        &self,
+        world: &mut PhysicsWorld,
+        velocities: &[Real],
+        max_forces: &[Real],
+    ) -> Result<()> {
+        check_len("velocities", velocities, self.velocity_count())?;
+        if max_forces.len() != self.velocity_count()
+            || max_forces.iter().any(|f| f.is_nan() || *f < 0.0)
+        {
+            return Err(KeaError::OutOfRange {
+                arg: "max_forces",
+                value: format!("{} entries", max_forces.len()),
+                expected: "one force >= 0 per joint velocity",
+            }
+            .into());
+        }
+        self.check_free_and_ball("velocities", velocities)?;
+        let mut staged = world.clone();
+        for j in self.joints() {
+            let Some(raw) = j.raw else { continue };
+            for k in 0..j.kind.velocity_count() {
+                let at = j.first_velocity + k;
+                if let Some(limit) = coordinate_limit(&mut staged, raw, j.kind, k)? {
+                    limit.set_motor(velocities[at], max_forces[at].min(UNCAPPED_MOTOR_FORCE))?;
+                }
+            }
+        }
+        *world = staged;
+        Ok(())
+    }
+
+    /// Refuses a non-zero entry of a free or ball joint in a velocity-layout vector.
+    fn check_free_and_ball(&self, arg: &'static str, x: &[Real]) -> Result<()> {
+        for j in self.joints() {
+            if matches!(j.kind, JointType::Free | JointType::Ball) {
+                let part = &x[j.first_velocity..j.first_velocity + j.kind.velocity_count()];
+                if let Some(v) = part.iter().find(|v| **v != 0.0) {
+                    return Err(KeaError::OutOfRange {
+                        arg,
+                        value: format!("{v} on joint \"{}\"", j.name),
+                        expected: "0: free and ball joints have no driven coordinate",
+                    }
+                    .into());
+                }
             }
         }
         Ok(())

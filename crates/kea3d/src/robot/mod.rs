@@ -38,6 +38,7 @@ mod spec;
 mod urdf;
 mod xml;
 
+pub use actuator::UNCAPPED_MOTOR_FORCE;
 pub use error::ImportError;
 pub use mjcf::{ActuatorKind, ActuatorSpec};
 pub use model::{Robot, RobotJoint, RobotLink};

@@ -1,0 +1,310 @@
+"""Gymnasium tasks on robots loaded from their own files, each as a vector environment over
+one ``kea.Batch`` (stepped on all cores; ``gymnasium.vector.VectorEnv``, autoreset next step)
+and as a single ``gymnasium.Env`` (a batch of one, so both give the same numbers):
+
+* ``ReacherVecEnv`` / ``ReacherEnv``: Gymnasium's ``Reacher-v5`` built from its own MJCF file
+  (``gymnasium/envs/mujoco/assets/reacher.xml``): the same 10-number observation, 2 torques in
+  [-1, 1] as actions, reward ``-|fingertip - target| - |a|²``, 50 steps of 2 × 0.01 s.
+* ``InvertedDoublePendulumVecEnv`` / ``InvertedDoublePendulumEnv``: ``InvertedDoublePendulum-v5``
+  from its MJCF: the same 9-number observation (cart position, sines and cosines of the poles'
+  angles, clipped velocities, the cart's constraint force), one force in [-1, 1], reward
+  ``10 - distance and velocity penalties``, ending when the tip falls below 1 m; 1000 steps of
+  5 × 0.01 s (each Kea step split in 2).
+* ``KukaReachVecEnv`` / ``KukaReachEnv``: the KUKA iiwa of ``pybullet_data`` (its URDF) reaching
+  for a target: actions are the 7 joint motors' speeds (in [-1, 1] × 1 rad/s, at most each
+  joint's effort limit), the observation joint positions and velocities, the hand's position and
+  the target's (20 numbers), reward ``-|hand - target| - 0.01 |a|²``, 200 steps of 10 × 2 ms.
+
+The robot files come from the installed ``gymnasium`` and ``pybullet`` packages.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from typing import Any, Optional
+
+import gymnasium as gym
+import numpy as np
+
+import kea
+
+
+def _package_dir(name: str) -> str:
+    spec = importlib.util.find_spec(name)
+    if spec is None or not spec.submodule_search_locations:
+        raise ImportError(f"{name} is not installed: it ships the robot's file")
+    return list(spec.submodule_search_locations)[0]
+
+
+def gymnasium_asset(name: str) -> str:
+    """The path of one of Gymnasium's MuJoCo model files."""
+    return os.path.join(_package_dir("gymnasium"), "envs", "mujoco", "assets", name)
+
+
+def pybullet_data_file(name: str) -> str:
+    """The path of a file in pybullet's ``pybullet_data``."""
+    return os.path.join(_package_dir("pybullet_data"), name)
+
+
+class _RobotVecEnv(gym.vector.VectorEnv):
+    """What every task shares: a batch of one robot's world, reset and stepped as arrays."""
+
+    metadata = {"autoreset_mode": gym.vector.AutoresetMode.NEXT_STEP}
+    max_steps = 1000
+    frame_skip = 1
+
+    def __init__(self, world: kea.World, num_envs: int, threads: Optional[int], dt: float):
+        self.num_envs = num_envs
+        self.dt_physics = dt
+        self.batch = kea.Batch(world, num_envs, threads)
+        self.init_qpos = world.joint_positions()
+        self.init_qvel = world.joint_velocities()
+        self.single_observation_space = gym.spaces.Box(
+            -np.inf, np.inf, shape=(self.observation_size,), dtype=np.float64
+        )
+        self.observation_space = gym.vector.utils.batch_space(self.single_observation_space, num_envs)
+        self.action_space = gym.vector.utils.batch_space(self.single_action_space, num_envs)
+        self._rng = np.random.default_rng()
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._done = np.zeros(num_envs, dtype=bool)
+
+    # What a task defines.
+    observation_size = 0
+    single_action_space: gym.spaces.Box
+
+    def _initial(self, count: int) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def _observe(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def _apply(self, actions: np.ndarray) -> None:
+        raise NotImplementedError
+
+    def _reward(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def _restart(self, which: np.ndarray) -> None:
+        idx = np.flatnonzero(which)
+        if idx.size == 0:
+            return
+        self.batch.reset(idx.tolist())
+        q = self.batch.joint_positions()
+        v = self.batch.joint_velocities()
+        q[idx], v[idx] = self._initial(idx.size)
+        self.batch.set_joint_positions(q)
+        self.batch.set_joint_velocities(v)
+        self._steps[idx] = 0
+
+    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
+        if seed is not None:
+            self._rng = np.random.default_rng(seed)
+        self._restart(np.ones(self.num_envs, dtype=bool))
+        self._done[:] = False
+        return self._observe(), {}
+
+    def step(self, actions):
+        restart = self._done.copy()
+        self._restart(restart)
+        low, high = self.single_action_space.low, self.single_action_space.high
+        a = np.clip(np.asarray(actions, dtype=np.float64).reshape(self.num_envs, -1), low, high)
+        self._apply(a)
+        self.batch.step(self.dt_physics, self.frame_skip)
+        self._steps += 1
+        obs = self._observe()
+        reward, terminated = self._reward(a)
+        truncated = (self._steps >= self.max_steps) & ~terminated
+        reward = np.where(restart, 0.0, reward)
+        terminated[restart] = False
+        truncated[restart] = False
+        self._done = terminated | truncated
+        return obs, reward, terminated, truncated, {}
+
+
+class ReacherVecEnv(_RobotVecEnv):
+    """``num_envs`` of Gymnasium's Reacher, from its MJCF file, in one ``kea.Batch``."""
+
+    observation_size = 10
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+    max_steps = 50
+    frame_skip = 2
+
+    def __init__(self, num_envs: int = 16, threads: Optional[int] = None):
+        world = kea.World.from_mjcf(gymnasium_asset("reacher.xml"))
+        super().__init__(world, num_envs, threads, world.timestep)
+
+    def _initial(self, count):
+        q = self.init_qpos + self._rng.uniform(-0.1, 0.1, size=(count, 4))
+        goals = np.empty((count, 2))
+        for k in range(count):
+            while True:
+                g = self._rng.uniform(-0.2, 0.2, size=2)
+                if np.linalg.norm(g) < 0.2:
+                    break
+            goals[k] = g
+        q[:, 2:] = goals
+        v = self.init_qvel + self._rng.uniform(-0.005, 0.005, size=(count, 4))
+        v[:, 2:] = 0.0
+        return q, v
+
+    def _gap(self):
+        return self.batch.link_positions("fingertip") - self.batch.link_positions("target")
+
+    def _observe(self):
+        q, v = self.batch.joint_positions(), self.batch.joint_velocities()
+        return np.concatenate(
+            [np.cos(q[:, :2]), np.sin(q[:, :2]), q[:, 2:], v[:, :2], self._gap()[:, :2]], axis=1
+        )
+
+    def _apply(self, actions):
+        self.batch.set_controls(actions)
+
+    def _reward(self, actions):
+        reward = -np.linalg.norm(self._gap(), axis=1) - np.square(actions).sum(axis=1)
+        return reward, np.zeros(self.num_envs, dtype=bool)
+
+
+class InvertedDoublePendulumVecEnv(_RobotVecEnv):
+    """``num_envs`` of Gymnasium's InvertedDoublePendulum, from its MJCF, in one ``kea.Batch``."""
+
+    observation_size = 9
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
+    max_steps = 1000
+    frame_skip = 5
+    gear = 500.0
+    damping = 0.05
+
+    def __init__(self, num_envs: int = 16, threads: Optional[int] = None):
+        world = kea.World.from_mjcf(gymnasium_asset("inverted_double_pendulum.xml"))
+        world.set_substeps(2)
+        super().__init__(world, num_envs, threads, world.timestep)
+        self._force = np.zeros(num_envs)
+
+    def _initial(self, count):
+        q = self.init_qpos + self._rng.uniform(-0.1, 0.1, size=(count, 3))
+        v = self.init_qvel + self._rng.standard_normal((count, 3)) * 0.1
+        return q, v
+
+    def _constraint_force(self):
+        # The slider's stop force along x (MuJoCo's qfrc_constraint[0]): the joint's reaction
+        # on the cart along the rail, less the motor's force and the joint's damping.
+        along = self.batch.joint_reactions()[:, 0, 0]
+        return along - self._force + self.damping * self.batch.joint_velocities()[:, 0]
+
+    def _observe(self):
+        q, v = self.batch.joint_positions(), self.batch.joint_velocities()
+        return np.concatenate(
+            [
+                q[:, :1],
+                np.sin(q[:, 1:]),
+                np.cos(q[:, 1:]),
+                np.clip(v, -10.0, 10.0),
+                np.clip(self._constraint_force(), -10.0, 10.0)[:, None],
+            ],
+            axis=1,
+        )
+
+    def _apply(self, actions):
+        self._force = self.gear * actions[:, 0]
+        self.batch.set_controls(actions)
+
+    def _reward(self, actions):
+        tip = self.batch.link_positions("pole2", (0.0, 0.0, 0.6))
+        x, y = tip[:, 0], tip[:, 2]
+        v = self.batch.joint_velocities()
+        terminated = y <= 1.0
+        penalty = 0.01 * x**2 + (y - 2.0) ** 2 + 1e-3 * v[:, 1] ** 2 + 5e-3 * v[:, 2] ** 2
+        return np.where(terminated, 0.0, 10.0) - penalty, terminated
+
+
+class KukaReachVecEnv(_RobotVecEnv):
+    """``num_envs`` KUKA iiwa arms (from pybullet_data's URDF) reaching for targets."""
+
+    observation_size = 20
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(7,), dtype=np.float32)
+    max_steps = 200
+    frame_skip = 10
+    speed = 1.0  # rad/s at action 1
+    hand = "lbr_iiwa_link_7"
+
+    def __init__(self, num_envs: int = 16, threads: Optional[int] = None):
+        world = kea.World.from_urdf(pybullet_data_file("kuka_iiwa/model.urdf"), fixed_base=True)
+        super().__init__(world, num_envs, threads, 0.002)
+        self.targets = np.zeros((num_envs, 3))
+
+    def _initial(self, count):
+        q = self._rng.uniform(-0.3, 0.3, size=(count, 7))
+        return q, np.zeros((count, 7))
+
+    def _restart(self, which):
+        idx = np.flatnonzero(which)
+        super()._restart(which)
+        self.targets[idx] = self._rng.uniform([0.3, -0.4, 0.3], [0.7, 0.4, 0.9], size=(idx.size, 3))
+
+    def _observe(self):
+        return np.concatenate(
+            [
+                self.batch.joint_positions(),
+                self.batch.joint_velocities(),
+                self.batch.link_positions(self.hand),
+                self.targets,
+            ],
+            axis=1,
+        )
+
+    def _apply(self, actions):
+        self.batch.set_joint_motors(actions * self.speed)
+
+    def _reward(self, actions):
+        gap = np.linalg.norm(self.batch.link_positions(self.hand) - self.targets, axis=1)
+        return -gap - 0.01 * np.square(actions).sum(axis=1), np.zeros(self.num_envs, dtype=bool)
+
+
+class _Single(gym.Env):
+    """One task (a batch of one), for ``gymnasium.make``."""
+
+    metadata = {"render_modes": []}
+    vector_class: type = _RobotVecEnv
+
+    def __init__(self):
+        self._vec = self.vector_class(1, threads=1)
+        self.observation_space = self._vec.single_observation_space
+        self.action_space = self._vec.single_action_space
+
+    def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
+        super().reset(seed=seed)
+        if seed is not None or not hasattr(self, "_seeded"):
+            self._vec._rng = self.np_random
+            self._seeded = True
+        self._vec._restart(np.ones(1, dtype=bool))
+        self._vec._done[:] = False
+        return self._vec._observe()[0], {}
+
+    def step(self, action):
+        self._vec._done[:] = False
+        obs, reward, terminated, truncated, info = self._vec.step(np.asarray(action).reshape(1, -1))
+        return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
+
+
+class ReacherEnv(_Single):
+    """Gymnasium's Reacher on Kea, from its own MJCF."""
+
+    vector_class = ReacherVecEnv
+
+
+class InvertedDoublePendulumEnv(_Single):
+    """Gymnasium's InvertedDoublePendulum on Kea, from its own MJCF."""
+
+    vector_class = InvertedDoublePendulumVecEnv
+
+
+class KukaReachEnv(_Single):
+    """The KUKA iiwa reaching for a target, from pybullet_data's URDF."""
+
+    vector_class = KukaReachVecEnv
+
+
+gym.register(id="kea/Reacher-v0", entry_point="kea.robot_envs:ReacherEnv")
+gym.register(id="kea/InvertedDoublePendulum-v0", entry_point="kea.robot_envs:InvertedDoublePendulumEnv")
+gym.register(id="kea/KukaReach-v0", entry_point="kea.robot_envs:KukaReachEnv")

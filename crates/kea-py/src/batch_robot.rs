@@ -1,0 +1,181 @@
+//! A `kea.Batch` of robot worlds (made from `World.from_urdf` / `from_mjcf`): every world's
+//! joint vectors, controls, motors and link positions as (N, …) arrays, in parallel.
+
+use crate::batch::PyBatch;
+use crate::convert::{py, real};
+use kea3d::robot::Robot;
+use kea3d::{PhysicsWorld, Real};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+impl PyBatch {
+    fn robot(&self) -> PyResult<Robot> {
+        self.robot.clone().ok_or_else(|| {
+            PyValueError::new_err(
+                "this batch holds no robot: make it from World.from_urdf or World.from_mjcf",
+            )
+        })
+    }
+
+    /// Every world's `width` numbers from `read`, as an (N, width) array.
+    fn gather<'py, F>(
+        &self,
+        py_: Python<'py>,
+        width: usize,
+        read: F,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>>
+    where
+        F: Fn(&PhysicsWorld, &mut [f64]) -> kea3d::Result<()> + Sync + Send,
+    {
+        let n = self.worlds.len();
+        let mut out = vec![0.0; n * width];
+        let worlds = &self.worlds;
+        py(py_.detach(|| {
+            worlds
+                .par_iter()
+                .zip(out.par_chunks_mut(width.max(1)))
+                .try_for_each(|(w, row)| read(w, row))
+        }))?;
+        PyArray1::from_vec(py_, out).reshape([n, width])
+    }
+
+    /// Applies `write` to every world with its row of an (N, width) array-like.
+    fn scatter<F>(
+        &mut self,
+        py_: Python<'_>,
+        arg: &str,
+        x: &Bound<'_, PyAny>,
+        width: usize,
+        write: F,
+    ) -> PyResult<()>
+    where
+        F: Fn(&mut PhysicsWorld, &[Real]) -> kea3d::Result<()> + Sync + Send,
+    {
+        let (rows, values) = crate::convert::matrix(arg, x, width)?;
+        if rows != self.worlds.len() {
+            return Err(crate::convert::bad(
+                arg,
+                format!("{rows} rows"),
+                &format!("{} rows, one per world", self.worlds.len()),
+            ));
+        }
+        let values: Vec<Real> = values.into_iter().map(real).collect();
+        self.each(py_, |i, w| write(w, &values[i * width..(i + 1) * width]))
+    }
+}
+
+fn copy_out(values: Vec<Real>, row: &mut [f64]) {
+    for (o, v) in row.iter_mut().zip(values) {
+        *o = f64::from(v);
+    }
+}
+
+#[pymethods]
+impl PyBatch {
+    /// Every world's joint positions, (N, position_count) float64.
+    fn joint_positions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let robot = self.robot()?;
+        self.gather(py_, robot.position_count(), |w, row| {
+            copy_out(robot.joint_positions(w)?, row);
+            Ok(())
+        })
+    }
+
+    /// Every world's joint velocities, (N, velocity_count) float64.
+    fn joint_velocities<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let robot = self.robot()?;
+        self.gather(py_, robot.velocity_count(), |w, row| {
+            copy_out(robot.joint_velocities(w)?, row);
+            Ok(())
+        })
+    }
+
+    /// Re-poses every world's robot to its row of `q` (N, position_count).
+    fn set_joint_positions(&mut self, py_: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<()> {
+        let robot = self.robot()?;
+        self.scatter(py_, "q", q, robot.position_count(), |w, row| {
+            robot.set_joint_positions(w, row)
+        })
+    }
+
+    /// Sets every world's joint velocities to its row of `v` (N, velocity_count).
+    fn set_joint_velocities(&mut self, py_: Python<'_>, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        let robot = self.robot()?;
+        self.scatter(py_, "v", v, robot.velocity_count(), |w, row| {
+            robot.set_joint_velocities(w, row)
+        })
+    }
+
+    /// Feeds every world's actuators its row of `controls` (N, actuators).
+    fn set_controls(&mut self, py_: Python<'_>, controls: &Bound<'_, PyAny>) -> PyResult<()> {
+        let robot = self.robot()?;
+        self.scatter(
+            py_,
+            "controls",
+            controls,
+            robot.actuators().len(),
+            |w, row| robot.set_controls(w, row),
+        )
+    }
+
+    /// Drives every world's joint coordinates at its row of `velocities` (N, velocity_count)
+    /// with motors of at most `max_forces` (one per coordinate; default each joint's effort
+    /// limit from its file).
+    #[pyo3(signature = (velocities, max_forces = None))]
+    fn set_joint_motors(
+        &mut self,
+        py_: Python<'_>,
+        velocities: &Bound<'_, PyAny>,
+        max_forces: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let robot = self.robot()?;
+        let forces = crate::robot::motor_forces(&robot, max_forces)?;
+        self.scatter(
+            py_,
+            "velocities",
+            velocities,
+            robot.velocity_count(),
+            |w, row| robot.set_joint_motors(w, row, &forces),
+        )
+    }
+
+    /// Every world's position of a point fixed in a link (its frame origin by default), (N, 3).
+    #[pyo3(signature = (name, point = [0.0; 3]))]
+    fn link_positions<'py>(
+        &self,
+        py_: Python<'py>,
+        name: &str,
+        point: [f64; 3],
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let robot = self.robot()?;
+        let index = crate::robot::link_index(&robot, name)?;
+        let local = crate::convert::vec3(point);
+        self.gather(py_, 3, |w, row| {
+            let p = robot.link_pose(w, index)?.point(local);
+            copy_out(vec![p.x, p.y, p.z], row);
+            Ok(())
+        })
+    }
+
+    /// Every world's joint reactions in the last step, (N, joints, 6): force and torque on each
+    /// joint's first body, world frame (as `World.joint_reactions`).
+    fn joint_reactions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let (n, nj) = (self.worlds.len(), self.joints.len());
+        let joints = self.joints.clone();
+        let flat = self.gather(py_, nj * 6, |w, row| {
+            for (j, out) in joints.iter().zip(row.chunks_exact_mut(6)) {
+                let [r, _] = w.dynamics().constraint_reaction(j.raw)?;
+                copy_out(
+                    vec![
+                        r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
+                    ],
+                    out,
+                );
+            }
+            Ok(())
+        })?;
+        flat.reshape([n, nj, 6])
+    }
+}
