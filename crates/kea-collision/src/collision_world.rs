@@ -92,6 +92,36 @@ pub(crate) struct Collider {
     pub(crate) pose: Pose,
     pub(crate) still: bool,
     pub(crate) motion: Real,
+    /// For a hull or mesh of many points, its box in its own frame (centre, half extents):
+    /// each step's box is that one turned (a little larger than the tight box), not a pass
+    /// over every point (a robot link's hull of hundreds of points spent a third of a step
+    /// there).
+    pub(crate) local_box: Option<(Vec3, Vec3)>,
+}
+
+/// Hulls and meshes with more points than this take their per-step box from their own.
+const TIGHT_BOX_MAX_POINTS: usize = 32;
+
+/// A shape's own box when it has many points (see [`Collider::local_box`]).
+pub(crate) fn local_box(shape: &crate::parry::shape::SharedShape) -> Option<(Vec3, Vec3)> {
+    let points = shape
+        .as_convex_polyhedron()
+        .map(|c| c.points().len())
+        .or_else(|| shape.as_trimesh().map(|m| m.vertices().len()))?;
+    if points <= TIGHT_BOX_MAX_POINTS {
+        return None;
+    }
+    let b = shape.compute_local_aabb();
+    Some(((b.mins + b.maxs) * 0.5, (b.maxs - b.mins) * 0.5))
+}
+
+/// The world box of a shape whose own box is `(centre, half)`, at `pose`.
+pub(crate) fn turned_box(pose: &Pose, (centre, half): (Vec3, Vec3)) -> (Vec3, Vec3) {
+    let r = kea::Mat3::from_quat(pose.rotation);
+    let abs = kea::Mat3::from_cols(r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs());
+    let c = pose.translation + pose.rotation * centre;
+    let h = abs * half;
+    (c - h, c + h)
 }
 
 #[derive(Clone)]
@@ -303,6 +333,7 @@ impl CollisionWorld {
             self.pairs.reserve_multi(MULTI_PAIRS_PER_COLLIDER);
         }
         let leaf = self.tree.insert(fat, index);
+        let local_box = local_box(def.shared_shape());
         let collider = Collider {
             def,
             reach,
@@ -311,6 +342,7 @@ impl CollisionWorld {
             pose,
             still: true,
             motion: 0.0,
+            local_box,
         };
         self.moved.push(index);
         let index = match self.free.pop() {

@@ -3,7 +3,7 @@
 
 use crate::broad_phase::Aabb;
 use crate::collision_world::{
-    collider_pose, is_multi_manifold, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN,
+    collider_pose, is_multi_manifold, turned_box, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN,
 };
 
 use crate::narrow_phase::should_collide;
@@ -43,11 +43,14 @@ impl CollisionWorld {
             return true;
         }
         let pose = c.pose;
-        let aabb = c.def.shared_shape().compute_aabb(&pose);
-        let (mut min, mut max) = (
-            aabb.mins - Vec3::splat(margin),
-            aabb.maxs + Vec3::splat(margin),
-        );
+        let (lo, hi) = match c.local_box {
+            Some(b) => turned_box(&pose, b),
+            None => {
+                let aabb = c.def.shared_shape().compute_aabb(&pose);
+                (aabb.mins, aabb.maxs)
+            }
+        };
+        let (mut min, mut max) = (lo - Vec3::splat(margin), hi + Vec3::splat(margin));
         let sweep = body.linear_velocity() * dt;
         min += sweep.min(Vec3::ZERO);
         max += sweep.max(Vec3::ZERO);

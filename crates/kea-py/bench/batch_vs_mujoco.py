@@ -1,4 +1,5 @@
-"""Batch throughput: Kea's ``kea.Batch`` against MuJoCo's ``rollout`` on the same cart-pole.
+"""Batch throughput: Kea's ``kea.Batch`` against MuJoCo's ``rollout`` on the same cart-pole,
+and on the same KUKA iiwa arm loaded by both engines from pybullet_data's URDF.
 
 Both models: a 1 kg cart on a slider along x (stops at ±2.4 m) driven by a velocity servo
 (±3 m/s, at most 30 N), a 0.1 kg, 1 m pole on a hinge; 0.01 s physics steps, two per
@@ -7,6 +8,11 @@ environment step. Two ways of driving each, in the same run:
 * closed loop: per environment step, set the actions, step 2 × 0.01 s, read every state
   (what a learning loop does);
 * open loop: one call steps 200 physics steps with fixed actions.
+
+The arm: 7 hinges with their damping, no contacts, released from a bent pose; 2 ms physics
+steps, five per environment step; closed loop reads the joint positions every environment
+step (MuJoCo: its whole state), open loop steps all of them in one call. Its URDF reaches
+MuJoCo without its collision meshes (no contacts are asked for) and without `mimic`.
 
 Prints environment steps per second (worlds × env steps / wall time), the median of
 ``--runs`` runs, for one thread and all cores, and the ratios.
@@ -110,6 +116,98 @@ def mujoco_rates(worlds: int, threads: int, env_steps: int, runs: int):
     return median_rate(closed, runs), median_rate(open_loop, runs)
 
 
+ARM_Q = [0.4, 0.5, -0.3, -1.1, 0.5, 0.8, 0.2]
+ARM_DT = 0.002
+ARM_SUBSTEPS = 5
+
+
+def arm_file() -> str:
+    import importlib.util
+
+    spec = importlib.util.find_spec("pybullet_data")
+    return os.path.join(list(spec.submodule_search_locations)[0], "kuka_iiwa", "model.urdf")
+
+
+def kea_arm_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
+    arm = kea.World.from_urdf(arm_file(), fixed_base=True)
+    arm.set_joint_positions(ARM_Q)
+    batch = kea.Batch(arm, worlds, threads)
+
+    def closed():
+        batch.reset()
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            batch.step(ARM_DT, ARM_SUBSTEPS)
+            batch.joint_positions()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        batch.reset()
+        start = time.perf_counter()
+        batch.step(ARM_DT, ARM_SUBSTEPS * env_steps)
+        batch.joint_positions()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
+def mujoco_arm_rates(worlds: int, threads: int, env_steps: int, runs: int):
+    import re
+    import tempfile
+
+    import mujoco
+    from mujoco import rollout
+
+    text = open(arm_file()).read()
+    text = re.sub(r"<visual\b.*?</visual>", "", text, flags=re.S)
+    text = re.sub(r"<collision\b.*?</collision>", "", text, flags=re.S)
+    text = re.sub(r"(<robot\b[^>]*>)", r'\1<mujoco><compiler inertiafromgeom="false"/></mujoco>', text, count=1)
+    with tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False) as f:
+        f.write(text)
+    model = mujoco.MjModel.from_xml_path(f.name)
+    os.unlink(f.name)
+    model.opt.timestep = ARM_DT
+    datas = [mujoco.MjData(model) for _ in range(threads)]
+    datas[0].qpos[:] = ARM_Q
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state0 = np.zeros((worlds, mujoco.mj_stateSize(model, spec)))
+    mujoco.mj_getState(model, datas[0], state0[0], spec)
+    state0[:] = state0[0]
+
+    def closed():
+        state = state0.copy()
+        control = np.zeros((worlds, ARM_SUBSTEPS, model.nu))
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            out, _ = rollout.rollout(model, datas, state, control, nstep=ARM_SUBSTEPS, persistent_pool=True)
+            state = out[:, -1, :]
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        control = np.zeros((worlds, ARM_SUBSTEPS * env_steps, model.nu))
+        start = time.perf_counter()
+        rollout.rollout(model, datas, state0, control, nstep=ARM_SUBSTEPS * env_steps, persistent_pool=True)
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
+def report(title: str, rows: dict, cores: int) -> None:
+    print(title)
+    print(f"{'engine':<8} {'threads':>7} {'closed loop':>14} {'open loop':>14}   (env steps/s)")
+    for (engine, threads), (closed, open_loop) in rows.items():
+        print(f"{engine:<8} {threads:>7} {closed:>14,.0f} {open_loop:>14,.0f}")
+    for threads in sorted({1, cores}):
+        k, m = rows[("kea", threads)], rows[("mujoco", threads)]
+        print(f"kea / mujoco on {threads} thread(s): closed loop {k[0] / m[0]:.2f}x, open loop {k[1] / m[1]:.2f}x")
+    if cores > 1:
+        k1, kn = rows[("kea", 1)], rows[("kea", cores)]
+        print(f"kea {cores} threads / 1 thread: closed loop {kn[0] / k1[0]:.2f}x, open loop {kn[1] / k1[1]:.2f}x")
+    print()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--worlds", type=int, default=1024)
@@ -117,21 +215,14 @@ def main():
     parser.add_argument("--runs", type=int, default=5)
     args = parser.parse_args()
     cores = os.cpu_count() or 1
-    print(f"{args.worlds} cart-poles, {args.env_steps} env steps of 2 x {DT} s, median of {args.runs} runs, {cores} cores")
-    print(f"{'engine':<8} {'threads':>7} {'closed loop':>14} {'open loop':>14}   (env steps/s)")
-    rows = {}
+    rows, arm = {}, {}
     for threads in sorted({1, cores}):
         rows[("kea", threads)] = kea_rates(args.worlds, threads, args.env_steps, args.runs)
         rows[("mujoco", threads)] = mujoco_rates(args.worlds, threads, args.env_steps, args.runs)
-    for (engine, threads), (closed, open_loop) in rows.items():
-        print(f"{engine:<8} {threads:>7} {closed:>14,.0f} {open_loop:>14,.0f}")
-    print()
-    for threads in sorted({1, cores}):
-        k, m = rows[("kea", threads)], rows[("mujoco", threads)]
-        print(f"kea / mujoco on {threads} thread(s): closed loop {k[0] / m[0]:.2f}x, open loop {k[1] / m[1]:.2f}x")
-    if cores > 1:
-        k1, kn = rows[("kea", 1)], rows[("kea", cores)]
-        print(f"kea {cores} threads / 1 thread: closed loop {kn[0] / k1[0]:.2f}x, open loop {kn[1] / k1[1]:.2f}x")
+        arm[("kea", threads)] = kea_arm_rates(args.worlds, threads, args.env_steps, args.runs)
+        arm[("mujoco", threads)] = mujoco_arm_rates(args.worlds, threads, args.env_steps, args.runs)
+    report(f"{args.worlds} cart-poles, {args.env_steps} env steps of 2 x {DT} s, median of {args.runs} runs, {cores} cores", rows, cores)
+    report(f"{args.worlds} KUKA iiwa arms (URDF), {args.env_steps} env steps of {ARM_SUBSTEPS} x {ARM_DT} s", arm, cores)
 
 
 if __name__ == "__main__":

@@ -290,9 +290,9 @@ fn shape_of(shape: &GeomShape) -> crate::Result<Shape> {
 /// ways must meet) cannot say bit for bit, so each distinct (contype, conaffinity) pair of the
 /// file becomes a class with its own bit (1 to 30) as its group, whose mask holds the classes
 /// it collides with and bit 0 (the world's default group) when it collides with anything at
-/// all. A robot
-/// without self-collision sets bit 31 in its moving links' groups and clears it from their
-/// masks.
+/// all. Without self-collision a robot's geometry (a URDF's welded base included) has bit 31
+/// alone as its group and not in its mask, so it meets everything but itself; an MJCF
+/// worldbody's geometry (the floor) adds bit 31 to its mask to keep meeting the robot.
 fn collision_filters(
     spec: &RobotSpec,
     geoms: &[Vec<(usize, GeomSpec)>],
@@ -330,9 +330,17 @@ fn collision_filters(
                     } else {
                         (g.groups, g.mask)
                     };
-                    if link != 0 && !self_collision {
-                        groups |= NO_SELF_COLLISION_BIT;
-                        mask &= !NO_SELF_COLLISION_BIT;
+                    // A URDF's world link holds only the robot's own welded base; an MJCF
+                    // worldbody's geometry (the floor) meets the robot whatever the setting.
+                    let robot_part = link != 0 || !spec.mujoco_filter;
+                    if !self_collision && mask != 0 {
+                        if robot_part {
+                            // Its group is the robot's bit alone, which its own mask lacks.
+                            groups = NO_SELF_COLLISION_BIT;
+                            mask &= !NO_SELF_COLLISION_BIT;
+                        } else {
+                            mask |= NO_SELF_COLLISION_BIT;
+                        }
                     }
                     (groups, mask)
                 })

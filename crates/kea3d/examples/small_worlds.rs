@@ -1,0 +1,80 @@
+//! The small-world step that batches of learning environments spend their time in: 1,024
+//! cart-poles (a cart on a slider with a motor, a pole on a hinge, colliders that touch
+//! nothing) and 1,024 KUKA iiwa arms from pybullet_data's URDF (7 hinges, no contacts),
+//! stepped one after another on one thread. Prints µs per world step: the figure to profile
+//! (`perf record -g target/release/examples/small_worlds`).
+//!
+//! `cargo run --release -p kea3d --example small_worlds [-- KUKA_URDF]`
+
+use kea3d::prelude::*;
+use kea3d::robot::UrdfOptions;
+use std::time::Instant;
+
+fn cart_pole() -> PhysicsWorld {
+    let mut w = PhysicsWorld::new();
+    let cart = w.insert_body(Body::dynamic().mass(1.0)).unwrap();
+    w.insert_collider(Collider::cuboid([0.25, 0.1, 0.15]), Some(cart))
+        .unwrap();
+    let pole = w.insert_body(Body::dynamic().mass(0.1)).unwrap();
+    w.insert_collider(
+        Collider::capsule([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.03),
+        Some(pole),
+    )
+    .unwrap();
+    let slider = Joint::prismatic([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+        .limits(-2.4, 2.4)
+        .motor(0.5, 30.0);
+    w.insert_joint(cart, None, slider).unwrap();
+    w.insert_joint(
+        pole,
+        Some(cart),
+        Joint::hinge([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+    )
+    .unwrap();
+    w.set_step_timing(false);
+    w
+}
+
+fn time(name: &str, template: &PhysicsWorld, dt: Real, steps: usize) {
+    let mut worlds = vec![template.clone(); 1024];
+    for w in &mut worlds {
+        w.step(dt).unwrap(); // warm
+    }
+    let start = Instant::now();
+    for w in &mut worlds {
+        for _ in 0..steps {
+            w.step(dt).unwrap();
+        }
+    }
+    let per = start.elapsed().as_secs_f64() * 1e6 / (worlds.len() * steps) as f64;
+    let last = worlds[0].step(dt).unwrap();
+    println!(
+        "{name}: {per:.2} µs per world step ({} worlds × {steps} steps of {dt} s; {} rows, {} pairs, {} manifolds)",
+        worlds.len(),
+        last.rows,
+        last.collision.pairs,
+        last.collision.manifolds
+    );
+}
+
+fn main() {
+    let steps: usize = std::env::var("KEA_STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(200);
+    time("cart-pole", &cart_pole(), 0.01, steps);
+    if let Some(path) = std::env::args().nth(1) {
+        let mut arm = PhysicsWorld::new();
+        arm.set_gravity([0.0, 0.0, -9.81]).unwrap();
+        let options = UrdfOptions {
+            fixed_base: true,
+            ..UrdfOptions::default()
+        };
+        let robot = arm.load_urdf(&path, &options).unwrap();
+        robot
+            .set_joint_positions(&mut arm, &[0.4, 0.5, -0.3, -1.1, 0.5, 0.8, 0.2])
+            .unwrap();
+        arm.set_step_timing(false);
+        time("kuka iiwa", &arm, 0.002, steps);
+    }
+}
