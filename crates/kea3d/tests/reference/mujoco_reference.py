@@ -7,6 +7,9 @@
         loads MODEL (URDF or MJCF) in MuJoCo, sets joint positions Q0 (and velocities V0,
         comma-separated, in MuJoCo's qpos/qvel order), turns contacts off, steps STEPS times
         of DT and prints JSON {"t": [...], "q": [[...], ...]} every EVERY steps
+    python mujoco_reference.py pybullet_swing URDF DT STEPS EVERY Q0
+        the same swing in PyBullet (fixed base, the file's inertias, its default link damping
+        turned off, motors off), for reporting beside MuJoCo
     python mujoco_reference.py drop MODEL DT STEPS INDEX
         drops an MJCF model from its file pose and prints qpos[INDEX] (the torso's height) at
         the end
@@ -86,6 +89,34 @@ def swing(model_path, dt, steps, every, q0, v0):
     return {"t": t, "q": q, "nq": m.nq}
 
 
+def pybullet_swing(urdf, dt, steps, every, q0):
+    import pybullet as p
+    client = p.connect(p.DIRECT)
+    try:
+        p.setGravity(0, 0, -9.81, physicsClientId=client)
+        p.setTimeStep(dt, physicsClientId=client)
+        robot = p.loadURDF(urdf, useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE,
+                           physicsClientId=client)
+        movable = [j for j in range(p.getNumJoints(robot, physicsClientId=client))
+                   if p.getJointInfo(robot, j, physicsClientId=client)[2] != p.JOINT_FIXED]
+        for link in [-1] + list(range(p.getNumJoints(robot, physicsClientId=client))):
+            p.changeDynamics(robot, link, linearDamping=0, angularDamping=0, physicsClientId=client)
+        for j, q in zip(movable, q0):
+            p.resetJointState(robot, j, q, physicsClientId=client)
+        p.setJointMotorControlArray(robot, movable, p.VELOCITY_CONTROL, forces=[0.0] * len(movable),
+                                    physicsClientId=client)
+        read = lambda: [s[0] for s in p.getJointStates(robot, movable, physicsClientId=client)]
+        t, q = [0.0], [read()]
+        for k in range(1, steps + 1):
+            p.stepSimulation(physicsClientId=client)
+            if k % every == 0:
+                t.append(k * dt)
+                q.append(read())
+        return {"t": t, "q": q}
+    finally:
+        p.disconnect(client)
+
+
 def drop(model_path, dt, steps, index):
     import mujoco
     m = load(model_path)
@@ -103,6 +134,8 @@ def main(argv):
     elif argv[0] == "swing":
         out = swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]),
                     numbers(argv[6]) if len(argv) > 6 else [])
+    elif argv[0] == "pybullet_swing":
+        out = pybullet_swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]))
     elif argv[0] == "drop":
         out = drop(argv[1], float(argv[2]), int(argv[3]), int(argv[4]))
     else:
