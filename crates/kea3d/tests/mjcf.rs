@@ -324,3 +324,51 @@ fn bad_models_are_refused_naming_line_and_element_and_add_nothing() {
         assert_eq!(world.gravity(), gravity, "not even the gravity changed");
     }
 }
+
+#[test]
+fn includes_splice_their_children_and_keep_the_lines_of_the_including_file() {
+    let dir = std::env::temp_dir().join(format!("kea-mjcf-include-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("common")).unwrap();
+    std::fs::write(
+        dir.join("common/defaults.xml"),
+        "<mujoco>\n  <default><geom density=\"500\"/></default>\n  <option><flag contact=\"disable\"/></option>\n</mujoco>\n",
+    )
+    .unwrap();
+    let main = "<mujoco>\n<include file=\"./common/defaults.xml\"/>\n<worldbody>\n<geom type=\"plane\" size=\"5 5 1\"/>\n<body name=\"b\" pos=\"0 0 1\"><freejoint/><geom size=\"0.1\"/></body>\n</worldbody>\n</mujoco>\n";
+    std::fs::write(dir.join("main.xml"), main).unwrap();
+    let mut world = PhysicsWorld::new();
+    let robot = world
+        .load_mjcf(dir.join("main.xml"), &MjcfOptions::default())
+        .unwrap();
+    let mass = world.body(robot.body("b").unwrap()).unwrap().mass();
+    let sphere = 4.0 / 3.0 * kea3d::dynamics::PI_REAL * 0.001;
+    assert!(
+        (mass - 500.0 * sphere).abs() < 1e-4,
+        "the included default applies: {mass}"
+    );
+    // The included flag turns contacts off: the ball falls through the plane.
+    for _ in 0..120 {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    assert!(robot.joint_positions(&world).unwrap()[2] < -1.0);
+    // An error after the include keeps its own line; a missing include is named.
+    let bad = main.replace("size=\"0.1\"", "size=\"x\"");
+    std::fs::write(dir.join("bad.xml"), bad).unwrap();
+    let e = world
+        .load_mjcf(dir.join("bad.xml"), &MjcfOptions::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("bad.xml:5"), "{e}");
+    std::fs::write(
+        dir.join("missing.xml"),
+        "<mujoco>\n<include file=\"nope.xml\"/>\n</mujoco>",
+    )
+    .unwrap();
+    let e = world
+        .load_mjcf(dir.join("missing.xml"), &MjcfOptions::default())
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("missing.xml:2") && e.to_string().contains("nope.xml"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

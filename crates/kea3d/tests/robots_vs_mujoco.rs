@@ -254,3 +254,44 @@ fn gymnasium_ant_comes_to_rest_at_mujocos_height() {
 fn gymnasium_hopper_comes_to_rest_at_mujocos_height() {
     drop_height("hopper.xml", 5.0);
 }
+
+/// dm_control's suite (when installed): the models without tendons load (their `<include>`s
+/// spliced in) and step; those with tendons are refused naming the element.
+#[test]
+fn dm_control_suite_models_load_or_are_refused_by_name() {
+    let Some(dirs) = reference::model_dirs() else {
+        return;
+    };
+    let Some(suite) = dirs["dm_control_suite"].as_str() else {
+        println!("SKIPPED: dm_control is not installed (it is optional)");
+        return;
+    };
+    let suite = PathBuf::from(suite);
+    for name in [
+        "acrobot", "cartpole", "pendulum", "reacher", "walker", "cheetah", "hopper", "finger",
+        "swimmer",
+    ] {
+        let mut world = PhysicsWorld::new();
+        let robot = world
+            .load_mjcf(suite.join(format!("{name}.xml")), &MjcfOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let h = robot.timestep().unwrap_or(0.01);
+        for _ in 0..100 {
+            world.step(h).unwrap();
+        }
+        assert!(
+            robot
+                .joint_positions(&world)
+                .unwrap()
+                .iter()
+                .all(|q| q.is_finite()),
+            "{name}"
+        );
+    }
+    for name in ["point_mass", "manipulator", "fish"] {
+        let e = PhysicsWorld::new()
+            .load_mjcf(suite.join(format!("{name}.xml")), &MjcfOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().contains("tendon"), "{name}: {e}");
+    }
+}

@@ -97,7 +97,8 @@ pub(crate) fn parse(
     file: &Path,
     options: &MjcfOptions,
 ) -> Result<MjcfModel, ImportError> {
-    let doc = Document::parse(text)
+    let text = super::mjcf_include::expand(text, file)?;
+    let doc = Document::parse(&text)
         .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
     let src = Source { file, doc: &doc };
     let root = doc.root_element();
@@ -122,9 +123,6 @@ pub(crate) fn parse(
         ];
         if !known.contains(&tag) && !PASSIVE_SECTIONS.contains(&tag) {
             return Err(src.error(section, format!("<{tag}> is not supported")));
-        }
-        if tag == "include" {
-            return Err(src.error(section, "<include> is not supported: merge the files first"));
         }
     }
     let compiler = Compiler::read(&src, root)?;
@@ -154,12 +152,31 @@ pub(crate) fn parse(
         reader.read_body_contents(world, 0, MAIN)?;
     }
     let actuators = reader.read_actuators(root)?;
+    if contacts_disabled(root) {
+        // The model asks for no contacts at all: no geometry collides.
+        for g in reader
+            .spec
+            .links
+            .iter_mut()
+            .flat_map(|l| l.geoms.iter_mut())
+        {
+            g.groups = 0;
+            g.mask = 0;
+        }
+    }
     Ok(MjcfModel {
         spec: reader.spec,
         gravity,
         timestep,
         actuators,
     })
+}
+
+/// Whether `<option><flag contact="disable"/>` turns contacts off.
+fn contacts_disabled(root: Node<'_, '_>) -> bool {
+    children(root, "option")
+        .flat_map(|o| children(o, "flag"))
+        .any(|f| f.attribute("contact") == Some("disable"))
 }
 
 fn read_option(src: &Source<'_>, root: Node<'_, '_>) -> Result<(Vec3, Option<Real>), ImportError> {

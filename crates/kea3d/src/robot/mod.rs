@@ -33,6 +33,7 @@ mod error;
 mod mesh;
 mod mjcf;
 mod mjcf_defaults;
+mod mjcf_include;
 mod model;
 mod spec;
 mod urdf;
