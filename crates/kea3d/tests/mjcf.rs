@@ -372,3 +372,34 @@ fn includes_splice_their_children_and_keep_the_lines_of_the_including_file() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_planar_roots_coordinates_keep_the_files_sense_for_stops_and_motors() {
+    // Slides along x and z and a hinge about +y: Kea's second travel (the turn's axis × the
+    // first) runs along −z, against the file's; forces and stops still act as the file says.
+    let xml = r#"<mujoco><compiler angle="radian"/><option gravity="0 0 0"/><worldbody>
+          <body name="torso" pos="0 0 1">
+            <joint name="rootx" type="slide" axis="1 0 0"/>
+            <joint name="rootz" type="slide" axis="0 0 1" ref="1" range="0.5 1.2" limited="true"/>
+            <joint name="rooty" type="hinge" axis="0 1 0"/>
+            <inertial pos="0 0 0" mass="2" diaginertia="0.1 0.1 0.1"/>
+          </body></worldbody>
+          <actuator><motor joint="rootz" gear="1"/></actuator></mujoco>"#;
+    let (mut world, robot) = load(xml);
+    robot.set_controls(&mut world, &[1.0]).unwrap();
+    for _ in 0..200 {
+        world.step(1e-3).unwrap();
+    }
+    // 1 N on 2 kg for 0.2 s: up 1 cm, from the file's 1.
+    let q = robot.joint_positions(&world).unwrap();
+    assert!((q[1] - 1.01).abs() < 1e-3, "rootz = {}", q[1]);
+    for _ in 0..3000 {
+        world.step(1e-3).unwrap();
+    }
+    let q = robot.joint_positions(&world).unwrap();
+    assert!(
+        (q[1] - 1.2).abs() < 2e-3,
+        "held at its upper stop: rootz = {}",
+        q[1]
+    );
+}

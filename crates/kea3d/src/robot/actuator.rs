@@ -1,7 +1,7 @@
 //! Driving a loaded robot: the file's actuators fed one control each (MuJoCo's `ctrl`), or a
 //! force per joint coordinate.
 
-use super::build::coordinate_limit;
+use super::build::{coordinate_limit, kea_sign};
 use super::mjcf::{ActuatorKind, ActuatorSpec};
 use super::model::Robot;
 use super::spec::JointType;
@@ -46,29 +46,32 @@ impl Robot {
                 .force_range
                 .unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
             let g = a.gear;
+            let (j, k) = self.actuated(a).ok_or(KeaError::InvalidState {
+                operation: "set_controls",
+                reason: "an actuator's joint is not in the robot",
+            })?;
+            // Kea's coordinate is 0 at the file's pose, where the file's reads `ref`.
+            let reference = self.joints()[j].coords[k].reference;
+            let cap = (lo.abs().max(hi.abs()) * g.abs()).max(Real::MIN_POSITIVE);
+            // MuJoCo: the actuator's force is its gain times the control (clamped to the force
+            // range), and the joint feels `gear` times it.
             let actuator = match a.kind {
-                ActuatorKind::Motor => {
-                    Actuator::Force((g * u).clamp(lo, hi) * g.signum() * g.signum())
-                }
+                ActuatorKind::Motor => Actuator::Force(g * u.clamp(lo, hi)),
                 ActuatorKind::Position { kp, kv } => Actuator::Servo {
-                    position: u / g,
+                    position: u / g - reference,
                     velocity: 0.0,
                     stiffness: kp * g * g,
                     damping: kv * g * g,
-                    max_force: (lo.abs().max(hi.abs()) * g.abs()).max(Real::MIN_POSITIVE),
+                    max_force: cap,
                 },
                 ActuatorKind::Velocity { kv } => Actuator::Servo {
                     position: 0.0,
                     velocity: u / g,
                     stiffness: 0.0,
                     damping: kv * g * g,
-                    max_force: (lo.abs().max(hi.abs()) * g.abs()).max(Real::MIN_POSITIVE),
+                    max_force: cap,
                 },
             };
-            let (j, k) = self.actuated(a).ok_or(KeaError::InvalidState {
-                operation: "set_controls",
-                reason: "an actuator's joint is not in the robot",
-            })?;
             staged.push((j, k, actuator));
         }
         for (j, k, actuator) in staged {
@@ -123,8 +126,10 @@ impl Robot {
             let Some(raw) = j.raw else { continue };
             for k in 0..j.kind.velocity_count() {
                 let at = j.first_velocity + k;
+                let sign = kea_sign(j.kind, &j.coords, k);
                 if let Some(limit) = coordinate_limit(&mut staged, raw, j.kind, k)? {
-                    limit.set_motor(velocities[at], max_forces[at].min(UNCAPPED_MOTOR_FORCE))?;
+                    let cap = max_forces[at].min(UNCAPPED_MOTOR_FORCE);
+                    limit.set_motor(sign * velocities[at], cap)?;
                 }
             }
         }
@@ -161,6 +166,24 @@ impl Robot {
         let Some(raw) = j.raw else {
             return Ok(());
         };
+        // In Kea's sense of the coordinate (see `kea_sign`).
+        let sign = kea_sign(j.kind, &j.coords, k);
+        let a = a.map(|a| match a {
+            Actuator::Force(f) => Actuator::Force(sign * f),
+            Actuator::Servo {
+                position,
+                velocity,
+                stiffness,
+                damping,
+                max_force,
+            } => Actuator::Servo {
+                position: sign * position,
+                velocity: sign * velocity,
+                stiffness,
+                damping,
+                max_force,
+            },
+        });
         if let Some(limit) = coordinate_limit(world, raw, j.kind, k)? {
             limit.set_actuator(a)?;
         }

@@ -3,7 +3,9 @@
 //! [`Robot`] that knows where every link and coordinate went.
 
 use super::model::{Robot, RobotJoint, RobotLink};
-use super::spec::{GeomShape, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec};
+use super::spec::{
+    Coordinate, GeomShape, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec,
+};
 use super::xml::above;
 use super::ImportError;
 use crate::{Body, Collider, Joint, PhysicsWorld};
@@ -437,20 +439,37 @@ fn make_joint(
         }
     };
     for (k, c) in j.coords.iter().enumerate() {
+        let sign = kea_sign(j.kind, &j.coords, k);
         if let Some(limit) = coordinate_limit(world, raw, j.kind, k)? {
             let mut changed = *limit;
             if let Some((lo, hi)) = c.limits {
                 let stop = |at: Real| SingleLimit {
                     recovery_speed: STOP_RECOVERY_SPEED,
-                    ..SingleLimit::hard(at - c.reference, 0.0)
+                    ..SingleLimit::hard(sign * (at - c.reference), 0.0)
                 };
-                changed.set_limits(stop(lo), stop(hi))?;
+                let (a, b) = if sign > 0.0 { (lo, hi) } else { (hi, lo) };
+                changed.set_limits(stop(a), stop(b))?;
             }
-            changed.set_dynamics(c.dynamics)?;
+            let mut dynamics = c.dynamics;
+            dynamics.rest *= sign;
+            changed.set_dynamics(dynamics)?;
             *coordinate_limit(world, raw, j.kind, k)?.expect("found above") = changed;
         }
     }
     Ok(Some(raw))
+}
+
+/// +1, or −1 where Kea's coordinate `k` of a joint runs against the file's: a planar joint's
+/// second travel is Kea's `normal × first` (the normal being the turn's axis), which the file's
+/// second slide may point against.
+pub(crate) fn kea_sign(kind: JointType, coords: &[Coordinate], k: usize) -> Real {
+    if kind == JointType::Planar && k == 1 {
+        let second = coords[2].axis.cross(coords[0].axis);
+        if second.dot(coords[1].axis) < 0.0 {
+            return -1.0;
+        }
+    }
+    1.0
 }
 
 /// The limit of coordinate `k` of a joint, where it has one.
