@@ -403,3 +403,63 @@ fn a_planar_roots_coordinates_keep_the_files_sense_for_stops_and_motors() {
         q[1]
     );
 }
+
+#[test]
+fn each_mjcf_geometry_becomes_the_collider_its_size_says() {
+    let dir = std::env::temp_dir().join(format!("kea-mjcf-geoms-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A unit tetrahedron, scaled by 2 in the asset.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(dir.join("tet.obj"), obj).unwrap();
+    let xml = r#"<mujoco><compiler angle="radian"/>
+      <asset><mesh name="tet" file="tet.obj" scale="2 2 2"/></asset>
+      <worldbody>
+        <geom type="plane" size="5 5 0.1" pos="0 0 -1"/>
+        <body name="b" pos="0 0 0">
+          <joint type="free"/>
+          <geom type="cylinder" fromto="10 0 0 10 0 2" size="0.5"/>
+          <geom type="ellipsoid" pos="20 0 0" size="1 2 3"/>
+          <geom type="box" pos="30 0 0" size="1 2 3"/>
+          <geom type="mesh" mesh="tet" pos="40 0 0"/>
+          <geom type="capsule" pos="50 0 0" size="0.5 1"/>
+        </body>
+      </worldbody></mujoco>"#;
+    let mut world = PhysicsWorld::new();
+    world
+        .load_mjcf_str(xml, dir.join("g.xml"), &MjcfOptions::default())
+        .unwrap();
+    let down = Vec3::new(0.0, 0.0, -1.0);
+    let ray = |x: Real, y: Real| {
+        world
+            .collision()
+            .cast_ray(
+                world.dynamics(),
+                Vec3::new(x, y, 10.0),
+                down,
+                100.0,
+                kea3d::collision::QueryFilter::default(),
+            )
+            .unwrap()
+            .map(|h| 10.0 - h.distance)
+    };
+    // The heights of the tops, in order: cylinder (fromto to z = 2), ellipsoid (z radius 3),
+    // box (half height 3), the tetrahedron scaled by 2 (its apex at z = 2), capsule (1 + 0.5),
+    // and the plane at z = −1 beside them.
+    let tops = [
+        ray(10.0, 0.0),
+        ray(20.0, 0.0),
+        ray(30.0, 0.0),
+        ray(40.01, 0.01),
+        ray(50.0, 0.0),
+        ray(-3.0, 3.0),
+    ];
+    let expected = [2.0, 3.0, 3.0, 1.96, 1.5, -1.0];
+    for (k, (t, e)) in tops.iter().zip(expected).enumerate() {
+        let t = t.unwrap_or_else(|| panic!("ray {k} missed"));
+        assert!(
+            (t - e).abs() < 0.05,
+            "geometry {k}: top at {t}, expected {e}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
