@@ -476,3 +476,56 @@ fn a_robot_world_restores_from_its_snapshot_and_steps_on_the_same_bits() {
         "{a:?}\n{b:?}"
     );
 }
+
+#[test]
+fn files_as_tools_write_them_load_as_pybullet_reads_them() {
+    // Comma-separated numbers, a declaration after a blank line, a trailing NUL, PyBullet's
+    // `spherical` joint and `plane` geometry, and a massless free base (static).
+    let text = "\n<?xml version=\"1.0\"?>\n<robot name=\"tools\">\n\
+      <link name=\"floor\"><collision><geometry><plane normal=\"0 0 1\"/></geometry></collision></link>\n\
+      <link name=\"ball\"><inertial><origin xyz=\"0, 0, 0\"/><mass value=\"1\"/>\
+      <inertia ixx=\"0.1\" iyy=\"0.1\" izz=\"0.1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial></link>\n\
+      <joint name=\"neck\" type=\"spherical\"><parent link=\"floor\"/><child link=\"ball\"/>\
+      <origin xyz=\"0, 0, 1\"/></joint>\n</robot>\n\0";
+    let mut world = z_up();
+    let robot = world
+        .load_urdf_str(text, "tools.urdf", &UrdfOptions::default())
+        .unwrap();
+    assert!(robot
+        .skipped()
+        .iter()
+        .any(|s| s.contains("floor") && s.contains("static")));
+    assert_eq!(robot.joint("neck").unwrap().kind, JointType::Ball);
+    assert_eq!(
+        robot.position_count(),
+        4,
+        "the floor is static: only the ball joint's quaternion"
+    );
+    let ball = robot.body("ball").unwrap();
+    assert!(close(
+        world.position(ball).unwrap(),
+        Vec3::new(0.0, 0.0, 1.0),
+        1e-6
+    ));
+    // A flat mesh collides as the mesh, with a note.
+    let dir = std::env::temp_dir().join(format!("kea-urdf-flat-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("sheet.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n",
+    )
+    .unwrap();
+    let sheet = r#"<robot name="s"><link name="s">
+        <inertial><mass value="1"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+        <collision><geometry><mesh filename="sheet.obj"/></geometry></collision></link></robot>"#;
+    std::fs::write(dir.join("s.urdf"), sheet).unwrap();
+    let robot = z_up()
+        .load_urdf(dir.join("s.urdf"), &UrdfOptions::default())
+        .unwrap();
+    assert!(
+        robot.skipped().iter().any(|s| s.contains("flat")),
+        "{:?}",
+        robot.skipped()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

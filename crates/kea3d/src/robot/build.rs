@@ -34,10 +34,47 @@ pub(crate) fn build(
     file: &Path,
     options: &BuildOptions,
 ) -> Result<Robot, ImportError> {
+    let spec = &settle_massless_roots(spec, file)?;
     let mut scratch = world.clone();
     let robot = build_into(&mut scratch, spec, file, options)?;
     *world = scratch;
     Ok(robot)
+}
+
+/// The spec with every free root that weighs nothing (with the links welded to it) welded to
+/// the world instead: PyBullet reads a massless base as static (a floor, a table, a tray).
+fn settle_massless_roots(spec: &RobotSpec, file: &Path) -> Result<RobotSpec, ImportError> {
+    fn welded_mass(spec: &RobotSpec, link: usize) -> crate::Result<Real> {
+        let mut m = link_inertial(spec, link)?.mass;
+        for j in spec
+            .joints
+            .iter()
+            .filter(|j| j.parent == link && j.kind == JointType::Fixed)
+        {
+            m += welded_mass(spec, j.child)?;
+        }
+        Ok(m)
+    }
+    let mut out = spec.clone();
+    for j in &mut out.joints {
+        if j.kind != JointType::Free || j.parent != 0 {
+            continue;
+        }
+        let mass = welded_mass(spec, j.child).map_err(|source| ImportError::World {
+            file: file.to_path_buf(),
+            element: format!("link \"{}\"", spec.links[j.child].name),
+            source,
+        })?;
+        if mass <= 0.0 {
+            j.kind = JointType::Fixed;
+            out.skipped.push(format!(
+                "{}: link \"{}\" weighs nothing: static, as PyBullet reads a massless base",
+                file.display(),
+                spec.links[j.child].name
+            ));
+        }
+    }
+    Ok(out)
 }
 
 /// Links in an order where every parent comes before its children, with each link's joint.
@@ -154,7 +191,14 @@ fn build_into(
             .map_err(wrap(&format!("link \"{name}\"")))?;
         body_of[link] = Some(h);
         for (k, (owner, g)) in geoms[link].iter().enumerate() {
-            let collider = collider(g, filters[link][k]);
+            let (collider, note) = collider(g, filters[link][k]);
+            if let Some(note) = note {
+                skipped.push(format!(
+                    "{}: a collision geometry of link \"{}\": {note}",
+                    file.display(),
+                    spec.links[*owner].name
+                ));
+            }
             world
                 .insert_collider(collider, Some(h))
                 .map_err(wrap(&format!(
@@ -279,7 +323,7 @@ fn shape_of(shape: &GeomShape) -> crate::Result<Shape> {
             radius,
             half_length,
         } => Shape::capsule(*half_length, *radius),
-        GeomShape::Hull(points) => Shape::convex_hull(points),
+        GeomShape::Hull(points, _) => Shape::convex_hull(points),
         GeomShape::Mesh(v, i) => Shape::trimesh(v.clone(), i.clone()),
         GeomShape::Plane => Shape::plane(Vec3::Y),
     }
@@ -373,32 +417,44 @@ fn grown(shape: &GeomShape, skin: Real) -> GeomShape {
             radius: radius + skin,
             half_length: *half_length,
         },
-        GeomShape::Hull(points) => {
+        GeomShape::Hull(points, triangles) => {
             let centre = points.iter().copied().sum::<Vec3>() / points.len().max(1) as Real;
             GeomShape::Hull(
                 points
                     .iter()
                     .map(|&p| p + (p - centre).normalize_or_zero() * skin)
                     .collect(),
+                triangles.clone(),
             )
         }
         GeomShape::Mesh(..) | GeomShape::Plane => shape.clone(),
     }
 }
 
-fn collider(g: &GeomSpec, (groups, mask): (u32, u32)) -> Collider {
+/// A geometry's collider, and a note when a flat mesh's hull (no volume) had to collide as the
+/// mesh itself.
+fn collider(g: &GeomSpec, (groups, mask): (u32, u32)) -> (Collider, Option<&'static str>) {
     let (mut offset, rotation) = placement(g);
     if g.shape == GeomShape::Plane {
         offset += g.pose.rotation * Vec3::Z * g.skin.max(0.0);
     }
-    let mut c = Collider::from_result(shape_of(&grown(&g.shape, g.skin)))
+    let mut note = None;
+    let shape = match (shape_of(&grown(&g.shape, g.skin)), &g.shape) {
+        (Err(_), GeomShape::Hull(points, triangles)) if !triangles.is_empty() => {
+            note =
+                Some("its mesh is flat (its convex hull has no volume): it collides as the mesh");
+            Shape::trimesh(points.clone(), triangles.clone())
+        }
+        (shape, _) => shape,
+    };
+    let mut c = Collider::from_result(shape)
         .translation(offset)
         .rotation(rotation)
         .collision_groups(groups, mask);
     if let Some(mu) = g.friction {
         c = c.friction(mu);
     }
-    c
+    (c, note)
 }
 
 /// The Kea joint of a spec joint (`None` for a free one).

@@ -97,7 +97,7 @@ pub(crate) fn parse(
     file: &Path,
     options: &MjcfOptions,
 ) -> Result<MjcfModel, ImportError> {
-    let text = super::mjcf_include::expand(text, file)?;
+    let text = super::mjcf_include::expand(&super::xml::tidy(text), file)?;
     let doc = Document::parse(&text)
         .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
     let src = Source { file, doc: &doc };
@@ -405,7 +405,7 @@ impl<'a, 'd> Reader<'a, 'd> {
                 }
             }
             "box" => GeomShape::Cuboid(Vec3::from_array(need(3)?)),
-            "ellipsoid" => GeomShape::Hull(ellipsoid_points(Vec3::from_array(need(3)?))),
+            "ellipsoid" => GeomShape::Hull(ellipsoid_points(Vec3::from_array(need(3)?)), Vec::new()),
             "plane" => {
                 if !static_body {
                     return Err(el.error("a plane can only belong to the worldbody or a static body"));
@@ -424,7 +424,7 @@ impl<'a, 'd> Reader<'a, 'd> {
                 if self.options.meshes_as_trimesh {
                     GeomShape::Mesh(m.vertices, m.triangles)
                 } else {
-                    GeomShape::Hull(m.vertices)
+                    GeomShape::Hull(m.vertices, m.triangles)
                 }
             }
             other => return Err(el.error(format!("geom type \"{other}\" is not supported (sphere, capsule, cylinder, box, ellipsoid, plane, mesh)"))),

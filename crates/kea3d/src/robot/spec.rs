@@ -125,8 +125,9 @@ pub(crate) enum GeomShape {
         radius: Real,
         half_length: Real,
     },
-    /// The convex hull of these points.
-    Hull(Vec<Vec3>),
+    /// The convex hull of these points; the mesh's triangles where they came from one (a flat
+    /// mesh, whose hull has no volume, collides as that mesh instead).
+    Hull(Vec<Vec3>, Vec<[u32; 3]>),
     /// A triangle mesh.
     Mesh(Vec<Vec3>, Vec<[u32; 3]>),
     /// The plane z = 0 of its frame, solid below.

@@ -26,7 +26,8 @@ pub(crate) fn parse(
     file: &Path,
     options: &UrdfOptions,
 ) -> Result<RobotSpec, ImportError> {
-    let doc = Document::parse(text)
+    let text = super::xml::tidy(text);
+    let doc = Document::parse(&text)
         .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
     let src = Source { file, doc: &doc };
     let robot = doc.root_element();
@@ -288,6 +289,14 @@ fn read_shape(
             radius: positive(src, shape, "radius")?,
             half_length: 0.5 * positive(src, shape, "length")?,
         },
+        // PyBullet's extension: the plane z = 0 of the collision frame (its `normal` turns it).
+        "plane" => {
+            let normal = src.direction(shape, "normal")?.unwrap_or(Vec3::Z);
+            if (normal - Vec3::Z).length() > 1e-6 {
+                return Err(src.error(shape, format!("a plane's normal {normal} must be 0 0 1 (turn it with the collision's origin)")));
+            }
+            GeomShape::Plane
+        }
         "capsule" => GeomShape::Capsule {
             radius: positive(src, shape, "radius")?,
             half_length: 0.5 * positive(src, shape, "length")?,
@@ -302,7 +311,7 @@ fn read_shape(
             if options.meshes_as_trimesh {
                 GeomShape::Mesh(m.vertices, m.triangles)
             } else {
-                GeomShape::Hull(m.vertices)
+                GeomShape::Hull(m.vertices, m.triangles)
             }
         }
         other => {
@@ -327,10 +336,12 @@ fn read_joint(
         "fixed" => JointType::Fixed,
         "floating" => JointType::Free,
         "planar" => JointType::Planar,
+        // PyBullet's extension: a ball joint.
+        "spherical" => JointType::Ball,
         other => {
             return Err(src.error(
                 joint,
-                format!("joint type \"{other}\" is not a URDF joint type (revolute, continuous, prismatic, fixed, floating, planar)"),
+                format!("joint type \"{other}\" is not a URDF joint type (revolute, continuous, prismatic, fixed, floating, planar; spherical as PyBullet reads it)"),
             ))
         }
     };

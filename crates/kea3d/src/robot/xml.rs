@@ -65,7 +65,8 @@ impl<'a> Source<'a> {
         attr: &str,
         text: &str,
     ) -> Result<Vec<Real>, ImportError> {
-        text.split_whitespace()
+        text.split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
             .map(|t| {
                 t.parse::<Real>()
                     .ok()
@@ -116,6 +117,25 @@ impl<'a> Source<'a> {
         }
         Ok(Some(v / len))
     }
+}
+
+/// Text as XML readers take it from files written by hand and by tools: an XML declaration
+/// that does not open the file (blank lines or a comment before it) blanked out, trailing NUL
+/// bytes dropped. Every line keeps its number.
+pub(crate) fn tidy(text: &str) -> String {
+    let mut out = text.trim_end_matches('\0').to_string();
+    if let Some(at) = out.find("<?xml") {
+        if at > 0 {
+            if let Some(len) = out[at..].find("?>") {
+                let blank: String = out[at..at + len + 2]
+                    .chars()
+                    .map(|c| if c == '\n' { '\n' } else { ' ' })
+                    .collect();
+                out.replace_range(at..at + len + 2, &blank);
+            }
+        }
+    }
+    out
 }
 
 /// `tag "name"`, or just `tag`.
