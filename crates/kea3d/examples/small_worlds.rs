@@ -35,6 +35,15 @@ fn cart_pole() -> PhysicsWorld {
     w
 }
 
+/// One free body and nothing else: the pipeline's floor.
+fn one_body() -> PhysicsWorld {
+    let mut w = PhysicsWorld::new();
+    let b = w.insert_body(Body::dynamic().mass(1.0)).unwrap();
+    w.insert_collider(Collider::ball(0.1), Some(b)).unwrap();
+    w.set_step_timing(false);
+    w
+}
+
 fn time(name: &str, template: &PhysicsWorld, dt: Real, steps: usize) {
     let mut worlds = vec![template.clone(); 1024];
     for w in &mut worlds {
@@ -62,6 +71,7 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(200);
+    time("one falling ball", &one_body(), 0.01, steps);
     time("cart-pole", &cart_pole(), 0.01, steps);
     if let Some(path) = std::env::args().nth(1) {
         let mut arm = PhysicsWorld::new();
