@@ -3,7 +3,7 @@
 
 use super::build::{coordinate_limit, kea_sign};
 use super::mjcf::{ActuatorKind, ActuatorSpec};
-use super::model::Robot;
+use super::model::{check_vector, Robot};
 use super::spec::JointType;
 use crate::{PhysicsWorld, Result};
 use kea::{Actuator, KeaError, Real};
@@ -35,7 +35,7 @@ impl Robot {
     /// coordinate to `u / gear`, a velocity servo its rate to `u / gear`. Errors, changing
     /// nothing, on a vector whose length is not the actuator count or with a non-finite entry.
     pub fn set_controls(&self, world: &mut PhysicsWorld, controls: &[Real]) -> Result<()> {
-        check_len("controls", controls, self.actuators.len())?;
+        check_vector("controls", controls, self.actuators.len())?;
         let mut staged = Vec::with_capacity(self.actuators.len());
         for (a, &u) in self.actuators.iter().zip(controls) {
             let u = match a.ctrl_range {
@@ -85,7 +85,7 @@ impl Robot {
     /// Errors, changing nothing, on a bad length, a non-finite entry or a force on a free or
     /// ball joint.
     pub fn set_joint_forces(&self, world: &mut PhysicsWorld, forces: &[Real]) -> Result<()> {
-        check_len("forces", forces, self.velocity_count())?;
+        check_vector("forces", forces, self.velocity_count())?;
         self.check_free_and_ball("forces", forces)?;
         for (i, j) in self.joints().iter().enumerate() {
             if matches!(j.kind, JointType::Free | JointType::Ball | JointType::Fixed) {
@@ -109,7 +109,7 @@ impl Robot {
         velocities: &[Real],
         max_forces: &[Real],
     ) -> Result<()> {
-        check_len("velocities", velocities, self.velocity_count())?;
+        check_vector("velocities", velocities, self.velocity_count())?;
         if max_forces.len() != self.velocity_count()
             || max_forces.iter().any(|f| f.is_nan() || *f < 0.0)
         {
@@ -189,24 +189,4 @@ impl Robot {
         }
         Ok(())
     }
-}
-
-fn check_len(arg: &'static str, x: &[Real], len: usize) -> Result<()> {
-    if x.len() != len {
-        return Err(KeaError::OutOfRange {
-            arg,
-            value: format!("{} entries", x.len()),
-            expected: "one entry per actuator (controls) or per joint velocity (forces)",
-        }
-        .into());
-    }
-    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(KeaError::OutOfRange {
-            arg,
-            value: format!("entry {i} = {}", x[i]),
-            expected: "finite numbers",
-        }
-        .into());
-    }
-    Ok(())
 }

@@ -15,7 +15,6 @@ use super::mesh;
 use super::mjcf_defaults::{Compiler, Defaults, Element, MAIN};
 use super::spec::{
     Coordinate, GeomShape, GeomSpec, Inertial, JointSpec, JointType, LinkSpec, Pose, RobotSpec,
-    WORLD,
 };
 use super::xml::{above, children, Source};
 use super::{ImportError, MjcfOptions};
@@ -133,17 +132,7 @@ pub(crate) fn parse(
         compiler,
         defaults,
         options,
-        spec: RobotSpec {
-            name: root.attribute("model").unwrap_or("model").to_string(),
-            links: vec![LinkSpec {
-                name: WORLD.to_string(),
-                inertial: Some(Inertial::NONE),
-                geoms: Vec::new(),
-            }],
-            joints: Vec::new(),
-            skipped: Vec::new(),
-            mujoco_filter: true,
-        },
+        spec: RobotSpec::new(root.attribute("model").unwrap_or("model"), true),
         src,
         _doc: std::marker::PhantomData,
     };

@@ -463,7 +463,8 @@ fn quat_from(q: &[Real], arg: &'static str) -> Result<Quat> {
     Ok(r / len)
 }
 
-fn check_vector(arg: &'static str, x: &[Real], len: usize) -> Result<()> {
+/// Refuses a vector of the wrong length or with a non-finite entry, naming it.
+pub(crate) fn check_vector(arg: &'static str, x: &[Real], len: usize) -> Result<()> {
     if x.len() != len {
         return Err(KeaError::OutOfRange {
             arg,

@@ -270,5 +270,22 @@ pub(crate) struct RobotSpec {
     pub mujoco_filter: bool,
 }
 
+impl RobotSpec {
+    /// A robot with only the world link, its geometry filtered by Kea's rule or MuJoCo's.
+    pub fn new(name: &str, mujoco_filter: bool) -> Self {
+        Self {
+            name: name.to_string(),
+            links: vec![LinkSpec {
+                name: WORLD.to_string(),
+                inertial: Some(Inertial::NONE),
+                geoms: Vec::new(),
+            }],
+            joints: Vec::new(),
+            skipped: Vec::new(),
+            mujoco_filter,
+        }
+    }
+}
+
 /// Name of the world link.
 pub(crate) const WORLD: &str = "world";

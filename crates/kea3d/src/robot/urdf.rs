@@ -34,17 +34,7 @@ pub(crate) fn parse(
     if robot.tag_name().name() != "robot" {
         return Err(src.error(robot, "a URDF file's root element must be <robot>"));
     }
-    let mut spec = RobotSpec {
-        name: robot.attribute("name").unwrap_or("robot").to_string(),
-        links: vec![LinkSpec {
-            name: WORLD.to_string(),
-            inertial: Some(Inertial::NONE),
-            geoms: Vec::new(),
-        }],
-        joints: Vec::new(),
-        skipped: Vec::new(),
-        mujoco_filter: false,
-    };
+    let mut spec = RobotSpec::new(robot.attribute("name").unwrap_or("robot"), false);
     let mut world_link = false;
     for link in children(robot, "link") {
         let name = src.required(link, "name")?;
