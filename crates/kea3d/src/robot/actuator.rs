@@ -2,7 +2,7 @@
 //! force per joint coordinate.
 
 use super::build::{coordinate_limit, kea_sign};
-use super::mjcf::{ActuatorKind, ActuatorSpec};
+use super::mjcf_actuators::{ActuatorKind, ActuatorSpec};
 use super::model::{check_vector, Robot};
 use super::spec::JointType;
 use crate::{PhysicsWorld, Result};

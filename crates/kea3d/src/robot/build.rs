@@ -98,161 +98,239 @@ fn topological(spec: &RobotSpec) -> (Vec<usize>, Vec<Option<usize>>) {
     (order, parent_joint)
 }
 
+/// Where every link sits at the file's pose, and which link heads the body it is welded into.
+struct Layout {
+    /// Links, parents first.
+    order: Vec<usize>,
+    /// Each link's joint (none for the world).
+    parent_joint: Vec<Option<usize>>,
+    /// Each link's frame in the world.
+    pose: Vec<Pose>,
+    /// The link heading each link's body.
+    head: Vec<usize>,
+}
+
+impl Layout {
+    fn of(spec: &RobotSpec, base: Pose) -> Self {
+        let (order, parent_joint) = topological(spec);
+        let n = spec.links.len();
+        let mut pose = vec![Pose::IDENTITY; n];
+        let mut head = vec![0usize; n];
+        pose[0] = base;
+        for &link in &order[1..] {
+            let j = &spec.joints[parent_joint[link].expect("every link but the world has a joint")];
+            pose[link] = pose[j.parent].then(&j.origin);
+            head[link] = if j.kind == JointType::Fixed {
+                head[j.parent]
+            } else {
+                link
+            };
+        }
+        Self {
+            order,
+            parent_joint,
+            pose,
+            head,
+        }
+    }
+}
+
+/// One build in progress: the world it adds to and what it has noted.
+struct Builder<'a> {
+    world: &'a mut PhysicsWorld,
+    spec: &'a RobotSpec,
+    file: &'a Path,
+    layout: Layout,
+    skipped: Vec<String>,
+}
+
+impl Builder<'_> {
+    /// The world's error on `element`, placed in the file.
+    fn world_error(&self, element: String) -> impl Fn(crate::Error) -> ImportError + '_ {
+        move |source| ImportError::World {
+            file: self.file.to_path_buf(),
+            element: element.clone(),
+            source,
+        }
+    }
+
+    /// Each body's mass properties and geometry, gathered from its welded links into its head
+    /// link's frame.
+    #[allow(clippy::type_complexity)]
+    fn merged_links(&self) -> Result<(Vec<Inertial>, Vec<Vec<(usize, GeomSpec)>>), ImportError> {
+        let (spec, l) = (self.spec, &self.layout);
+        let n = spec.links.len();
+        let mut inertial = vec![Inertial::NONE; n];
+        let mut geoms: Vec<Vec<(usize, GeomSpec)>> = vec![Vec::new(); n];
+        for &link in &l.order {
+            let h = l.head[link];
+            let in_head = l.pose[h].inverse().then(&l.pose[link]);
+            let own = link_inertial(spec, link)
+                .map_err(self.world_error(format!("link \"{}\"", spec.links[link].name)))?;
+            inertial[h] = inertial[h].merged(&own, &in_head);
+            for g in &spec.links[link].geoms {
+                let mut g = g.clone();
+                g.pose = in_head.then(&g.pose);
+                geoms[h].push((link, g));
+            }
+        }
+        Ok((inertial, geoms))
+    }
+
+    /// The body a link heading one becomes: static for the world, else its merged mass
+    /// properties (a mass under Kea's least raised to it, noted; none refused).
+    fn body_for(&mut self, link: usize, m: Inertial) -> Result<Body, ImportError> {
+        let pose = self.layout.pose[link];
+        if link == 0 {
+            return Ok(Body::fixed()
+                .position(pose.translation)
+                .rotation(pose.rotation));
+        }
+        let name = &self.spec.links[link].name;
+        let mut m = m;
+        let floor = kea::error::MASS_RANGE.0;
+        if above(m.mass, 0.0) && m.mass < floor {
+            self.skipped.push(format!(
+                "{}: link \"{name}\" weighs {} kg, below Kea's least mass: made {floor} kg",
+                self.file.display(),
+                m.mass
+            ));
+            m.inertia *= floor / m.mass;
+            m.mass = floor;
+        }
+        if !above(m.mass, 0.0) {
+            return Err(ImportError::World {
+                file: self.file.to_path_buf(),
+                element: format!("link \"{name}\""),
+                source: kea::KeaError::OutOfRange {
+                    arg: "mass",
+                    value: format!("{}", m.mass),
+                    expected: "a moving link (with the links welded to it) needs a mass > 0",
+                }
+                .into(),
+            });
+        }
+        Ok(Body::dynamic()
+            .position(pose.translation)
+            .rotation(pose.rotation)
+            .mass(m.mass)
+            .inertia(positive_inertia(m.inertia, m.mass))
+            .center_of_mass(m.com))
+    }
+
+    /// Every body with its colliders; each link's body.
+    fn insert_bodies(
+        &mut self,
+        self_collision: bool,
+    ) -> Result<Vec<Option<BodyHandle>>, ImportError> {
+        let (inertial, geoms) = self.merged_links()?;
+        let filters = collision_filters(self.spec, &geoms, self_collision);
+        let mut body_of = vec![None::<BodyHandle>; self.spec.links.len()];
+        for k in 0..self.layout.order.len() {
+            let link = self.layout.order[k];
+            if self.layout.head[link] != link {
+                continue;
+            }
+            let body = self.body_for(link, inertial[link])?;
+            let name = format!("link \"{}\"", self.spec.links[link].name);
+            let h = self
+                .world
+                .insert_body(body)
+                .map_err(self.world_error(name))?;
+            body_of[link] = Some(h);
+            for (g, (owner, geom)) in geoms[link].iter().enumerate() {
+                let owner = &self.spec.links[*owner].name;
+                let (collider, note) = collider(geom, filters[link][g]);
+                if let Some(note) = note {
+                    let file = self.file.display();
+                    self.skipped.push(format!(
+                        "{file}: a collision geometry of link \"{owner}\": {note}"
+                    ));
+                }
+                let element = format!("collision of link \"{owner}\"");
+                self.world
+                    .insert_collider(collider, Some(h))
+                    .map_err(self.world_error(element))?;
+            }
+        }
+        Ok(body_of)
+    }
+
+    /// Every joint in the file's order, with its place in the joint vectors.
+    fn insert_joints(
+        &mut self,
+        body_of: &[Option<BodyHandle>],
+    ) -> Result<Vec<RobotJoint>, ImportError> {
+        let mut joints = Vec::with_capacity(self.spec.joints.len());
+        let (mut nq, mut nv) = (0, 0);
+        for j in &self.spec.joints {
+            let head = &self.layout.head;
+            let raw = if j.kind == JointType::Fixed {
+                None
+            } else {
+                let child = body_of[head[j.child]].expect("a moving link heads its body");
+                let pose = self.layout.pose[j.child];
+                make_joint(self.world, j, &pose, child, body_of[head[j.parent]])
+                    .map_err(self.world_error(format!("joint \"{}\"", j.name)))?
+            };
+            joints.push(RobotJoint {
+                name: j.name.clone(),
+                parts: j.parts.clone(),
+                kind: j.kind,
+                raw,
+                parent_link: j.parent,
+                child_link: j.child,
+                origin: j.origin,
+                anchor: j.anchor,
+                coords: j.coords.clone(),
+                first_position: nq,
+                first_velocity: nv,
+            });
+            nq += j.kind.position_count();
+            nv += j.kind.velocity_count();
+        }
+        Ok(joints)
+    }
+}
+
 fn build_into(
     world: &mut PhysicsWorld,
     spec: &RobotSpec,
     file: &Path,
     options: &BuildOptions,
 ) -> Result<Robot, ImportError> {
-    let wrap = |element: &str| {
-        let element = element.to_string();
-        move |source: crate::Error| ImportError::World {
-            file: file.to_path_buf(),
-            element: element.clone(),
-            source,
-        }
+    let mut b = Builder {
+        world,
+        spec,
+        file,
+        layout: Layout::of(spec, options.base),
+        skipped: spec.skipped.clone(),
     };
-    let (order, parent_joint) = topological(spec);
-    // Each link's pose in the world at the file's pose, and the link that heads its body.
-    let n = spec.links.len();
-    let mut pose = vec![Pose::IDENTITY; n];
-    let mut head = vec![0usize; n];
-    pose[0] = options.base;
-    for &link in &order[1..] {
-        let j = &spec.joints[parent_joint[link].expect("every link but the world has a joint")];
-        pose[link] = pose[j.parent].then(&j.origin);
-        head[link] = if j.kind == JointType::Fixed {
-            head[j.parent]
-        } else {
-            link
-        };
-    }
-    // Mass properties and geometry of each body, in its head link's frame.
-    let mut inertial = vec![Inertial::NONE; n];
-    let mut geoms: Vec<Vec<(usize, GeomSpec)>> = vec![Vec::new(); n];
-    for &link in &order {
-        let h = head[link];
-        let in_head = pose[h].inverse().then(&pose[link]);
-        let own = link_inertial(spec, link)
-            .map_err(wrap(&format!("link \"{}\"", spec.links[link].name)))?;
-        inertial[h] = inertial[h].merged(&own, &in_head);
-        for g in &spec.links[link].geoms {
-            let mut g = g.clone();
-            g.pose = in_head.then(&g.pose);
-            geoms[h].push((link, g));
-        }
-    }
-    let filters = collision_filters(spec, &geoms, options.self_collision);
-    let mut skipped = spec.skipped.clone();
-    // Bodies.
-    let mut body_of = vec![None::<BodyHandle>; n];
-    for &link in &order {
-        if head[link] != link {
-            continue;
-        }
-        let name = &spec.links[link].name;
-        let body = if link == 0 {
-            Body::fixed()
-                .position(pose[0].translation)
-                .rotation(pose[0].rotation)
-        } else {
-            let mut m = inertial[link];
-            let floor = kea::error::MASS_RANGE.0;
-            if above(m.mass, 0.0) && m.mass < floor {
-                skipped.push(format!(
-                    "{}: link \"{name}\" weighs {} kg, below Kea's least mass: made {floor} kg",
-                    file.display(),
-                    m.mass
-                ));
-                m.inertia *= floor / m.mass;
-                m.mass = floor;
-            }
-            if !above(m.mass, 0.0) {
-                return Err(ImportError::World {
-                    file: file.to_path_buf(),
-                    element: format!("link \"{name}\""),
-                    source: kea::KeaError::OutOfRange {
-                        arg: "mass",
-                        value: format!("{}", m.mass),
-                        expected: "a moving link (with the links welded to it) needs a mass > 0",
-                    }
-                    .into(),
-                });
-            }
-            Body::dynamic()
-                .position(pose[link].translation)
-                .rotation(pose[link].rotation)
-                .mass(m.mass)
-                .inertia(positive_inertia(m.inertia, m.mass))
-                .center_of_mass(m.com)
-        };
-        let h = world
-            .insert_body(body)
-            .map_err(wrap(&format!("link \"{name}\"")))?;
-        body_of[link] = Some(h);
-        for (k, (owner, g)) in geoms[link].iter().enumerate() {
-            let (collider, note) = collider(g, filters[link][k]);
-            if let Some(note) = note {
-                skipped.push(format!(
-                    "{}: a collision geometry of link \"{}\": {note}",
-                    file.display(),
-                    spec.links[*owner].name
-                ));
-            }
-            world
-                .insert_collider(collider, Some(h))
-                .map_err(wrap(&format!(
-                    "collision of link \"{}\"",
-                    spec.links[*owner].name
-                )))?;
-        }
-    }
-    // Joints, in the file's order.
-    let mut joints = Vec::with_capacity(spec.joints.len());
-    let (mut nq, mut nv) = (0, 0);
-    for j in &spec.joints {
-        let child = body_of[head[j.child]];
-        let parent = body_of[head[j.parent]];
-        let raw = if j.kind == JointType::Fixed {
-            None
-        } else {
-            let child = child.expect("a moving link heads its body");
-            make_joint(world, j, &pose[j.child], child, parent)
-                .map_err(wrap(&format!("joint \"{}\"", j.name)))?
-        };
-        joints.push(RobotJoint {
-            name: j.name.clone(),
-            parts: j.parts.clone(),
-            kind: j.kind,
-            raw,
-            parent_link: j.parent,
-            child_link: j.child,
-            origin: j.origin,
-            anchor: j.anchor,
-            coords: j.coords.clone(),
-            first_position: nq,
-            first_velocity: nv,
-        });
-        nq += j.kind.position_count();
-        nv += j.kind.velocity_count();
-    }
-    let links = (0..n)
-        .map(|l| RobotLink {
-            name: spec.links[l].name.clone(),
-            body: body_of[head[l]].expect("every head has a body"),
-            offset: pose[head[l]].inverse().then(&pose[l]),
+    let body_of = b.insert_bodies(options.self_collision)?;
+    let joints = b.insert_joints(&body_of)?;
+    let l = &b.layout;
+    let links = (0..spec.links.len())
+        .map(|k| RobotLink {
+            name: spec.links[k].name.clone(),
+            body: body_of[l.head[k]].expect("every head has a body"),
+            offset: l.pose[l.head[k]].inverse().then(&l.pose[k]),
         })
         .collect();
-    let joint_of: Vec<Option<usize>> = parent_joint;
+    let (nq, nv) = joints.last().map_or((0, 0), |j| {
+        (
+            j.first_position + j.kind.position_count(),
+            j.first_velocity + j.kind.velocity_count(),
+        )
+    });
     Ok(Robot::new(
         spec.name.clone(),
         links,
         joints,
-        order,
-        joint_of,
+        b.layout.order,
+        b.layout.parent_joint,
         nq,
         nv,
-        skipped,
+        b.skipped,
     ))
 }
 

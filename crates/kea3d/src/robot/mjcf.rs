@@ -12,6 +12,7 @@
 //! cameras, sites, sensors, visual settings) is passed over.
 
 use super::mesh;
+use super::mjcf_actuators::ActuatorSpec;
 use super::mjcf_defaults::{Compiler, Defaults, Element, MAIN};
 use super::spec::{
     Coordinate, GeomShape, GeomSpec, Inertial, JointSpec, JointType, LinkSpec, Pose, RobotSpec,
@@ -22,42 +23,6 @@ use kea::{JointDynamics, Mat3, Quat, Real, Vec3};
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-
-/// What an actuator does with its control.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum ActuatorKind {
-    /// Force = gear · control.
-    Motor,
-    /// A servo to position `control`, stiffness `kp`, damping `kv`.
-    Position {
-        /// Stiffness.
-        kp: Real,
-        /// Damping.
-        kv: Real,
-    },
-    /// A servo to velocity `control`, gain `kv`.
-    Velocity {
-        /// Gain.
-        kv: Real,
-    },
-}
-
-/// An actuator as the file gives it.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ActuatorSpec {
-    /// Its name (or `actuator<N>`).
-    pub name: String,
-    /// The joint it drives, by the file's name.
-    pub joint: String,
-    /// What it does.
-    pub kind: ActuatorKind,
-    /// Gear ratio (the first entry of `gear`).
-    pub gear: Real,
-    /// The control's range, where limited.
-    pub ctrl_range: Option<(Real, Real)>,
-    /// The force's range, where limited.
-    pub force_range: Option<(Real, Real)>,
-}
 
 /// A read MJCF file.
 pub(crate) struct MjcfModel {
@@ -140,7 +105,7 @@ pub(crate) fn parse(
     for world in children(root, "worldbody") {
         reader.read_body_contents(world, 0, MAIN)?;
     }
-    let actuators = reader.read_actuators(root)?;
+    let actuators = super::mjcf_actuators::read(&reader.src, &reader.defaults, &reader.spec, root)?;
     if contacts_disabled(root) {
         // The model asks for no contacts at all: no geometry collides.
         for g in reader
@@ -191,18 +156,7 @@ impl<'a, 'd> Reader<'a, 'd> {
         node: Node<'s, 's>,
         class: &'s str,
     ) -> Result<Element<'s>, ImportError> {
-        let class = match node.attribute("class") {
-            Some(c) if self.defaults.has(c) => c,
-            Some(c) => return Err(self.src.error(node, format!("no default class \"{c}\""))),
-            None => class,
-        };
-        Ok(Element {
-            node,
-            class,
-            defaults: &self.defaults,
-            src: &self.src,
-            tag: node.tag_name().name(),
-        })
+        self.defaults.element(&self.src, node, class)
     }
 
     fn read_assets(&mut self, root: Node<'_, '_>) -> Result<(), ImportError> {
@@ -348,76 +302,11 @@ impl<'a, 'd> Reader<'a, 'd> {
         static_body: bool,
     ) -> Result<GeomSpec, ImportError> {
         let el = self.element(node, class)?;
-        let kind = el.text("type").unwrap_or("sphere");
-        let size = el.up_to::<3>("size")?;
-        let need = |k: usize| -> Result<[Real; 3], ImportError> {
-            match size {
-                Some((s, n)) if n >= k && s[..k].iter().all(|&v| v > 0.0) => Ok(s),
-                Some((s, _)) => {
-                    Err(el.error(format!("a {kind} needs {k} positive sizes, found {s:?}")))
-                }
-                None => Err(el.error(format!("a {kind} needs `size`"))),
-            }
-        };
         let mut pose = Pose::new(
             el.vec3("pos")?.unwrap_or(Vec3::ZERO),
             el.orientation(&self.compiler)?,
         );
-        let fromto = el.numbers::<6>("fromto")?;
-        let along = |pose: &mut Pose, half_from_size: Real| -> Result<Real, ImportError> {
-            let Some(f) = fromto else {
-                return Ok(half_from_size);
-            };
-            let (a, b) = (Vec3::new(f[0], f[1], f[2]), Vec3::new(f[3], f[4], f[5]));
-            let d = b - a;
-            if !above(d.length(), 1e-9) {
-                return Err(el.error("`fromto` ends coincide"));
-            }
-            *pose = Pose::new(
-                (a + b) * 0.5,
-                Quat::from_rotation_arc(Vec3::Z, d.normalize()),
-            );
-            Ok(0.5 * d.length())
-        };
-        let shape = match kind {
-            "sphere" => GeomShape::Sphere(need(1)?[0]),
-            "capsule" | "cylinder" => {
-                let s = need(1)?;
-                let half = along(&mut pose, s[1])?;
-                if !above(half, 0.0) {
-                    return Err(el.error(format!("a {kind} needs a half-length (size's 2nd number) or fromto")));
-                }
-                if kind == "capsule" {
-                    GeomShape::Capsule { radius: s[0], half_length: half }
-                } else {
-                    GeomShape::Cylinder { radius: s[0], half_length: half }
-                }
-            }
-            "box" => GeomShape::Cuboid(Vec3::from_array(need(3)?)),
-            "ellipsoid" => GeomShape::Hull(ellipsoid_points(Vec3::from_array(need(3)?)), Vec::new()),
-            "plane" => {
-                if !static_body {
-                    return Err(el.error("a plane can only belong to the worldbody or a static body"));
-                }
-                GeomShape::Plane
-            }
-            "mesh" => {
-                let Some(name) = el.text("mesh") else {
-                    return Err(el.error("a mesh geom needs `mesh`"));
-                };
-                let (path, scale) = self
-                    .meshes
-                    .get(name)
-                    .ok_or_else(|| el.error(format!("no mesh asset named \"{name}\"")))?;
-                let m = mesh::load(path, *scale).map_err(|e| el.error(e.to_string()))?;
-                if self.options.meshes_as_trimesh {
-                    GeomShape::Mesh(m.vertices, m.triangles)
-                } else {
-                    GeomShape::Hull(m.vertices, m.triangles)
-                }
-            }
-            other => return Err(el.error(format!("geom type \"{other}\" is not supported (sphere, capsule, cylinder, box, ellipsoid, plane, mesh)"))),
-        };
+        let shape = self.geom_shape(&el, &mut pose, static_body)?;
         let bits = |attr: &str| -> Result<u32, ImportError> {
             match el.number(attr)? {
                 None => Ok(1),
@@ -452,6 +341,81 @@ impl<'a, 'd> Reader<'a, 'd> {
         })
     }
 
+    /// A geom's shape from its `type`, `size`, `fromto` (which replaces `pose`) or mesh.
+    fn geom_shape(
+        &self,
+        el: &Element<'_>,
+        pose: &mut Pose,
+        static_body: bool,
+    ) -> Result<GeomShape, ImportError> {
+        let kind = el.text("type").unwrap_or("sphere");
+        let size = el.up_to::<3>("size")?;
+        let need = |k: usize| -> Result<[Real; 3], ImportError> {
+            match size {
+                Some((s, n)) if n >= k && s[..k].iter().all(|&v| v > 0.0) => Ok(s),
+                Some((s, _)) => {
+                    Err(el.error(format!("a {kind} needs {k} positive sizes, found {s:?}")))
+                }
+                None => Err(el.error(format!("a {kind} needs `size`"))),
+            }
+        };
+        let fromto = el.numbers::<6>("fromto")?;
+        let along = |pose: &mut Pose, half_from_size: Real| -> Result<Real, ImportError> {
+            let Some(f) = fromto else {
+                return Ok(half_from_size);
+            };
+            let (a, b) = (Vec3::new(f[0], f[1], f[2]), Vec3::new(f[3], f[4], f[5]));
+            let d = b - a;
+            if !above(d.length(), 1e-9) {
+                return Err(el.error("`fromto` ends coincide"));
+            }
+            *pose = Pose::new(
+                (a + b) * 0.5,
+                Quat::from_rotation_arc(Vec3::Z, d.normalize()),
+            );
+            Ok(0.5 * d.length())
+        };
+        Ok(match kind {
+            "sphere" => GeomShape::Sphere(need(1)?[0]),
+            "capsule" | "cylinder" => {
+                let s = need(1)?;
+                let half = along(pose, s[1])?;
+                if !above(half, 0.0) {
+                    return Err(el.error(format!("a {kind} needs a half-length (size's 2nd number) or fromto")));
+                }
+                if kind == "capsule" {
+                    GeomShape::Capsule { radius: s[0], half_length: half }
+                } else {
+                    GeomShape::Cylinder { radius: s[0], half_length: half }
+                }
+            }
+            "box" => GeomShape::Cuboid(Vec3::from_array(need(3)?)),
+            "ellipsoid" => GeomShape::Hull(ellipsoid_points(Vec3::from_array(need(3)?)), Vec::new()),
+            "plane" => {
+                if !static_body {
+                    return Err(el.error("a plane can only belong to the worldbody or a static body"));
+                }
+                GeomShape::Plane
+            }
+            "mesh" => {
+                let Some(name) = el.text("mesh") else {
+                    return Err(el.error("a mesh geom needs `mesh`"));
+                };
+                let (path, scale) = self
+                    .meshes
+                    .get(name)
+                    .ok_or_else(|| el.error(format!("no mesh asset named \"{name}\"")))?;
+                let m = mesh::load(path, *scale).map_err(|e| el.error(e.to_string()))?;
+                if self.options.meshes_as_trimesh {
+                    GeomShape::Mesh(m.vertices, m.triangles)
+                } else {
+                    GeomShape::Hull(m.vertices, m.triangles)
+                }
+            }
+            other => return Err(el.error(format!("geom type \"{other}\" is not supported (sphere, capsule, cylinder, box, ellipsoid, plane, mesh)"))),
+        })
+    }
+
     /// The body's joints as one joint spec (fixed without any).
     fn read_joints(
         &mut self,
@@ -461,7 +425,7 @@ impl<'a, 'd> Reader<'a, 'd> {
         link: usize,
         origin: Pose,
     ) -> Result<JointSpec, ImportError> {
-        let mut parts: Vec<(String, &'static str, Coordinate, Vec3, Node<'_, '_>)> = Vec::new();
+        let mut parts: Vec<JointPart<'_>> = Vec::new();
         for j in body.children().filter(|c| c.is_element()) {
             let tag = j.tag_name().name();
             if tag != "joint" && tag != "freejoint" {
@@ -487,41 +451,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             parts.push((name, kind, coord, anchor, j));
         }
         let link_name = self.spec.links[link].name.clone();
-        let kinds: Vec<&str> = parts.iter().map(|p| p.1).collect();
-        let (kind, anchor) = match kinds.as_slice() {
-            [] => (JointType::Fixed, Vec3::ZERO),
-            ["hinge"] => (
-                if parts[0].2.limits.is_some() { JointType::Revolute } else { JointType::Continuous },
-                parts[0].3,
-            ),
-            ["slide"] => (JointType::Prismatic, parts[0].3),
-            ["ball"] => (JointType::Ball, parts[0].3),
-            ["free"] => {
-                if parent != 0 {
-                    return Err(self.src.error(parts[0].4, "a free joint belongs to a body at the top of the worldbody"));
-                }
-                (JointType::Free, Vec3::ZERO)
-            }
-            ["slide", "slide"] if perpendicular(parts[0].2.axis, parts[1].2.axis) => {
-                (JointType::Slide2, parts[0].3)
-            }
-            ["slide", "slide", "hinge"]
-                if perpendicular(parts[0].2.axis, parts[1].2.axis)
-                    && parts[2].2.axis.cross(parts[0].2.axis.cross(parts[1].2.axis)).length() < 1e-6 =>
-            {
-                (JointType::Planar, parts[2].3)
-            }
-            _ => {
-                return Err(self.src.error(
-                    body,
-                    format!(
-                        "{} joints in body \"{link_name}\" ({}): one joint, two perpendicular slides, or two slides and a hinge about their normal are supported",
-                        parts.len(),
-                        kinds.join(", ")
-                    ),
-                ))
-            }
-        };
+        let (kind, anchor) = combined(&self.src, body, &parts, parent, &link_name)?;
         for (name, k, c, _, node) in &parts {
             let d = c.dynamics;
             if matches!(*k, "free" | "ball")
@@ -602,70 +532,55 @@ impl<'a, 'd> Reader<'a, 'd> {
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
+}
 
-    fn read_actuators(&self, root: Node<'_, '_>) -> Result<Vec<ActuatorSpec>, ImportError> {
-        let mut out = Vec::new();
-        for section in children(root, "actuator") {
-            for a in section.children().filter(|c| c.is_element()) {
-                let el = self.element(a, MAIN)?;
-                let tag = a.tag_name().name();
-                let kind = match tag {
-                    "motor" => ActuatorKind::Motor,
-                    "position" => ActuatorKind::Position {
-                        kp: el.number("kp")?.unwrap_or(1.0),
-                        kv: el.number("kv")?.unwrap_or(0.0),
-                    },
-                    "velocity" => ActuatorKind::Velocity {
-                        kv: el.number("kv")?.unwrap_or(1.0),
-                    },
-                    other => {
-                        return Err(el.error(format!(
-                            "actuator <{other}> is not supported (motor, position, velocity)"
-                        )))
-                    }
-                };
-                let Some(joint) = a.attribute("joint") else {
-                    return Err(el.error("only actuators on a `joint` are supported"));
-                };
-                if !self
-                    .spec
-                    .joints
-                    .iter()
-                    .any(|j| j.parts.iter().any(|p| p == joint))
-                {
-                    return Err(el.error(format!("no joint named \"{joint}\"")));
-                }
-                let range = |attr: &str, flag: &str| -> Result<Option<(Real, Real)>, ImportError> {
-                    let r = el.numbers::<2>(attr)?;
-                    let on = el.flag(flag)?.unwrap_or(r.is_some());
-                    match (on, r) {
-                        (true, Some([lo, hi])) if lo <= hi => Ok(Some((lo, hi))),
-                        (true, Some([lo, hi])) => Err(
-                            el.error(format!("`{attr}` = {lo} {hi}: lower must not exceed upper"))
-                        ),
-                        (true, None) => Err(el.error(format!("{flag}=\"true\" needs `{attr}`"))),
-                        (false, _) => Ok(None),
-                    }
-                };
-                let gear = el.up_to::<6>("gear")?.map(|(g, _)| g[0]).unwrap_or(1.0);
-                if gear == 0.0 {
-                    return Err(el.error("`gear` = 0 drives nothing"));
-                }
-                out.push(ActuatorSpec {
-                    name: a
-                        .attribute("name")
-                        .map(str::to_string)
-                        .unwrap_or_else(|| format!("actuator{}", out.len())),
-                    joint: joint.to_string(),
-                    kind,
-                    gear,
-                    ctrl_range: range("ctrlrange", "ctrllimited")?,
-                    force_range: range("forcerange", "forcelimited")?,
-                });
+/// One of a body's joints as the file gives it: name, type, coordinate, point, element.
+type JointPart<'n> = (String, &'static str, Coordinate, Vec3, Node<'n, 'n>);
+
+/// The Kea joint a body's joints make together, and its point: one joint, two perpendicular
+/// slides, or two slides and a hinge about their normal; anything else is refused.
+fn combined(
+    src: &Source<'_>,
+    body: Node<'_, '_>,
+    parts: &[JointPart<'_>],
+    parent: usize,
+    link_name: &str,
+) -> Result<(JointType, Vec3), ImportError> {
+    let kinds: Vec<&str> = parts.iter().map(|p| p.1).collect();
+    Ok(match kinds.as_slice() {
+        [] => (JointType::Fixed, Vec3::ZERO),
+        ["hinge"] => (
+            if parts[0].2.limits.is_some() { JointType::Revolute } else { JointType::Continuous },
+            parts[0].3,
+        ),
+        ["slide"] => (JointType::Prismatic, parts[0].3),
+        ["ball"] => (JointType::Ball, parts[0].3),
+        ["free"] => {
+            if parent != 0 {
+                return Err(src.error(parts[0].4, "a free joint belongs to a body at the top of the worldbody"));
             }
+            (JointType::Free, Vec3::ZERO)
         }
-        Ok(out)
-    }
+        ["slide", "slide"] if perpendicular(parts[0].2.axis, parts[1].2.axis) => {
+            (JointType::Slide2, parts[0].3)
+        }
+        ["slide", "slide", "hinge"]
+            if perpendicular(parts[0].2.axis, parts[1].2.axis)
+                && parts[2].2.axis.cross(parts[0].2.axis.cross(parts[1].2.axis)).length() < 1e-6 =>
+        {
+            (JointType::Planar, parts[2].3)
+        }
+        _ => {
+            return Err(src.error(
+                body,
+                format!(
+                    "{} joints in body \"{link_name}\" ({}): one joint, two perpendicular slides, or two slides and a hinge about their normal are supported",
+                    parts.len(),
+                    kinds.join(", ")
+                ),
+            ))
+        }
+    })
 }
 
 fn perpendicular(a: Vec3, b: Vec3) -> bool {

@@ -140,6 +140,27 @@ impl Defaults {
         Ok(())
     }
 
+    /// `node` read with its class (its own `class`, else `class`), refused if unknown.
+    pub fn element<'s>(
+        &'s self,
+        src: &'s Source<'s>,
+        node: Node<'s, 's>,
+        class: &'s str,
+    ) -> Result<Element<'s>, ImportError> {
+        let class = match node.attribute("class") {
+            Some(c) if self.has(c) => c,
+            Some(c) => return Err(src.error(node, format!("no default class \"{c}\""))),
+            None => class,
+        };
+        Ok(Element {
+            node,
+            class,
+            defaults: self,
+            src,
+            tag: node.tag_name().name(),
+        })
+    }
+
     /// Whether a class exists.
     pub fn has(&self, class: &str) -> bool {
         self.classes.contains_key(class)

@@ -32,6 +32,7 @@ mod build;
 mod error;
 mod mesh;
 mod mjcf;
+mod mjcf_actuators;
 mod mjcf_defaults;
 mod mjcf_include;
 mod model;
@@ -41,7 +42,7 @@ mod xml;
 
 pub use actuator::UNCAPPED_MOTOR_FORCE;
 pub use error::ImportError;
-pub use mjcf::{ActuatorKind, ActuatorSpec};
+pub use mjcf_actuators::{ActuatorKind, ActuatorSpec};
 pub use model::{Robot, RobotJoint, RobotLink};
 pub use spec::{JointType, Pose};
 

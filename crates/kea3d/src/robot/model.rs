@@ -70,7 +70,7 @@ pub struct Robot {
     positions: usize,
     velocities: usize,
     skipped: Vec<String>,
-    pub(crate) actuators: Vec<super::mjcf::ActuatorSpec>,
+    pub(crate) actuators: Vec<super::mjcf_actuators::ActuatorSpec>,
     pub(crate) timestep: Option<Real>,
 }
 

@@ -348,30 +348,8 @@ fn read_joint(
     if parent == child_link {
         return Err(src.error(joint, "a joint cannot join a link to itself"));
     }
-    let moves_along_axis = !matches!(kind, JointType::Fixed | JointType::Free);
-    let axis = match child(joint, "axis") {
-        Some(a) if moves_along_axis => src.direction(a, "xyz")?.unwrap_or(Vec3::X),
-        _ => Vec3::X,
-    };
-    let mut c = Coordinate::along(axis);
-    if let Some(limit) = child(joint, "limit") {
-        let lower = src.number(limit, "lower")?.unwrap_or(0.0);
-        let upper = src.number(limit, "upper")?.unwrap_or(0.0);
-        if matches!(kind, JointType::Revolute | JointType::Prismatic) && lower < upper {
-            c.limits = Some((lower, upper));
-        }
-        c.effort = src.non_negative(limit, "effort")?;
-        c.speed = src.non_negative(limit, "velocity")?;
-    }
-    if let Some(d) = child(joint, "dynamics") {
-        c.dynamics = JointDynamics {
-            armature: 0.0,
-            stiffness: 0.0,
-            rest: 0.0,
-            damping: src.non_negative(d, "damping")?.unwrap_or(0.0),
-            friction: src.non_negative(d, "friction")?.unwrap_or(0.0),
-        };
-    }
+    let c = read_coordinate(src, joint, kind)?;
+    let axis = c.axis;
     let coords = match kind {
         JointType::Revolute | JointType::Continuous | JointType::Prismatic => vec![c],
         JointType::Planar => {
@@ -403,4 +381,37 @@ fn read_joint(
         anchor: Vec3::ZERO,
         coords,
     })
+}
+
+/// A joint's axis (in its frame: the child's), limits, effort and speed, and dynamics.
+fn read_coordinate(
+    src: &Source<'_>,
+    joint: Node<'_, '_>,
+    kind: JointType,
+) -> Result<Coordinate, ImportError> {
+    let moves_along_axis = !matches!(kind, JointType::Fixed | JointType::Free);
+    let axis = match child(joint, "axis") {
+        Some(a) if moves_along_axis => src.direction(a, "xyz")?.unwrap_or(Vec3::X),
+        _ => Vec3::X,
+    };
+    let mut c = Coordinate::along(axis);
+    if let Some(limit) = child(joint, "limit") {
+        let lower = src.number(limit, "lower")?.unwrap_or(0.0);
+        let upper = src.number(limit, "upper")?.unwrap_or(0.0);
+        if matches!(kind, JointType::Revolute | JointType::Prismatic) && lower < upper {
+            c.limits = Some((lower, upper));
+        }
+        c.effort = src.non_negative(limit, "effort")?;
+        c.speed = src.non_negative(limit, "velocity")?;
+    }
+    if let Some(d) = child(joint, "dynamics") {
+        c.dynamics = JointDynamics {
+            armature: 0.0,
+            stiffness: 0.0,
+            rest: 0.0,
+            damping: src.non_negative(d, "damping")?.unwrap_or(0.0),
+            friction: src.non_negative(d, "friction")?.unwrap_or(0.0),
+        };
+    }
+    Ok(c)
 }
