@@ -29,12 +29,14 @@
 
 mod actuator;
 mod build;
+mod colliders;
 mod error;
 mod mesh;
 mod mjcf;
 mod mjcf_actuators;
 mod mjcf_defaults;
 mod mjcf_include;
+mod mjcf_joints;
 mod model;
 mod spec;
 mod urdf;
