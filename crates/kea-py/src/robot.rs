@@ -48,12 +48,20 @@ impl PyWorld {
     }
 
     fn robot(&self) -> PyResult<&Robot> {
-        self.robot.as_ref().ok_or_else(|| {
-            PyValueError::new_err(
-                "this world holds no robot: make it with World.from_urdf or World.from_mjcf",
-            )
-        })
+        self.robot.as_ref().ok_or_else(no_robot)
     }
+
+    /// The robot and the world it drives, borrowed apart (no copy of the robot per call).
+    fn robot_and_world(&mut self) -> PyResult<(&Robot, &mut PhysicsWorld)> {
+        let robot = self.robot.as_ref().ok_or_else(no_robot)?;
+        Ok((robot, &mut self.inner))
+    }
+}
+
+fn no_robot() -> PyErr {
+    PyValueError::new_err(
+        "this world holds no robot: make it with World.from_urdf or World.from_mjcf",
+    )
 }
 
 /// A link's position and quaternion (x, y, z, w).
@@ -190,16 +198,16 @@ impl PyWorld {
     fn set_joint_positions(&mut self, q: &Bound<'_, PyAny>) -> PyResult<()> {
         let n = self.robot()?.position_count();
         let q = vector("q", q, Some(n))?;
-        let robot = self.robot()?.clone();
-        py(robot.set_joint_positions(&mut self.inner, &reals(&q)))
+        let (robot, world) = self.robot_and_world()?;
+        py(robot.set_joint_positions(world, &reals(&q)))
     }
 
     /// Sets the bodies' velocities to joint velocities `v` (any real array-like).
     fn set_joint_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
         let n = self.robot()?.velocity_count();
         let v = vector("v", v, Some(n))?;
-        let robot = self.robot()?.clone();
-        py(robot.set_joint_velocities(&mut self.inner, &reals(&v)))
+        let (robot, world) = self.robot_and_world()?;
+        py(robot.set_joint_velocities(world, &reals(&v)))
     }
 
     /// Applies a force (N) or torque (N·m) along each joint coordinate (the layout of
@@ -207,8 +215,8 @@ impl PyWorld {
     fn set_joint_forces(&mut self, forces: &Bound<'_, PyAny>) -> PyResult<()> {
         let n = self.robot()?.velocity_count();
         let f = vector("forces", forces, Some(n))?;
-        let robot = self.robot()?.clone();
-        py(robot.set_joint_forces(&mut self.inner, &reals(&f)))
+        let (robot, world) = self.robot_and_world()?;
+        py(robot.set_joint_forces(world, &reals(&f)))
     }
 
     /// Feeds the file's actuators one control each (MuJoCo's `ctrl`), clamped to their
@@ -216,8 +224,8 @@ impl PyWorld {
     fn set_controls(&mut self, controls: &Bound<'_, PyAny>) -> PyResult<()> {
         let n = self.robot()?.actuators().len();
         let u = vector("controls", controls, Some(n))?;
-        let robot = self.robot()?.clone();
-        py(robot.set_controls(&mut self.inner, &reals(&u)))
+        let (robot, world) = self.robot_and_world()?;
+        py(robot.set_controls(world, &reals(&u)))
     }
 
     /// Drives each joint coordinate at `velocities` (the layout of `joint_velocities`) with a
@@ -229,10 +237,11 @@ impl PyWorld {
         velocities: &Bound<'_, PyAny>,
         max_forces: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let robot = self.robot()?.clone();
-        let v = vector("velocities", velocities, Some(robot.velocity_count()))?;
-        let forces = motor_forces(&robot, max_forces)?;
-        py(robot.set_joint_motors(&mut self.inner, &reals(&v), &forces))
+        let n = self.robot()?.velocity_count();
+        let v = vector("velocities", velocities, Some(n))?;
+        let forces = motor_forces(self.robot()?, max_forces)?;
+        let (robot, world) = self.robot_and_world()?;
+        py(robot.set_joint_motors(world, &reals(&v), &forces))
     }
 
     /// Splits each step into this many substeps (1 to 64; default 1): finer integration

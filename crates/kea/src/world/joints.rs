@@ -457,7 +457,7 @@ impl World {
     /// Coordinate `k`'s limits, motor and dynamics on a planar joint (0, 1: travels; 2: turn).
     pub fn planar_limit_mut(&mut self, h: ConstraintHandle, k: usize) -> KeaResult<&mut Limit> {
         match &mut self.constraints.get_mut(h)?.kind {
-            ConstraintKind::Planar(j) => j.limit_mut(k).ok_or(KeaError::OutOfRange {
+            ConstraintKind::Planar(j) => j.limit_mut(k).ok_or_else(|| KeaError::OutOfRange {
                 arg: "k",
                 value: format!("{k}"),
                 expected: "a planar joint has coordinates 0, 1 and 2",

@@ -36,46 +36,64 @@ impl Robot {
     /// nothing, on a vector whose length is not the actuator count or with a non-finite entry.
     pub fn set_controls(&self, world: &mut PhysicsWorld, controls: &[Real]) -> Result<()> {
         check_vector("controls", controls, self.actuators.len())?;
-        let mut staged = Vec::with_capacity(self.actuators.len());
+        // Everything checked first, then applied: a refusal changes nothing, and nothing is
+        // allocated (a learning loop calls this every step).
         for (a, &u) in self.actuators.iter().zip(controls) {
-            let u = match a.ctrl_range {
-                Some((lo, hi)) => u.clamp(lo, hi),
-                None => u,
-            };
-            let (lo, hi) = a
-                .force_range
-                .unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
-            let g = a.gear;
-            let (j, k) = self.actuated(a).ok_or(KeaError::InvalidState {
-                operation: "set_controls",
-                reason: "an actuator's joint is not in the robot",
-            })?;
-            // Kea's coordinate is 0 at the file's pose, where the file's reads `ref`.
-            let reference = self.joints()[j].coords[k].reference;
-            let cap = (lo.abs().max(hi.abs()) * g.abs()).max(Real::MIN_POSITIVE);
-            // MuJoCo: the actuator's force is its gain times the control (clamped to the force
-            // range), and the joint feels `gear` times it.
-            let actuator = match a.kind {
-                ActuatorKind::Motor => Actuator::Force(g * u.clamp(lo, hi)),
-                ActuatorKind::Position { kp, kv } => Actuator::Servo {
-                    position: u / g - reference,
-                    velocity: 0.0,
-                    stiffness: kp * g * g,
-                    damping: kv * g * g,
-                    max_force: cap,
-                },
-                ActuatorKind::Velocity { kv } => Actuator::Servo {
-                    position: 0.0,
-                    velocity: u / g,
-                    stiffness: 0.0,
-                    damping: kv * g * g,
-                    max_force: cap,
-                },
-            };
-            staged.push((j, k, actuator));
+            let (j, _, actuator) = self.actuator_for(a, u)?;
+            actuator.validate()?;
+            self.check_joint(world, j)?;
         }
-        for (j, k, actuator) in staged {
+        for (a, &u) in self.actuators.iter().zip(controls) {
+            let (j, k, actuator) = self.actuator_for(a, u)?;
             self.drive(world, j, k, Some(actuator))?;
+        }
+        Ok(())
+    }
+
+    /// The Kea actuator control `u` makes of the file's actuator `a`, on coordinate `k` of
+    /// joint `j`.
+    fn actuator_for(&self, a: &ActuatorSpec, u: Real) -> Result<(usize, usize, Actuator)> {
+        let u = match a.ctrl_range {
+            Some((lo, hi)) => u.clamp(lo, hi),
+            None => u,
+        };
+        let (lo, hi) = a
+            .force_range
+            .unwrap_or((Real::NEG_INFINITY, Real::INFINITY));
+        let g = a.gear;
+        let (j, k) = self.actuated(a).ok_or(KeaError::InvalidState {
+            operation: "set_controls",
+            reason: "an actuator's joint is not in the robot",
+        })?;
+        // Kea's coordinate is 0 at the file's pose, where the file's reads `ref`.
+        let reference = self.joints()[j].coords[k].reference;
+        let cap = (lo.abs().max(hi.abs()) * g.abs()).max(Real::MIN_POSITIVE);
+        // MuJoCo: the actuator's force is its gain times the control (clamped to the force
+        // range), and the joint feels `gear` times it.
+        let actuator = match a.kind {
+            ActuatorKind::Motor => Actuator::Force(g * u.clamp(lo, hi)),
+            ActuatorKind::Position { kp, kv } => Actuator::Servo {
+                position: u / g - reference,
+                velocity: 0.0,
+                stiffness: kp * g * g,
+                damping: kv * g * g,
+                max_force: cap,
+            },
+            ActuatorKind::Velocity { kv } => Actuator::Servo {
+                position: 0.0,
+                velocity: u / g,
+                stiffness: 0.0,
+                damping: kv * g * g,
+                max_force: cap,
+            },
+        };
+        Ok((j, k, actuator))
+    }
+
+    /// Refuses a robot joint that `world` does not hold (the robot was loaded elsewhere).
+    fn check_joint(&self, world: &PhysicsWorld, joint: usize) -> Result<()> {
+        if let Some(raw) = self.joints()[joint].raw {
+            world.dynamics().constraint_kind(raw)?;
         }
         Ok(())
     }
@@ -87,6 +105,9 @@ impl Robot {
     pub fn set_joint_forces(&self, world: &mut PhysicsWorld, forces: &[Real]) -> Result<()> {
         check_vector("forces", forces, self.velocity_count())?;
         self.check_free_and_ball("forces", forces)?;
+        for j in 0..self.joints().len() {
+            self.check_joint(world, j)?;
+        }
         for (i, j) in self.joints().iter().enumerate() {
             if matches!(j.kind, JointType::Free | JointType::Ball | JointType::Fixed) {
                 continue;
@@ -121,19 +142,21 @@ impl Robot {
             .into());
         }
         self.check_free_and_ball("velocities", velocities)?;
-        let mut staged = world.clone();
+        for j in 0..self.joints().len() {
+            self.check_joint(world, j)?;
+        }
+        // Checked: now applied in place, allocating nothing.
         for j in self.joints() {
             let Some(raw) = j.raw else { continue };
             for k in 0..j.kind.velocity_count() {
                 let at = j.first_velocity + k;
                 let sign = kea_sign(j.kind, &j.coords, k);
-                if let Some(limit) = coordinate_limit(&mut staged, raw, j.kind, k)? {
+                if let Some(limit) = coordinate_limit(world, raw, j.kind, k)? {
                     let cap = max_forces[at].min(UNCAPPED_MOTOR_FORCE);
                     limit.set_motor(sign * velocities[at], cap)?;
                 }
             }
         }
-        *world = staged;
         Ok(())
     }
 

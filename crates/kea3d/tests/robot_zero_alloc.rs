@@ -1,0 +1,90 @@
+//! A robot world once warm steps, and takes its controls and motors, without touching the
+//! heap: joint dynamics, actuators, stops, contacts and world substeps included.
+
+use kea3d::prelude::*;
+use kea3d::robot::MjcfOptions;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+struct CountingAllocator;
+// This file holds one test, so nothing else allocates beside it.
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator; only counts on the side.
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: the caller's contract is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as above.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: as above.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: CountingAllocator = CountingAllocator;
+
+#[test]
+fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
+    // A planar hopper-like root, joint dynamics and springs, actuators of every kind, stops,
+    // contacts with a floor, and world substeps: everything a robot adds to a step.
+    let xml = r#"<mujoco><compiler angle="degree"/>
+      <default><joint armature="0.1" damping="0.5" limited="true"/></default>
+      <worldbody>
+        <geom type="plane" size="5 5 0.1"/>
+        <body name="torso" pos="0 0 1">
+          <joint name="x" type="slide" axis="1 0 0" limited="false" armature="0" damping="0"/>
+          <joint name="z" type="slide" axis="0 0 1" limited="false" armature="0" damping="0"/>
+          <joint name="pitch" type="hinge" axis="0 1 0" limited="false" armature="0" damping="0"/>
+          <geom type="capsule" size="0.05 0.2"/>
+          <body name="thigh" pos="0 0 -0.2">
+            <joint name="hip" type="hinge" axis="0 -1 0" range="-150 0" stiffness="5" frictionloss="0.1"/>
+            <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
+            <body name="shin" pos="0 0 -0.4">
+              <joint name="knee" type="hinge" axis="0 -1 0" range="-150 0"/>
+              <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.04"/>
+            </body>
+          </body>
+        </body>
+      </worldbody>
+      <actuator>
+        <motor joint="hip" gear="50" ctrlrange="-1 1"/>
+        <position joint="knee" kp="30" kv="1"/>
+        <velocity joint="x" kv="5"/>
+      </actuator></mujoco>"#;
+    let mut world = PhysicsWorld::new();
+    let robot = world
+        .load_mjcf_str(xml, "hopper.xml", &MjcfOptions::default())
+        .unwrap();
+    world.dynamics_mut().set_world_substeps(2).unwrap();
+    let controls: Vec<Vec<Real>> = (0..4).map(|k| vec![0.3 * k as Real, -0.2, 0.1]).collect();
+    let motors = vec![0.0 as Real; robot.velocity_count()];
+    let caps = vec![10.0 as Real; robot.velocity_count()];
+    robot.set_joint_motors(&mut world, &motors, &caps).unwrap();
+    for k in 0..240 {
+        robot.set_controls(&mut world, &controls[k % 4]).unwrap();
+        world.step(1.0 / 240.0).unwrap();
+    }
+    COUNTING.store(true, Ordering::SeqCst);
+    for k in 0..120 {
+        robot.set_controls(&mut world, &controls[k % 4]).unwrap();
+        world.step(1.0 / 240.0).unwrap();
+    }
+    robot.set_joint_motors(&mut world, &motors, &caps).unwrap();
+    world.step(1.0 / 240.0).unwrap();
+    COUNTING.store(false, Ordering::SeqCst);
+    let n = ALLOCATIONS.load(Ordering::SeqCst);
+    assert_eq!(n, 0, "{n} allocations in warm robot steps");
+}
