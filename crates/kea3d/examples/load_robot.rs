@@ -37,6 +37,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for line in robot.skipped() {
         println!("skipped: {line}");
     }
+    // `--q0 a,b,c`: start from these joint positions (the swing tests' way).
+    if let Some(q0) = args
+        .iter()
+        .position(|a| a == "--q0")
+        .and_then(|i| args.get(i + 1))
+    {
+        let q: Vec<Real> = q0.split(',').map(|x| x.parse().expect("numbers")).collect();
+        robot.set_joint_positions(&mut world, &q)?;
+    }
+    if let Some(n) = std::env::var("KEA_SUBSTEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        world.dynamics_mut().set_world_substeps(n)?;
+    }
     let h = robot.timestep().unwrap_or(1e-3);
     let start = std::time::Instant::now();
     let seconds: f64 = std::env::var("KEA_SECONDS")
