@@ -348,6 +348,9 @@ fn read_joint(
     if parent == child_link {
         return Err(src.error(joint, "a joint cannot join a link to itself"));
     }
+    if child_link == 0 {
+        return Err(src.error(joint, "the world link cannot be a joint's child"));
+    }
     let c = read_coordinate(src, joint, kind)?;
     let axis = c.axis;
     let coords = match kind {
