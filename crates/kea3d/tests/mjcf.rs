@@ -463,3 +463,69 @@ fn each_mjcf_geometry_becomes_the_collider_its_size_says() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn connect_and_weld_equalities_close_loops_as_ball_and_fixed_joints() {
+    // Two rods hinged to the world 0.4 m apart, their lower ends held together by a connect,
+    // and a block welded to the right rod: a triangle that swings as one.
+    let xml = r#"<mujoco><compiler angle="radian"/><worldbody>
+        <body name="left" pos="-0.2 0 1"><joint type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0.2 0 -0.5" size="0.02"/></body>
+        <body name="right" pos="0.2 0 1"><joint type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 -0.2 0 -0.5" size="0.02"/></body>
+        <body name="block" pos="0.3 0 1"><freejoint/><geom type="box" size="0.05 0.05 0.05"/></body>
+      </worldbody>
+      <equality>
+        <connect body1="left" body2="right" anchor="0.2 0 -0.5"/>
+        <weld body1="block" body2="right"/>
+      </equality></mujoco>"#;
+    let (mut world, robot) = load(xml);
+    world
+        .add_force(robot.body("block").unwrap(), [20.0, 0.0, 0.0])
+        .unwrap();
+    for _ in 0..500 {
+        world.step(1e-3).unwrap();
+    }
+    let tip = |name: &str, local: Vec3| {
+        let l = robot.links().iter().position(|l| l.name == name).unwrap();
+        robot.link_pose(&world, l).unwrap().point(local)
+    };
+    let (a, b) = (
+        tip("left", Vec3::new(0.2, 0.0, -0.5)),
+        tip("right", Vec3::new(-0.2, 0.0, -0.5)),
+    );
+    assert!(
+        (a - b).length() < 2e-3,
+        "the connect holds the tips together: {a} {b}"
+    );
+    // A triangle cannot turn about two fixed hinges: everything stays where the file put it.
+    let block = world.position(robot.body("block").unwrap()).unwrap();
+    assert!(
+        (block - Vec3::new(0.3, 0.0, 1.0)).length() < 5e-3,
+        "{block}"
+    );
+    for (bad, needle) in [
+        (
+            r#"<equality><connect body1="left" body2="nobody" anchor="0 0 0"/></equality>"#,
+            "no body named \"nobody\"",
+        ),
+        (
+            r#"<equality><joint joint1="a" joint2="b"/></equality>"#,
+            "equality <joint>",
+        ),
+    ] {
+        let text = xml.replace(
+            r#"<equality>
+        <connect body1="left" body2="right" anchor="0.2 0 -0.5"/>
+        <weld body1="block" body2="right"/>
+      </equality>"#,
+            bad,
+        );
+        let mut w = PhysicsWorld::new();
+        let e = w
+            .load_mjcf_str(&text, "test.xml", &MjcfOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().contains(needle), "{e}");
+        assert_eq!(w.body_count(), 0);
+    }
+}

@@ -7,7 +7,7 @@
 //!
 //! A body with several joints is one Kea joint when they make one: two slides and a hinge
 //! about their common normal (a planar root, as in Hopper and Walker2d) or two slides. What
-//! would change the physics and is not read — tendons, equality constraints, contact pairs and
+//! would change the physics and is not read — tendons, joint equalities, contact pairs and
 //! exclusions, joint springs, composites — is refused by name; what does not (lights,
 //! cameras, sites, sensors, visual settings) is passed over.
 
@@ -31,6 +31,7 @@ pub(crate) struct MjcfModel {
     pub gravity: Vec3,
     pub timestep: Option<Real>,
     pub actuators: Vec<ActuatorSpec>,
+    pub equalities: Vec<super::mjcf_equality::EqualitySpec>,
 }
 
 /// Top-level sections passed over: they do not change the physics.
@@ -44,7 +45,7 @@ const PASSIVE_SECTIONS: [&str; 7] = [
     "extension",
 ];
 /// Top-level sections refused: the model's behaviour depends on them.
-const REFUSED_SECTIONS: [&str; 4] = ["tendon", "equality", "contact", "deformable"];
+const REFUSED_SECTIONS: [&str; 3] = ["tendon", "contact", "deformable"];
 
 struct Reader<'a, 'd> {
     src: Source<'a>,
@@ -85,6 +86,7 @@ pub(crate) fn parse(
             "asset",
             "worldbody",
             "actuator",
+            "equality",
         ];
         if !known.contains(&tag) && !PASSIVE_SECTIONS.contains(&tag) {
             return Err(src.error(section, format!("<{tag}> is not supported")));
@@ -119,7 +121,9 @@ pub(crate) fn parse(
             g.mask = 0;
         }
     }
+    let equalities = super::mjcf_equality::read(&reader.src, root, &mut reader.spec.skipped)?;
     Ok(MjcfModel {
+        equalities,
         spec: reader.spec,
         gravity,
         timestep,

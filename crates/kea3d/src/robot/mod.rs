@@ -35,6 +35,7 @@ mod mesh;
 mod mjcf;
 mod mjcf_actuators;
 mod mjcf_defaults;
+mod mjcf_equality;
 mod mjcf_include;
 mod mjcf_joints;
 mod model;
@@ -168,6 +169,7 @@ impl PhysicsWorld {
             })?;
         let mut robot =
             staged.build_robot(&model.spec, path, Vec3::ZERO, options.self_collision)?;
+        mjcf_equality::build(&mut staged, &robot, &model.equalities, path)?;
         robot.set_actuators(model.actuators);
         robot.timestep = model.timestep;
         *self = staged;
