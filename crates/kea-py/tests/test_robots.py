@@ -219,3 +219,43 @@ def test_arrays_of_any_real_dtype_and_layout_set_a_state():
     states = batch.state()
     batch.set_state(states.astype(np.float32)[:, :, :])
     batch.apply_forces(np.zeros((2, 3, 3), dtype=np.float32))
+
+
+@needs_gym_assets
+def test_a_robot_batch_reads_and_writes_joint_vectors_and_controls_per_world():
+    reacher = kea.World.from_mjcf(os.path.join(GYM_ASSETS, "reacher.xml"))
+    batch = kea.Batch(reacher, 3, threads=2)
+    q = np.tile(reacher.joint_positions(), (3, 1))
+    q[:, 0] = [0.1, 0.2, 0.3]
+    batch.set_joint_positions(q.astype(np.float32))
+    assert batch.joint_positions()[:, 0] == pytest.approx([0.1, 0.2, 0.3], abs=1e-6)
+    # Different torques in each world turn the first joint different ways.
+    batch.set_controls(np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 0.0]]))
+    batch.step(0.01, 10)
+    v = batch.joint_velocities()
+    assert v[0, 0] > 0.1 and v[1, 0] < -0.1 and abs(v[2, 0]) < abs(v[0, 0])
+    # A link's position and a point fixed in it, in every world.
+    tips = batch.link_positions("fingertip")
+    assert tips.shape == (3, 3)
+    one = batch.world(2)
+    (p, _) = one.link_pose("fingertip")
+    assert tips[2] == pytest.approx(p, abs=1e-9)
+    reactions = batch.joint_reactions()
+    assert reactions.shape == (3, batch.joint_count, 6)
+    with pytest.raises(ValueError, match="controls"):
+        batch.set_controls(np.zeros((3, 5)))
+    with pytest.raises(ValueError, match="no robot"):
+        kea.Batch(kea.World(), 2).joint_positions()
+
+
+@needs_pybullet
+def test_motors_drive_the_arm_and_its_links_are_named():
+    arm = kea.World.from_urdf(os.path.join(PYBULLET_DATA, "kuka_iiwa", "model.urdf"), fixed_base=True)
+    arm.set_joint_motors(np.full(7, 0.3))
+    arm.step(0.002, 100)
+    assert arm.joint_velocities() == pytest.approx(np.full(7, 0.3), abs=0.02)
+    with pytest.raises(ValueError, match="velocities"):
+        arm.set_joint_motors(np.zeros(6))
+    (pos, quat) = arm.link_pose("lbr_iiwa_link_7")
+    assert len(pos) == 3 and len(quat) == 4
+    assert "lbr_iiwa_link_7" in arm.link_names()
