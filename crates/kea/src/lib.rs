@@ -21,6 +21,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod articulation;
 pub mod body;
 pub mod constraint;
 pub mod error;

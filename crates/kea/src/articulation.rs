@@ -1,0 +1,403 @@
+//! Reduced-coordinate dynamics of a tree of hinges and sliders hanging from a fixed base: the
+//! core of the articulated path robots will be stepped by (a robot arm's 7 coordinates instead
+//! of its 42 constraint rows). Callable on its own, like the guide's immediate-mode solver.
+//!
+//! # The math (Featherstone's spatial algebra, in `f64`)
+//!
+//! Each link `i` has a frame that moves with it; its joint places it in its parent's frame at
+//! `origin_i ∘ J_i(q_i)`, where `J_i` turns by `q_i` about the unit axis `s_i` through the point
+//! `a_i` (a hinge) or moves by `q_i` along `s_i` (a slider), both in the link's frame. Spatial
+//! motion vectors are `[ω; v]` (v: the velocity of the frame's origin), force vectors `[n; f]`
+//! (n: the moment about the origin), both in link coordinates. The joint's motion subspace is
+//! `S_i = [s_i; a_i × s_i]` for a hinge and `[0; s_i]` for a slider.
+//!
+//! * **Joint-space inertia** `H(q)` by composite rigid bodies: each link's inertia summed into
+//!   its parent's (composites of rigid bodies are rigid-body inertias: a mass, a centre and a
+//!   rotational inertia, moved by the parallel-axis theorem), then
+//!   `H_ij = S_jᵀ X*_{j←i} I^c_i S_i` along the path from `i` to the root.
+//! * **Bias forces** `c(q, q̇)` (Coriolis, centrifugal and gravity) by recursive Newton–Euler
+//!   with `q̈ = 0` and the base accelerating at `−g`: velocities and accelerations outwards,
+//!   `f_i = I_i a_i + v_i ×* I_i v_i`, then `c_i = S_iᵀ f_i` inwards.
+//! * **A step** of `h` is semi-implicit Euler with each joint's armature `a` and damping `d`
+//!   taken implicitly: `(H + diag(a + h d)) q̈ = τ − c − d q̇`, `q̇⁺ = q̇ + h q̈`,
+//!   `q⁺ = q + h q̇⁺` — the same discretisation as MuJoCo's Euler integrator, so a robot
+//!   follows MuJoCo's to round-off where the models agree.
+
+use crate::error::{KeaError, KeaResult};
+use glam::{DMat3, DQuat, DVec3};
+
+/// How a joint of the tree moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TreeJointKind {
+    /// Turns about its axis through its anchor.
+    Hinge,
+    /// Slides along its axis.
+    Slider,
+}
+
+/// One link of the tree with the joint that carries it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreeLink {
+    /// The parent link (an index below this one), or `None` for a link on the fixed base.
+    pub parent: Option<usize>,
+    /// The joint's kind.
+    pub kind: TreeJointKind,
+    /// The link's frame in its parent's (or the base's) at `q = 0`: translation, rotation.
+    pub origin: (DVec3, DQuat),
+    /// The joint's unit axis, in the link's frame.
+    pub axis: DVec3,
+    /// A hinge's point, in the link's frame.
+    pub anchor: DVec3,
+    /// Mass, kg (> 0).
+    pub mass: f64,
+    /// Centre of mass, in the link's frame.
+    pub com: DVec3,
+    /// Rotational inertia about the centre of mass, link axes.
+    pub inertia: DMat3,
+    /// Armature: inertia added on the coordinate.
+    pub armature: f64,
+    /// Viscous damping on the coordinate.
+    pub damping: f64,
+}
+
+/// A tree of links on a fixed base, in reduced coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArticulatedTree {
+    links: Vec<TreeLink>,
+    /// Gravity in the base's frame, m/s².
+    gravity: DVec3,
+    // Scratch, reused every call: per link its transform from the parent (E, r), spatial
+    // velocity and acceleration, force, composite inertia.
+    rot: Vec<DMat3>,
+    pos: Vec<DVec3>,
+    vel: Vec<[DVec3; 2]>,
+    acc: Vec<[DVec3; 2]>,
+    force: Vec<[DVec3; 2]>,
+    composite: Vec<(f64, DVec3, DMat3)>,
+    h: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+/// A rigid-body inertia `(m, c, I_c)` applied to a motion `[ω; v]`: `[I_c ω + c × p; p]`,
+/// `p = m (v + ω × c)`.
+fn inertia_times(m: f64, c: DVec3, ic: &DMat3, [w, v]: [DVec3; 2]) -> [DVec3; 2] {
+    let p = m * (v + w.cross(c));
+    [*ic * w + c.cross(p), p]
+}
+
+/// `v ×* f` for a motion `v` and a force `f`.
+fn cross_force([w, v]: [DVec3; 2], [n, f]: [DVec3; 2]) -> [DVec3; 2] {
+    [w.cross(n) + v.cross(f), w.cross(f)]
+}
+
+/// `v × m` for motions.
+fn cross_motion([w, v]: [DVec3; 2], [w2, v2]: [DVec3; 2]) -> [DVec3; 2] {
+    [w.cross(w2), w.cross(v2) + v.cross(w2)]
+}
+
+/// A motion in the parent's coordinates seen in the child's (`e`: parent-to-child rotation,
+/// `r`: the child's origin in the parent's coordinates).
+fn motion_to_child(e: &DMat3, r: DVec3, [w, v]: [DVec3; 2]) -> [DVec3; 2] {
+    [*e * w, *e * (v - r.cross(w))]
+}
+
+/// A force in the child's coordinates seen in the parent's.
+fn force_to_parent(e: &DMat3, r: DVec3, [n, f]: [DVec3; 2]) -> [DVec3; 2] {
+    let (n, f) = (e.transpose() * n, e.transpose() * f);
+    [n + r.cross(f), f]
+}
+
+fn dot([a, b]: [DVec3; 2], [c, d]: [DVec3; 2]) -> f64 {
+    a.dot(c) + b.dot(d)
+}
+
+impl ArticulatedTree {
+    /// A tree of `links` (each one's parent before it) under `gravity` (base frame). Errors
+    /// name the link and the field that is wrong.
+    pub fn new(links: Vec<TreeLink>, gravity: DVec3) -> KeaResult<Self> {
+        for (i, l) in links.iter().enumerate() {
+            let bad = |field: &'static str, value: String, expected: &'static str| {
+                Err(KeaError::OutOfRange {
+                    arg: field,
+                    value: format!("link {i}: {value}"),
+                    expected,
+                })
+            };
+            if l.parent.is_some_and(|p| p >= i) {
+                return bad(
+                    "parent",
+                    format!("{:?}", l.parent),
+                    "a link listed before it",
+                );
+            }
+            if !(l.mass.is_finite() && l.mass > 0.0) {
+                return bad("mass", format!("{}", l.mass), "a positive finite mass");
+            }
+            if (l.axis.length() - 1.0).abs().is_nan() || (l.axis.length() - 1.0).abs() >= 1e-6 {
+                return bad("axis", format!("{}", l.axis), "a unit vector");
+            }
+            if !(l.armature >= 0.0 && l.damping >= 0.0) {
+                return bad(
+                    "armature",
+                    format!("{} / {}", l.armature, l.damping),
+                    "armature and damping >= 0",
+                );
+            }
+        }
+        let n = links.len();
+        Ok(Self {
+            links,
+            gravity,
+            rot: vec![DMat3::IDENTITY; n],
+            pos: vec![DVec3::ZERO; n],
+            vel: vec![[DVec3::ZERO; 2]; n],
+            acc: vec![[DVec3::ZERO; 2]; n],
+            force: vec![[DVec3::ZERO; 2]; n],
+            composite: vec![(0.0, DVec3::ZERO, DMat3::ZERO); n],
+            h: vec![0.0; n * n],
+            rhs: vec![0.0; n],
+        })
+    }
+
+    /// Number of coordinates.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.links.len()
+    }
+
+    /// Whether the tree has no link.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.links.is_empty()
+    }
+
+    /// Joint `i`'s motion subspace in its link's coordinates.
+    fn subspace(&self, i: usize) -> [DVec3; 2] {
+        let l = &self.links[i];
+        match l.kind {
+            TreeJointKind::Hinge => [l.axis, l.anchor.cross(l.axis)],
+            TreeJointKind::Slider => [DVec3::ZERO, l.axis],
+        }
+    }
+
+    /// Each link's transform from its parent at `q`: the parent-to-child rotation and the
+    /// child's origin in the parent's coordinates.
+    fn place(&mut self, q: &[f64]) {
+        for (i, (l, &qi)) in self.links.iter().zip(q).enumerate() {
+            let (t, r) = l.origin;
+            let (joint_t, joint_r) = match l.kind {
+                TreeJointKind::Hinge => {
+                    let turn = DQuat::from_axis_angle(l.axis, qi);
+                    (l.anchor - turn * l.anchor, turn)
+                }
+                TreeJointKind::Slider => (l.axis * qi, DQuat::IDENTITY),
+            };
+            let rotation = r * joint_r;
+            self.pos[i] = t + r * joint_t;
+            self.rot[i] = DMat3::from_quat(rotation).transpose();
+        }
+    }
+
+    /// The joint-space inertia `H(q)` (row-major, `len × len`) by composite rigid bodies,
+    /// armature included; `place` must have run.
+    fn mass_matrix(&mut self) {
+        let n = self.len();
+        for (i, l) in self.links.iter().enumerate() {
+            self.composite[i] = (l.mass, l.com, l.inertia);
+        }
+        for i in (0..n).rev() {
+            if let Some(p) = self.links[i].parent {
+                let (m, c, ic) = self.composite[i];
+                let e = self.rot[i];
+                // Into the parent's coordinates, then summed about the common centre.
+                let c_p = self.pos[i] + e.transpose() * c;
+                let ic_p = e.transpose() * ic * e;
+                let (mp, cp, icp) = self.composite[p];
+                let total = mp + m;
+                let centre = (cp * mp + c_p * m) / total;
+                let shift = |mass: f64, d: DVec3| {
+                    (DMat3::IDENTITY * d.length_squared()
+                        - DMat3::from_cols(d * d.x, d * d.y, d * d.z))
+                        * mass
+                };
+                let inertia = icp + shift(mp, cp - centre) + ic_p + shift(m, c_p - centre);
+                self.composite[p] = (total, centre, inertia);
+            }
+        }
+        for i in 0..n {
+            let (m, c, ic) = self.composite[i];
+            let si = self.subspace(i);
+            let mut f = inertia_times(m, c, &ic, si);
+            self.h[i * n + i] = dot(f, si) + self.links[i].armature;
+            let mut j = i;
+            while let Some(p) = self.links[j].parent {
+                f = force_to_parent(&self.rot[j], self.pos[j], f);
+                j = p;
+                let v = dot(f, self.subspace(j));
+                self.h[i * n + j] = v;
+                self.h[j * n + i] = v;
+            }
+        }
+    }
+
+    /// The bias forces `c(q, q̇)` into `out` by recursive Newton–Euler; `place` must have run.
+    fn bias(&mut self, qd: &[f64], out: &mut [f64]) {
+        let n = self.len();
+        for (i, &rate) in qd.iter().enumerate().take(n) {
+            let s = self.subspace(i);
+            let joint = [s[0] * rate, s[1] * rate];
+            let (e, r) = (self.rot[i], self.pos[i]);
+            let (v_parent, a_parent) = match self.links[i].parent {
+                Some(p) => (self.vel[p], self.acc[p]),
+                // The base accelerates up at g: gravity on every link, for free.
+                None => ([DVec3::ZERO; 2], [DVec3::ZERO, -self.gravity]),
+            };
+            let v_p = motion_to_child(&e, r, v_parent);
+            let v = [v_p[0] + joint[0], v_p[1] + joint[1]];
+            let a_p = motion_to_child(&e, r, a_parent);
+            let c = cross_motion(v, joint);
+            self.vel[i] = v;
+            self.acc[i] = [a_p[0] + c[0], a_p[1] + c[1]];
+            let l = &self.links[i];
+            let ia = inertia_times(l.mass, l.com, &l.inertia, self.acc[i]);
+            let iv = inertia_times(l.mass, l.com, &l.inertia, v);
+            let g = cross_force(v, iv);
+            self.force[i] = [ia[0] + g[0], ia[1] + g[1]];
+        }
+        for i in (0..n).rev() {
+            out[i] = dot(self.force[i], self.subspace(i));
+            if let Some(p) = self.links[i].parent {
+                let f = force_to_parent(&self.rot[i], self.pos[i], self.force[i]);
+                self.force[p][0] += f[0];
+                self.force[p][1] += f[1];
+            }
+        }
+    }
+
+    /// Every link's frame in the base's at `q`: position and rotation (forward kinematics).
+    pub fn link_poses(&mut self, q: &[f64]) -> KeaResult<Vec<(DVec3, DQuat)>> {
+        let zeros = vec![0.0; self.len()];
+        self.check(q, &zeros, &zeros)?;
+        self.place(q);
+        let mut out: Vec<(DVec3, DQuat)> = Vec::with_capacity(self.len());
+        for i in 0..self.len() {
+            let local = DQuat::from_mat3(&self.rot[i].transpose());
+            let pose = match self.links[i].parent {
+                Some(p) => {
+                    let (t, r) = out[p];
+                    (t + r * self.pos[i], (r * local).normalize())
+                }
+                None => (self.pos[i], local),
+            };
+            out.push(pose);
+        }
+        Ok(out)
+    }
+
+    /// The accelerations `q̈` under joint forces `tau` (no damping): `H q̈ = τ − c`.
+    pub fn accelerations(&mut self, q: &[f64], qd: &[f64], tau: &[f64]) -> KeaResult<Vec<f64>> {
+        self.check(q, qd, tau)?;
+        let mut qdd = vec![0.0; self.len()];
+        self.solve(q, qd, tau, 0.0, &mut qdd)?;
+        Ok(qdd)
+    }
+
+    /// One semi-implicit Euler step of `h` under joint forces `tau`, damping and armature
+    /// implicit (module docs): `q` and `qd` are advanced in place.
+    pub fn step(&mut self, q: &mut [f64], qd: &mut [f64], tau: &[f64], h: f64) -> KeaResult<()> {
+        self.check(q, qd, tau)?;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(KeaError::OutOfRange {
+                arg: "h",
+                value: format!("{h}"),
+                expected: "a positive finite step",
+            });
+        }
+        let mut qdd = std::mem::take(&mut self.rhs);
+        qdd.resize(self.len(), 0.0);
+        let solved = self.solve(q, qd, tau, h, &mut qdd);
+        if solved.is_ok() {
+            for i in 0..self.len() {
+                qd[i] += h * qdd[i];
+                q[i] += h * qd[i];
+            }
+        }
+        self.rhs = qdd;
+        solved
+    }
+
+    /// `(H + diag(h d)) q̈ = τ − c − d q̇` into `qdd`.
+    fn solve(
+        &mut self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        h: f64,
+        qdd: &mut [f64],
+    ) -> KeaResult<()> {
+        let n = self.len();
+        self.place(q);
+        self.mass_matrix();
+        self.bias(qd, qdd);
+        for (i, l) in self.links.iter().enumerate() {
+            let d = l.damping;
+            qdd[i] = tau[i] - qdd[i] - d * qd[i];
+            self.h[i * n + i] += h * d;
+        }
+        cholesky_solve(&mut self.h, n, qdd)
+    }
+
+    fn check(&self, q: &[f64], qd: &[f64], tau: &[f64]) -> KeaResult<()> {
+        for (arg, x) in [("q", q), ("qd", qd), ("tau", tau)] {
+            if x.len() != self.len() || x.iter().any(|v| !v.is_finite()) {
+                return Err(KeaError::OutOfRange {
+                    arg,
+                    value: format!("{} entries", x.len()),
+                    expected: "one finite number per link",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Solves `A x = b` for symmetric positive definite `A` (row-major, overwritten by its
+/// Cholesky factor), `b` overwritten by `x`.
+fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return Err(KeaError::Inconsistent {
+                arg: "links",
+                reason: "the tree's joint-space inertia is not positive definite".into(),
+            });
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= a[i * n + k] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= a[k * n + i] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    Ok(())
+}
