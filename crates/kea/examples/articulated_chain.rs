@@ -25,6 +25,9 @@ fn main() {
             inertia: DMat3::from_diagonal(DVec3::new(0.03, 0.028, 0.01)),
             armature: 0.0,
             damping: 0.5,
+            limits: Some((-2.9, 2.9)),
+            motor: None,
+            friction: 0.0,
         })
         .collect();
     let mut tree = ArticulatedTree::new(links, DVec3::new(0.0, 0.0, -9.81)).unwrap();

@@ -19,9 +19,11 @@
 //!   with `q̈ = 0` and the base accelerating at `−g`: velocities and accelerations outwards,
 //!   `f_i = I_i a_i + v_i ×* I_i v_i`, then `c_i = S_iᵀ f_i` inwards.
 //! * **A step** of `h` is semi-implicit Euler with each joint's armature `a` and damping `d`
-//!   taken implicitly: `(H + diag(a + h d)) q̈ = τ − c − d q̇`, `q̇⁺ = q̇ + h q̈`,
-//!   `q⁺ = q + h q̇⁺` — the same discretisation as MuJoCo's Euler integrator, so a robot
-//!   follows MuJoCo's to round-off where the models agree.
+//!   taken implicitly: `(H' = H + diag(a + h d)) q̈ = τ − c − d q̇`, `q̇ ← q̇ + h q̈`; then the
+//!   coordinates' stops, motors and dry friction as impulses `P` on the rates,
+//!   `q̇⁺ = q̇ + H'⁻¹ P`, each within its bounds (a stop pushes one way only, a motor up to its
+//!   force times `h`), found by projected Gauss–Seidel on `H'⁻¹`; and `q⁺ = q + h q̇⁺` — the
+//!   discretisation of MuJoCo's Euler integrator, with hard stops.
 
 use crate::error::{KeaError, KeaResult};
 use glam::{DMat3, DQuat, DVec3};
@@ -58,6 +60,12 @@ pub struct TreeLink {
     pub armature: f64,
     /// Viscous damping on the coordinate.
     pub damping: f64,
+    /// Hard stops on the coordinate (lower, upper), rad or m.
+    pub limits: Option<(f64, f64)>,
+    /// A motor: target rate and largest force or torque (≥ 0).
+    pub motor: Option<(f64, f64)>,
+    /// Dry friction: the coordinate holds until pushed harder than this (≥ 0).
+    pub friction: f64,
 }
 
 /// A tree of links on a fixed base, in reduced coordinates.
@@ -76,6 +84,23 @@ pub struct ArticulatedTree {
     composite: Vec<(f64, DVec3, DMat3)>,
     h: Vec<f64>,
     rhs: Vec<f64>,
+    /// `H'⁻¹`, row-major, for the constraint solve.
+    inverse: Vec<f64>,
+    column: Vec<f64>,
+    /// The coordinates' constraint rows this step, and each coordinate's impulse.
+    rows: Vec<CoordinateRow>,
+    impulse: Vec<f64>,
+}
+
+/// One constraint on one coordinate's rate after the step: the rate aimed at, and the
+/// impulse's bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct CoordinateRow {
+    coordinate: usize,
+    target: f64,
+    lo: f64,
+    hi: f64,
+    impulse: f64,
 }
 
 /// A rigid-body inertia `(m, c, I_c)` applied to a motion `[ω; v]`: `[I_c ω + c × p; p]`,
@@ -136,6 +161,22 @@ impl ArticulatedTree {
             if (l.axis.length() - 1.0).abs().is_nan() || (l.axis.length() - 1.0).abs() >= 1e-6 {
                 return bad("axis", format!("{}", l.axis), "a unit vector");
             }
+            if let Some((lo, hi)) = l.limits {
+                if lo.is_nan() || hi.is_nan() || lo > hi {
+                    return bad("limits", format!("{lo} {hi}"), "lower <= upper");
+                }
+            }
+            if l.motor
+                .is_some_and(|(v, f)| !v.is_finite() || f.is_nan() || f < 0.0)
+                || l.friction.is_nan()
+                || l.friction < 0.0
+            {
+                return bad(
+                    "motor",
+                    format!("{:?} / {}", l.motor, l.friction),
+                    "a finite rate, forces >= 0",
+                );
+            }
             if !(l.armature >= 0.0 && l.damping >= 0.0) {
                 return bad(
                     "armature",
@@ -156,6 +197,10 @@ impl ArticulatedTree {
             composite: vec![(0.0, DVec3::ZERO, DMat3::ZERO); n],
             h: vec![0.0; n * n],
             rhs: vec![0.0; n],
+            inverse: vec![0.0; n * n],
+            column: vec![0.0; n],
+            rows: Vec::with_capacity(3 * n),
+            impulse: vec![0.0; n],
         })
     }
 
@@ -319,11 +364,110 @@ impl ArticulatedTree {
         if solved.is_ok() {
             for i in 0..self.len() {
                 qd[i] += h * qdd[i];
+            }
+            self.constrain(q, qd, h);
+            for i in 0..self.len() {
                 q[i] += h * qd[i];
             }
         }
         self.rhs = qdd;
         solved
+    }
+
+    /// Each coordinate's constraint force in the last step (stops, motor, friction), N·m or N.
+    #[must_use]
+    pub fn constraint_forces(&self, h: f64) -> Vec<f64> {
+        self.impulse.iter().map(|p| p / h).collect()
+    }
+
+    /// Stops, motors and dry friction on the rates `qd` (free, in place): impulses `P` with
+    /// `q̇⁺ = q̇ + H'⁻¹ P`, each row's within its bounds, by projected Gauss–Seidel on `H'⁻¹`
+    /// (the factor `solve` left). A stop's row aims the rate at what reaches the stop by the
+    /// step's end, and only pushes away from it.
+    fn constrain(&mut self, q: &[f64], qd: &mut [f64], h: f64) {
+        let n = self.len();
+        self.rows.clear();
+        for (i, l) in self.links.iter().enumerate() {
+            if let Some((v, f)) = l.motor {
+                self.rows.push(CoordinateRow {
+                    coordinate: i,
+                    target: v,
+                    lo: -h * f,
+                    hi: h * f,
+                    impulse: 0.0,
+                });
+            }
+            if l.friction > 0.0 {
+                let f = h * l.friction;
+                self.rows.push(CoordinateRow {
+                    coordinate: i,
+                    target: 0.0,
+                    lo: -f,
+                    hi: f,
+                    impulse: 0.0,
+                });
+            }
+            if let Some((lo, hi)) = l.limits {
+                let (min, max) = ((lo - q[i]) / h, (hi - q[i]) / h);
+                if qd[i] < min + 1e-9 || q[i] < lo + 1e-9 {
+                    self.rows.push(CoordinateRow {
+                        coordinate: i,
+                        target: min,
+                        lo: 0.0,
+                        hi: f64::INFINITY,
+                        impulse: 0.0,
+                    });
+                }
+                if qd[i] > max - 1e-9 || q[i] > hi - 1e-9 {
+                    self.rows.push(CoordinateRow {
+                        coordinate: i,
+                        target: max,
+                        lo: f64::NEG_INFINITY,
+                        hi: 0.0,
+                        impulse: 0.0,
+                    });
+                }
+            }
+        }
+        self.impulse.iter_mut().for_each(|p| *p = 0.0);
+        if self.rows.is_empty() {
+            return;
+        }
+        // H'⁻¹, column by column from the factor.
+        for j in 0..n {
+            self.column.iter_mut().for_each(|c| *c = 0.0);
+            self.column[j] = 1.0;
+            let mut col = std::mem::take(&mut self.column);
+            cholesky_back_solve(&self.h, n, &mut col);
+            for (i, &c) in col.iter().enumerate() {
+                self.inverse[i * n + j] = c;
+            }
+            self.column = col;
+        }
+        for _sweep in 0..200 {
+            let mut largest: f64 = 0.0;
+            for r in 0..self.rows.len() {
+                let row = self.rows[r];
+                let i = row.coordinate;
+                let w = self.inverse[i * n + i];
+                // The impulse that brings the rate to the row's target, kept in its bounds (a
+                // stop's bounds let it push one way only).
+                let p = (row.impulse + (row.target - qd[i]) / w).clamp(row.lo, row.hi);
+                let delta = p - row.impulse;
+                if delta != 0.0 {
+                    self.rows[r].impulse = p;
+                    self.impulse[i] += delta;
+                    for (k, rate) in qd.iter_mut().enumerate() {
+                        *rate += self.inverse[k * n + i] * delta;
+                    }
+                    largest = largest.max((delta * w).abs());
+                }
+            }
+            // Converged when no row moves any rate by more than round-off.
+            if largest < 1e-12 {
+                break;
+            }
+        }
     }
 
     /// `(H + diag(h d)) q̈ = τ − c − d q̇` into `qdd`.
@@ -361,6 +505,24 @@ impl ArticulatedTree {
     }
 }
 
+/// Solves `L Lᵀ x = b` with the factor `cholesky_solve` left in `l`, `b` overwritten by `x`.
+fn cholesky_back_solve(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i * n + k] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+}
+
 /// Solves `A x = b` for symmetric positive definite `A` (row-major, overwritten by its
 /// Cholesky factor), `b` overwritten by `x`.
 fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
@@ -385,19 +547,6 @@ fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
             a[i * n + j] = s / d;
         }
     }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i * n + k] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= a[k * n + i] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
+    cholesky_back_solve(a, n, b);
     Ok(())
 }

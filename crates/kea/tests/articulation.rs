@@ -26,6 +26,9 @@ fn link(
         inertia: DMat3::from_diagonal(DVec3::splat(inertia)),
         armature: 0.0,
         damping: 0.0,
+        limits: None,
+        motor: None,
+        friction: 0.0,
     }
 }
 
@@ -222,4 +225,79 @@ fn small_steps_keep_a_three_link_chains_energy_and_damping_takes_it() {
     assert!(qd.iter().all(|v| v.abs() < 1e-3), "{qd:?}");
     let bad = tree.step(&mut q, &mut qd, &[0.0; 2], 1e-3).unwrap_err();
     assert!(bad.to_string().contains("tau"), "{bad}");
+}
+
+#[test]
+fn stops_hold_motors_drive_and_friction_holds_until_pushed_past_it() {
+    // A pendulum released at 1 rad falls onto its stop at 1.5 rad and rests there.
+    let mut p = link(
+        None,
+        TreeJointKind::Hinge,
+        DVec3::ZERO,
+        DVec3::Y,
+        1.0,
+        DVec3::new(0.5, 0.0, 0.0),
+        0.01,
+    );
+    // Turning about +y takes +x towards −z: the arm falls towards positive angles.
+    let (mut q, mut qd) = (vec![1.0], vec![0.0]);
+    p.limits = Some((-0.5, 1.5));
+    let mut tree2 = ArticulatedTree::new(vec![p], DVec3::new(0.0, 0.0, -G)).unwrap();
+    let mut most: f64 = 0.0;
+    for _ in 0..3000 {
+        tree2.step(&mut q, &mut qd, &[0.0], 1e-3).unwrap();
+        most = most.max(q[0]);
+    }
+    assert!(most <= 1.5 + 1e-9, "never past the stop: {most}");
+    assert!(
+        (q[0] - 1.5).abs() < 1e-6 && qd[0].abs() < 1e-6,
+        "resting on it: {q:?} {qd:?}"
+    );
+    // The stop carries the arm's weight: m g l cos(1.5) about the pivot.
+    let held = tree2.constraint_forces(1e-3)[0];
+    assert!(
+        (held.abs() - 1.0 * G * 0.5 * 1.5f64.cos()).abs() < 1e-3,
+        "{held}"
+    );
+    // A motor of at most 2 N·m drives a wheel of 0.5 kg·m² (no gravity about its axis) to
+    // 3 rad/s: at 4 rad/s² for 0.75 s, then holds.
+    let mut w = link(
+        None,
+        TreeJointKind::Hinge,
+        DVec3::ZERO,
+        DVec3::Z,
+        1.0,
+        DVec3::ZERO,
+        0.5,
+    );
+    w.motor = Some((3.0, 2.0));
+    let mut wheel = ArticulatedTree::new(vec![w], DVec3::new(0.0, 0.0, -G)).unwrap();
+    let (mut q, mut qd) = (vec![0.0], vec![0.0]);
+    for _ in 0..500 {
+        wheel.step(&mut q, &mut qd, &[0.0], 1e-3).unwrap();
+    }
+    assert!((qd[0] - 2.0).abs() < 1e-9, "ramping at 4 rad/s²: {}", qd[0]);
+    for _ in 0..500 {
+        wheel.step(&mut q, &mut qd, &[0.0], 1e-3).unwrap();
+    }
+    assert!((qd[0] - 3.0).abs() < 1e-9, "held at 3 rad/s: {}", qd[0]);
+    // Dry friction of 1 N·m holds against 0.9 N·m and slips under 1.5 N·m at 0.5 / 0.5 rad/s².
+    for (torque, rate) in [(0.9, 0.0), (1.5, 1.0)] {
+        let mut f = link(
+            None,
+            TreeJointKind::Hinge,
+            DVec3::ZERO,
+            DVec3::Z,
+            1.0,
+            DVec3::ZERO,
+            0.5,
+        );
+        f.friction = 1.0;
+        let mut knob = ArticulatedTree::new(vec![f], DVec3::new(0.0, 0.0, -G)).unwrap();
+        let (mut q, mut qd) = (vec![0.0], vec![0.0]);
+        for _ in 0..1000 {
+            knob.step(&mut q, &mut qd, &[torque], 1e-3).unwrap();
+        }
+        assert!((qd[0] - rate).abs() < 1e-9, "torque {torque}: {}", qd[0]);
+    }
 }
