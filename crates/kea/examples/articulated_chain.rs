@@ -28,6 +28,7 @@ fn main() {
             limits: Some((-2.9, 2.9)),
             motor: None,
             friction: 0.0,
+            servo: None,
         })
         .collect();
     let mut tree = ArticulatedTree::new(links, DVec3::new(0.0, 0.0, -9.81)).unwrap();

@@ -20,7 +20,8 @@
 //!   `f_i = I_i a_i + v_i ×* I_i v_i`, then `c_i = S_iᵀ f_i` inwards.
 //! * **A step** of `h` is semi-implicit Euler with each joint's armature `a` and damping `d`
 //!   taken implicitly: `(H' = H + diag(a + h d)) q̈ = τ − c − d q̇`, `q̇ ← q̇ + h q̈`; then the
-//!   coordinates' stops, motors and dry friction as impulses `P` on the rates,
+//!   coordinates' servos are implicit the same way (`kp (q* − q − h q̇⁺) + kv (v* − q̇⁺)`, its
+//!   `q̈` terms in `H'`); their stops, motors and dry friction act as impulses `P` on the rates,
 //!   `q̇⁺ = q̇ + H'⁻¹ P`, each within its bounds (a stop pushes one way only, a motor up to its
 //!   force times `h`), found by projected Gauss–Seidel on `H'⁻¹`; and `q⁺ = q + h q̇⁺` — the
 //!   discretisation of MuJoCo's Euler integrator, with hard stops.
@@ -66,6 +67,9 @@ pub struct TreeLink {
     pub motor: Option<(f64, f64)>,
     /// Dry friction: the coordinate holds until pushed harder than this (≥ 0).
     pub friction: f64,
+    /// A servo: stiffness kp towards a position and gain kv towards a rate, implicit in the
+    /// step (`(position, rate, kp, kv)`, gains ≥ 0).
+    pub servo: Option<(f64, f64, f64, f64)>,
 }
 
 /// A tree of links on a fixed base, in reduced coordinates.
@@ -487,6 +491,12 @@ impl ArticulatedTree {
             let d = l.damping;
             qdd[i] = tau[i] - qdd[i] - d * qd[i];
             self.h[i * n + i] += h * d;
+            // A servo's force kp (q* − q − h q̇⁺) + kv (v* − q̇⁺), with q̇⁺ = q̇ + h q̈: its
+            // q̈ terms join H', the rest the right side.
+            if let Some((target, rate, kp, kv)) = l.servo {
+                qdd[i] += kp * (target - q[i]) - (kp * h + kv) * qd[i] + kv * rate;
+                self.h[i * n + i] += h * h * kp + h * kv;
+            }
         }
         cholesky_solve(&mut self.h, n, qdd)
     }

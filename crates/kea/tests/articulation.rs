@@ -29,6 +29,7 @@ fn link(
         limits: None,
         motor: None,
         friction: 0.0,
+        servo: None,
     }
 }
 
@@ -299,5 +300,32 @@ fn stops_hold_motors_drive_and_friction_holds_until_pushed_past_it() {
             knob.step(&mut q, &mut qd, &[torque], 1e-3).unwrap();
         }
         assert!((qd[0] - rate).abs() < 1e-9, "torque {torque}: {}", qd[0]);
+    }
+}
+
+#[test]
+fn a_servo_brings_its_coordinate_to_the_target_as_a_damped_spring() {
+    // kp = 50, kv = 10 on a 0.5 kg·m² wheel: ω = 10 rad/s, ζ = 1 (critical): no overshoot,
+    // within 1e-3 of the target after 1.2 s, at any step.
+    for h in [1e-3, 1e-2] {
+        let mut w = link(
+            None,
+            TreeJointKind::Hinge,
+            DVec3::ZERO,
+            DVec3::Z,
+            1.0,
+            DVec3::ZERO,
+            0.5,
+        );
+        w.servo = Some((1.0, 0.0, 50.0, 10.0));
+        let mut wheel = ArticulatedTree::new(vec![w], DVec3::new(0.0, 0.0, -G)).unwrap();
+        let (mut q, mut qd) = (vec![0.0], vec![0.0]);
+        let mut most: f64 = 0.0;
+        for _ in 0..(1.2 / h) as usize {
+            wheel.step(&mut q, &mut qd, &[0.0], h).unwrap();
+            most = most.max(q[0]);
+        }
+        assert!(most <= 1.0 + 1e-9, "h {h}: overshoots to {most}");
+        assert!((q[0] - 1.0).abs() < 2e-3, "h {h}: {}", q[0]);
     }
 }
