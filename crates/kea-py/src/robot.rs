@@ -51,6 +51,19 @@ impl PyWorld {
         self.robot.as_ref().ok_or_else(no_robot)
     }
 
+    /// Hands an array-like of reals (any dtype and layout) to one of the robot's setters,
+    /// which checks its length and values and changes nothing when it refuses.
+    fn write_vector(
+        &mut self,
+        arg: &str,
+        x: &Bound<'_, PyAny>,
+        set: fn(&Robot, &mut PhysicsWorld, &[Real]) -> kea3d::Result<()>,
+    ) -> PyResult<()> {
+        let x = reals(&vector(arg, x, None)?);
+        let (robot, world) = self.robot_and_world()?;
+        py(set(robot, world, &x))
+    }
+
     /// The robot and the world it drives, borrowed apart (no copy of the robot per call).
     fn robot_and_world(&mut self) -> PyResult<(&Robot, &mut PhysicsWorld)> {
         let robot = self.robot.as_ref().ok_or_else(no_robot)?;
@@ -196,36 +209,24 @@ impl PyWorld {
     /// Re-poses the robot to joint positions `q` (any real array-like) by forward kinematics,
     /// keeping velocities. Nothing changes on a bad length or value.
     fn set_joint_positions(&mut self, q: &Bound<'_, PyAny>) -> PyResult<()> {
-        let n = self.robot()?.position_count();
-        let q = vector("q", q, Some(n))?;
-        let (robot, world) = self.robot_and_world()?;
-        py(robot.set_joint_positions(world, &reals(&q)))
+        self.write_vector("q", q, Robot::set_joint_positions)
     }
 
     /// Sets the bodies' velocities to joint velocities `v` (any real array-like).
     fn set_joint_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        let n = self.robot()?.velocity_count();
-        let v = vector("v", v, Some(n))?;
-        let (robot, world) = self.robot_and_world()?;
-        py(robot.set_joint_velocities(world, &reals(&v)))
+        self.write_vector("v", v, Robot::set_joint_velocities)
     }
 
     /// Applies a force (N) or torque (N·m) along each joint coordinate (the layout of
     /// `joint_velocities`; free and ball joints' entries must be 0) until changed.
     fn set_joint_forces(&mut self, forces: &Bound<'_, PyAny>) -> PyResult<()> {
-        let n = self.robot()?.velocity_count();
-        let f = vector("forces", forces, Some(n))?;
-        let (robot, world) = self.robot_and_world()?;
-        py(robot.set_joint_forces(world, &reals(&f)))
+        self.write_vector("forces", forces, Robot::set_joint_forces)
     }
 
     /// Feeds the file's actuators one control each (MuJoCo's `ctrl`), clamped to their
     /// control ranges, until changed.
     fn set_controls(&mut self, controls: &Bound<'_, PyAny>) -> PyResult<()> {
-        let n = self.robot()?.actuators().len();
-        let u = vector("controls", controls, Some(n))?;
-        let (robot, world) = self.robot_and_world()?;
-        py(robot.set_controls(world, &reals(&u)))
+        self.write_vector("controls", controls, Robot::set_controls)
     }
 
     /// Drives each joint coordinate at `velocities` (the layout of `joint_velocities`) with a

@@ -98,8 +98,6 @@ fn topological(spec: &RobotSpec) -> (Vec<usize>, Vec<Option<usize>>) {
 struct Layout {
     /// Links, parents first.
     order: Vec<usize>,
-    /// Each link's joint (none for the world).
-    parent_joint: Vec<Option<usize>>,
     /// Each link's frame in the world.
     pose: Vec<Pose>,
     /// The link heading each link's body.
@@ -122,12 +120,7 @@ impl Layout {
                 link
             };
         }
-        Self {
-            order,
-            parent_joint,
-            pose,
-            head,
-        }
+        Self { order, pose, head }
     }
 }
 
@@ -312,20 +305,11 @@ fn build_into(
             offset: l.pose[l.head[k]].inverse().then(&l.pose[k]),
         })
         .collect();
-    let (nq, nv) = joints.last().map_or((0, 0), |j| {
-        (
-            j.first_position + j.kind.position_count(),
-            j.first_velocity + j.kind.velocity_count(),
-        )
-    });
     Ok(Robot::new(
         spec.name.clone(),
         links,
         joints,
         b.layout.order,
-        b.layout.parent_joint,
-        nq,
-        nv,
         b.skipped,
     ))
 }

@@ -75,17 +75,26 @@ pub struct Robot {
 }
 
 impl Robot {
-    #[allow(clippy::too_many_arguments)]
+    /// A robot of these links and joints (each joint knowing its place in the joint vectors);
+    /// `order` lists the links parents first. Each link's joint and the vectors' lengths
+    /// follow from the joints.
     pub(crate) fn new(
         name: String,
         links: Vec<RobotLink>,
         joints: Vec<RobotJoint>,
         order: Vec<usize>,
-        joint_of: Vec<Option<usize>>,
-        positions: usize,
-        velocities: usize,
         skipped: Vec<String>,
     ) -> Self {
+        let mut joint_of = vec![None; links.len()];
+        for (k, j) in joints.iter().enumerate() {
+            joint_of[j.child_link] = Some(k);
+        }
+        let (positions, velocities) = joints.last().map_or((0, 0), |j| {
+            (
+                j.first_position + j.kind.position_count(),
+                j.first_velocity + j.kind.velocity_count(),
+            )
+        });
         Self {
             name,
             links,
