@@ -197,6 +197,7 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
             hysteresis: r.hysteresis,
             mass_ratio: r.mass_ratio,
             stack_bodies: r.stack_bodies,
+            max_reduced_links: r.max_reduced_links,
         },
         iterative: IterativeParams {
             substeps: it.substeps,

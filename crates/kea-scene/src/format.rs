@@ -183,6 +183,9 @@ pub struct RoutingSpec {
     /// An island of contacts only that joins at least this many bodies without a loop (a
     /// column of boxes) goes exact (≥ 1; a very large number: never).
     pub stack_bodies: u32,
+    /// Largest tree of hinges and sliders on the static world, in links, stepped in reduced
+    /// coordinates (0: never).
+    pub max_reduced_links: u32,
 }
 
 impl Default for RoutingSpec {
@@ -194,6 +197,7 @@ impl Default for RoutingSpec {
             hysteresis: d.hysteresis,
             mass_ratio: d.mass_ratio,
             stack_bodies: d.stack_bodies,
+            max_reduced_links: d.max_reduced_links,
         }
     }
 }

@@ -29,6 +29,7 @@ fn main() {
             motor: None,
             friction: 0.0,
             servo: None,
+            stop_recovery_speed: f64::INFINITY,
         })
         .collect();
     let mut tree = ArticulatedTree::new(links, DVec3::new(0.0, 0.0, -9.81)).unwrap();

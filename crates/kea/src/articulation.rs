@@ -70,7 +70,43 @@ pub struct TreeLink {
     /// A servo: stiffness kp towards a position and gain kv towards a rate, implicit in the
     /// step (`(position, rate, kp, kv)`, gains ≥ 0).
     pub servo: Option<(f64, f64, f64, f64)>,
+    /// Fastest a stop pushes back a coordinate found beyond it, rad/s or m/s (`INFINITY`: a
+    /// fifth of the overshoot per step, as the maximal-coordinate path's stops do).
+    pub stop_recovery_speed: f64,
 }
+
+impl Default for TreeLink {
+    /// A 1 kg hinge about z on the base, its centre at its origin, unit inertia, nothing else.
+    fn default() -> Self {
+        Self {
+            parent: None,
+            kind: TreeJointKind::Hinge,
+            origin: (DVec3::ZERO, DQuat::IDENTITY),
+            axis: DVec3::Z,
+            anchor: DVec3::ZERO,
+            mass: 1.0,
+            com: DVec3::ZERO,
+            inertia: DMat3::IDENTITY,
+            armature: 0.0,
+            damping: 0.0,
+            limits: None,
+            motor: None,
+            friction: 0.0,
+            servo: None,
+            stop_recovery_speed: f64::INFINITY,
+        }
+    }
+}
+
+impl Default for ArticulatedTree {
+    /// A tree with no link, under no gravity.
+    fn default() -> Self {
+        Self::empty(DVec3::ZERO)
+    }
+}
+
+/// A fraction of a stop's overshoot taken back per step (the maximal path's `γ` for stops).
+const STOP_RECOVERY: f64 = 0.2;
 
 /// A tree of links on a fixed base, in reduced coordinates.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,6 +130,12 @@ pub struct ArticulatedTree {
     /// The coordinates' constraint rows this step, and each coordinate's impulse.
     rows: Vec<CoordinateRow>,
     impulse: Vec<f64>,
+    /// Applied wrenches on the links, link coordinates: `[torque about the origin; force]`.
+    external: Vec<[DVec3; 2]>,
+    /// The rates at the start of the last step.
+    rate0: Vec<f64>,
+    /// Each link's frame in the base's after [`ArticulatedTree::forward`].
+    frames: Vec<(DVec3, DQuat)>,
 }
 
 /// One constraint on one coordinate's rate after the step: the rate aimed at, and the
@@ -205,7 +247,94 @@ impl ArticulatedTree {
             column: vec![0.0; n],
             rows: Vec::with_capacity(3 * n),
             impulse: vec![0.0; n],
+            external: vec![[DVec3::ZERO; 2]; n],
+            rate0: vec![0.0; n],
+            frames: vec![(DVec3::ZERO, DQuat::IDENTITY); n],
         })
+    }
+
+    /// An empty tree under `gravity`, to be filled by [`ArticulatedTree::refill`].
+    pub(crate) fn empty(gravity: DVec3) -> Self {
+        Self::new(Vec::new(), gravity).expect("an empty tree is valid")
+    }
+
+    /// Replaces the links (each one's parent before it; trusted: the world derives them from
+    /// valid bodies and joints) and the gravity, reusing the scratch: no allocation once the
+    /// tree has held as many links. The applied wrenches are cleared.
+    pub(crate) fn refill(&mut self, links: impl Iterator<Item = TreeLink>, gravity: DVec3) {
+        self.links.clear();
+        self.links.extend(links);
+        self.gravity = gravity;
+        let n = self.links.len();
+        self.rot.resize(n, DMat3::IDENTITY);
+        self.pos.resize(n, DVec3::ZERO);
+        self.vel.resize(n, [DVec3::ZERO; 2]);
+        self.acc.resize(n, [DVec3::ZERO; 2]);
+        self.force.resize(n, [DVec3::ZERO; 2]);
+        self.composite.resize(n, (0.0, DVec3::ZERO, DMat3::ZERO));
+        self.h.resize(n * n, 0.0);
+        self.rhs.resize(n, 0.0);
+        self.inverse.resize(n * n, 0.0);
+        self.column.resize(n, 0.0);
+        self.impulse.resize(n, 0.0);
+        self.external.clear();
+        self.external.resize(n, [DVec3::ZERO; 2]);
+        self.rate0.resize(n, 0.0);
+        self.frames.resize(n, (DVec3::ZERO, DQuat::IDENTITY));
+    }
+
+    /// Sets the wrench applied to `link` (its coordinates: torque about its origin, force),
+    /// kept for the steps that follow until set again.
+    pub fn set_external(&mut self, link: usize, torque: DVec3, force: DVec3) -> KeaResult<()> {
+        if link >= self.len() || !(torque.is_finite() && force.is_finite()) {
+            return Err(KeaError::OutOfRange {
+                arg: "link",
+                value: format!("{link}: {torque} {force}"),
+                expected: "a link of the tree and a finite wrench",
+            });
+        }
+        self.external[link] = [torque, force];
+        Ok(())
+    }
+
+    /// Each link's frame in the base's and its spatial velocity `[ω; v]` in its own
+    /// coordinates at `q`, `qd`, as [`ArticulatedTree::frame`] and
+    /// [`ArticulatedTree::velocity`] read them (forward kinematics; arguments trusted).
+    pub(crate) fn forward(&mut self, q: &[f64], qd: &[f64]) {
+        self.place(q);
+        for (i, &rate) in qd.iter().enumerate().take(self.len()) {
+            let local = DQuat::from_mat3(&self.rot[i].transpose());
+            let s = self.subspace(i);
+            let (e, r) = (self.rot[i], self.pos[i]);
+            let (frame, v_parent) = match self.links[i].parent {
+                Some(p) => {
+                    let (t, rp) = self.frames[p];
+                    ((t + rp * r, (rp * local).normalize()), self.vel[p])
+                }
+                None => ((r, local), [DVec3::ZERO; 2]),
+            };
+            let v = motion_to_child(&e, r, v_parent);
+            self.frames[i] = frame;
+            self.vel[i] = [v[0] + s[0] * rate, v[1] + s[1] * rate];
+        }
+    }
+
+    /// Link `i`'s frame in the base's after [`ArticulatedTree::forward`].
+    pub(crate) fn frame(&self, i: usize) -> (DVec3, DQuat) {
+        self.frames[i]
+    }
+
+    /// Link `i`'s spatial velocity `[ω; v of its origin]`, its coordinates, after
+    /// [`ArticulatedTree::forward`].
+    pub(crate) fn velocity(&self, i: usize) -> [DVec3; 2] {
+        self.vel[i]
+    }
+
+    /// The wrench the joint of link `i` passed to it in the last step (stops, motors and
+    /// drives included): `[torque about the link's origin; force]`, in the link's coordinates
+    /// at the step's start. Valid after [`ArticulatedTree::step_with_reactions`].
+    pub(crate) fn reaction(&self, i: usize) -> [DVec3; 2] {
+        self.force[i]
     }
 
     /// Number of coordinates.
@@ -251,6 +380,9 @@ impl ArticulatedTree {
     /// armature included; `place` must have run.
     fn mass_matrix(&mut self) {
         let n = self.len();
+        // Links on different branches couple through nothing: their entries stay 0 (the
+        // factor of the last step sits here).
+        self.h.iter_mut().for_each(|x| *x = 0.0);
         for (i, l) in self.links.iter().enumerate() {
             self.composite[i] = (l.mass, l.com, l.inertia);
         }
@@ -291,6 +423,16 @@ impl ArticulatedTree {
 
     /// The bias forces `c(q, q̇)` into `out` by recursive Newton–Euler; `place` must have run.
     fn bias(&mut self, qd: &[f64], out: &mut [f64]) {
+        self.newton_euler(qd, None);
+        for (i, o) in out.iter_mut().enumerate().take(self.len()) {
+            *o = dot(self.force[i], self.subspace(i));
+        }
+    }
+
+    /// Recursive Newton–Euler at rates `qd` and accelerations `qdd` (0 when `None`), the base
+    /// accelerating up at g and the applied wrenches taken off: leaves in `force[i]` the
+    /// wrench joint `i` passes to its link (its subtree's included); `place` must have run.
+    fn newton_euler(&mut self, qd: &[f64], qdd: Option<&[f64]>) {
         let n = self.len();
         for (i, &rate) in qd.iter().enumerate().take(n) {
             let s = self.subspace(i);
@@ -305,16 +447,17 @@ impl ArticulatedTree {
             let v = [v_p[0] + joint[0], v_p[1] + joint[1]];
             let a_p = motion_to_child(&e, r, a_parent);
             let c = cross_motion(v, joint);
+            let own = qdd.map_or(0.0, |a| a[i]);
             self.vel[i] = v;
-            self.acc[i] = [a_p[0] + c[0], a_p[1] + c[1]];
+            self.acc[i] = [a_p[0] + c[0] + s[0] * own, a_p[1] + c[1] + s[1] * own];
             let l = &self.links[i];
             let ia = inertia_times(l.mass, l.com, &l.inertia, self.acc[i]);
             let iv = inertia_times(l.mass, l.com, &l.inertia, v);
             let g = cross_force(v, iv);
-            self.force[i] = [ia[0] + g[0], ia[1] + g[1]];
+            let [tn, tf] = self.external[i];
+            self.force[i] = [ia[0] + g[0] - tn, ia[1] + g[1] - tf];
         }
         for i in (0..n).rev() {
-            out[i] = dot(self.force[i], self.subspace(i));
             if let Some(p) = self.links[i].parent {
                 let f = force_to_parent(&self.rot[i], self.pos[i], self.force[i]);
                 self.force[p][0] += f[0];
@@ -354,6 +497,19 @@ impl ArticulatedTree {
     /// One semi-implicit Euler step of `h` under joint forces `tau`, damping and armature
     /// implicit (module docs): `q` and `qd` are advanced in place.
     pub fn step(&mut self, q: &mut [f64], qd: &mut [f64], tau: &[f64], h: f64) -> KeaResult<()> {
+        self.step_with_reactions(q, qd, tau, h, false)
+    }
+
+    /// [`ArticulatedTree::step`], and with `reactions` each joint's wrench on its link
+    /// ([`ArticulatedTree::reaction`]) from the accelerations the step took.
+    pub(crate) fn step_with_reactions(
+        &mut self,
+        q: &mut [f64],
+        qd: &mut [f64],
+        tau: &[f64],
+        h: f64,
+        reactions: bool,
+    ) -> KeaResult<()> {
         self.check(q, qd, tau)?;
         if !(h.is_finite() && h > 0.0) {
             return Err(KeaError::OutOfRange {
@@ -362,6 +518,7 @@ impl ArticulatedTree {
                 expected: "a positive finite step",
             });
         }
+        self.rate0.copy_from_slice(qd);
         let mut qdd = std::mem::take(&mut self.rhs);
         qdd.resize(self.len(), 0.0);
         let solved = self.solve(q, qd, tau, h, &mut qdd);
@@ -370,6 +527,16 @@ impl ArticulatedTree {
                 qd[i] += h * qdd[i];
             }
             self.constrain(q, qd, h);
+            if reactions {
+                // The accelerations the step took, stops and motors included, through
+                // Newton–Euler at the step's start (`place` still holds q).
+                for i in 0..self.len() {
+                    qdd[i] = (qd[i] - self.rate0[i]) / h;
+                }
+                let rate0 = std::mem::take(&mut self.rate0);
+                self.newton_euler(&rate0, Some(&qdd));
+                self.rate0 = rate0;
+            }
             for i in 0..self.len() {
                 q[i] += h * qd[i];
             }
@@ -412,7 +579,20 @@ impl ArticulatedTree {
                 });
             }
             if let Some((lo, hi)) = l.limits {
-                let (min, max) = ((lo - q[i]) / h, (hi - q[i]) / h);
+                // The rate that reaches a stop by the step's end; beyond one, the rate that
+                // takes back a fifth of the overshoot, no faster than the stop's recovery.
+                let recover =
+                    |overshoot: f64| (STOP_RECOVERY * overshoot / h).min(l.stop_recovery_speed);
+                let min = if q[i] >= lo {
+                    (lo - q[i]) / h
+                } else {
+                    recover(lo - q[i])
+                };
+                let max = if q[i] <= hi {
+                    (hi - q[i]) / h
+                } else {
+                    -recover(q[i] - hi)
+                };
                 if qd[i] < min + 1e-9 || q[i] < lo + 1e-9 {
                     self.rows.push(CoordinateRow {
                         coordinate: i,

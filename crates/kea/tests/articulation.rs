@@ -30,6 +30,7 @@ fn link(
         motor: None,
         friction: 0.0,
         servo: None,
+        stop_recovery_speed: f64::INFINITY,
     }
 }
 

@@ -89,6 +89,14 @@ pub struct Routing {
     /// sags 7 mm there at about 0.2 ms a step; the iterative path's sags 44 cm, and columns of
     /// 60 fall). At least 1; default 6; `u32::MAX` never.
     pub stack_bodies: u32,
+    /// Largest tree, in links, that the hybrid mode steps in reduced coordinates: a tree of
+    /// hinges and prismatic joints hanging from the static world (or a disabled body) by one
+    /// joint, touched by nothing else, stepped in its joint coordinates (exact for the tree,
+    /// no joint error at all; `kea::articulation`) instead of as bodies held by rows. Its
+    /// stops must be hard without restitution, its servos uncapped, its joints unbreakable
+    /// and its bodies undamped; anything else, or a contact on a link, sends the tree to the
+    /// other paths for that step. Default 32; 0 never. The forced modes never reduce.
+    pub max_reduced_links: u32,
 }
 
 impl Default for Routing {
@@ -100,6 +108,7 @@ impl Default for Routing {
             hysteresis: 0.75,
             mass_ratio: 10.0,
             stack_bodies: 6,
+            max_reduced_links: 32,
         }
     }
 }

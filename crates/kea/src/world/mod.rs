@@ -13,6 +13,7 @@ mod constraints;
 mod islands;
 mod joints;
 mod quarantine;
+mod reduced;
 mod settings;
 mod sketch;
 mod sleep;
@@ -162,6 +163,8 @@ struct StepScratch {
     /// Islands of the step's solver bodies, and which roots are bad, for quarantine.
     quarantine_sets: crate::union_find::UnionFind,
     quarantine_root: Vec<bool>,
+    /// The reduced-coordinate path's buffers.
+    reduced: reduced::ReducedScratch,
 }
 
 /// A simulated world.
@@ -305,6 +308,7 @@ impl World {
             projection_lambda: Vec::with_capacity(rows),
             quarantine_sets,
             quarantine_root: Vec::with_capacity(def.max_bodies),
+            reduced: reduced::ReducedScratch::default(),
         };
         Ok(Self {
             id,

@@ -55,6 +55,9 @@ pub struct CollisionStats {
 pub struct StepStats {
     /// Bodies simulated this step (enabled and awake).
     pub bodies: u32,
+    /// Trees of hinges and sliders stepped in reduced coordinates (see
+    /// [`crate::Routing::max_reduced_links`]).
+    pub reduced_trees: u32,
     /// Enabled bodies asleep after this step (disabled automatically).
     pub sleeping_bodies: u32,
     /// Constraints that wrote rows.
@@ -133,6 +136,7 @@ impl World {
         } else {
             self.scratch.wake.clear();
         }
+        let reduced_trees = self.step_reduced_trees(dt);
         self.collect_bodies();
         let t1 = Stamp::now(self.step_timing);
         let constraints = self.gather_rows(&params);
@@ -160,6 +164,7 @@ impl World {
             Err(e) => {
                 // Leave last step's λ where the read-outs expect it.
                 std::mem::swap(&mut s.lambda, &mut s.prev_lambda);
+                self.discard_reduced_trees();
                 return Err(e);
             }
         };
@@ -169,6 +174,8 @@ impl World {
         let quarantined_bodies = self.quarantine_bad_islands();
         self.apply_wake();
         self.write_back(last);
+        let reduced_bodies = self.reduced_body_count();
+        self.commit_reduced_trees();
         let t_proj = Stamp::now(self.step_timing);
         let projected = if solver_stats.exact_islands > 0 {
             self.project_positions(&params)
@@ -191,7 +198,8 @@ impl World {
             0
         };
         Ok(StepStats {
-            bodies: self.scratch.solver_bodies.len() as u32,
+            bodies: self.scratch.solver_bodies.len() as u32 + reduced_bodies,
+            reduced_trees,
             sleeping_bodies,
             constraints,
             rows: self.scratch.rows.len() as u32 + 3 * solver_stats.contact_points,
@@ -219,7 +227,8 @@ impl World {
                 continue;
             };
             let waking = s.wake.get(slot).copied().unwrap_or(false);
-            if !b.enabled || (b.sleeping && !waking) {
+            let reduced = s.reduced.reduced.get(slot).copied().unwrap_or(false);
+            if !b.enabled || (b.sleeping && !waking) || reduced {
                 continue;
             }
             s.slot_to_solver[slot] = s.solver_bodies.len() as u32;
