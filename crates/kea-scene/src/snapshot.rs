@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 /// The scene snapshot format's version (2: the scene's clock is the world's; 3: the layer
 /// above's own state rides along, [`SceneSnapshot::facade`]).
-pub const SNAPSHOT_VERSION: u32 = 3;
+pub const SNAPSHOT_VERSION: u32 = 4;
 
 /// The first bytes of a binary snapshot.
 const MAGIC: &[u8; 8] = b"KEASNAP\n";

@@ -283,6 +283,21 @@ impl ArticulatedTree {
         self.frames.resize(n, (DVec3::ZERO, DQuat::IDENTITY));
     }
 
+    /// The links.
+    pub(crate) fn links(&self) -> &[TreeLink] {
+        &self.links
+    }
+
+    /// Sets the gravity, base frame.
+    pub(crate) fn set_gravity(&mut self, gravity: DVec3) {
+        self.gravity = gravity;
+    }
+
+    /// Link `i`, to change its drives (trusted: the world keeps them valid).
+    pub(crate) fn link_mut(&mut self, i: usize) -> &mut TreeLink {
+        &mut self.links[i]
+    }
+
     /// Sets the wrench applied to `link` (its coordinates: torque about its origin, force),
     /// kept for the steps that follow until set again.
     pub fn set_external(&mut self, link: usize, torque: DVec3, force: DVec3) -> KeaResult<()> {

@@ -154,8 +154,8 @@ fn a_bad_snapshot_is_refused_by_name() {
     assert!(e.to_string().contains("version 99"), "{e}");
     // A snapshot of the first format (its clock was the scene's, not the world's).
     let json = snapshot.to_json().unwrap();
-    assert!(json.starts_with("{\"version\":3,"), "{json:.40}");
-    let json = json.replacen("\"version\":3", "\"version\":1", 1);
+    assert!(json.starts_with("{\"version\":4,"), "{json:.40}");
+    let json = json.replacen("\"version\":4", "\"version\":1", 1);
     let e = SceneSnapshot::from_json(&json)
         .and_then(PhysicsWorld::restore)
         .err()

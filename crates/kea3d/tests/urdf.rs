@@ -477,6 +477,59 @@ fn a_robot_world_restores_from_its_snapshot_and_steps_on_the_same_bits() {
     );
 }
 
+const ARM: &str = r#"<robot name="arm">
+  <link name="base"/>
+  <link name="a"><inertial><origin xyz="0 0 0.2"/><mass value="2"/>
+    <inertia ixx="0.03" iyy="0.03" izz="0.004" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="b"><inertial><origin xyz="0.1 0 0.2"/><mass value="1.5"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.003" ixy="0.001" ixz="0" iyz="0"/></inertial></link>
+  <link name="c"><inertial><origin xyz="0 0 0.1"/><mass value="0.5"/>
+    <inertia ixx="0.004" iyy="0.004" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="50" velocity="2"/></joint>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.4"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="2"/>
+    <dynamics damping="0.3" friction="0.05"/></joint>
+  <joint name="j3" type="prismatic"><parent link="b"/><child link="c"/><origin xyz="0.2 0 0.4"/>
+    <axis xyz="1 0 0"/><limit lower="-0.1" upper="0.1" effort="20" velocity="1"/></joint>
+</robot>"#;
+
+#[test]
+fn an_arm_in_reduced_coordinates_restores_from_its_snapshots_on_the_same_bits() {
+    let mut world = z_up();
+    let robot = world.load_urdf_str(ARM, "arm.urdf", &fixed()).unwrap();
+    robot
+        .set_joint_positions(&mut world, &[0.4, 0.9, 0.05])
+        .unwrap();
+    for _ in 0..50 {
+        let stats = world.step(1e-3).unwrap();
+        assert_eq!(stats.reduced_trees, 1, "the arm is one tree");
+    }
+    let snapshot = world.snapshot().unwrap();
+    let binary = snapshot.to_binary().unwrap();
+    let json = snapshot.to_json().unwrap();
+    let mut restored = [
+        kea3d::scene::SceneSnapshot::from_binary(&binary),
+        kea3d::scene::SceneSnapshot::from_json(&json),
+    ]
+    .map(|s| PhysicsWorld::restore(s.unwrap()).unwrap());
+    for _ in 0..300 {
+        world.step(1e-3).unwrap();
+        for r in &mut restored {
+            assert_eq!(r.step(1e-3).unwrap().reduced_trees, 1);
+        }
+    }
+    let a = robot.joint_positions(&world).unwrap();
+    assert!((a[1] - 0.9).abs() > 0.1, "the arm swung: {a:?}");
+    for r in &restored {
+        let b = robot.joint_positions(r).unwrap();
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{a:?}\n{b:?}"
+        );
+    }
+}
+
 #[test]
 fn files_as_tools_write_them_load_as_pybullet_reads_them() {
     // Comma-separated numbers, a declaration after a blank line, a trailing NUL, PyBullet's

@@ -206,6 +206,11 @@ impl Solver {
     ) -> KeaResult<SolverStats> {
         validate_inputs(bodies, blocks, rows, contacts, params, lambda, reactions)?;
         let mut stats = SolverStats::default();
+        if bodies.is_empty() {
+            // Nothing to solve (every body asleep, static or stepped in reduced coordinates).
+            self.reports.clear();
+            return Ok(stats);
+        }
         let before = self.memory_used();
 
         let t0 = Stamp::now(params.timing);

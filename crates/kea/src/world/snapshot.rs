@@ -16,7 +16,7 @@ use crate::solver::{IterativeParams, Reaction, Routing};
 use serde::{Deserialize, Serialize};
 
 /// The snapshot format's version: a snapshot of another version is refused by name.
-pub const SNAPSHOT_VERSION: u32 = 2;
+pub const SNAPSHOT_VERSION: u32 = 3;
 
 /// A world's state (see the module docs). Take one with [`World::snapshot`], write it with any
 /// serde format, and make a world of it with [`World::restore`].
@@ -56,6 +56,10 @@ pub struct WorldSnapshot {
     broken: Vec<ConstraintHandle>,
     time: f64,
     steps: u64,
+    /// The trees the reduced path keeps (their coordinates in `f64`), so that a restored
+    /// world steps them on the same bits.
+    #[serde(default)]
+    reduced_trees: Vec<super::reduced::SavedTree>,
 }
 
 impl World {
@@ -102,6 +106,7 @@ impl World {
             broken: s.broken.clone(),
             time: self.time,
             steps: self.steps,
+            reduced_trees: self.saved_trees(),
         })
     }
 
@@ -169,6 +174,7 @@ impl World {
         }
         world.time = snapshot.time;
         world.steps = snapshot.steps;
+        world.restore_trees(snapshot.reduced_trees)?;
         Ok(world)
     }
 }

@@ -1,0 +1,323 @@
+//! Building a tree for the reduced path: its links laid out parents first from the joint to
+//! its base, each joint measured and put in the tree's terms (kind, axis, anchor, the link's
+//! frame in its parent's), and each step the joints' stops, motors and drives.
+
+use super::qualify::Role;
+use super::{CachedTree, LinkPlan};
+use crate::articulation::{TreeJointKind, TreeLink};
+use crate::body::Body;
+use crate::constraint::{Actuator, Limit, RowBody, RowContext};
+use crate::handle::{Arena, BodyHandle};
+use crate::math::{Mat3, Quat, Real, Vec3};
+use crate::world::constraint_entry::{ConstraintEntry, ConstraintKind};
+use crate::world::constraint_index::NO_BODY;
+use crate::world::World;
+use glam::{DMat3, DQuat, DVec3};
+
+impl World {
+    /// Builds `cache` for the tree of set `root`, at the bodies' present state: coordinates
+    /// measured from here (so `q = 0`), rates from the bodies. False if a joint cannot be
+    /// measured (the set then goes to the solver).
+    pub(super) fn build_tree(&self, root: u32, cache: &mut CachedTree) -> bool {
+        if !self.plan_tree(root, &mut cache.plan) {
+            return false;
+        }
+        let (bodies, constraints) = (&self.bodies, &self.constraints);
+        let plan = &cache.plan;
+        let links = plan.iter().map(|p| {
+            let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            // The parent's frame: its body's, or the world's for the root.
+            let parent = p.parent.map(|k| {
+                let pb = bodies
+                    .at(plan[k as usize].body as usize)
+                    .expect("planned bodies are live");
+                (d3(pb.position), dq(pb.orientation))
+            });
+            let entry = constraints
+                .at(p.joint as usize)
+                .expect("planned joints are live");
+            let joint = joint_frame(entry, p.sign, b, parent, bodies);
+            TreeLink {
+                parent: p.parent.map(|k| k as usize),
+                kind: joint.kind,
+                origin: joint.origin,
+                axis: joint.axis,
+                anchor: joint.anchor,
+                mass: f64::from(b.mass),
+                com: DVec3::ZERO,
+                inertia: dm(b.inertia),
+                ..TreeLink::default()
+            }
+        });
+        cache.tree.refill(links, d3(self.gravity));
+        let n = plan.len();
+        cache.q.clear();
+        cache.q.resize(n, 0.0);
+        cache.qd.clear();
+        cache.qd.extend(plan.iter().map(|p| p.sign * p.rate));
+        cache.base_joint = self.scratch.reduced.base_joint[root as usize];
+        cache.revision = self.joint_revision;
+        true
+    }
+
+    /// Lays out the tree of set `root` into `plan`, parents first from its base joint,
+    /// measuring each joint.
+    fn plan_tree(&self, root: u32, plan: &mut Vec<LinkPlan>) -> bool {
+        let r = &self.scratch.reduced;
+        let base_joint = r.base_joint[root as usize];
+        let [a, b] = self.constraint_bodies[base_joint as usize];
+        let first = if r.role_of(a) == Role::Link { a } else { b };
+        debug_assert!(first != NO_BODY);
+        plan.clear();
+        let Some(link) = self.measure(first, base_joint, None) else {
+            return false;
+        };
+        plan.push(link);
+        let mut k = 0;
+        while k < plan.len() {
+            let LinkPlan { body, joint, .. } = plan[k];
+            let (from, to) = (r.start[body as usize], r.start[body as usize + 1]);
+            for &(j, other) in &r.adjacency[from as usize..to as usize] {
+                if j == joint {
+                    continue; // the way back to the parent
+                }
+                let Some(link) = self.measure(other, j, Some(k as u32)) else {
+                    return false;
+                };
+                plan.push(link);
+            }
+            k += 1;
+        }
+        true
+    }
+
+    /// The plan of the link on body slot `body` carried by joint slot `joint`: which side of
+    /// the joint it is, and the joint's coordinate and rate now.
+    fn measure(&self, body: u32, joint: u32, parent: Option<u32>) -> Option<LinkPlan> {
+        let entry = self.constraints.at(joint as usize)?;
+        let sides = entry.bodies.map(|h| h.map(|h| h.index()));
+        let sign = if sides[0] == Some(body) { 1.0 } else { -1.0 };
+        let row_body = |side: Option<u32>| match side.and_then(|s| self.bodies.at(s as usize)) {
+            None => RowBody::STATIC,
+            Some(b) => RowBody {
+                linear_velocity: b.linear_velocity,
+                angular_velocity: b.angular_velocity,
+                dynamic: b.enabled,
+                ..RowBody::fixed(b.position, b.orientation)
+            },
+        };
+        let ctx = RowContext {
+            bodies: sides.map(row_body),
+            dt: 1.0,
+            epsilon: self.epsilon,
+            gamma: self.gamma,
+            contact_spring: self.contact_spring,
+        };
+        let (at, rate) = match &entry.kind {
+            ConstraintKind::Hinge(j) => j.angle_and_rate(&ctx),
+            ConstraintKind::Prismatic(j) => j.distance_and_rate(&ctx),
+            _ => return None,
+        };
+        (at.is_finite() && rate.is_finite()).then_some(LinkPlan {
+            body,
+            joint,
+            parent,
+            sign,
+            at: f64::from(at),
+            rate: f64::from(rate),
+        })
+    }
+}
+
+/// The joint's tracked coordinate: a hinge's angle, a slider's travel.
+pub(super) fn coordinate_of(entry: &ConstraintEntry) -> Real {
+    match &entry.kind {
+        ConstraintKind::Hinge(j) => j.angle(),
+        ConstraintKind::Prismatic(j) => j.limit().position(),
+        _ => unreachable!("planned joints are hinges or sliders"),
+    }
+}
+
+/// The joint's limit (a planned joint is a hinge or a slider).
+pub(super) fn limit_of(entry: &ConstraintEntry) -> &Limit {
+    match &entry.kind {
+        ConstraintKind::Hinge(j) => j.limit(),
+        ConstraintKind::Prismatic(j) => j.limit(),
+        _ => unreachable!("planned joints are hinges or sliders"),
+    }
+}
+
+struct TreeJoint {
+    kind: TreeJointKind,
+    axis: DVec3,
+    anchor: DVec3,
+    origin: (DVec3, DQuat),
+}
+
+/// The joint carrying `link`, in the tree's terms. The link's frame in its parent's (`parent`:
+/// the parent body's pose, `None` for the world) is where the joint puts it now: its present
+/// turn or travel, with any drift off the joint (a rounding's worth a step, or what the
+/// maximal path left) taken out, so that stepping in reduced coordinates never accumulates it.
+fn joint_frame(
+    entry: &ConstraintEntry,
+    sign: f64,
+    link: &Body,
+    parent: Option<(DVec3, DQuat)>,
+    bodies: &Arena<Body, BodyHandle>,
+) -> TreeJoint {
+    let first = sign > 0.0;
+    let (parent_position, parent_rotation) = parent.unwrap_or((DVec3::ZERO, DQuat::IDENTITY));
+    let to_parent = parent_rotation.inverse();
+    let rotation = (to_parent * dq(link.orientation)).normalize();
+    let position = to_parent * (d3(link.position) - parent_position);
+    // A vector or point held in the other body's frame, in the parent's frame (the world's
+    // for the root, whose other body is the static world or a disabled base).
+    let other = entry.bodies[usize::from(first)].and_then(|h| bodies.get(h).ok());
+    let base = |v: DVec3, point: bool| match (parent, other) {
+        (None, Some(b)) => dq(b.orientation) * v + if point { d3(b.position) } else { DVec3::ZERO },
+        _ => v,
+    };
+    match &entry.kind {
+        ConstraintKind::Hinge(j) => {
+            let (axis, anchor, parent_axis, parent_anchor) = if first {
+                (
+                    j.local_axis1,
+                    j.local_anchor1,
+                    j.local_axis2,
+                    j.local_anchor2,
+                )
+            } else {
+                (
+                    j.local_axis2,
+                    j.local_anchor2,
+                    j.local_axis1,
+                    j.local_anchor1,
+                )
+            };
+            let (axis, anchor) = (d3(axis).normalize(), d3(anchor));
+            let parent_axis = base(d3(parent_axis), false).normalize();
+            let parent_anchor = base(d3(parent_anchor), true);
+            // The axes brought together, then the anchors.
+            let align = DQuat::from_rotation_arc(rotation * axis, parent_axis);
+            let rotation = (align * rotation).normalize();
+            TreeJoint {
+                kind: TreeJointKind::Hinge,
+                axis,
+                anchor,
+                origin: (parent_anchor - rotation * anchor, rotation),
+            }
+        }
+        ConstraintKind::Prismatic(j) => {
+            // relative_orientation turns body 1's frame into body 2's.
+            let held = dq(j.relative_orientation);
+            let (axis, anchor, parent_anchor, turn) = if first {
+                let axis = held.inverse() * d3(j.local_axis2);
+                (axis, j.local_anchor1, j.local_anchor2, held)
+            } else {
+                (
+                    d3(j.local_axis2),
+                    j.local_anchor2,
+                    j.local_anchor1,
+                    held.inverse(),
+                )
+            };
+            let axis = axis.normalize();
+            let parent_anchor = base(d3(parent_anchor), true);
+            let rotation = match (parent, other) {
+                (None, Some(b)) => (dq(b.orientation) * turn).normalize(),
+                _ => turn,
+            };
+            // The anchors' gap kept along the axis only.
+            let along = rotation * axis;
+            let gap = position + rotation * d3(anchor) - parent_anchor;
+            let gap = along * gap.dot(along);
+            TreeJoint {
+                kind: TreeJointKind::Slider,
+                axis,
+                anchor: DVec3::ZERO,
+                origin: (parent_anchor + gap - rotation * d3(anchor), rotation),
+            }
+        }
+        _ => unreachable!("planned joints are hinges or sliders"),
+    }
+}
+
+/// Sets the link's stops, motor, dynamics and servo from the joint's limit, in the tree's
+/// coordinate (`tree = sign · (joint − at)`); returns the actuator's set force in it.
+pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
+    let tree = |x: Real| p.sign * (f64::from(x) - p.at);
+    link.limits = limit.is_limited().then(|| {
+        let (lo, hi) = (tree(limit.lower().stop), tree(limit.upper().stop));
+        (lo.min(hi), lo.max(hi))
+    });
+    link.stop_recovery_speed = f64::from(
+        limit
+            .lower()
+            .recovery_speed
+            .min(limit.upper().recovery_speed),
+    );
+    link.motor = limit.motor().map(|m| {
+        (
+            p.sign * f64::from(m.desired_velocity),
+            f64::from(m.max_force),
+        )
+    });
+    let d = limit.dynamics();
+    link.armature = f64::from(d.armature);
+    link.damping = f64::from(d.damping);
+    link.friction = f64::from(d.friction);
+    // The joint's spring and a servo act as one spring (their stiffnesses add, towards the
+    // stiffness-weighted target) and one damper towards the servo's rate.
+    let (k, rest) = (f64::from(d.stiffness), tree(d.rest));
+    let (kp, target, kv, rate, force) = match limit.actuator() {
+        Some(Actuator::Servo {
+            position,
+            velocity,
+            stiffness,
+            damping,
+            ..
+        }) => (
+            f64::from(stiffness),
+            tree(position),
+            f64::from(damping),
+            p.sign * f64::from(velocity),
+            0.0,
+        ),
+        Some(Actuator::Force(f)) => (0.0, 0.0, 0.0, 0.0, p.sign * f64::from(f)),
+        None => (0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+    let stiffness = k + kp;
+    link.servo = (stiffness > 0.0 || kv > 0.0).then(|| {
+        let position = if stiffness > 0.0 {
+            (k * rest + kp * target) / stiffness
+        } else {
+            0.0
+        };
+        (position, rate, stiffness, kv)
+    });
+    force
+}
+
+#[allow(clippy::unnecessary_cast)]
+pub(super) fn d3(v: Vec3) -> DVec3 {
+    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+#[allow(clippy::unnecessary_cast)]
+pub(super) fn v3(v: DVec3) -> Vec3 {
+    Vec3::new(v.x as Real, v.y as Real, v.z as Real)
+}
+
+#[allow(clippy::unnecessary_cast)]
+pub(super) fn dq(q: Quat) -> DQuat {
+    DQuat::from_xyzw(q.x as f64, q.y as f64, q.z as f64, q.w as f64).normalize()
+}
+
+#[allow(clippy::unnecessary_cast)]
+pub(super) fn rq(q: DQuat) -> Quat {
+    Quat::from_xyzw(q.x as Real, q.y as Real, q.z as Real, q.w as Real).normalize()
+}
+
+fn dm(m: Mat3) -> DMat3 {
+    DMat3::from_cols(d3(m.x_axis), d3(m.y_axis), d3(m.z_axis))
+}

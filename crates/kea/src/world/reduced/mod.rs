@@ -1,0 +1,412 @@
+//! The reduced-coordinate path of a step: trees of hinges and sliders hanging from the static
+//! world, stepped in their joint coordinates ([`crate::articulation`]) instead of as bodies held
+//! together by constraint rows.
+//!
+//! A tree qualifies, step by step, when (hybrid routing, [`crate::Routing::max_reduced_links`]):
+//! its bodies are awake, dynamic, undamped and plain (no fast-spin axis); they are joined by
+//! enabled hinges and prismatic joints with hard stops (no restitution), motors, joint
+//! dynamics and actuators (servos without a force cap), none breakable; exactly one of those
+//! joints holds the tree to the static world or a disabled body, and the joints make no loop;
+//! and nothing else touches its bodies — no contact, no other joint (`qualify.rs`). A tree that
+//! stops qualifying (a link touches something) goes to the maximal path in the same step.
+//!
+//! The tree is built (`build.rs`) from the bodies and joints where they are: coordinates
+//! measured from there, each link's frame put where its joint holds it (a drift off the joint
+//! is taken out). It is kept from step to step — its coordinates and rates in `f64`, the
+//! bodies written from them by forward kinematics — for as long as nothing else moves its
+//! bodies: each step the bodies and joints are compared, bit for bit, with what the last step
+//! wrote, and the tree is built again from them if anything differs (a user's edit, a step on
+//! the maximal path, a restored snapshot). The world's state stays in its bodies and joints;
+//! the kept tree only saves rebuilding it, so clones and snapshots step on the same bits.
+//!
+//! Each step the joints' stops, motors, dynamics and actuators, the bodies' applied forces and
+//! the gravity are read again; the joints keep their tracked coordinate and rate, and their
+//! reactions come from Newton–Euler at the accelerations the step took. Nothing is written
+//! until the solver has accepted the rest of the world: an `Err` step leaves the world as it
+//! was.
+
+mod build;
+mod qualify;
+#[cfg(feature = "serde")]
+mod saved;
+
+#[cfg(feature = "serde")]
+pub(crate) use saved::SavedTree;
+
+use super::World;
+use crate::articulation::ArticulatedTree;
+use crate::math::{Mat3, Quat, Real, Vec3};
+use crate::solver::{Reaction, SolverMode};
+use crate::union_find::UnionFind;
+use build::{coordinate_of, d3, dq, drive, limit_of, rq, v3};
+use qualify::Role;
+
+/// One link of a tree: its body and joint slots and how the joint's coordinate maps to the
+/// tree's (`tree = sign · (joint − at)`).
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+struct LinkPlan {
+    body: u32,
+    joint: u32,
+    parent: Option<u32>,
+    /// +1 when the link is the joint's first body, −1 when its second.
+    sign: f64,
+    /// The joint's coordinate where the tree was built, and its rate then.
+    at: f64,
+    rate: f64,
+}
+
+/// What a step left in a link's body and joint: a kept tree is stepped again only while its
+/// bodies and joints still read so.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+struct Mark {
+    position: Vec3,
+    orientation: Quat,
+    linear_velocity: Vec3,
+    angular_velocity: Vec3,
+    mass: Real,
+    inertia: Mat3,
+    coordinate: Real,
+}
+
+/// A link's state after the tree's step, committed once the step succeeds.
+#[derive(Debug, Clone, Copy)]
+struct LinkResult {
+    body: u32,
+    joint: u32,
+    position: Vec3,
+    orientation: Quat,
+    linear_velocity: Vec3,
+    angular_velocity: Vec3,
+    linear_acceleration: Vec3,
+    angular_acceleration: Vec3,
+    coordinate: Real,
+    rate: Real,
+    reaction: [Reaction; 2],
+}
+
+/// A tree kept from step to step.
+#[derive(Clone, Default)]
+struct CachedTree {
+    /// The joint that holds it to its base.
+    base_joint: u32,
+    /// The joint revision it was built at; 0: stale (built again before use).
+    revision: u64,
+    plan: Vec<LinkPlan>,
+    tree: ArticulatedTree,
+    /// Its coordinates and rates now, and after the step in flight.
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    q_next: Vec<f64>,
+    qd_next: Vec<f64>,
+    /// What the last committed step left in each link's body and joint.
+    marks: Vec<Mark>,
+    /// Its results in the step in flight: `results[first..first + plan.len()]`.
+    first: usize,
+    /// Stepped in the step in flight.
+    stepped: bool,
+}
+
+/// The reduced path's buffers, reused every step.
+#[derive(Clone, Default)]
+pub(super) struct ReducedScratch {
+    /// Per body slot: stepped here this step, so the solver leaves it out.
+    pub(super) reduced: Vec<bool>,
+    role: Vec<Role>,
+    sets: UnionFind,
+    /// Per set root: links, joints between links, joints to a base, whether blocked, and
+    /// the joint that holds it to its base.
+    links: Vec<u32>,
+    inner_joints: Vec<u32>,
+    base_joints: Vec<u32>,
+    set_blocked: Vec<bool>,
+    base_joint: Vec<u32>,
+    /// The roots of the sets that qualify this step.
+    roots: Vec<u32>,
+    /// Joints between links, by body: `adjacency[start[b]..start[b + 1]]` = (joint, other).
+    start: Vec<u32>,
+    adjacency: Vec<(u32, u32)>,
+    fill: Vec<u32>,
+    /// Kept trees, and per joint slot the kept tree it is the base joint of.
+    trees: Vec<CachedTree>,
+    tree_of: Vec<u32>,
+    tau: Vec<f64>,
+    results: Vec<LinkResult>,
+    /// The joint revision last looked at, and whether the world then held any hinge or slider.
+    candidates: Option<(u64, bool)>,
+}
+
+impl World {
+    /// Steps every tree that qualifies by `h` into the scratch, marking its bodies for the
+    /// solver to leave out. Returns the number of trees.
+    pub(super) fn step_reduced_trees(&mut self, h: Real) -> u32 {
+        let n = self.bodies.slot_count();
+        let r = &mut self.scratch.reduced;
+        r.reduced.clear();
+        r.reduced.resize(n, false);
+        r.results.clear();
+        for t in &mut r.trees {
+            t.stepped = false;
+        }
+        let limit = self.routing.max_reduced_links;
+        if self.routing.mode != SolverMode::Hybrid || limit == 0 || !self.has_reducible_joints() {
+            self.forget_unstepped_trees();
+            return 0;
+        }
+        self.find_trees(limit);
+        let mut adjacency_ready = false;
+        let mut stepped = 0;
+        for k in 0..self.scratch.reduced.roots.len() {
+            let root = self.scratch.reduced.roots[k];
+            let Some(index) = self.kept_tree(root, &mut adjacency_ready) else {
+                continue;
+            };
+            if self.advance_tree(index, h) {
+                stepped += 1;
+            } else {
+                self.scratch.reduced.trees[index].revision = 0;
+            }
+        }
+        self.forget_unstepped_trees();
+        stepped
+    }
+
+    /// The kept tree for set `root`, built again unless its bodies and joints read as the
+    /// last step left them.
+    fn kept_tree(&mut self, root: u32, adjacency_ready: &mut bool) -> Option<usize> {
+        let base_joint = self.scratch.reduced.base_joint[root as usize];
+        let r = &self.scratch.reduced;
+        let kept = r.tree_of.get(base_joint as usize).map(|&i| i as usize);
+        if let Some(i) = kept.filter(|&i| {
+            r.trees.get(i).is_some_and(|t| {
+                t.base_joint == base_joint && t.revision == self.joint_revision && self.untouched(t)
+            })
+        }) {
+            return Some(i);
+        }
+        if !*adjacency_ready {
+            self.link_adjacency();
+            *adjacency_ready = true;
+        }
+        // A stale tree's buffers are reused; a new one is made only when none is free.
+        let r = &mut self.scratch.reduced;
+        let index = match r.trees.iter().position(|t| t.revision == 0 && !t.stepped) {
+            Some(i) => i,
+            None => {
+                r.trees.push(CachedTree::default());
+                r.trees.len() - 1
+            }
+        };
+        let mut tree = std::mem::take(&mut r.trees[index]);
+        let built = self.build_tree(root, &mut tree);
+        let r = &mut self.scratch.reduced;
+        r.trees[index] = tree;
+        if !built {
+            r.trees[index].revision = 0;
+            return None;
+        }
+        if r.tree_of.len() <= base_joint as usize {
+            r.tree_of
+                .resize(self.constraint_bodies.len().max(base_joint as usize + 1), 0);
+        }
+        r.tree_of[base_joint as usize] = index as u32;
+        r.trees[index].marks.clear();
+        Some(index)
+    }
+
+    /// Whether a kept tree's bodies and joints read as its last step left them.
+    fn untouched(&self, t: &CachedTree) -> bool {
+        t.marks.len() == t.plan.len()
+            && t.plan.iter().zip(&t.marks).all(|(p, m)| {
+                let body = self.bodies.at(p.body as usize);
+                let joint = self.constraints.at(p.joint as usize);
+                match (body, joint) {
+                    (Some(b), Some(e)) => *m == mark(b, coordinate_of(e)),
+                    _ => false,
+                }
+            })
+    }
+
+    /// Trees not stepped this step are stale: their bodies may move elsewhere.
+    fn forget_unstepped_trees(&mut self) {
+        for t in &mut self.scratch.reduced.trees {
+            if !t.stepped {
+                t.revision = 0;
+            }
+        }
+    }
+
+    /// Steps kept tree `index` by `h` into the results; false (nothing kept) if its inertia is
+    /// singular or anything comes out non-finite.
+    fn advance_tree(&mut self, index: usize, h: Real) -> bool {
+        let gravity = d3(self.gravity);
+        let r = &mut self.scratch.reduced;
+        let t = &mut r.trees[index];
+        let (bodies, constraints) = (&self.bodies, &self.constraints);
+        t.tree.set_gravity(gravity);
+        r.tau.clear();
+        for (k, p) in t.plan.iter().enumerate() {
+            let entry = constraints
+                .at(p.joint as usize)
+                .expect("planned joints are live");
+            r.tau.push(drive(limit_of(entry), p, t.tree.link_mut(k)));
+            let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            let turn = dq(b.orientation).inverse();
+            if t.tree
+                .set_external(k, turn * d3(b.torque), turn * d3(b.force))
+                .is_err()
+            {
+                return false;
+            }
+        }
+        t.q_next.clone_from(&t.q);
+        t.qd_next.clone_from(&t.qd);
+        let h64 = f64::from(h);
+        if t.tree
+            .step_with_reactions(&mut t.q_next, &mut t.qd_next, &r.tau, h64, true)
+            .is_err()
+        {
+            return false;
+        }
+        t.tree.forward(&t.q_next, &t.qd_next);
+        t.first = r.results.len();
+        for (k, p) in t.plan.iter().enumerate() {
+            let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            let (position, rotation) = t.tree.frame(k);
+            let [w, v] = t.tree.velocity(k);
+            let (linear_velocity, angular_velocity) = (v3(rotation * v), v3(rotation * w));
+            let parent = p
+                .parent
+                .and_then(|k| bodies.at(t.plan[k as usize].body as usize));
+            r.results.push(LinkResult {
+                body: p.body,
+                joint: p.joint,
+                position: v3(position),
+                orientation: rq(rotation),
+                linear_velocity,
+                angular_velocity,
+                linear_acceleration: (linear_velocity - b.linear_velocity) / h,
+                angular_acceleration: (angular_velocity - b.angular_velocity) / h,
+                coordinate: (p.at + p.sign * t.q_next[k]) as Real,
+                rate: (p.sign * t.qd_next[k]) as Real,
+                reaction: reactions(t.tree.reaction(k), b, parent, p.sign),
+            });
+        }
+        let finite = r.results[t.first..].iter().all(|x| {
+            x.position.is_finite()
+                && x.orientation.is_finite()
+                && x.linear_velocity.is_finite()
+                && x.angular_velocity.is_finite()
+                && x.coordinate.is_finite()
+                && x.reaction
+                    .iter()
+                    .all(|y| y.force.is_finite() && y.torque.is_finite())
+        });
+        if !finite {
+            r.results.truncate(t.first);
+            return false;
+        }
+        for p in &t.plan {
+            r.reduced[p.body as usize] = true;
+        }
+        t.stepped = true;
+        true
+    }
+
+    /// Forgets a step's trees (the step failed): nothing was written, and the kept trees
+    /// still hold the state before it.
+    pub(super) fn discard_reduced_trees(&mut self) {
+        let r = &mut self.scratch.reduced;
+        r.results.clear();
+        r.reduced.iter_mut().for_each(|x| *x = false);
+        for t in &mut r.trees {
+            t.stepped = false;
+        }
+    }
+
+    /// Writes the trees' new states to their bodies and joints (after the solver succeeded),
+    /// keeps their coordinates, and clears the marks so that read-outs between steps see
+    /// every body.
+    pub(super) fn commit_reduced_trees(&mut self) {
+        let r = &mut self.scratch.reduced;
+        for t in r.trees.iter_mut().filter(|t| t.stepped) {
+            std::mem::swap(&mut t.q, &mut t.q_next);
+            std::mem::swap(&mut t.qd, &mut t.qd_next);
+            t.marks.clear();
+            for x in &r.results[t.first..t.first + t.plan.len()] {
+                if let Some(b) = self.bodies.at_mut(x.body as usize) {
+                    b.position = x.position;
+                    b.orientation = x.orientation;
+                    b.linear_velocity = x.linear_velocity;
+                    b.angular_velocity = x.angular_velocity;
+                    b.linear_acceleration = x.linear_acceleration;
+                    b.angular_acceleration = x.angular_acceleration;
+                    b.update_transform();
+                    t.marks.push(mark(b, x.coordinate));
+                }
+                if let Some(e) = self.constraints.at_mut(x.joint as usize) {
+                    match &mut e.kind {
+                        super::constraint_entry::ConstraintKind::Hinge(j) => {
+                            j.angle = x.coordinate;
+                            j.limit.record(x.coordinate, x.rate);
+                        }
+                        super::constraint_entry::ConstraintKind::Prismatic(j) => {
+                            j.limit.record(x.coordinate, x.rate);
+                        }
+                        _ => {}
+                    }
+                    e.last_rows = None;
+                    e.reaction = x.reaction;
+                }
+                self.scratch.written.push(x.joint);
+            }
+            t.stepped = false;
+        }
+        r.results.clear();
+        r.reduced.iter_mut().for_each(|x| *x = false);
+    }
+
+    /// Bodies the reduced path stepped this step.
+    pub(super) fn reduced_body_count(&self) -> u32 {
+        self.scratch.reduced.results.len() as u32
+    }
+}
+
+/// What a step leaves in a body and its joint's coordinate.
+fn mark(b: &crate::body::Body, coordinate: Real) -> Mark {
+    Mark {
+        position: b.position,
+        orientation: b.orientation,
+        linear_velocity: b.linear_velocity,
+        angular_velocity: b.angular_velocity,
+        mass: b.mass,
+        inertia: b.inertia,
+        coordinate,
+    }
+}
+
+/// The joint's reactions on its two bodies from the wrench it passed to the link (link
+/// coordinates at the step's start: torque about the link's centre, force): the link's side
+/// is body 1 when `sign > 0`; the parent link's side gets the opposite wrench about its
+/// centre (the static world or a base gets none).
+fn reactions(
+    [n, f]: [glam::DVec3; 2],
+    link: &crate::body::Body,
+    parent: Option<&crate::body::Body>,
+    sign: f64,
+) -> [Reaction; 2] {
+    let turn = dq(link.orientation);
+    let (force, torque) = (v3(turn * f), v3(turn * n));
+    let mut out = [Reaction::default(); 2];
+    let (child, other) = if sign > 0.0 { (0, 1) } else { (1, 0) };
+    out[child] = Reaction { force, torque };
+    if let Some(pb) = parent {
+        let lever = link.position - pb.position;
+        out[other] = Reaction {
+            force: -force,
+            torque: -(torque + lever.cross(force)),
+        };
+    }
+    out
+}

@@ -1,0 +1,232 @@
+//! Which trees the reduced path may take this step: each body's role, the sets of links that
+//! reducible joints join, and the sets that are trees hanging from one base by one joint.
+
+use super::ReducedScratch;
+use crate::body::Body;
+use crate::constraint::{Actuator, Limit};
+use crate::world::constraint_entry::{ConstraintEntry, ConstraintKind};
+use crate::world::constraint_index::{EMPTY, NO_BODY};
+use crate::world::World;
+
+/// What a body slot is to the reduced path this step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(super) enum Role {
+    /// Cannot be in a tree (asleep, kinematic, damped, touched by something else, no body).
+    #[default]
+    Blocked,
+    /// A fixed base: a disabled body (the static world is `NO_BODY`).
+    Base,
+    /// May be a link.
+    Link,
+}
+
+impl World {
+    /// Fills `roots` with the root slot of every set of links that is a tree the reduced path
+    /// may take: no blocked body, one joint to a base, one joint fewer than links, at most
+    /// `limit` links.
+    pub(super) fn find_trees(&mut self, limit: u32) {
+        self.classify_bodies();
+        self.group_links();
+        self.count_sets();
+        let r = &mut self.scratch.reduced;
+        r.roots.clear();
+        for slot in 0..r.links.len() as u32 {
+            let i = slot as usize;
+            let qualifies = r.links[i] > 0
+                && r.sets.find(slot) == slot
+                && !r.set_blocked[i]
+                && r.base_joints[i] == 1
+                && r.inner_joints[i] + 1 == r.links[i]
+                && r.links[i] <= limit;
+            if qualifies {
+                r.roots.push(slot);
+            }
+        }
+    }
+
+    /// Whether any joint could be part of a tree (cached by joint revision).
+    pub(super) fn has_reducible_joints(&mut self) -> bool {
+        let revision = self.joint_revision;
+        if let Some((seen, any)) = self.scratch.reduced.candidates {
+            if seen == revision {
+                return any;
+            }
+        }
+        let any = (0..self.constraints.slot_count()).any(|slot| {
+            self.constraints.at(slot).is_some_and(|e| {
+                matches!(
+                    e.kind,
+                    ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
+                )
+            })
+        });
+        self.scratch.reduced.candidates = Some((revision, any));
+        any
+    }
+
+    /// Each body slot's role, before the joints are looked at.
+    fn classify_bodies(&mut self) {
+        let n = self.bodies.slot_count();
+        let s = &mut self.scratch;
+        s.reduced.role.clear();
+        for slot in 0..n {
+            let waking = s.wake.get(slot).copied().unwrap_or(false);
+            let role = match self.bodies.at(slot) {
+                Some(b) if !b.enabled && !b.sleeping => Role::Base,
+                Some(b) if b.enabled && (!b.sleeping || waking) && plain(b) => Role::Link,
+                _ => Role::Blocked,
+            };
+            s.reduced.role.push(role);
+        }
+    }
+
+    /// Joins links by reducible joints into sets; anything else touching a link (a contact,
+    /// another joint, a joint to a body that cannot be a link or a base) blocks it.
+    fn group_links(&mut self) {
+        let r = &mut self.scratch.reduced;
+        r.sets.reset(self.bodies.slot_count());
+        for slot in 0..self.constraint_bodies.len() {
+            let [a, b] = self.constraint_bodies[slot];
+            if a == EMPTY {
+                continue;
+            }
+            let reducible = self
+                .constraints
+                .at(slot)
+                .is_some_and(|e| reducible(e).is_some());
+            let roles = [a, b].map(|x| r.role_of(x));
+            match roles {
+                [Role::Link, Role::Link] if reducible => r.sets.union(a, b),
+                [Role::Link, Role::Base] | [Role::Base, Role::Link] if reducible => {}
+                _ => {
+                    for (x, role) in [a, b].into_iter().zip(roles) {
+                        if role == Role::Link {
+                            r.role[x as usize] = Role::Blocked;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Per set root: its links, the joints between them and to a base, whether a blocked
+    /// body is in it.
+    fn count_sets(&mut self) {
+        let n = self.bodies.slot_count();
+        let r = &mut self.scratch.reduced;
+        for v in [
+            &mut r.links,
+            &mut r.inner_joints,
+            &mut r.base_joints,
+            &mut r.base_joint,
+        ] {
+            v.clear();
+            v.resize(n, 0);
+        }
+        r.set_blocked.clear();
+        r.set_blocked.resize(n, false);
+        for slot in 0..n {
+            let root = r.sets.find(slot as u32) as usize;
+            match r.role[slot] {
+                Role::Link => r.links[root] += 1,
+                Role::Blocked => r.set_blocked[root] = true,
+                Role::Base => {}
+            }
+        }
+        for slot in 0..self.constraint_bodies.len() {
+            let [a, b] = self.constraint_bodies[slot];
+            if a == EMPTY {
+                continue;
+            }
+            match [a, b].map(|x| r.role_of(x)) {
+                [Role::Link, Role::Link] => {
+                    let root = r.sets.find(a) as usize;
+                    r.inner_joints[root] += 1;
+                }
+                [Role::Link, Role::Base] | [Role::Base, Role::Link] => {
+                    let link = if r.role_of(a) == Role::Link { a } else { b };
+                    let root = r.sets.find(link) as usize;
+                    r.base_joints[root] += 1;
+                    r.base_joint[root] = slot as u32;
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// The joints between links, by body (`adjacency[start[b]..start[b + 1]]`: joint slot,
+    /// other body), for laying trees out.
+    pub(super) fn link_adjacency(&mut self) {
+        let n = self.bodies.slot_count();
+        let r = &mut self.scratch.reduced;
+        r.start.clear();
+        r.start.resize(n + 1, 0);
+        let linked = |r: &ReducedScratch, [a, b]: [u32; 2]| {
+            a != EMPTY && r.role_of(a) == Role::Link && r.role_of(b) == Role::Link
+        };
+        for &pair in &self.constraint_bodies {
+            if linked(r, pair) {
+                r.start[pair[0] as usize + 1] += 1;
+                r.start[pair[1] as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            r.start[i + 1] += r.start[i];
+        }
+        r.adjacency.clear();
+        r.adjacency.resize(r.start[n] as usize, (0, 0));
+        r.fill.clear();
+        r.fill.extend_from_slice(&r.start[..n]);
+        for (slot, &[a, b]) in self.constraint_bodies.iter().enumerate() {
+            if linked(r, [a, b]) {
+                for (x, y) in [(a, b), (b, a)] {
+                    let k = r.fill[x as usize] as usize;
+                    r.adjacency[k] = (slot as u32, y);
+                    r.fill[x as usize] += 1;
+                }
+            }
+        }
+    }
+}
+
+impl ReducedScratch {
+    /// The role of a constraint's side (`NO_BODY`: the static world, a base).
+    pub(super) fn role_of(&self, x: u32) -> Role {
+        if x == NO_BODY {
+            Role::Base
+        } else {
+            self.role[x as usize]
+        }
+    }
+}
+
+/// Whether a body may be a link: dynamic, undamped, without a fast-spin axis.
+fn plain(b: &Body) -> bool {
+    !b.kinematic
+        && b.inv_mass > 0.0
+        && b.linear_damping == 0.0
+        && b.angular_damping == 0.0
+        && b.fast_spin_axis.is_none()
+}
+
+/// A joint's limit if a tree can hold it (see the module docs).
+pub(super) fn reducible(e: &ConstraintEntry) -> Option<&Limit> {
+    if e.break_force.is_some() || e.break_torque.is_some() {
+        return None;
+    }
+    let limit = match &e.kind {
+        ConstraintKind::Hinge(j) => j.limit(),
+        ConstraintKind::Prismatic(j) => j.limit(),
+        _ => return None,
+    };
+    let hard = |s: &crate::constraint::SingleLimit| s.is_hard() && s.restitution == 0.0;
+    if limit.is_limited() && !(hard(limit.lower()) && hard(limit.upper())) {
+        return None;
+    }
+    if let Some(Actuator::Servo { max_force, .. }) = limit.actuator() {
+        if max_force.is_finite() {
+            return None;
+        }
+    }
+    Some(limit)
+}
