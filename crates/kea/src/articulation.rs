@@ -136,6 +136,9 @@ pub struct ArticulatedTree {
     rate0: Vec<f64>,
     /// Each link's frame in the base's after [`ArticulatedTree::forward`].
     frames: Vec<(DVec3, DQuat)>,
+    /// The coordinates `rot` and `pos` were placed at, while the links' geometry is unchanged.
+    placed: Vec<f64>,
+    placed_valid: bool,
 }
 
 /// One constraint on one coordinate's rate after the step: the rate aimed at, and the
@@ -250,6 +253,8 @@ impl ArticulatedTree {
             external: vec![[DVec3::ZERO; 2]; n],
             rate0: vec![0.0; n],
             frames: vec![(DVec3::ZERO, DQuat::IDENTITY); n],
+            placed: Vec::with_capacity(n),
+            placed_valid: false,
         })
     }
 
@@ -264,6 +269,7 @@ impl ArticulatedTree {
     pub(crate) fn refill(&mut self, links: impl Iterator<Item = TreeLink>, gravity: DVec3) {
         self.links.clear();
         self.links.extend(links);
+        self.placed_valid = false;
         self.gravity = gravity;
         let n = self.links.len();
         self.rot.resize(n, DMat3::IDENTITY);
@@ -284,6 +290,7 @@ impl ArticulatedTree {
     }
 
     /// The links.
+    #[cfg(feature = "serde")]
     pub(crate) fn links(&self) -> &[TreeLink] {
         &self.links
     }
@@ -293,7 +300,8 @@ impl ArticulatedTree {
         self.gravity = gravity;
     }
 
-    /// Link `i`, to change its drives (trusted: the world keeps them valid).
+    /// Link `i`, to change its drives (trusted: the world keeps them valid; its geometry —
+    /// parent, kind, origin, axis, anchor — must not change, or placements would be stale).
     pub(crate) fn link_mut(&mut self, i: usize) -> &mut TreeLink {
         &mut self.links[i]
     }
@@ -376,6 +384,13 @@ impl ArticulatedTree {
     /// Each link's transform from its parent at `q`: the parent-to-child rotation and the
     /// child's origin in the parent's coordinates.
     fn place(&mut self, q: &[f64]) {
+        // A step starts where the last one's forward kinematics placed the links.
+        if self.placed_valid && self.placed.as_slice() == q {
+            return;
+        }
+        self.placed.clear();
+        self.placed.extend_from_slice(q);
+        self.placed_valid = true;
         for (i, (l, &qi)) in self.links.iter().zip(q).enumerate() {
             let (t, r) = l.origin;
             let (joint_t, joint_r) = match l.kind {
@@ -632,8 +647,13 @@ impl ArticulatedTree {
         if self.rows.is_empty() {
             return;
         }
-        // H'⁻¹, column by column from the factor.
-        for j in 0..n {
+        // The columns of H'⁻¹ the rows act through (one per constrained coordinate, each a
+        // solve with the factor): a coordinate's impulse moves every rate along its column.
+        for r in 0..self.rows.len() {
+            let j = self.rows[r].coordinate;
+            if self.rows[..r].iter().any(|x| x.coordinate == j) {
+                continue; // solved for an earlier row of the same coordinate
+            }
             self.column.iter_mut().for_each(|c| *c = 0.0);
             self.column[j] = 1.0;
             let mut col = std::mem::take(&mut self.column);

@@ -214,6 +214,27 @@ fn a_tree_touched_by_anything_else_goes_to_the_solver_and_comes_back() {
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 0);
     w.body_mut(cart).unwrap().set_linear_damping(0.0).unwrap();
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
+    // A stop that bounces.
+    let slider = w
+        .enabled_joints()
+        .find(|(_, b)| b[0] == Some(cart))
+        .unwrap()
+        .0;
+    let limit = w.prismatic_limit_mut(slider).unwrap();
+    limit
+        .set_limits(SingleLimit::hard(-1.0, 0.5), SingleLimit::hard(1.0, 0.5))
+        .unwrap();
+    assert_eq!(w.step(1e-3).unwrap().reduced_trees, 0);
+    let limit = w.prismatic_limit_mut(slider).unwrap();
+    limit
+        .set_limits(SingleLimit::hard(-1.0, 0.0), SingleLimit::hard(1.0, 0.0))
+        .unwrap();
+    assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
+    // The cart disabled is a fixed base: each rod is a tree of its own on it.
+    w.body_mut(cart).unwrap().set_enabled(false);
+    assert_eq!(w.step(1e-3).unwrap().reduced_trees, 2);
+    w.body_mut(cart).unwrap().set_enabled(true);
+    assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
     // Off by setting.
     w.set_routing(Routing {
         max_reduced_links: 2,

@@ -135,6 +135,9 @@ pub(super) struct ReducedScratch {
     results: Vec<LinkResult>,
     /// The joint revision last looked at, and whether the world then held any hinge or slider.
     candidates: Option<(u64, bool)>,
+    /// After a step whose trees' joints were every constraint of the world: the joint
+    /// revision and their number.
+    alone: Option<(u64, usize)>,
 }
 
 impl World {
@@ -154,9 +157,26 @@ impl World {
             self.forget_unstepped_trees();
             return 0;
         }
+        if self.trees_alone() {
+            // Nothing but the kept trees' joints in the world, and nothing changed: step
+            // them again without looking at the rest.
+            let mut stepped = 0;
+            for index in 0..self.scratch.reduced.trees.len() {
+                if self.scratch.reduced.trees[index].revision == self.joint_revision {
+                    if !self.advance_tree(index, h) {
+                        self.discard_reduced_trees();
+                        self.scratch.reduced.alone = None;
+                        return self.step_reduced_trees(h);
+                    }
+                    stepped += 1;
+                }
+            }
+            return stepped;
+        }
         self.find_trees(limit);
         let mut adjacency_ready = false;
         let mut stepped = 0;
+        let mut links = 0;
         for k in 0..self.scratch.reduced.roots.len() {
             let root = self.scratch.reduced.roots[k];
             let Some(index) = self.kept_tree(root, &mut adjacency_ready) else {
@@ -164,12 +184,53 @@ impl World {
             };
             if self.advance_tree(index, h) {
                 stepped += 1;
+                links += self.scratch.reduced.trees[index].plan.len();
             } else {
                 self.scratch.reduced.trees[index].revision = 0;
             }
         }
         self.forget_unstepped_trees();
+        // When the trees' joints are all the world's constraints, the next step may skip
+        // the search while nothing changes.
+        self.scratch.reduced.alone = (stepped > 0 && links == self.constraints.len())
+            .then_some((self.joint_revision, links));
         stepped
+    }
+
+    /// Whether the last step's trees are still all there is: the same joints and no other
+    /// constraint (no contact has come), each tree untouched, its bodies still links and its
+    /// base still a base, its joints still reducible.
+    fn trees_alone(&self) -> bool {
+        let r = &self.scratch.reduced;
+        let Some((revision, count)) = r.alone else {
+            return false;
+        };
+        if revision != self.joint_revision || count != self.constraints.len() {
+            return false;
+        }
+        r.trees
+            .iter()
+            .filter(|t| t.revision == self.joint_revision)
+            .all(|t| {
+                t.plan.len() <= self.routing.max_reduced_links as usize
+                    && self.untouched(t)
+                    && t.plan.iter().all(|p| {
+                        let b = self.bodies.at(p.body as usize);
+                        let e = self.constraints.at(p.joint as usize);
+                        let base = match (p.parent, e) {
+                            (None, Some(e)) => {
+                                let other = e.bodies[usize::from(p.sign > 0.0)];
+                                other.is_none_or(|h| {
+                                    self.bodies.get(h).is_ok_and(|b| !b.enabled && !b.sleeping)
+                                })
+                            }
+                            _ => true,
+                        };
+                        b.is_some_and(|b| b.enabled && !b.sleeping && qualify::plain(b))
+                            && e.is_some_and(|e| e.enabled && qualify::reducible(e).is_some())
+                            && base
+                    })
+            })
     }
 
     /// The kept tree for set `root`, built again unless its bodies and joints read as the

@@ -201,7 +201,7 @@ impl ReducedScratch {
 }
 
 /// Whether a body may be a link: dynamic, undamped, without a fast-spin axis.
-fn plain(b: &Body) -> bool {
+pub(super) fn plain(b: &Body) -> bool {
     !b.kinematic
         && b.inv_mass > 0.0
         && b.linear_damping == 0.0
