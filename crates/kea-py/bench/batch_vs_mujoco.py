@@ -11,8 +11,8 @@ environment step. Two ways of driving each, in the same run:
 
 The arm: 7 hinges with their damping, no contacts, released from a bent pose; 2 ms physics
 steps, five per environment step; closed loop reads the joint positions every environment
-step (MuJoCo: its whole state), open loop steps all of them in one call. Its URDF reaches
-MuJoCo without its collision meshes (no contacts are asked for) and without `mimic`.
+step (MuJoCo: its whole state), open loop steps all of them in one call. Both engines load
+the same URDF text without its visual and collision elements (no contacts are asked for).
 
 Prints environment steps per second (worlds × env steps / wall time), the median of
 ``--runs`` runs, for one thread and all cores, and the ratios.
@@ -128,8 +128,29 @@ def arm_file() -> str:
     return os.path.join(list(spec.submodule_search_locations)[0], "kuka_iiwa", "model.urdf")
 
 
+def arm_text() -> str:
+    """The arm's URDF as both engines load it: without its visual and collision elements (no
+    contacts are asked for), so neither engine carries meshes it never uses."""
+    import re
+
+    text = open(arm_file()).read()
+    text = re.sub(r"<visual\b.*?</visual>", "", text, flags=re.S)
+    return re.sub(r"<collision\b.*?</collision>", "", text, flags=re.S)
+
+
+def load_arm_file(text: str, load):
+    import tempfile
+
+    with tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False) as f:
+        f.write(text)
+    try:
+        return load(f.name)
+    finally:
+        os.unlink(f.name)
+
+
 def kea_arm_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
-    arm = kea.World.from_urdf(arm_file(), fixed_base=True)
+    arm = load_arm_file(arm_text(), lambda path: kea.World.from_urdf(path, fixed_base=True))
     arm.set_joint_positions(ARM_Q)
     batch = kea.Batch(arm, worlds, threads)
 
@@ -154,19 +175,13 @@ def kea_arm_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
 
 def mujoco_arm_rates(worlds: int, threads: int, env_steps: int, runs: int):
     import re
-    import tempfile
 
     import mujoco
     from mujoco import rollout
 
-    text = open(arm_file()).read()
-    text = re.sub(r"<visual\b.*?</visual>", "", text, flags=re.S)
-    text = re.sub(r"<collision\b.*?</collision>", "", text, flags=re.S)
-    text = re.sub(r"(<robot\b[^>]*>)", r'\1<mujoco><compiler inertiafromgeom="false"/></mujoco>', text, count=1)
-    with tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False) as f:
-        f.write(text)
-    model = mujoco.MjModel.from_xml_path(f.name)
-    os.unlink(f.name)
+    # MuJoCo's own extension: take the file's inertias as they are.
+    text = re.sub(r"(<robot\b[^>]*>)", r'\1<mujoco><compiler inertiafromgeom="false"/></mujoco>', arm_text(), count=1)
+    model = load_arm_file(text, mujoco.MjModel.from_xml_path)
     model.opt.timestep = ARM_DT
     datas = [mujoco.MjData(model) for _ in range(threads)]
     datas[0].qpos[:] = ARM_Q
