@@ -8,7 +8,7 @@ use crate::articulation::{TreeJointKind, TreeLink};
 use crate::body::Body;
 use crate::constraint::{Actuator, Limit, RowBody, RowContext};
 use crate::handle::{Arena, BodyHandle};
-use crate::math::{Mat3, Quat, Real, Vec3};
+use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::world::constraint_entry::{ConstraintEntry, ConstraintKind};
 use crate::world::constraint_index::NO_BODY;
 use crate::world::World;
@@ -43,7 +43,7 @@ impl World {
                 origin: joint.origin,
                 axis: joint.axis,
                 anchor: joint.anchor,
-                mass: f64::from(b.mass),
+                mass: wide(b.mass),
                 com: DVec3::ZERO,
                 inertia: dm(b.inertia),
                 ..TreeLink::default()
@@ -123,8 +123,8 @@ impl World {
             joint,
             parent,
             sign,
-            at: f64::from(at),
-            rate: f64::from(rate),
+            at: wide(at),
+            rate: wide(rate),
         })
     }
 }
@@ -245,30 +245,27 @@ fn joint_frame(
 /// Sets the link's stops, motor, dynamics and servo from the joint's limit, in the tree's
 /// coordinate (`tree = sign · (joint − at)`); returns the actuator's set force in it.
 pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
-    let tree = |x: Real| p.sign * (f64::from(x) - p.at);
+    let tree = |x: Real| p.sign * (wide(x) - p.at);
     link.limits = limit.is_limited().then(|| {
         let (lo, hi) = (tree(limit.lower().stop), tree(limit.upper().stop));
         (lo.min(hi), lo.max(hi))
     });
-    link.stop_recovery_speed = f64::from(
+    link.stop_recovery_speed = wide(
         limit
             .lower()
             .recovery_speed
             .min(limit.upper().recovery_speed),
     );
-    link.motor = limit.motor().map(|m| {
-        (
-            p.sign * f64::from(m.desired_velocity),
-            f64::from(m.max_force),
-        )
-    });
+    link.motor = limit
+        .motor()
+        .map(|m| (p.sign * wide(m.desired_velocity), wide(m.max_force)));
     let d = limit.dynamics();
-    link.armature = f64::from(d.armature);
-    link.damping = f64::from(d.damping);
-    link.friction = f64::from(d.friction);
+    link.armature = wide(d.armature);
+    link.damping = wide(d.damping);
+    link.friction = wide(d.friction);
     // The joint's spring and a servo act as one spring (their stiffnesses add, towards the
     // stiffness-weighted target) and one damper towards the servo's rate.
-    let (k, rest) = (f64::from(d.stiffness), tree(d.rest));
+    let (k, rest) = (wide(d.stiffness), tree(d.rest));
     let (kp, target, kv, rate, force) = match limit.actuator() {
         Some(Actuator::Servo {
             position,
@@ -277,13 +274,13 @@ pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
             damping,
             ..
         }) => (
-            f64::from(stiffness),
+            wide(stiffness),
             tree(position),
-            f64::from(damping),
-            p.sign * f64::from(velocity),
+            wide(damping),
+            p.sign * wide(velocity),
             0.0,
         ),
-        Some(Actuator::Force(f)) => (0.0, 0.0, 0.0, 0.0, p.sign * f64::from(f)),
+        Some(Actuator::Force(f)) => (0.0, 0.0, 0.0, 0.0, p.sign * wide(f)),
         None => (0.0, 0.0, 0.0, 0.0, 0.0),
     };
     let stiffness = k + kp;

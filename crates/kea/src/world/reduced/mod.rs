@@ -35,7 +35,7 @@ pub(crate) use saved::SavedTree;
 
 use super::World;
 use crate::articulation::ArticulatedTree;
-use crate::math::{Mat3, Quat, Real, Vec3};
+use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
 use build::{coordinate_of, d3, dq, drive, limit_of, rq, v3};
@@ -323,7 +323,7 @@ impl World {
         }
         t.q_next.clone_from(&t.q);
         t.qd_next.clone_from(&t.qd);
-        let h64 = f64::from(h);
+        let h64 = wide(h);
         if t.tree
             .step_with_reactions(&mut t.q_next, &mut t.qd_next, &r.tau, h64, true)
             .is_err()
