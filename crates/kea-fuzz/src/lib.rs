@@ -140,6 +140,20 @@ fn fingerprint(s: &Sandbox) -> u64 {
         eat(u64::from(b.is_enabled()));
     }
     eat(w.constraint_count() as u64);
+    // Hand-made contacts: their normal and points (a refused update must move neither).
+    for (h, c, _) in w.contacts() {
+        eat(u64::from(h.index()));
+        let n = c.normal();
+        for x in [n.x, n.y, n.z] {
+            eat(bits(x));
+        }
+        for p in c.points() {
+            for x in [p.position.x, p.position.y, p.position.z, p.penetration] {
+                eat(bits(x));
+            }
+            eat(u64::from(p.id));
+        }
+    }
     eat(w.time().to_bits());
     eat(w.step_count());
     let g = w.gravity();

@@ -81,7 +81,8 @@ impl Sandbox {
             15..=24 => ("set_body", self.set_body(rng)),
             25..=36 => ("create_joint", self.create_joint(rng)),
             37..=44 => ("set_joint", self.set_joint(rng)),
-            45..=48 => ("create_contact", self.create_contact(rng)),
+            45..=46 => ("create_contact", self.create_contact(rng)),
+            47..=48 => ("update_contact", self.update_contact(rng)),
             49..=58 => ("add_collider", self.add_collider(rng)),
             59..=60 => ("remove_collider", self.remove_collider(rng)),
             61..=68 => ("query", self.query(rng)),
@@ -232,6 +233,35 @@ impl Sandbox {
             .map_err(err)?;
         self.joints.push(h);
         Ok(())
+    }
+
+    /// Moves a hand-made contact (or tries a joint's handle) to a new normal and points, now
+    /// and then with a normal off unit length or a point out of range: a refusal must leave
+    /// the world as it was.
+    fn update_contact(&mut self, rng: &mut Rng) -> Outcome {
+        let h = self.joint(rng).ok_or("no constraint")?;
+        let mut normal = rng.direction();
+        if rng.chance(0.3) {
+            normal *= rng.real(0.5, 1.5);
+        }
+        let n = 1 + rng.below(4);
+        let points: Vec<ContactPoint> = (0..n)
+            .map(|i| ContactPoint {
+                position: if rng.chance(0.1) {
+                    Vec3::splat(rng.odd())
+                } else {
+                    rng.vec3(-5.0, 5.0)
+                },
+                penetration: rng.real(-0.05, 0.05),
+                id: rng.below(6) as u32 + i as u32,
+                to_second: Vec3::ZERO,
+            })
+            .collect();
+        self.physics
+            .dynamics_mut()
+            .contact_mut(h)
+            .and_then(|c| c.update(normal, &points))
+            .map_err(err)
     }
 
     fn shape(rng: &mut Rng) -> Result<Shape, String> {

@@ -249,18 +249,7 @@ impl Contact {
     /// old point had keeps that point's force as its warm start; the others start from zero.
     /// On error nothing changes.
     pub fn set_points(&mut self, points: &[ContactPoint]) -> KeaResult<()> {
-        if points.is_empty() || points.len() > MAX_CONTACT_POINTS {
-            return Err(KeaError::OutOfRange {
-                arg: "points",
-                value: points.len().to_string(),
-                expected: "a contact has 1 to 4 points",
-            });
-        }
-        for p in points {
-            check_coordinate("points[].position", p.position)?;
-            check_vec3("points[].to_second", p.to_second)?;
-            check_finite("points[].penetration", p.penetration)?;
-        }
+        check_points(points)?;
         let same_ids = points.len() == self.count as usize
             && points.iter().zip(self.points()).all(|(p, q)| p.id == q.id);
         if same_ids {
@@ -281,6 +270,15 @@ impl Contact {
         self.forces = forces;
         self.warm = warm;
         Ok(())
+    }
+    /// Moves a contact: a new normal (unit; from body 2 towards body 1) and new points (as
+    /// [`Contact::set_points`]) together. Every argument is checked before either is written:
+    /// on error nothing changes. A primary direction no longer perpendicular is cleared.
+    pub fn update(&mut self, normal: Vec3, points: &[ContactPoint]) -> KeaResult<()> {
+        let normal = check_unit("normal", normal)?;
+        check_points(points)?;
+        self.set_points(points)?;
+        self.set_normal(normal)
     }
     /// Sets the primary friction direction (unit, perpendicular to the normal within 1e-3), or
     /// clears it with `None`. The secondary direction is `normal × primary`.
@@ -557,9 +555,49 @@ impl Contact {
     }
 }
 
+/// Refuses an empty or overlong point list, or a point with a non-finite field, naming it.
+fn check_points(points: &[ContactPoint]) -> KeaResult<()> {
+    if points.is_empty() || points.len() > MAX_CONTACT_POINTS {
+        return Err(KeaError::OutOfRange {
+            arg: "points",
+            value: points.len().to_string(),
+            expected: "a contact has 1 to 4 points",
+        });
+    }
+    for p in points {
+        check_coordinate("points[].position", p.position)?;
+        check_vec3("points[].to_second", p.to_second)?;
+        check_finite("points[].penetration", p.penetration)?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_refused_update_changes_nothing_and_an_accepted_one_moves_both() {
+        let pts = [ContactPoint::new(Vec3::ZERO, 0.01, 1)];
+        let mut c = Contact::with_points(Vec3::Y, &pts).unwrap();
+        c.set_direction(Some(Vec3::X)).unwrap();
+        let before = c.clone();
+        let moved = [ContactPoint::new(Vec3::new(1.0, 2.0, 3.0), 0.02, 2)];
+        // A normal off unit length, with good points: refused, naming it, nothing moved.
+        let e = c.update(Vec3::new(0.0, 1.5, 0.0), &moved).unwrap_err();
+        assert!(e.to_string().contains("normal"), "{e}");
+        assert_eq!(format!("{c:?}"), format!("{before:?}"));
+        // A good normal with a bad point: the same.
+        let bad = [ContactPoint::new(Vec3::splat(Real::NAN), 0.0, 3)];
+        let e = c.update(Vec3::Z, &bad).unwrap_err();
+        assert!(e.to_string().contains("points"), "{e}");
+        assert_eq!(format!("{c:?}"), format!("{before:?}"));
+        // Both good: both written; the direction, no longer perpendicular, is cleared.
+        c.update(Vec3::X, &moved).unwrap();
+        assert_eq!(c.normal(), Vec3::X);
+        assert_eq!(c.points(), &moved);
+        assert_eq!(c.direction(), None);
+    }
 
     #[test]
     fn replacing_points_keeps_the_force_of_each_surviving_id() {
