@@ -3,7 +3,7 @@
 
 mod common;
 use common::F64;
-use kea::{BodyDef, Real, Vec3, World};
+use kea::{BodyDef, Mat3, Real, Vec3, World};
 
 fn drop(h: Real, steps: usize) -> (Vec<Real>, Vec<Real>) {
     let mut world = World::with_capacity(4, 4).unwrap();
@@ -95,16 +95,57 @@ fn forces_are_applied_for_one_step_and_cleared() {
 }
 
 #[test]
-fn force_at_a_point_adds_the_lever_torque() {
+fn force_at_a_point_off_the_centre_moves_and_turns_the_body_after_a_step() {
+    // A body away from the origin, turned, with three different moments of inertia: a force
+    // at a point off its centre gives a = f / m and α = I_w⁻¹ ((p − x) × f) over a step.
     let mut world = World::with_capacity(2, 2).unwrap();
     world.set_gravity(Vec3::ZERO).unwrap();
-    let b = world.create_body(&BodyDef::default()).unwrap();
+    let (m, centre) = (2.5, Vec3::new(3.0, -1.0, 2.0));
+    let orientation = kea::Quat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1);
+    let inertia = Mat3::from_diagonal(Vec3::new(0.4, 0.9, 1.6));
+    let b = world
+        .create_body(&BodyDef {
+            mass: m,
+            inertia,
+            position: centre,
+            orientation,
+            ..BodyDef::default()
+        })
+        .unwrap();
+    let (f, lever) = (Vec3::new(0.5, 1.0, -2.0), Vec3::new(2.0, 0.0, 0.5));
     world
         .body_mut(b)
         .unwrap()
-        .add_force_at_point(Vec3::new(0.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0))
+        .add_force_at_point(f, centre + lever)
         .unwrap();
-    assert!((world.body(b).unwrap().torque() - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6);
+    let torque = lever.cross(f);
+    let body = world.body(b).unwrap();
+    assert!((body.force() - f).length() < 1e-6);
+    assert!((body.torque() - torque).length() < 1e-5, "{}", body.torque());
+    let h = 0.1;
+    world.step(h).unwrap();
+    let body = world.body(b).unwrap();
+    assert!((body.linear_acceleration() - f / m).length() < 1e-5);
+    assert!((body.linear_velocity() - f / m * h).length() < 1e-5);
+    // The torque's impulse is the angular momentum gained, I_w ω = (p − x) × f · h, whatever
+    // the body turned through meanwhile (free rotation keeps it), and at the start the
+    // angular acceleration is I_w⁻¹ τ to first order in h.
+    let r = Mat3::from_quat(body.orientation());
+    let momentum = r * inertia * r.transpose() * body.angular_velocity();
+    assert!(
+        (momentum - torque * h).length() < 1e-5 * torque.length().max(1.0),
+        "{momentum} vs {}",
+        torque * h
+    );
+    let r0 = Mat3::from_quat(orientation);
+    let alpha = r0 * inertia.inverse() * r0.transpose() * torque;
+    assert!(
+        (body.angular_acceleration() - alpha).length() < 0.05 * alpha.length(),
+        "{} vs {alpha}",
+        body.angular_acceleration()
+    );
+    // The accumulators are spent by the step.
+    assert_eq!((body.force(), body.torque()), (Vec3::ZERO, Vec3::ZERO));
 }
 
 #[test]

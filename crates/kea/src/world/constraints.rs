@@ -247,6 +247,24 @@ impl World {
         Ok(self.constraints.get(h)?.reaction)
     }
 
+    /// The total force and torque (about its centre of mass) that the constraints on a body —
+    /// joints and contacts — applied to it in the last step (the guide's per-body constraint
+    /// force): after a step, `m·a − (m·g + applied force)` for the force.
+    pub fn body_constraint_force(&self, h: BodyHandle) -> KeaResult<Reaction> {
+        self.bodies.get(h)?;
+        let slot = h.index();
+        let mut total = Reaction::default();
+        for (i, pair) in self.constraint_bodies.iter().enumerate() {
+            for side in (0..2).filter(|&side| pair[side] == slot) {
+                if let Some(e) = self.constraints.at(i) {
+                    total.force += e.reaction[side].force;
+                    total.torque += e.reaction[side].torque;
+                }
+            }
+        }
+        Ok(total)
+    }
+
     /// The λ (force) of each of the constraint's rows in the last step (empty before its first
     /// step or while disabled). For a contact, point by point: the normal force, then the
     /// friction force along each direction of [`Contact::tangent_basis`].
