@@ -320,7 +320,49 @@ fn memory_required_covers_what_a_step_uses() {
         used > 0 && used <= required,
         "used {used} > required {required}"
     );
-    // A world reports its pool the same way, and its reserve on top.
-    let world = World::with_capacity(4, 4).unwrap();
-    assert!(world.memory_pool_size() > 0 && world.reserved_bytes() > 0);
+    // The high-water mark is what the step needed, not what is held.
+    assert_eq!(solver.memory_high_water(), required);
+}
+
+#[test]
+fn the_memory_pool_size_is_the_most_any_step_needed_not_what_was_reserved() {
+    // Reserved for 64 bodies up front, nothing used yet: the pool is empty.
+    let mut world = World::with_capacity(64, 256).unwrap();
+    assert!(world.reserved_bytes() > 0);
+    assert_eq!(world.memory_pool_size(), 0);
+    let chain = |world: &mut World, n: usize| {
+        let mut last = None;
+        let mut bodies = Vec::new();
+        for k in 0..n {
+            let b = world
+                .create_body(&kea::BodyDef {
+                    position: Vec3::new(k as kea::Real + 1.0, 0.0, 0.0),
+                    ..kea::BodyDef::default()
+                })
+                .unwrap();
+            world
+                .create_ball_joint(b, last, Vec3::new(k as kea::Real + 0.5, 0.0, 0.0))
+                .unwrap();
+            last = Some(b);
+            bodies.push(b);
+        }
+        bodies
+    };
+    let small = chain(&mut world, 2);
+    world.step(0.01).unwrap();
+    let after_small = world.memory_pool_size();
+    assert!(after_small > 0);
+    assert!(after_small <= kea::solver::memory_required(&[6], 2));
+    // A bigger island raises the mark ...
+    let big = chain(&mut world, 12);
+    world.step(0.01).unwrap();
+    let after_big = world.memory_pool_size();
+    assert!(after_big > after_small, "{after_big} <= {after_small}");
+    // ... which stays when the island goes: it is the most used so far.
+    for b in big {
+        world.destroy_body(b).unwrap();
+    }
+    world.step(0.01).unwrap();
+    assert_eq!(world.memory_pool_size(), after_big);
+    assert!(!small.is_empty());
 }

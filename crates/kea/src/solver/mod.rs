@@ -85,6 +85,8 @@ pub struct Solver {
     iterative: iterative::IterativeWorkspace,
     integ: integrate::BodyScratch,
     reports: Vec<IslandReport>,
+    /// The most workspace a step has needed so far (`memory_high_water`).
+    peak_needed: usize,
     /// Islands routed to the iterative path this step, and whether each is split.
     iterative_islands: Vec<u32>,
     split: Vec<bool>,
@@ -96,10 +98,15 @@ pub struct Solver {
 pub fn memory_required(rows_per_island: &[usize], bodies: usize) -> usize {
     let rows: usize = rows_per_island.iter().sum();
     let largest = rows_per_island.iter().copied().max().unwrap_or(0);
+    required_bytes(rows, largest, rows_per_island.len(), bodies)
+}
+
+/// [`memory_required`] from the totals: all rows, the largest island's, islands, bodies.
+fn required_bytes(rows: usize, largest: usize, islands: usize, bodies: usize) -> usize {
     exact::ExactWorkspace::bytes_for(largest, rows)
         + iterative::IterativeWorkspace::bytes_for(bodies, rows, rows / 3)
         + integrate::BodyScratch::bytes_for(bodies)
-        + std::mem::size_of::<IslandReport>() * rows_per_island.len()
+        + std::mem::size_of::<IslandReport>() * islands
         + 16 * (bodies + rows)
 }
 
@@ -144,8 +151,15 @@ impl Solver {
         reserve(&mut self.split, bodies);
     }
 
-    /// Bytes of workspace currently held: the high-water mark of what steps have needed (the
-    /// guide's `MdtWorldGetMemoryPoolSize`).
+    /// The most workspace any step so far has needed, by its islands' sizes
+    /// ([`memory_required`]); 0 before the first step whatever was reserved (the guide's
+    /// `MdtWorldGetMemoryPoolSize`).
+    #[must_use]
+    pub fn memory_high_water(&self) -> usize {
+        self.peak_needed
+    }
+
+    /// Bytes of workspace currently held: what steps have grown it to, and any reservation.
     #[must_use]
     pub fn memory_used(&self) -> usize {
         self.islands.bytes()
@@ -367,6 +381,15 @@ impl Solver {
         self.integ.integrate(bodies, params.dt);
         stats.time_integrate = t2.elapsed();
         stats.workspace_grew = self.memory_used() > before;
+        // What this step needed, by its sizes (the reservation made ahead is not counted).
+        let rows = self.reports.iter().map(|r| r.rows as usize);
+        let needed = required_bytes(
+            rows.clone().sum(),
+            rows.max().unwrap_or(0),
+            self.reports.len(),
+            bodies.len(),
+        );
+        self.peak_needed = self.peak_needed.max(needed);
         Ok(stats)
     }
 }

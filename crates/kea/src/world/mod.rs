@@ -484,11 +484,13 @@ impl World {
         self.constraints.capacity()
     }
 
-    /// Bytes of solver workspace in use: the high-water mark of what steps have needed (the
-    /// guide's `MdtWorldGetMemoryPoolSize`). Compare with [`crate::solver::memory_required`].
+    /// The most solver workspace any step so far has needed, bytes: a high-water mark by the
+    /// steps' island sizes ([`crate::solver::memory_required`]), 0 before the first step
+    /// whatever was reserved (the guide's `MdtWorldGetMemoryPoolSize`). What the world's
+    /// buffers hold, reservations included, is [`World::reserved_bytes`].
     #[must_use]
     pub fn memory_pool_size(&self) -> usize {
-        self.solver.memory_used()
+        self.solver.memory_high_water()
     }
 
     /// Bytes reserved for bodies, constraints and per-step buffers (excluding the solver pool).
