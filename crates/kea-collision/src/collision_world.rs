@@ -66,7 +66,8 @@ impl ColliderDef {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactStrategy {
-    /// Most points per manifold, 1 to 8; 4 by default.
+    /// Most points per manifold, 1 to 4 (other values are clamped into that range); 4 by
+    /// default.
     pub max_points: usize,
 }
 

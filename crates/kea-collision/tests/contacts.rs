@@ -95,6 +95,13 @@ fn known_configurations_give_the_right_normal_and_depth() {
     collision.strategy.max_points = 1;
     collision.update_contacts(&mut world, 1.0 / 60.0).unwrap();
     assert_eq!(contacts(&world, &collision, ground, cb).len(), 1);
+    // Out of 1–4 the strategy is clamped: 0 keeps one point, 8 at most four.
+    collision.strategy.max_points = 0;
+    collision.update_contacts(&mut world, 1.0 / 60.0).unwrap();
+    assert_eq!(contacts(&world, &collision, ground, cb).len(), 1);
+    collision.strategy.max_points = 8;
+    collision.update_contacts(&mut world, 1.0 / 60.0).unwrap();
+    assert_eq!(contacts(&world, &collision, ground, cb).len(), 4);
 
     // Box–box, edge on face: a box turned 45° about z resting its edge on another's top face.
     let mut world = World::with_capacity(8, 64).unwrap();

@@ -346,7 +346,18 @@ impl World {
     }
 
     /// A world with capacities for `max_bodies` bodies and `max_constraints` constraints and
-    /// default parameters.
+    /// default parameters. The capacities are reserved now and grow when full:
+    ///
+    /// ```
+    /// use kea::{BodyDef, World};
+    ///
+    /// let mut world = World::with_capacity(1, 1)?;
+    /// for _ in 0..3 {
+    ///     world.create_body(&BodyDef::default())?; // past the capacity: it grows
+    /// }
+    /// assert!(world.max_bodies() >= 3);
+    /// # Ok::<(), kea::KeaError>(())
+    /// ```
     pub fn with_capacity(max_bodies: usize, max_constraints: usize) -> KeaResult<Self> {
         Self::new(WorldDef {
             max_bodies,
@@ -488,6 +499,19 @@ impl World {
     /// steps' island sizes ([`crate::solver::memory_required`]), 0 before the first step
     /// whatever was reserved (the guide's `MdtWorldGetMemoryPoolSize`). What the world's
     /// buffers hold, reservations included, is [`World::reserved_bytes`].
+    ///
+    /// ```
+    /// use kea::{BodyDef, Vec3, World};
+    ///
+    /// let mut world = World::with_capacity(64, 64)?; // reserved, not used
+    /// assert_eq!(world.memory_pool_size(), 0);
+    /// let bob = world.create_body(&BodyDef { position: Vec3::X, ..BodyDef::default() })?;
+    /// world.create_ball_joint(bob, None, Vec3::ZERO)?;
+    /// world.step(0.01)?;
+    /// let used = world.memory_pool_size();
+    /// assert!(used > 0 && used <= kea::solver::memory_required(&[3], 1));
+    /// # Ok::<(), kea::KeaError>(())
+    /// ```
     #[must_use]
     pub fn memory_pool_size(&self) -> usize {
         self.solver.memory_high_water()
