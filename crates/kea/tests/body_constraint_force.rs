@@ -2,7 +2,9 @@
 //! and contact on a body did to it in the last step, equal to m·a − (m·g + applied force), on
 //! every solver path.
 
-use kea::{BodyDef, BodyHandle, Contact, ContactPoint, Mat3, Real, Routing, SolverMode, Vec3, World};
+use kea::{
+    BodyDef, BodyHandle, Contact, ContactPoint, Mat3, Real, Routing, SolverMode, Vec3, World,
+};
 
 const G: Real = 9.81;
 
@@ -78,7 +80,11 @@ fn a_box_at_rest_on_four_contacts_carries_its_weight_and_no_torque() {
             .iter()
             .enumerate()
             .map(|(i, &(x, z))| {
-                ContactPoint::new(Vec3::new(0.4 + x * half, 0.0, -0.2 + z * half), 0.0, i as u32)
+                ContactPoint::new(
+                    Vec3::new(0.4 + x * half, 0.0, -0.2 + z * half),
+                    0.0,
+                    i as u32,
+                )
             })
             .collect();
         let c = Contact::with_points(Vec3::Y, &corners).unwrap();
@@ -93,7 +99,11 @@ fn a_box_at_rest_on_four_contacts_carries_its_weight_and_no_torque() {
             "{mode:?}: {}",
             r.force
         );
-        assert!(r.torque.length() < 1e-2 * weight * half, "{mode:?}: {}", r.torque);
+        assert!(
+            r.torque.length() < 1e-2 * weight * half,
+            "{mode:?}: {}",
+            r.torque
+        );
         let expected = newton(&w, b, Vec3::ZERO);
         assert!((r.force - expected).length() < 1e-2 * weight, "{mode:?}");
     }
@@ -126,7 +136,10 @@ fn a_body_between_two_joints_sums_both_and_a_free_body_has_none() {
     let sum = w.constraint_reaction(left).unwrap()[0].force
         + w.constraint_reaction(right).unwrap()[0].force;
     assert!((total - sum).length() < 1e-5);
-    assert!((total - Vec3::new(0.0, 2.0 * G, 0.0)).length() < 1e-2, "{total}");
+    assert!(
+        (total - Vec3::new(0.0, 2.0 * G, 0.0)).length() < 1e-2,
+        "{total}"
+    );
     assert_eq!(w.body_constraint_force(free).unwrap().force, Vec3::ZERO);
     // A destroyed body's handle is refused by name.
     w.destroy_body(free).unwrap();

@@ -121,7 +121,11 @@ fn force_at_a_point_off_the_centre_moves_and_turns_the_body_after_a_step() {
     let torque = lever.cross(f);
     let body = world.body(b).unwrap();
     assert!((body.force() - f).length() < 1e-6);
-    assert!((body.torque() - torque).length() < 1e-5, "{}", body.torque());
+    assert!(
+        (body.torque() - torque).length() < 1e-5,
+        "{}",
+        body.torque()
+    );
     let h = 0.1;
     world.step(h).unwrap();
     let body = world.body(b).unwrap();

@@ -69,10 +69,17 @@ fn a_box_on_a_frictionless_contact_slides_freely_and_is_held_up() {
         let v = body.linear_velocity();
         let expected = Vec3::new(1.5 + push.x / m, 0.0, -0.5);
         assert!((v - expected).length() < 1e-3, "{mode:?}: v = {v}");
-        assert!((body.position().y - half).abs() < 1e-2, "{mode:?}: sank to {}", body.position().y);
+        assert!(
+            (body.position().y - half).abs() < 1e-2,
+            "{mode:?}: sank to {}",
+            body.position().y
+        );
         assert!(body.angular_velocity().length() < 1e-3, "{mode:?}: spun");
         // The contact carries the weight and pushes nothing sideways.
         let f = w.contact_force(h).unwrap();
-        assert!((f - Vec3::new(0.0, m * G, 0.0)).length() < 1e-2 * m * G, "{mode:?}: {f}");
+        assert!(
+            (f - Vec3::new(0.0, m * G, 0.0)).length() < 1e-2 * m * G,
+            "{mode:?}: {f}"
+        );
     }
 }

@@ -140,6 +140,9 @@ pub struct Contact {
     /// The primary friction direction of the exact path's rows last step, kept so that a
     /// persistent contact keeps its friction rows from step to step.
     last_direction: Option<Vec3>,
+    /// Whether its friction gave way in the last step (static or kinetic coefficient next).
+    #[cfg_attr(feature = "serde", serde(default))]
+    sliding: bool,
 }
 
 impl Default for Contact {
@@ -153,6 +156,7 @@ impl Default for Contact {
             forces: [PointForce::default(); MAX_CONTACT_POINTS],
             warm: [PointForce::default(); MAX_CONTACT_POINTS],
             last_direction: None,
+            sliding: false,
         }
     }
 }
@@ -325,6 +329,33 @@ impl Contact {
         self.forces = solved.forces;
         self.warm = solved.warm;
         self.last_direction = solved.last_direction;
+        self.sliding = solved.sliding;
+    }
+
+    /// Whether the contact's surfaces slid over each other at the end of its last step (their
+    /// relative speed in the tangent plane past [`SLIDING_SPEED`]). A sliding contact is
+    /// bounded by its kinetic coefficient ([`FrictionModel::StaticKinetic`]), a holding one by
+    /// its static coefficient.
+    #[must_use]
+    pub fn is_sliding(&self) -> bool {
+        self.sliding
+    }
+
+    /// The Coulomb coefficient bounding friction along direction `d` (0 or 1) in the coming
+    /// step, `None` when that direction has no Coulomb bound.
+    #[must_use]
+    pub fn coulomb_mu(&self, d: usize) -> Option<Real> {
+        self.params.friction[d.min(1)].coulomb(self.sliding)
+    }
+
+    /// After a solve (the solver calls it): whether the surfaces slide, from the relative
+    /// velocity of the bodies' points at the friction centre in the tangent plane (`velocity`
+    /// gives a world point's velocity on body 1 minus on body 2), past [`SLIDING_SPEED`].
+    pub(crate) fn record_sliding(&mut self, velocity: impl Fn(Vec3) -> Vec3) {
+        let v = velocity(self.friction_centre());
+        let tangential = v - self.normal * v.dot(self.normal);
+        self.sliding = self.params.contact_type != ContactType::Frictionless
+            && tangential.length() > SLIDING_SPEED;
     }
 
     /// Records one point's mean force over a step and its force at the step's end (the warm
@@ -548,7 +579,10 @@ impl Contact {
             match prm.friction[k] {
                 FrictionModel::Infinite => {}
                 FrictionModel::Box { max_force } => row = row.with_bounds(-max_force, max_force),
-                FrictionModel::Coulomb { mu } => row = row.with_friction_link(normal_row, mu),
+                FrictionModel::Coulomb { .. } | FrictionModel::StaticKinetic { .. } => {
+                    let mu = self.coulomb_mu(k).unwrap_or(0.0);
+                    row = row.with_friction_link(normal_row, mu);
+                }
             }
             out.push(row);
         }

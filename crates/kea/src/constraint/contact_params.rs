@@ -33,6 +33,32 @@ pub enum FrictionModel {
         /// Friction coefficient, ≥ 0.
         mu: Real,
     },
+    /// Coulomb with separate static and kinetic coefficients: a contact whose surfaces were at
+    /// rest on each other after the last step holds up to `static_mu` times the normal force;
+    /// once they slide ([`crate::Contact::is_sliding`]) friction is `kinetic_mu` times the
+    /// normal force, until they come to rest again.
+    StaticKinetic {
+        /// Static coefficient, ≥ `kinetic_mu`.
+        static_mu: Real,
+        /// Kinetic coefficient, ≥ 0.
+        kinetic_mu: Real,
+    },
+}
+
+impl FrictionModel {
+    /// The Coulomb coefficient this model bounds friction with, for a contact sliding or
+    /// not (`None`: no Coulomb bound).
+    #[must_use]
+    pub fn coulomb(&self, sliding: bool) -> Option<Real> {
+        match *self {
+            FrictionModel::Coulomb { mu } => Some(mu),
+            FrictionModel::StaticKinetic {
+                static_mu,
+                kinetic_mu,
+            } => Some(if sliding { kinetic_mu } else { static_mu }),
+            FrictionModel::Infinite | FrictionModel::Box { .. } => None,
+        }
+    }
 }
 
 /// The surface parameters of a contact (the guide's `MdtBclContactParams`).
@@ -87,6 +113,20 @@ impl ContactParams {
                 }
                 FrictionModel::Coulomb { mu } => {
                     check_non_negative(arg, mu)?;
+                }
+                FrictionModel::StaticKinetic {
+                    static_mu,
+                    kinetic_mu,
+                } => {
+                    check_non_negative(arg, kinetic_mu)?;
+                    check_non_negative(arg, static_mu)?;
+                    if static_mu < kinetic_mu {
+                        return Err(crate::error::KeaError::OutOfRange {
+                            arg,
+                            value: format!("static_mu {static_mu} < kinetic_mu {kinetic_mu}"),
+                            expected: "a static coefficient at least the kinetic one",
+                        });
+                    }
                 }
             }
         }

@@ -73,7 +73,7 @@ pub use wide::SimdLevel;
 
 use crate::constraint::{PointForce, Row, MAX_CONTACT_POINTS};
 use crate::error::{KeaError, KeaResult};
-use crate::math::{from_f64, rotate_by_vector, DVec3, Real};
+use crate::math::{from_f64, rotate_by_vector, DVec3, Real, Vec3};
 use crate::timing::Stamp;
 use validate::{validate_inputs, validate_rows};
 
@@ -380,6 +380,20 @@ impl Solver {
 
         self.integ.integrate(bodies, params.dt);
         stats.time_integrate = t2.elapsed();
+        // Each contact's sliding state, from the bodies' new velocities (static or kinetic
+        // friction next step).
+        for sc in contacts.iter_mut() {
+            let ids = sc.bodies;
+            let point_velocity = |side: usize, p: Vec3| {
+                ids[side]
+                    .and_then(|i| bodies.get(i as usize))
+                    .map_or(Vec3::ZERO, |b| {
+                        b.linear_velocity + b.angular_velocity.cross(p - b.position)
+                    })
+            };
+            let relative = |p: Vec3| point_velocity(0, p) - point_velocity(1, p);
+            sc.contact.record_sliding(relative);
+        }
         stats.workspace_grew = self.memory_used() > before;
         // What this step needed, by its sizes (the reservation made ahead is not counted).
         let rows = self.reports.iter().map(|r| r.rows as usize);

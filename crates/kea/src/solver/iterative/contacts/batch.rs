@@ -293,15 +293,17 @@ impl<F: FloatW> ContactBatch<F> {
         let mut fixed = [0.0; 2];
         for d in 0..directions {
             match prm.friction[d] {
-                FrictionModel::Coulomb { mu: m } => mu[d] = m,
+                FrictionModel::Coulomb { .. } | FrictionModel::StaticKinetic { .. } => {
+                    mu[d] = contact.coulomb_mu(d).unwrap_or(0.0);
+                }
                 FrictionModel::Box { max_force } => fixed[d] = max_force * k.hs,
                 FrictionModel::Infinite => fixed[d] = Real::INFINITY,
             }
         }
         let isotropic_coulomb = directions == 2
             && matches!(
-                (prm.friction[0], prm.friction[1]),
-                (FrictionModel::Coulomb { mu: m0 }, FrictionModel::Coulomb { mu: m1 }) if m0 == m1
+                (contact.coulomb_mu(0), contact.coulomb_mu(1)),
+                (Some(m0), Some(m1)) if m0 == m1
             );
         for d in 0..2 {
             *lane(&mut self.mu[d], l) = mu[d];
