@@ -1,5 +1,6 @@
 //! VALIDATION #20 and the car wheel joint: the suspension deflects by m·g/k under the chassis
-//! and rings at √(k/m)/2π; a locked steering holds; the drive motor spins the wheel.
+//! and rings at √(k/m)/2π; a locked steering holds; the drive motor spins the wheel; the
+//! steering motor turns at its rate into hard stops; suspension stops, hard and soft.
 
 mod common;
 use common::{world_on, PATHS};
@@ -131,6 +132,116 @@ fn locked_steering_holds_and_the_drive_spins_the_wheel() {
         assert!(
             (w - Vec3::new(10.0, 0.0, 0.0)).length() < 2e-2,
             "{mode:?}: wheel ω {w}"
+        );
+    }
+}
+
+#[test]
+fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
+    for mode in PATHS {
+        // A wheel on a chassis held fixed, no gravity: only the steering moves it.
+        let mut world = world_on(mode, 4, 4);
+        world.set_gravity(Vec3::ZERO).unwrap();
+        let chassis = world
+            .create_body(&BodyDef {
+                mass: M,
+                enabled: false,
+                ..Default::default()
+            })
+            .unwrap();
+        let wheel = world
+            .create_body(&BodyDef {
+                position: Vec3::new(1.0, -0.3, 0.0),
+                inertia: inertia::solid_cylinder(1.0, 0.3, 0.1).unwrap(),
+                ..Default::default()
+            })
+            .unwrap();
+        let j = world
+            .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, 50.0)
+            .unwrap();
+        {
+            let cw = world.car_wheel_mut(j).unwrap();
+            cw.steering_locked = false;
+            let steering = cw.steering_limit_mut();
+            steering
+                .set_limits(
+                    kea::SingleLimit::hard(-0.4, 0.0),
+                    kea::SingleLimit::hard(0.4, 0.0),
+                )
+                .unwrap();
+            steering.set_motor(1.0, 20.0).unwrap();
+        }
+        let h: Real = 1.0 / 120.0;
+        let mut angles = Vec::new();
+        for _ in 0..120 {
+            world.step(h).unwrap();
+            angles.push(world.car_wheel(j).unwrap().steering_angle());
+        }
+        // At 1 rad/s: 0.2 rad after 0.2 s (the motor's force reaches the rate at once).
+        let at = angles[23];
+        assert!((at - 0.2).abs() < 0.02, "{mode:?}: {at} rad after 0.2 s");
+        let rate = (angles[35] - angles[11]) / (24.0 * h);
+        assert!((rate - 1.0).abs() < 0.02, "{mode:?}: steering rate {rate}");
+        // Then the upper stop holds it against the motor.
+        let last = *angles.last().unwrap();
+        assert!((last - 0.4).abs() < 2e-3, "{mode:?}: held at {last}");
+        assert!(angles.iter().all(|&a| a < 0.4 + 5e-3), "{mode:?}: past the stop");
+        // Reversed, it runs to the lower stop.
+        world
+            .car_wheel_mut(j)
+            .unwrap()
+            .steering_limit_mut()
+            .set_motor(-1.0, 20.0)
+            .unwrap();
+        for _ in 0..120 {
+            world.step(h).unwrap();
+        }
+        let last = world.car_wheel(j).unwrap().steering_angle();
+        assert!((last + 0.4).abs() < 2e-3, "{mode:?}: held at {last}");
+    }
+}
+
+#[test]
+fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
+    let sag = M * 9.81 / K; // 4.9 cm on the spring alone
+    for mode in PATHS {
+        // A hard stop at 2 cm of compression: the chassis rests on it.
+        let (mut world, _, j) = rig(mode, 200.0);
+        world
+            .car_wheel_mut(j)
+            .unwrap()
+            .suspension_limit_mut()
+            .set_limits(
+                kea::SingleLimit::hard(-0.1, 0.0),
+                kea::SingleLimit::hard(0.02, 0.0),
+            )
+            .unwrap();
+        for _ in 0..600 {
+            world.step(1.0 / 60.0).unwrap();
+        }
+        let d = world.car_wheel(j).unwrap().suspension_position();
+        assert!(sag > 0.04 && (d - 0.02).abs() < 1e-3, "{mode:?}: hard stop at {d}");
+        // A soft stop (k_s = 8,000 N/m) at 2 cm: spring and stop share the weight,
+        // K d + k_s (d − 0.02) = M g.
+        let (mut world, _, j) = rig(mode, 200.0);
+        let ks: Real = 8000.0;
+        world
+            .car_wheel_mut(j)
+            .unwrap()
+            .suspension_limit_mut()
+            .set_limits(
+                kea::SingleLimit::soft(-0.1, ks, 400.0),
+                kea::SingleLimit::soft(0.02, ks, 400.0),
+            )
+            .unwrap();
+        for _ in 0..600 {
+            world.step(1.0 / 60.0).unwrap();
+        }
+        let d = world.car_wheel(j).unwrap().suspension_position();
+        let expected = (M * 9.81 + ks * 0.02) / (K + ks);
+        assert!(
+            (d - expected).abs() < 0.02 * expected,
+            "{mode:?}: soft stop at {d}, expected {expected}"
         );
     }
 }
