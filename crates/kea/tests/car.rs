@@ -185,7 +185,10 @@ fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
         // Then the upper stop holds it against the motor.
         let last = *angles.last().unwrap();
         assert!((last - 0.4).abs() < 2e-3, "{mode:?}: held at {last}");
-        assert!(angles.iter().all(|&a| a < 0.4 + 5e-3), "{mode:?}: past the stop");
+        assert!(
+            angles.iter().all(|&a| a < 0.4 + 5e-3),
+            "{mode:?}: past the stop"
+        );
         // Reversed, it runs to the lower stop.
         world
             .car_wheel_mut(j)
@@ -220,7 +223,10 @@ fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
             world.step(1.0 / 60.0).unwrap();
         }
         let d = world.car_wheel(j).unwrap().suspension_position();
-        assert!(sag > 0.04 && (d - 0.02).abs() < 1e-3, "{mode:?}: hard stop at {d}");
+        assert!(
+            sag > 0.04 && (d - 0.02).abs() < 1e-3,
+            "{mode:?}: hard stop at {d}"
+        );
         // A soft stop (k_s = 8,000 N/m) at 2 cm: spring and stop share the weight,
         // K d + k_s (d − 0.02) = M g.
         let (mut world, _, j) = rig(mode, 200.0);

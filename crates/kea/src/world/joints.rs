@@ -18,7 +18,11 @@ use crate::math::{Real, Vec3};
 
 impl World {
     /// The row-writing view of two bodies at their current poses (for building joint frames).
-    fn pair_context(&self, body1: BodyHandle, body2: Option<BodyHandle>) -> KeaResult<RowContext> {
+    pub(super) fn pair_context(
+        &self,
+        body1: BodyHandle,
+        body2: Option<BodyHandle>,
+    ) -> KeaResult<RowContext> {
         let view = |h: BodyHandle| -> KeaResult<RowBody> {
             let b = self.bodies.get(h)?;
             Ok(RowBody::fixed(b.position(), b.orientation()))

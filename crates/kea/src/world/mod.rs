@@ -11,6 +11,7 @@ mod constraint_entry;
 mod constraint_index;
 mod constraints;
 mod islands;
+mod joint_frames;
 mod joints;
 mod quarantine;
 mod reduced;
