@@ -615,7 +615,7 @@ mod tests {
         let pts = [ContactPoint::new(Vec3::ZERO, 0.01, 1)];
         let mut c = Contact::with_points(Vec3::Y, &pts).unwrap();
         c.set_direction(Some(Vec3::X)).unwrap();
-        let before = c.clone();
+        let before = c;
         let moved = [ContactPoint::new(Vec3::new(1.0, 2.0, 3.0), 0.02, 2)];
         // A normal off unit length, with good points: refused, naming it, nothing moved.
         let e = c.update(Vec3::new(0.0, 1.5, 0.0), &moved).unwrap_err();
