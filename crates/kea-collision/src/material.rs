@@ -94,6 +94,9 @@ struct PairEntry {
     params: ContactParams,
     /// A fixed world friction direction, oriented for the pair's smaller id as body 1.
     direction: Option<Vec3>,
+    /// The pair's own contact strategy (most points per manifold), if it has one.
+    #[cfg_attr(feature = "serde", serde(default))]
+    max_points: Option<usize>,
 }
 
 /// What contacts between two materials get: their parameters and, for a conveyor pair, the
@@ -106,6 +109,9 @@ pub struct PairContact {
     /// picks one). The contact uses its projection on the tangent plane, or its own choice when
     /// the direction is within about 0.6° of the normal.
     pub friction_direction: Option<Vec3>,
+    /// The pair's own contact strategy (`None`: the collision world's,
+    /// [`crate::CollisionWorld::strategy`]).
+    pub strategy: Option<crate::ContactStrategy>,
 }
 
 impl Default for MaterialTable {
@@ -186,10 +192,51 @@ impl MaterialTable {
             Some(d) if a > b => reverse(params, d),
             _ => (params, direction),
         };
-        let entry = PairEntry { params, direction };
         match self.pairs.binary_search_by_key(&key, |e| e.0) {
-            Ok(i) => self.pairs[i].1 = entry,
-            Err(i) => self.pairs.insert(i, (key, entry)),
+            Ok(i) => {
+                let max_points = self.pairs[i].1.max_points;
+                self.pairs[i].1 = PairEntry {
+                    params,
+                    direction,
+                    max_points,
+                };
+            }
+            Err(i) => {
+                let entry = PairEntry {
+                    params,
+                    direction,
+                    max_points: None,
+                };
+                self.pairs.insert(i, (key, entry));
+            }
+        }
+        self.revision += 1;
+        Ok(())
+    }
+
+    /// Gives contacts between materials `a` and `b` their own contact strategy (the guide's
+    /// per-pair strategy: one point for bouncing bodies, up to four for resting ones; `None`:
+    /// the collision world's again). The pair keeps its parameters (the combined surfaces'
+    /// until [`MaterialTable::set_pair`]). Values outside 1–4 are clamped.
+    pub fn set_pair_strategy(
+        &mut self,
+        a: MaterialId,
+        b: MaterialId,
+        strategy: Option<crate::ContactStrategy>,
+    ) -> CollisionResult<()> {
+        let params = self.params(a, b)?;
+        let key = (a.min(b), a.max(b));
+        let max_points = strategy.map(|s| s.max_points.clamp(1, kea::MAX_CONTACT_POINTS));
+        match self.pairs.binary_search_by_key(&key, |e| e.0) {
+            Ok(i) => self.pairs[i].1.max_points = max_points,
+            Err(i) => {
+                let entry = PairEntry {
+                    params,
+                    direction: None,
+                    max_points,
+                };
+                self.pairs.insert(i, (key, entry));
+            }
         }
         self.revision += 1;
         Ok(())
@@ -204,9 +251,9 @@ impl MaterialTable {
     ) -> CollisionResult<PairContact> {
         let params = self.params(body1, body2)?;
         let key = (body1.min(body2), body1.max(body2));
-        let direction = match self.pairs.binary_search_by_key(&key, |e| e.0) {
-            Ok(i) => self.pairs[i].1.direction,
-            Err(_) => None,
+        let (direction, max_points) = match self.pairs.binary_search_by_key(&key, |e| e.0) {
+            Ok(i) => (self.pairs[i].1.direction, self.pairs[i].1.max_points),
+            Err(_) => (None, None),
         };
         let (params, friction_direction) = match direction {
             Some(d) if body1 > body2 => reverse(params, d),
@@ -215,6 +262,7 @@ impl MaterialTable {
         Ok(PairContact {
             params,
             friction_direction,
+            strategy: max_points.map(|max_points| crate::ContactStrategy { max_points }),
         })
     }
 

@@ -348,6 +348,12 @@ impl NarrowWorker {
             };
             p.params = pair.params;
             p.direction = pair.friction_direction;
+            let max_points = pair.strategy.map_or(0, |s| s.max_points as u8);
+            if max_points != p.max_points {
+                // Another strategy: the kept manifolds have the old number of points.
+                p.max_points = max_points;
+                p.generated_at = None;
+            }
             p.params_revision = revision;
         }
         let frame = Frame {
@@ -402,7 +408,11 @@ impl NarrowWorker {
                 let wa = pose_a.transform_point(gp.local_a);
                 points.push((wa, -gp.dist));
             }
-            reduce(points, shared.max_points, keep);
+            let max_points = match p.max_points {
+                0 => shared.max_points,
+                own => own as usize,
+            };
+            reduce(points, max_points, keep);
             let existing = p
                 .manifolds
                 .iter()

@@ -71,6 +71,9 @@ pub(crate) struct PairState {
     pub params: kea::ContactParams,
     pub direction: Option<Vec3>,
     pub params_revision: u64,
+    /// Most points per manifold for this pair's materials (0: the world's strategy).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub max_points: u8,
 }
 
 /// Manifolds a pre-made multi-manifold slot has room for.

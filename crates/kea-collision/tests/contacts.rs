@@ -261,3 +261,58 @@ fn a_fast_small_sphere_does_not_pass_a_thin_wall() {
     assert!((furthest + 0.1).abs() < 0.03, "furthest {furthest}");
     assert!(speed < 0.5, "speed {speed}");
 }
+
+#[test]
+fn each_pair_of_materials_keeps_its_own_contact_strategy() {
+    // Two boxes resting on the ground: a "ball-like" material whose pair with the ground
+    // keeps one point (enough to bounce), and a plain one with the world's four.
+    let mut world = World::with_capacity(8, 64).unwrap();
+    let mut collision = CollisionWorld::new();
+    let ground_material = collision.materials.add(Default::default()).unwrap();
+    let bouncy = collision.materials.add(Default::default()).unwrap();
+    let cube = Shape::cuboid(Vec3::splat(0.5)).unwrap();
+    let one = body(&mut world, Vec3::new(-2.0, 0.48, 0.0), &cube);
+    let four = body(&mut world, Vec3::new(2.0, 0.48, 0.0), &cube);
+    let mut ground_def = ColliderDef::new(None, Shape::plane(Vec3::Y).unwrap());
+    ground_def.material = ground_material;
+    let ground = collision.add_collider(&world, ground_def).unwrap();
+    let mut one_def = ColliderDef::new(Some(one), cube.clone());
+    one_def.material = bouncy;
+    let c_one = collision.add_collider(&world, one_def).unwrap();
+    let c_four = collision
+        .add_collider(&world, ColliderDef::new(Some(four), cube.clone()))
+        .unwrap();
+    collision
+        .materials
+        .set_pair_strategy(
+            bouncy,
+            ground_material,
+            Some(kea_collision::ContactStrategy { max_points: 1 }),
+        )
+        .unwrap();
+    collision.update_contacts(&mut world, 1.0 / 60.0).unwrap();
+    assert_eq!(contacts(&world, &collision, ground, c_one).len(), 1);
+    assert_eq!(contacts(&world, &collision, ground, c_four).len(), 4);
+    // The pair's parameters are the combined surfaces' still (friction, no bounce).
+    let params = collision.materials.params(bouncy, ground_material).unwrap();
+    assert_eq!(
+        params,
+        collision.materials.params(0, ground_material).unwrap()
+    );
+    // Back to the world's strategy: four again. An unknown material is refused by name.
+    collision
+        .materials
+        .set_pair_strategy(ground_material, bouncy, None)
+        .unwrap();
+    collision.update_contacts(&mut world, 1.0 / 60.0).unwrap();
+    assert_eq!(contacts(&world, &collision, ground, c_one).len(), 4);
+    let e = collision
+        .materials
+        .set_pair_strategy(
+            bouncy,
+            99,
+            Some(kea_collision::ContactStrategy { max_points: 1 }),
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("99"), "{e}");
+}
