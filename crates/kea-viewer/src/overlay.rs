@@ -1,11 +1,12 @@
-//! Text over the view: the statistics overlay and the F1 help.
+//! Text over the view: the statistics overlay (O) and the F1 help, which `Panels` shows and
+//! hides and whose text it composes (what the window draws, and what tests read).
 
 use crate::app::App;
-use crate::keys::{BINDINGS, HELD};
+use crate::keys::{Action, BINDINGS, HELD};
 use macroquad::color::Color;
+use macroquad::input::KeyCode;
 use macroquad::shapes::draw_rectangle;
 use macroquad::text::draw_text;
-use macroquad::time::get_fps;
 use std::fmt::Write as _;
 
 /// Where the last frame's time went.
@@ -19,6 +20,68 @@ pub struct FrameTimes {
     pub drawing: std::time::Duration,
     /// Triangles drawn.
     pub triangles: usize,
+    /// Frames per second, as the window measures them.
+    pub fps: i32,
+}
+
+/// The text panels over the view: the statistics (key O, shown at first) and the help (F1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Panels {
+    /// The statistics overlay is shown.
+    pub stats: bool,
+    /// The help is shown.
+    pub help: bool,
+}
+
+impl Default for Panels {
+    fn default() -> Self {
+        Self {
+            stats: true,
+            help: false,
+        }
+    }
+}
+
+impl Panels {
+    /// Answers an action: the help's toggles the help, the overlay's the statistics. Returns
+    /// whether it was one of theirs.
+    pub fn act(&mut self, action: Action) -> bool {
+        match action {
+            Action::Help => self.help = !self.help,
+            Action::Overlay => self.stats = !self.stats,
+            _ => return false,
+        }
+        true
+    }
+
+    /// Answers a key press through the key table, as the window does.
+    pub fn press(&mut self, key: KeyCode) -> bool {
+        BINDINGS
+            .iter()
+            .filter(|b| b.key == key)
+            .any(|b| self.act(b.action))
+    }
+
+    /// The blocks of text shown now, top first: the statistics, then the help.
+    #[must_use]
+    pub fn text(&self, app: &App, frame: &FrameTimes) -> Vec<Vec<String>> {
+        let mut blocks = Vec::new();
+        if self.stats {
+            blocks.push(stats_lines(app, frame));
+        }
+        if self.help {
+            blocks.push(help_lines());
+        }
+        blocks
+    }
+
+    /// Draws the shown blocks in the top-left corner, one under the other.
+    pub fn draw(&self, app: &App, frame: &FrameTimes) {
+        let mut y = 8.0;
+        for block in self.text(app, frame) {
+            y = draw_block(&block, 8.0, y) + 8.0;
+        }
+    }
 }
 
 const LINE: f32 = 18.0;
@@ -39,7 +102,7 @@ pub fn stats_lines(app: &App, frame: &FrameTimes) -> Vec<String> {
     let state = if app.paused { "paused" } else { "running" };
     lines.push(format!(
         "{} fps | step {} ({:.4} s) | {state}",
-        get_fps(),
+        frame.fps,
         app.step_count(),
         app.dt()
     ));
@@ -75,12 +138,6 @@ pub fn stats_lines(app: &App, frame: &FrameTimes) -> Vec<String> {
     lines
 }
 
-/// Draws the statistics in the top-left corner.
-pub fn draw_stats(app: &App, frame: &FrameTimes) {
-    let lines = stats_lines(app, frame);
-    draw_block(&lines, 8.0, 8.0);
-}
-
 /// The help lines, one per key and mouse action.
 #[must_use]
 pub fn help_lines() -> Vec<String> {
@@ -94,12 +151,8 @@ pub fn help_lines() -> Vec<String> {
     lines
 }
 
-/// Draws the help under the statistics.
-pub fn draw_help() {
-    draw_block(&help_lines(), 8.0, 150.0);
-}
-
-fn draw_block(lines: &[String], x: f32, y: f32) {
+/// Draws lines on a dark box at (x, y); returns the box's lower edge.
+fn draw_block(lines: &[String], x: f32, y: f32) -> f32 {
     let height = LINE * lines.len() as f32 + 8.0;
     let width = lines.iter().map(|l| l.len()).max().unwrap_or(0) as f32 * 8.6 + 12.0;
     draw_rectangle(x, y, width, height, Color::new(0.0, 0.0, 0.0, 0.55));
@@ -107,6 +160,7 @@ fn draw_block(lines: &[String], x: f32, y: f32) {
         let baseline = y + LINE * (i as f32 + 1.0);
         draw_text(l, x + 6.0, baseline, SIZE, Color::new(1.0, 1.0, 1.0, 1.0));
     }
+    y + height
 }
 
 /// A note at the bottom of the window (a screenshot written, a reload), with a red

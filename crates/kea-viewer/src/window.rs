@@ -6,7 +6,7 @@ use crate::draw::{checker_texture, gizmos, sky, Eye, Painter, Toggles};
 use crate::gizmos::typical_weight;
 use crate::keys::{Action, BINDINGS};
 use crate::orbit::OrbitCamera;
-use crate::overlay::{draw_help, draw_stats, draw_toast, FrameTimes};
+use crate::overlay::{draw_toast, FrameTimes, Panels};
 use crate::record::{recorded_size, shrink, Recorder};
 use crate::reload::SceneFile;
 use crate::ViewerOptions;
@@ -43,8 +43,7 @@ struct Session {
     camera: OrbitCamera,
     painter: Painter,
     toggles: Toggles,
-    help: bool,
-    overlay: bool,
+    panels: Panels,
     dragging: bool,
     last_mouse: (f32, f32),
     quit: bool,
@@ -147,7 +146,9 @@ impl Session {
 
     fn act(&mut self, action: Action) {
         match action {
-            Action::Help => self.help = !self.help,
+            Action::Help | Action::Overlay => {
+                self.panels.act(action);
+            }
             Action::Pause => {
                 self.app.paused = !self.app.paused;
                 self.say(if self.app.paused { "paused" } else { "resumed" });
@@ -187,7 +188,6 @@ impl Session {
             Action::Islands => self.toggles.islands = !self.toggles.islands,
             Action::Sleeping => self.toggles.sleeping = !self.toggles.sleeping,
             Action::Shadows => self.toggles.shadows = !self.toggles.shadows,
-            Action::Overlay => self.overlay = !self.overlay,
             Action::Screenshot => {} // taken once the frame is drawn
             Action::Quit => self.quit = true,
         }
@@ -277,12 +277,7 @@ impl Session {
         let g = gizmos(&self.app, eye, self.toggles, weight, length);
         self.painter.draw_on_top(&g.pieces);
         set_default_camera();
-        if self.overlay {
-            draw_stats(&self.app, &self.times);
-        }
-        if self.help {
-            draw_help();
-        }
+        self.panels.draw(&self.app, &self.times);
         let recording = self.recorder.as_ref().map(Recorder::frames);
         if let Some((text, since)) = &self.toast {
             if since.elapsed().as_secs_f32() < 3.0 {
@@ -351,8 +346,7 @@ async fn run_loop(app: App, options: ViewerOptions) {
             shadows: true,
             ..Toggles::default()
         },
-        help: false,
-        overlay: true,
+        panels: Panels::default(),
         dragging: false,
         last_mouse: mouse_position(),
         quit: false,
@@ -383,6 +377,7 @@ async fn run_loop(app: App, options: ViewerOptions) {
         let start = std::time::Instant::now();
         let frame_seconds = macroquad::time::get_frame_time();
         s.times.steps = s.app.advance(f64::from(frame_seconds));
+        s.times.fps = macroquad::time::get_fps();
         s.follow_subject(to_real(f64::from(frame_seconds)));
         let stepped = std::time::Instant::now();
         s.times.stepping = smooth(s.times.stepping, stepped - start);

@@ -187,3 +187,56 @@ fn the_throttle_drives_the_car_forwards_and_the_steering_turns_it_left() {
         after - before
     );
 }
+
+#[test]
+fn f1_and_o_show_and_hide_the_help_and_the_statistics() {
+    use kea_viewer::keys::BINDINGS;
+    use kea_viewer::overlay::{FrameTimes, Panels};
+    use macroquad::input::KeyCode;
+
+    let mut app = drop_app();
+    app.advance(3.0 * kea::math::wide(app.dt()));
+    let frame = FrameTimes {
+        fps: 60,
+        ..FrameTimes::default()
+    };
+    let mut panels = Panels::default();
+    // At first: the statistics only, reading the world as it is.
+    let text = panels.text(&app, &frame);
+    assert_eq!(text.len(), 1, "{text:?}");
+    assert!(text[0][0].starts_with("60 fps | step 3"), "{:?}", text[0]);
+    let bodies = app.physics.dynamics().body_count();
+    assert!(
+        text[0]
+            .iter()
+            .any(|l| l.starts_with(&format!("bodies {bodies} awake"))),
+        "{:?}",
+        text[0]
+    );
+    assert_eq!(text[0].last().unwrap(), "F1: help");
+    // F1: the help joins it, a line for every key the Viewer answers.
+    assert!(panels.press(KeyCode::F1));
+    let text = panels.text(&app, &frame);
+    assert_eq!(text.len(), 2);
+    let help = &text[1];
+    assert_eq!(help[0], "Kea Viewer keys");
+    for b in BINDINGS {
+        assert!(
+            help.iter()
+                .any(|l| l.starts_with(b.label) && l.ends_with(b.help)),
+            "no help line for {}: {help:?}",
+            b.label
+        );
+    }
+    // O hides the statistics; F1 again hides the help; O brings the statistics back.
+    assert!(panels.press(KeyCode::O));
+    let text = panels.text(&app, &frame);
+    assert_eq!(text, vec![help.clone()]);
+    assert!(panels.press(KeyCode::F1));
+    assert!(panels.text(&app, &frame).is_empty());
+    assert!(panels.press(KeyCode::O));
+    assert_eq!(panels.text(&app, &frame).len(), 1);
+    // Other keys are not the panels'.
+    assert!(!panels.press(KeyCode::B));
+    assert_eq!(panels, Panels::default());
+}
