@@ -1,0 +1,262 @@
+//! The tree's dynamics: spatial algebra, placing the links at `q`, forward kinematics, the
+//! joint-space inertia by composite rigid bodies, Newton–Euler, and the solve for `q̈` by
+//! Cholesky (the module docs of [`super`] give the math).
+
+use super::ArticulatedTree;
+use super::TreeJointKind;
+use crate::error::{KeaError, KeaResult};
+use glam::{DMat3, DQuat, DVec3};
+
+/// A rigid-body inertia `(m, c, I_c)` applied to a motion `[ω; v]`: `[I_c ω + c × p; p]`,
+/// `p = m (v + ω × c)`.
+fn inertia_times(m: f64, c: DVec3, ic: &DMat3, [w, v]: [DVec3; 2]) -> [DVec3; 2] {
+    let p = m * (v + w.cross(c));
+    [*ic * w + c.cross(p), p]
+}
+
+/// `v ×* f` for a motion `v` and a force `f`.
+fn cross_force([w, v]: [DVec3; 2], [n, f]: [DVec3; 2]) -> [DVec3; 2] {
+    [w.cross(n) + v.cross(f), w.cross(f)]
+}
+
+/// `v × m` for motions.
+fn cross_motion([w, v]: [DVec3; 2], [w2, v2]: [DVec3; 2]) -> [DVec3; 2] {
+    [w.cross(w2), w.cross(v2) + v.cross(w2)]
+}
+
+/// A motion in the parent's coordinates seen in the child's (`e`: parent-to-child rotation,
+/// `r`: the child's origin in the parent's coordinates).
+fn motion_to_child(e: &DMat3, r: DVec3, [w, v]: [DVec3; 2]) -> [DVec3; 2] {
+    [*e * w, *e * (v - r.cross(w))]
+}
+
+/// A force in the child's coordinates seen in the parent's.
+fn force_to_parent(e: &DMat3, r: DVec3, [n, f]: [DVec3; 2]) -> [DVec3; 2] {
+    let (n, f) = (e.transpose() * n, e.transpose() * f);
+    [n + r.cross(f), f]
+}
+
+fn dot([a, b]: [DVec3; 2], [c, d]: [DVec3; 2]) -> f64 {
+    a.dot(c) + b.dot(d)
+}
+
+impl ArticulatedTree {
+    /// Each link's frame in the base's and its spatial velocity `[ω; v]` in its own
+    /// coordinates at `q`, `qd`, as [`ArticulatedTree::frame`] and
+    /// [`ArticulatedTree::velocity`] read them (forward kinematics; arguments trusted).
+    pub(crate) fn forward(&mut self, q: &[f64], qd: &[f64]) {
+        self.place(q);
+        for (i, &rate) in qd.iter().enumerate().take(self.len()) {
+            let local = DQuat::from_mat3(&self.rot[i].transpose());
+            let s = self.subspace(i);
+            let (e, r) = (self.rot[i], self.pos[i]);
+            let (frame, v_parent) = match self.links[i].parent {
+                Some(p) => {
+                    let (t, rp) = self.frames[p];
+                    ((t + rp * r, (rp * local).normalize()), self.vel[p])
+                }
+                None => ((r, local), [DVec3::ZERO; 2]),
+            };
+            let v = motion_to_child(&e, r, v_parent);
+            self.frames[i] = frame;
+            self.vel[i] = [v[0] + s[0] * rate, v[1] + s[1] * rate];
+        }
+    }
+
+    /// Joint `i`'s motion subspace in its link's coordinates.
+    pub(super) fn subspace(&self, i: usize) -> [DVec3; 2] {
+        let l = &self.links[i];
+        match l.kind {
+            TreeJointKind::Hinge => [l.axis, l.anchor.cross(l.axis)],
+            TreeJointKind::Slider => [DVec3::ZERO, l.axis],
+        }
+    }
+
+    /// Each link's transform from its parent at `q`: the parent-to-child rotation and the
+    /// child's origin in the parent's coordinates.
+    pub(super) fn place(&mut self, q: &[f64]) {
+        // A step starts where the last one's forward kinematics placed the links.
+        if self.placed_valid && self.placed.as_slice() == q {
+            return;
+        }
+        self.placed.clear();
+        self.placed.extend_from_slice(q);
+        self.placed_valid = true;
+        for (i, (l, &qi)) in self.links.iter().zip(q).enumerate() {
+            let (t, r) = l.origin;
+            let (joint_t, joint_r) = match l.kind {
+                TreeJointKind::Hinge => {
+                    let turn = DQuat::from_axis_angle(l.axis, qi);
+                    (l.anchor - turn * l.anchor, turn)
+                }
+                TreeJointKind::Slider => (l.axis * qi, DQuat::IDENTITY),
+            };
+            let rotation = r * joint_r;
+            self.pos[i] = t + r * joint_t;
+            self.rot[i] = DMat3::from_quat(rotation).transpose();
+        }
+    }
+
+    /// The joint-space inertia `H(q)` (row-major, `len × len`) by composite rigid bodies,
+    /// armature included; `place` must have run.
+    fn mass_matrix(&mut self) {
+        let n = self.len();
+        // Links on different branches couple through nothing: their entries stay 0 (the
+        // factor of the last step sits here).
+        self.h.iter_mut().for_each(|x| *x = 0.0);
+        for (i, l) in self.links.iter().enumerate() {
+            self.composite[i] = (l.mass, l.com, l.inertia);
+        }
+        for i in (0..n).rev() {
+            if let Some(p) = self.links[i].parent {
+                let (m, c, ic) = self.composite[i];
+                let e = self.rot[i];
+                // Into the parent's coordinates, then summed about the common centre.
+                let c_p = self.pos[i] + e.transpose() * c;
+                let ic_p = e.transpose() * ic * e;
+                let (mp, cp, icp) = self.composite[p];
+                let total = mp + m;
+                let centre = (cp * mp + c_p * m) / total;
+                let shift = |mass: f64, d: DVec3| {
+                    (DMat3::IDENTITY * d.length_squared()
+                        - DMat3::from_cols(d * d.x, d * d.y, d * d.z))
+                        * mass
+                };
+                let inertia = icp + shift(mp, cp - centre) + ic_p + shift(m, c_p - centre);
+                self.composite[p] = (total, centre, inertia);
+            }
+        }
+        for i in 0..n {
+            let (m, c, ic) = self.composite[i];
+            let si = self.subspace(i);
+            let mut f = inertia_times(m, c, &ic, si);
+            self.h[i * n + i] = dot(f, si) + self.links[i].armature;
+            let mut j = i;
+            while let Some(p) = self.links[j].parent {
+                f = force_to_parent(&self.rot[j], self.pos[j], f);
+                j = p;
+                let v = dot(f, self.subspace(j));
+                self.h[i * n + j] = v;
+                self.h[j * n + i] = v;
+            }
+        }
+    }
+
+    /// The bias forces `c(q, q̇)` into `out` by recursive Newton–Euler; `place` must have run.
+    fn bias(&mut self, qd: &[f64], out: &mut [f64]) {
+        self.newton_euler(qd, None);
+        for (i, o) in out.iter_mut().enumerate().take(self.len()) {
+            *o = dot(self.force[i], self.subspace(i));
+        }
+    }
+
+    /// Recursive Newton–Euler at rates `qd` and accelerations `qdd` (0 when `None`), the base
+    /// accelerating up at g and the applied wrenches taken off: leaves in `force[i]` the
+    /// wrench joint `i` passes to its link (its subtree's included); `place` must have run.
+    pub(super) fn newton_euler(&mut self, qd: &[f64], qdd: Option<&[f64]>) {
+        let n = self.len();
+        for (i, &rate) in qd.iter().enumerate().take(n) {
+            let s = self.subspace(i);
+            let joint = [s[0] * rate, s[1] * rate];
+            let (e, r) = (self.rot[i], self.pos[i]);
+            let (v_parent, a_parent) = match self.links[i].parent {
+                Some(p) => (self.vel[p], self.acc[p]),
+                // The base accelerates up at g: gravity on every link, for free.
+                None => ([DVec3::ZERO; 2], [DVec3::ZERO, -self.gravity]),
+            };
+            let v_p = motion_to_child(&e, r, v_parent);
+            let v = [v_p[0] + joint[0], v_p[1] + joint[1]];
+            let a_p = motion_to_child(&e, r, a_parent);
+            let c = cross_motion(v, joint);
+            let own = qdd.map_or(0.0, |a| a[i]);
+            self.vel[i] = v;
+            self.acc[i] = [a_p[0] + c[0] + s[0] * own, a_p[1] + c[1] + s[1] * own];
+            let l = &self.links[i];
+            let ia = inertia_times(l.mass, l.com, &l.inertia, self.acc[i]);
+            let iv = inertia_times(l.mass, l.com, &l.inertia, v);
+            let g = cross_force(v, iv);
+            let [tn, tf] = self.external[i];
+            self.force[i] = [ia[0] + g[0] - tn, ia[1] + g[1] - tf];
+        }
+        for i in (0..n).rev() {
+            if let Some(p) = self.links[i].parent {
+                let f = force_to_parent(&self.rot[i], self.pos[i], self.force[i]);
+                self.force[p][0] += f[0];
+                self.force[p][1] += f[1];
+            }
+        }
+    }
+
+    /// `(H + diag(h d)) q̈ = τ − c − d q̇` into `qdd`.
+    pub(super) fn solve(
+        &mut self,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+        h: f64,
+        qdd: &mut [f64],
+    ) -> KeaResult<()> {
+        let n = self.len();
+        self.place(q);
+        self.mass_matrix();
+        self.bias(qd, qdd);
+        for (i, l) in self.links.iter().enumerate() {
+            let d = l.damping;
+            qdd[i] = tau[i] - qdd[i] - d * qd[i];
+            self.h[i * n + i] += h * d;
+            // A servo's force kp (q* − q − h q̇⁺) + kv (v* − q̇⁺), with q̇⁺ = q̇ + h q̈: its
+            // q̈ terms join H', the rest the right side.
+            if let Some((target, rate, kp, kv)) = l.servo {
+                qdd[i] += kp * (target - q[i]) - (kp * h + kv) * qd[i] + kv * rate;
+                self.h[i * n + i] += h * h * kp + h * kv;
+            }
+        }
+        cholesky_solve(&mut self.h, n, qdd)
+    }
+}
+
+/// Solves `L Lᵀ x = b` with the factor `cholesky_solve` left in `l`, `b` overwritten by `x`.
+pub(super) fn cholesky_back_solve(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i * n + k] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+}
+
+/// Solves `A x = b` for symmetric positive definite `A` (row-major, overwritten by its
+/// Cholesky factor), `b` overwritten by `x`.
+fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return Err(KeaError::Inconsistent {
+                arg: "links",
+                reason: "the tree's joint-space inertia is not positive definite".into(),
+            });
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    cholesky_back_solve(a, n, b);
+    Ok(())
+}

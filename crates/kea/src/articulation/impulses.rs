@@ -1,0 +1,129 @@
+//! The coordinates' stops, motors and dry friction: bounded impulses on the rates after the
+//! free step, found by projected Gauss–Seidel on the columns of `H'⁻¹` they act through.
+
+use super::dynamics::cholesky_back_solve;
+use super::ArticulatedTree;
+
+/// A fraction of a stop's overshoot taken back per step (the maximal path's `γ` for stops).
+const STOP_RECOVERY: f64 = 0.2;
+
+/// One constraint on one coordinate's rate after the step: the rate aimed at, and the
+/// impulse's bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct CoordinateRow {
+    coordinate: usize,
+    target: f64,
+    lo: f64,
+    hi: f64,
+    impulse: f64,
+}
+
+impl ArticulatedTree {
+    /// Stops, motors and dry friction on the rates `qd` (free, in place): impulses `P` with
+    /// `q̇⁺ = q̇ + H'⁻¹ P`, each row's within its bounds, by projected Gauss–Seidel on `H'⁻¹`
+    /// (the factor `solve` left). A stop's row aims the rate at what reaches the stop by the
+    /// step's end, and only pushes away from it.
+    pub(super) fn constrain(&mut self, q: &[f64], qd: &mut [f64], h: f64) {
+        let n = self.len();
+        self.rows.clear();
+        for (i, l) in self.links.iter().enumerate() {
+            if let Some((v, f)) = l.motor {
+                self.rows.push(CoordinateRow {
+                    coordinate: i,
+                    target: v,
+                    lo: -h * f,
+                    hi: h * f,
+                    impulse: 0.0,
+                });
+            }
+            if l.friction > 0.0 {
+                let f = h * l.friction;
+                self.rows.push(CoordinateRow {
+                    coordinate: i,
+                    target: 0.0,
+                    lo: -f,
+                    hi: f,
+                    impulse: 0.0,
+                });
+            }
+            if let Some((lo, hi)) = l.limits {
+                // The rate that reaches a stop by the step's end; beyond one, the rate that
+                // takes back a fifth of the overshoot, no faster than the stop's recovery.
+                let recover =
+                    |overshoot: f64| (STOP_RECOVERY * overshoot / h).min(l.stop_recovery_speed);
+                let min = if q[i] >= lo {
+                    (lo - q[i]) / h
+                } else {
+                    recover(lo - q[i])
+                };
+                let max = if q[i] <= hi {
+                    (hi - q[i]) / h
+                } else {
+                    -recover(q[i] - hi)
+                };
+                if qd[i] < min + 1e-9 || q[i] < lo + 1e-9 {
+                    self.rows.push(CoordinateRow {
+                        coordinate: i,
+                        target: min,
+                        lo: 0.0,
+                        hi: f64::INFINITY,
+                        impulse: 0.0,
+                    });
+                }
+                if qd[i] > max - 1e-9 || q[i] > hi - 1e-9 {
+                    self.rows.push(CoordinateRow {
+                        coordinate: i,
+                        target: max,
+                        lo: f64::NEG_INFINITY,
+                        hi: 0.0,
+                        impulse: 0.0,
+                    });
+                }
+            }
+        }
+        self.impulse.iter_mut().for_each(|p| *p = 0.0);
+        if self.rows.is_empty() {
+            return;
+        }
+        // The columns of H'⁻¹ the rows act through (one per constrained coordinate, each a
+        // solve with the factor): a coordinate's impulse moves every rate along its column.
+        for r in 0..self.rows.len() {
+            let j = self.rows[r].coordinate;
+            if self.rows[..r].iter().any(|x| x.coordinate == j) {
+                continue; // solved for an earlier row of the same coordinate
+            }
+            self.column.iter_mut().for_each(|c| *c = 0.0);
+            self.column[j] = 1.0;
+            let mut col = std::mem::take(&mut self.column);
+            cholesky_back_solve(&self.h, n, &mut col);
+            for (i, &c) in col.iter().enumerate() {
+                self.inverse[i * n + j] = c;
+            }
+            self.column = col;
+        }
+        for _sweep in 0..200 {
+            let mut largest: f64 = 0.0;
+            for r in 0..self.rows.len() {
+                let row = self.rows[r];
+                let i = row.coordinate;
+                let w = self.inverse[i * n + i];
+                // The impulse that brings the rate to the row's target, kept in its bounds (a
+                // stop's bounds let it push one way only).
+                let p = (row.impulse + (row.target - qd[i]) / w).clamp(row.lo, row.hi);
+                let delta = p - row.impulse;
+                if delta != 0.0 {
+                    self.rows[r].impulse = p;
+                    self.impulse[i] += delta;
+                    for (k, rate) in qd.iter_mut().enumerate() {
+                        *rate += self.inverse[k * n + i] * delta;
+                    }
+                    largest = largest.max((delta * w).abs());
+                }
+            }
+            // Converged when no row moves any rate by more than round-off.
+            if largest < 1e-12 {
+                break;
+            }
+        }
+    }
+}
