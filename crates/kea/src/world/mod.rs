@@ -10,6 +10,7 @@
 mod constraint_entry;
 mod constraint_index;
 mod constraints;
+mod gather;
 mod islands;
 mod joint_frames;
 mod joints;
