@@ -1,9 +1,11 @@
-//! Snapshots of a collision world (feature `serde`): the world itself derives serde (shapes
-//! as their recipes); here are parry's poses as a translation and a rotation, and the check
-//! that a restored collision world fits its restored dynamics world.
+//! Snapshots of a collision world (feature `serde`): the world itself derives serde; here are
+//! shapes saved as their recipes and made again from them, parry's poses as a translation and
+//! a rotation, and the check that a restored collision world fits its restored dynamics world.
 
 use crate::collision_world::CollisionWorld;
 use crate::error::{CollisionError, CollisionResult};
+use crate::shape::Shape;
+use crate::shape_recipe::Recipe;
 use kea::World;
 
 impl CollisionWorld {
@@ -64,5 +66,42 @@ pub(crate) mod pair_map {
     pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Map, D::Error> {
         let list = Vec::<((u32, u32), u32)>::deserialize(d)?;
         Ok(list.into_iter().collect())
+    }
+}
+
+impl Recipe {
+    /// The shape, made again (and checked again).
+    pub(crate) fn build(&self) -> CollisionResult<Shape> {
+        match self {
+            Recipe::Sphere(r) => Shape::sphere(*r),
+            Recipe::Cuboid(h) => Shape::cuboid(*h),
+            Recipe::Plane(n) => Shape::plane(*n),
+            Recipe::Capsule(h, r) => Shape::capsule(*h, *r),
+            Recipe::Cylinder(h, r) => Shape::cylinder(*h, *r),
+            Recipe::Cone(h, r) => Shape::cone(*h, *r),
+            Recipe::ConvexHull(points) => Shape::convex_hull(points),
+            Recipe::Trimesh(v, i) => Shape::trimesh(v.clone(), i.clone()),
+            Recipe::Heightfield(heights, size) => Shape::heightfield(heights, *size),
+            Recipe::Compound(parts) => {
+                let parts = parts
+                    .iter()
+                    .map(|(o, q, r)| Ok((*o, *q, r.build()?)))
+                    .collect::<CollisionResult<Vec<_>>>()?;
+                Shape::compound(&parts)
+            }
+        }
+    }
+}
+
+impl serde::Serialize for Shape {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.recipe.serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Shape {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let recipe = Recipe::deserialize(d)?;
+        recipe.build().map_err(serde::de::Error::custom)
     }
 }

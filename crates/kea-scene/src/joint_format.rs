@@ -1,7 +1,7 @@
 //! The scene format's joints (every joint type of the guide, with limits, motors and breaking
 //! thresholds) and groups (repeated structures expanded when the scene is built).
 
-use crate::format::{is_false, ShapeSpec, V3};
+use crate::shape_format::{is_false, ShapeSpec, V3};
 use kea::Real;
 use serde::{Deserialize, Serialize};
 

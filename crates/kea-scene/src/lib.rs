@@ -25,6 +25,7 @@ mod groups;
 mod joint_format;
 mod joints;
 mod robots;
+mod shape_format;
 mod snapshot;
 
 pub use build::{body_count, build, BuiltScene, MAX_BODIES, MAX_CONSTRAINTS};
