@@ -8,6 +8,11 @@
 use crate::error::{KeaError, KeaResult};
 use std::sync::atomic::{AtomicU32, Ordering};
 
+/// Largest capacity a world accepts for bodies or for constraints. Storage is reserved up
+/// front (a constraint reserves room for six rows), so a million constraints already take
+/// about a gigabyte.
+pub const MAX_CAPACITY: usize = 1 << 20;
+
 static NEXT_WORLD_ID: AtomicU32 = AtomicU32::new(1);
 
 /// A fresh id for a new world, so handles from different worlds never mix.
@@ -91,7 +96,7 @@ pub(crate) struct ArenaState<T> {
 }
 
 /// A slot arena with a capacity reserved up front, which doubles when full (up to
-/// [`crate::MAX_CAPACITY`]).
+/// [`MAX_CAPACITY`]).
 #[derive(Clone)]
 pub(crate) struct Arena<T, H: HandleKind> {
     world: u32,
@@ -186,9 +191,9 @@ impl<T, H: HandleKind> Arena<T, H> {
         self.slots.len()
     }
 
-    /// Grows the capacity to at least `capacity` (never past [`crate::MAX_CAPACITY`]).
+    /// Grows the capacity to at least `capacity` (never past [`MAX_CAPACITY`]).
     pub(crate) fn reserve_total(&mut self, capacity: usize) {
-        let capacity = capacity.min(crate::MAX_CAPACITY);
+        let capacity = capacity.min(MAX_CAPACITY);
         if capacity > self.capacity {
             self.capacity = capacity;
             self.slots
@@ -199,7 +204,7 @@ impl<T, H: HandleKind> Arena<T, H> {
 
     pub(crate) fn insert(&mut self, value: T) -> KeaResult<H> {
         if self.len >= self.capacity {
-            if self.capacity >= crate::MAX_CAPACITY {
+            if self.capacity >= MAX_CAPACITY {
                 return Err(KeaError::CapacityExceeded {
                     what: self.what,
                     capacity: self.capacity,

@@ -568,10 +568,7 @@ impl World {
     }
 }
 
-/// Largest capacity a world accepts for bodies or for constraints. Storage is reserved up
-/// front (a constraint reserves room for six rows), so a million constraints already take
-/// about a gigabyte.
-pub const MAX_CAPACITY: usize = 1 << 20;
+pub use crate::handle::MAX_CAPACITY;
 
 fn check_capacity(arg: &'static str, capacity: usize) -> KeaResult<()> {
     if !(1..=MAX_CAPACITY).contains(&capacity) {

@@ -9,7 +9,7 @@
 
 use super::factor::factorise;
 use super::lcp_dense::Bound;
-use super::pivoting::System;
+use super::system::System;
 
 /// The kept factorisation (module docs).
 #[derive(Debug, Default, Clone)]

@@ -35,6 +35,7 @@ mod pivoting;
 mod project;
 mod sparsity;
 mod substep;
+mod system;
 
 use super::integrate::BodyScratch;
 use super::{

@@ -33,11 +33,10 @@
 // Dense kernels over row and block indices read clearest as index loops.
 #![allow(clippy::needless_range_loop)]
 
-use super::factor::{multiply, solve as factor_solve, Layout};
+use super::factor::{multiply, solve as factor_solve};
 use super::held_factor::HeldFactor;
 use super::lcp_dense::hash_state;
 pub(crate) use super::lcp_dense::Bound;
-use super::pattern::Pattern;
 
 /// What happened in one LCP solve.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -60,20 +59,7 @@ pub(crate) struct LcpReport {
     pub bounds_moving: bool,
 }
 
-/// A friction row's link: the index of its normal row and μ.
-pub(crate) type FrictionLink = Option<(u32, f64)>;
-
-/// The system: `A` (values over `pattern` and `layout`), `b` and the friction links.
-pub(crate) struct System<'a> {
-    pub pattern: &'a Pattern,
-    pub layout: &'a Layout,
-    pub a: &'a [f64],
-    pub b: &'a [f64],
-    pub links: &'a [FrictionLink],
-    /// Identifies the values of `a`: a factorisation of the same values with the same held
-    /// rows is reused (0: never).
-    pub stamp: u64,
-}
+pub(crate) use super::system::{FrictionLink, System};
 
 /// The unknowns and their sets: read as the starting guess, left at the solution.
 pub(crate) struct Unknowns<'a> {

@@ -33,7 +33,6 @@
 
 use super::super::super::wide::{FloatW, Records, Sym3, Sym3A, V3, V3A};
 use super::super::bodies::BodyStates;
-use super::kernel::gather_vel;
 use crate::constraint::{Contact, FrictionModel, SoftCoefficients, Spring, MAX_CONTACT_POINTS};
 use crate::math::{Real, Vec3};
 
@@ -453,4 +452,11 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
         .max(-twist_limit)
         .store(&mut c.twist_impulse);
     zero.store(&mut c.total_twist);
+}
+
+/// Velocity and spin of each lane's body.
+#[inline(always)]
+pub(crate) fn gather_vel<F: FloatW>(vel: Records<'_>, idx: &F::Index) -> (V3<F>, V3<F>) {
+    let r = F::gather8(vel, idx);
+    (V3::new(r[0], r[1], r[2]), V3::new(r[3], r[4], r[5]))
 }

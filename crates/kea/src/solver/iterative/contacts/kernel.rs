@@ -27,7 +27,7 @@
 //! lands flat bounce alike (none sees the others' impulses).
 
 use super::super::super::wide::{FloatW, Records, V3};
-use super::batch::{ContactBatch, PointLanes, NEVER};
+use super::batch::{gather_vel, ContactBatch, PointLanes, NEVER};
 use crate::math::Real;
 
 /// Step constants of the kernels.
@@ -45,13 +45,6 @@ pub(crate) struct KernelParams {
     /// Step and substep, s.
     pub(crate) h: Real,
     pub(crate) hs: Real,
-}
-
-/// Velocity and spin of each lane's body.
-#[inline(always)]
-pub(crate) fn gather_vel<F: FloatW>(vel: Records<'_>, idx: &F::Index) -> (V3<F>, V3<F>) {
-    let r = F::gather8(vel, idx);
-    (V3::new(r[0], r[1], r[2]), V3::new(r[3], r[4], r[5]))
 }
 
 /// Writes velocity and spin back to the lanes' bodies that may be written.
