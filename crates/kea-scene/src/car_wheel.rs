@@ -1,9 +1,9 @@
 //! Building a car wheel joint: chassis and wheel, suspension, steering and drive.
 
-use crate::build::v3;
+use crate::bodies::v3;
 use crate::error::SceneError;
 use crate::joint_format::JointKind;
-use crate::joints::{placed, set_limits};
+use crate::joint_limits::{placed, set_limits};
 use kea::{BodyHandle, ConstraintHandle, World};
 
 /// Creates the car wheel `kind` (a [`JointKind::CarWheel`]) between chassis `b1` and wheel

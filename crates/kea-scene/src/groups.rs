@@ -1,7 +1,7 @@
 //! Groups: repeated structures (pyramids, grids, chains, ragdolls) expanded into named bodies
 //! and joints when the scene is built.
 
-use crate::build::{add_body, v3, BuiltScene};
+use crate::bodies::{add_body, v3, BuiltScene};
 use crate::error::SceneError;
 use crate::format::{BodySpec, ColliderSpec, ShapeSpec, V3};
 use crate::joint_format::{GroupSpec, JointKind, LimitSpec};

@@ -2,121 +2,12 @@
 //! breaking thresholds set, keyframed paths checked, and kea's errors placed on the field they
 //! are about.
 
-use crate::build::{unit, v3, BuiltScene};
+use crate::bodies::{unit, v3, BuiltScene};
 use crate::error::SceneError;
 use crate::joint_format::{JointKind, JointSpec, LimitSpec};
+use crate::joint_limits::{placed, set_limits, set_motor};
+use crate::paths::{check_path, PathDriver};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
-
-/// A scene's fixed-path joints with keyframed paths: before each step, every path is set to its
-/// position now, with the velocity that reaches its next position at the end of the step.
-#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
-#[serde(transparent)]
-pub struct ScenePaths(pub(crate) Vec<PathDriver>);
-
-impl ScenePaths {
-    /// For a step of `dt` starting at scene time `time`: each path joint, where its path is now,
-    /// and the velocity that takes it to where the path is at the end of the step (the values
-    /// for [`World::set_path`], which the stepping pipeline writes).
-    pub fn samples(
-        &self,
-        time: Real,
-        dt: Real,
-    ) -> impl Iterator<Item = (ConstraintHandle, Vec3, Vec3)> + '_ {
-        self.0.iter().map(move |p| {
-            let (position, velocity) = p.sample(time, dt);
-            (p.joint, position, velocity)
-        })
-    }
-
-    /// Whether the scene has no keyframed paths.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-}
-
-/// A fixed-path joint driven along keyframes `[t, x, y, z]` (world frame).
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
-pub(crate) struct PathDriver {
-    /// The joint.
-    pub joint: ConstraintHandle,
-    /// Keyframes, t strictly increasing.
-    keys: Vec<[Real; 4]>,
-}
-
-impl PathDriver {
-    /// The path point at time `t`: linear between keyframes, held outside them.
-    fn at(&self, t: Real) -> Vec3 {
-        let p = |k: &[Real; 4]| Vec3::new(k[1], k[2], k[3]);
-        let first = &self.keys[0];
-        if t <= first[0] {
-            return p(first);
-        }
-        for w in self.keys.windows(2) {
-            let (a, b) = (&w[0], &w[1]);
-            if t <= b[0] {
-                let s = (t - a[0]) / (b[0] - a[0]);
-                return p(a).lerp(p(b), s);
-            }
-        }
-        p(self.keys.last().expect("at least one keyframe"))
-    }
-
-    /// Where the path is at `t` and the velocity that takes it to where it is at `t + dt`.
-    pub fn sample(&self, t: Real, dt: Real) -> (Vec3, Vec3) {
-        let (a, b) = (self.at(t), self.at(t + dt));
-        let v = if dt > 0.0 { (b - a) / dt } else { Vec3::ZERO };
-        (a, v)
-    }
-}
-
-/// Checks keyframes: finite, t strictly increasing.
-fn check_path(keys: &[[Real; 4]], place: &str) -> Result<(), SceneError> {
-    for (k, key) in keys.iter().enumerate() {
-        if !key.iter().all(|x| x.is_finite()) {
-            return Err(SceneError::at(
-                format!("{place}.path[{k}]"),
-                format!("must be finite, got {key:?}"),
-            ));
-        }
-        if k > 0 && key[0] <= keys[k - 1][0] {
-            return Err(SceneError::at(
-                format!("{place}.path[{k}]"),
-                format!(
-                    "keyframe times must increase: t = {} after t = {}",
-                    key[0],
-                    keys[k - 1][0]
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// The scene field a kea argument error is about, if it names one.
-fn field_of(e: &KeaError) -> Option<&'static str> {
-    let arg = match e {
-        KeaError::NonFinite { arg, .. }
-        | KeaError::OutOfRange { arg, .. }
-        | KeaError::NotUnit { arg, .. } => *arg,
-        _ => return None,
-    };
-    Some(match arg {
-        "k" | "d" => "suspension",
-        "max_force" => "break_force",
-        "max_torque" => "break_torque",
-        "primary" => "limit_axis",
-        other => other,
-    })
-}
-
-/// A kea error at `place`, or at the field it names.
-pub(crate) fn placed(place: &str, e: KeaError) -> SceneError {
-    match field_of(&e) {
-        Some(f) => SceneError::at(format!("{place}.{f}"), e),
-        None => SceneError::at(place, e),
-    }
-}
 
 /// Records a joint's name, refusing one already taken.
 pub(crate) fn name_joint(
@@ -133,40 +24,6 @@ pub(crate) fn name_joint(
     }
     built.joint_index.insert(name.clone(), built.joints.len());
     built.joints.push((name, h));
-    Ok(())
-}
-
-/// Sets a [`Limit`]'s stops from the scene's form.
-pub(crate) fn set_limits(
-    limit: &mut Limit,
-    spec: &LimitSpec,
-    place: &str,
-) -> Result<(), SceneError> {
-    let (lower, upper) = match spec {
-        LimitSpec::Hard([lo, hi]) => (SingleLimit::hard(*lo, 0.0), SingleLimit::hard(*hi, 0.0)),
-        LimitSpec::Stops(s) => match s.stiffness {
-            Some(k) => (
-                SingleLimit::soft(s.lower, k, s.damping),
-                SingleLimit::soft(s.upper, k, s.damping),
-            ),
-            None => (
-                SingleLimit::hard(s.lower, s.restitution),
-                SingleLimit::hard(s.upper, s.restitution),
-            ),
-        },
-    };
-    limit
-        .set_limits(lower, upper)
-        .map_err(|e| SceneError::at(place, e))
-}
-
-/// Sets a [`Limit`]'s motor `[speed, max force]` if given.
-fn set_motor(limit: &mut Limit, motor: Option<[Real; 2]>, place: &str) -> Result<(), SceneError> {
-    if let Some([speed, force]) = motor {
-        limit
-            .set_motor(speed, force)
-            .map_err(|e| SceneError::at(place, e))?;
-    }
     Ok(())
 }
 

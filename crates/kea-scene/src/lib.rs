@@ -17,25 +17,29 @@
 
 #![warn(missing_docs)]
 
+mod bodies;
 mod build;
 mod car_wheel;
 mod error;
 mod format;
 mod groups;
 mod joint_format;
+mod joint_limits;
 mod joints;
+mod paths;
 mod robots;
 mod shape_format;
 mod snapshot;
 
-pub use build::{body_count, build, BuiltScene, MAX_BODIES, MAX_CONSTRAINTS};
+pub use bodies::BuiltScene;
+pub use build::{body_count, build, MAX_BODIES, MAX_CONSTRAINTS};
 pub use error::SceneError;
 pub use format::{
     BodySpec, ColliderSpec, InertiaSpec, IterativeSpec, MaterialPairSpec, MaterialSpec,
     RoutingSpec, Scene, ShapeSpec, SleepSpec, SolverSpec, WorldSpec, V3, VERSION,
 };
 pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
-pub use joints::ScenePaths;
+pub use paths::ScenePaths;
 pub use robots::RobotEntry;
 pub use snapshot::{SceneSnapshot, SNAPSHOT_VERSION};
 

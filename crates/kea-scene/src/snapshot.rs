@@ -4,9 +4,9 @@
 //! JSON. Both carry [`SNAPSHOT_VERSION`]; another version, the other precision, or a snapshot
 //! whose parts do not fit together is refused by name.
 
-use crate::build::BuiltScene;
+use crate::bodies::BuiltScene;
 use crate::error::SceneError;
-use crate::joints::ScenePaths;
+use crate::paths::ScenePaths;
 use kea::{BodyHandle, ConstraintHandle, World, WorldSnapshot};
 use kea_collision::CollisionWorld;
 use serde::{Deserialize, Serialize};
