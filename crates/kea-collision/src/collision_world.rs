@@ -4,62 +4,16 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
+pub(crate) use crate::collider::{handle_of, local_box, turned_box, Collider, Slot, WORLD_BOUND};
+pub use crate::collider::{ColliderDef, ColliderHandle};
 use crate::error::{check_distance, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
-use crate::material::{MaterialId, MaterialTable};
+use crate::material::MaterialTable;
 use crate::narrow_phase::{NarrowWorker, PAIR_CHUNK};
 use crate::pairs::Pairs;
 use crate::parry::math::Pose;
-use crate::shape::Shape;
 use kea::timing::Stamp;
 use kea::{BodyHandle, CollisionStats, ConstraintHandle, Quat, Real, StepSize, Vec3, World};
-
-/// A collider's handle: generational, like Kea's.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ColliderHandle {
-    pub(crate) index: u32,
-    pub(crate) generation: u32,
-}
-
-/// What to attach: a shape on a body (or on the static world), placed in the body's frame.
-#[derive(Debug, Clone)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ColliderDef {
-    /// The body it moves with; `None` for static geometry.
-    pub body: Option<BodyHandle>,
-    /// The geometry.
-    pub shape: Shape,
-    /// Where the shape's origin sits in the body's frame (the body's position is its centre
-    /// of mass), or in the world for static geometry.
-    pub offset: Vec3,
-    /// The shape's orientation in the body's frame.
-    pub rotation: Quat,
-    /// Its material, an id of the world's [`MaterialTable`].
-    pub material: MaterialId,
-    /// Collision groups this collider belongs to (bits).
-    pub groups: u32,
-    /// Groups it collides with (bits). Two colliders meet only if each one's groups intersect
-    /// the other's mask.
-    pub mask: u32,
-}
-
-impl ColliderDef {
-    /// A collider of `shape` on `body` (or static), at the body's centre, material 0, in every
-    /// group and colliding with every group.
-    #[must_use]
-    pub fn new(body: Option<BodyHandle>, shape: Shape) -> Self {
-        Self {
-            body,
-            shape,
-            offset: Vec3::ZERO,
-            rotation: Quat::IDENTITY,
-            material: 0,
-            groups: 1,
-            mask: u32::MAX,
-        }
-    }
-}
 
 /// How many contact points a pair of shapes keeps (the guide's contact strategy: one point is
 /// enough to bounce, three or four to rest).
@@ -74,69 +28,6 @@ pub struct ContactStrategy {
 impl Default for ContactStrategy {
     fn default() -> Self {
         Self { max_points: 4 }
-    }
-}
-
-#[derive(Clone)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub(crate) struct Collider {
-    pub(crate) def: ColliderDef,
-    /// Radius of the shape's bounding sphere about the body's centre, for swept bounds.
-    pub(crate) reach: Real,
-    /// Its leaf in the broad phase's tree, and the fat box stored there.
-    pub(crate) leaf: u32,
-    pub(crate) fat: Aabb,
-    /// Its pose this step, whether it cannot move this step (static, asleep or disabled), and
-    /// an upper bound of how fast any of its points moves, m/s: the narrow phase reads these
-    /// instead of the world.
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
-    pub(crate) pose: Pose,
-    pub(crate) still: bool,
-    pub(crate) motion: Real,
-    /// For a hull or mesh of many points, its box in its own frame (centre, half extents):
-    /// each step's box is that one turned (a little larger than the tight box), not a pass
-    /// over every point (a robot link's hull of hundreds of points spent a third of a step
-    /// there).
-    pub(crate) local_box: Option<(Vec3, Vec3)>,
-}
-
-/// Hulls and meshes with more points than this take their per-step box from their own.
-const TIGHT_BOX_MAX_POINTS: usize = 32;
-
-/// A shape's own box when it has many points (see [`Collider::local_box`]).
-pub(crate) fn local_box(shape: &crate::parry::shape::SharedShape) -> Option<(Vec3, Vec3)> {
-    let points = shape
-        .as_convex_polyhedron()
-        .map(|c| c.points().len())
-        .or_else(|| shape.as_trimesh().map(|m| m.vertices().len()))?;
-    if points <= TIGHT_BOX_MAX_POINTS {
-        return None;
-    }
-    let b = shape.compute_local_aabb();
-    Some(((b.mins + b.maxs) * 0.5, (b.maxs - b.mins) * 0.5))
-}
-
-/// The world box of a shape whose own box is `(centre, half)`, at `pose`.
-pub(crate) fn turned_box(pose: &Pose, (centre, half): (Vec3, Vec3)) -> (Vec3, Vec3) {
-    let r = kea::Mat3::from_quat(pose.rotation);
-    let abs = kea::Mat3::from_cols(r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs());
-    let c = pose.translation + pose.rotation * centre;
-    let h = abs * half;
-    (c - h, c + h)
-}
-
-#[derive(Clone)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub(crate) struct Slot {
-    generation: u32,
-    pub(crate) collider: Option<Collider>,
-}
-
-/// The handle of the collider in slot `i`.
-pub(crate) fn handle_of(slots: &[Slot], i: u32) -> ColliderHandle {
-    ColliderHandle {
-        index: i,
-        generation: slots[i as usize].generation,
     }
 }
 
@@ -238,9 +129,6 @@ pub const FAT_MARGIN: Real = 0.05;
 
 /// Steps of motion a moving collider's fat box reaches ahead.
 pub const FAT_LOOKAHEAD: Real = 2.0;
-
-/// Largest coordinate of a box in the broad phase, m: planes are cut there.
-pub(crate) const WORLD_BOUND: Real = 1.0e6;
 
 impl Default for CollisionWorld {
     fn default() -> Self {

@@ -3,7 +3,7 @@
 //! overlap, *persists* while it stays so, and *ends* when none does (or a collider goes away).
 //! Speculative contacts of a pair that is still apart do not count as touching.
 
-use crate::collision_world::ColliderHandle;
+use crate::collider::ColliderHandle;
 
 /// What happened to a pair this step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -27,12 +27,14 @@
 mod broad_phase;
 mod capacity;
 mod cast_window;
+mod collider;
 mod collision_world;
 mod error;
 mod events;
 mod guard;
 mod manifold_gen;
 mod material;
+mod narrow_pass;
 mod narrow_phase;
 mod pairs;
 mod proxies;

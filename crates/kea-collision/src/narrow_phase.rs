@@ -18,10 +18,10 @@
 //! the default contact stiffness, without it the column sways and stands.
 
 use crate::capacity::reserve_total;
-use crate::collision_world::{handle_of, ColliderDef, CollisionWorld, Slot, WORLD_BOUND};
+use crate::collider::{ColliderDef, Slot, WORLD_BOUND};
 use crate::manifold_gen::Generator;
 use crate::material::MaterialTable;
-use crate::pairs::{CachedPoint, ManifoldCache, PairState};
+use crate::pairs::{CachedPoint, Generated, ManifoldCache, PairState};
 use crate::parry::math::Pose;
 use crate::reduce::reduce;
 use kea::{BodyHandle, ContactPoint, Quat, Real, Vec3, MAX_CONTACT_POINTS};
@@ -78,32 +78,9 @@ fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
-/// The colliders' world poses when a pair's manifolds were generated, and the second's pose
-/// in the first's frame then.
-#[derive(Debug, Clone, Copy)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub(crate) struct Generated {
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
-    pub a: Pose,
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
-    pub b: Pose,
-    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
-    pub relative: Pose,
-}
-
-impl Generated {
-    fn new(a: Pose, b: Pose) -> Self {
-        Self {
-            a,
-            b,
-            relative: a.inv_mul(&b),
-        }
-    }
-}
-
 /// `cos(CACHE_ANGLE / 2)`: rotations whose quaternions' dot product is at least this are
 /// within [`CACHE_ANGLE`] of each other (`|q₁·q₀| = cos(θ/2)`).
-fn cos_half_cache_angle() -> Real {
+pub(crate) fn cos_half_cache_angle() -> Real {
     (0.5 * CACHE_ANGLE).cos()
 }
 
@@ -130,7 +107,7 @@ pub(crate) const PAIR_CHUNK: usize = 512;
 
 /// With the `parallel` feature, the fewest chunks of pairs that run on the pool's threads.
 #[cfg(feature = "parallel")]
-const PARALLEL_MIN_CHUNKS: usize = 8;
+pub(crate) const PARALLEL_MIN_CHUNKS: usize = 8;
 
 /// The narrow phase's work on one chunk of pair slots: what it found, and its scratch. Kept
 /// between steps so that a warm step allocates nothing.
@@ -147,8 +124,8 @@ pub(crate) struct NarrowWorker {
     pub failed: Vec<u32>,
     generator: Generator,
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
-    manifolds: u32,
-    reused: u32,
+    pub(crate) manifolds: u32,
+    pub(crate) reused: u32,
 }
 
 impl Default for NarrowWorker {
@@ -169,81 +146,18 @@ impl Default for NarrowWorker {
 }
 
 /// What every worker reads.
-struct Shared<'a> {
-    slots: &'a [Slot],
+pub(crate) struct Shared<'a> {
+    pub(crate) slots: &'a [Slot],
     /// Per collider slot: still this step (see `CollisionWorld::still`).
-    still: &'a [bool],
+    pub(crate) still: &'a [bool],
     /// The jointed pairs changed this step: resting pairs are filtered again.
-    jointed_changed: bool,
-    jointed: &'a [(BodyHandle, BodyHandle)],
-    materials: &'a MaterialTable,
-    margin: Real,
-    max_points: usize,
-    dt: Real,
-    cos_half: Real,
-}
-
-impl CollisionWorld {
-    /// Fills the workers with the manifolds of every pair that can move this step and with
-    /// the pairs to forget, chunk by chunk (on all cores with the `parallel` feature).
-    pub(crate) fn narrow_phase(&mut self, dt: Real) {
-        let chunks = self.pairs.slots.len().div_ceil(PAIR_CHUNK);
-        if self.workers.len() < chunks {
-            self.workers.resize_with(chunks, NarrowWorker::default);
-        }
-        self.active_workers = chunks;
-        let shared = Shared {
-            slots: &self.slots,
-            still: &self.still,
-            jointed_changed: self.jointed_changed,
-            jointed: &self.jointed,
-            materials: &self.materials,
-            margin: self.margin,
-            max_points: self.strategy.max_points.clamp(1, MAX_CONTACT_POINTS),
-            dt,
-            cos_half: cos_half_cache_angle(),
-        };
-        let work = |(k, (pairs, worker)): (usize, (&mut [PairState], &mut NarrowWorker))| {
-            worker.run(&shared, (k * PAIR_CHUNK) as u32, pairs);
-        };
-        // A few chunks are not worth waking another thread for: handing work over costs tens
-        // of microseconds, about what a chunk of resting pairs takes (with 2 chunks, a
-        // sleeping 820-box pyramid stepped at 0.67 of its one-thread speed on 2 cores).
-        #[cfg(feature = "parallel")]
-        let parallel = chunks >= PARALLEL_MIN_CHUNKS;
-        #[cfg(not(feature = "parallel"))]
-        let parallel = false;
-        if parallel {
-            #[cfg(feature = "parallel")]
-            {
-                use rayon::prelude::*;
-                self.pairs
-                    .slots
-                    .par_chunks_mut(PAIR_CHUNK)
-                    .zip(self.workers.par_iter_mut())
-                    .enumerate()
-                    .for_each(work);
-            }
-        } else {
-            self.pairs
-                .slots
-                .chunks_mut(PAIR_CHUNK)
-                .zip(self.workers.iter_mut())
-                .enumerate()
-                .for_each(work);
-        }
-        let workers = &self.workers[..chunks];
-        self.stats.manifolds = workers.iter().map(|w| w.manifolds).sum();
-        self.stats.reused_manifolds = workers.iter().map(|w| w.reused).sum();
-        self.failed_pairs.clear();
-        for &slot in workers.iter().flat_map(|w| &w.failed) {
-            let (a, b) = self.pairs.slots[slot as usize].colliders;
-            let pair = (handle_of(&self.slots, a), handle_of(&self.slots, b));
-            log::warn!("collision pair {pair:?} failed in parry this step: it has no contacts");
-            self.failed_pairs.push(pair);
-        }
-        self.stats.failed_pairs = self.failed_pairs.len() as u32;
-    }
+    pub(crate) jointed_changed: bool,
+    pub(crate) jointed: &'a [(BodyHandle, BodyHandle)],
+    pub(crate) materials: &'a MaterialTable,
+    pub(crate) margin: Real,
+    pub(crate) max_points: usize,
+    pub(crate) dt: Real,
+    pub(crate) cos_half: Real,
 }
 
 /// Whether pair `p` rested last step and rests again, with nothing that could part it: both
@@ -269,7 +183,7 @@ impl NarrowWorker {
     }
 
     /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
-    fn run(&mut self, shared: &Shared<'_>, first: u32, pairs: &mut [PairState]) {
+    pub(crate) fn run(&mut self, shared: &Shared<'_>, first: u32, pairs: &mut [PairState]) {
         self.wanted.clear();
         self.generated.clear();
         self.dropped.clear();

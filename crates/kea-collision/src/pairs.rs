@@ -7,6 +7,7 @@
 //! reports it again.
 
 use crate::capacity::reserve_total;
+use crate::parry::math::Pose;
 use kea::{ConstraintHandle, Vec3};
 use smallvec::SmallVec;
 use std::collections::HashMap;
@@ -57,7 +58,7 @@ pub(crate) struct PairState {
     /// against a mesh, a compound): a pair that starts touching allocates nothing.
     pub manifolds: SmallVec<[PairManifold; 1]>,
     /// The colliders' poses when the manifolds were generated.
-    pub generated_at: Option<crate::narrow_phase::Generated>,
+    pub generated_at: Option<Generated>,
     /// Touching last step, and this step.
     pub touching: bool,
     pub touching_now: bool,
@@ -178,5 +179,28 @@ impl Pairs {
     /// Number of live pairs.
     pub(crate) fn len(&self) -> usize {
         self.map.len()
+    }
+}
+
+/// The colliders' world poses when a pair's manifolds were generated, and the second's pose
+/// in the first's frame then.
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(crate) struct Generated {
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
+    pub a: Pose,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
+    pub b: Pose,
+    #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pose"))]
+    pub relative: Pose,
+}
+
+impl Generated {
+    pub(crate) fn new(a: Pose, b: Pose) -> Self {
+        Self {
+            a,
+            b,
+            relative: a.inv_mul(&b),
+        }
     }
 }

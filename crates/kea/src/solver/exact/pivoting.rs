@@ -384,6 +384,7 @@ fn solve_free(
 mod tests {
     use super::*;
     use crate::solver::exact::factor::tests::{rnd, RandomIsland};
+    use crate::solver::exact::factor::Layout;
     use crate::solver::exact::pattern::PatternCache;
 
     /// Checks the BLCP conditions of `x` against the dense `a`.
