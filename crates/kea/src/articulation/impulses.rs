@@ -24,69 +24,64 @@ impl ArticulatedTree {
     /// (the factor `solve` left). A stop's row aims the rate at what reaches the stop by the
     /// step's end, and only pushes away from it.
     pub(super) fn constrain(&mut self, q: &[f64], qd: &mut [f64], h: f64) {
-        let n = self.len();
         self.rows.clear();
-        for (i, l) in self.links.iter().enumerate() {
-            if let Some((v, f)) = l.motor {
-                self.rows.push(CoordinateRow {
-                    coordinate: i,
-                    target: v,
-                    lo: -h * f,
-                    hi: h * f,
-                    impulse: 0.0,
-                });
-            }
-            if l.friction > 0.0 {
-                let f = h * l.friction;
-                self.rows.push(CoordinateRow {
-                    coordinate: i,
-                    target: 0.0,
-                    lo: -f,
-                    hi: f,
-                    impulse: 0.0,
-                });
-            }
-            if let Some((lo, hi)) = l.limits {
-                // The rate that reaches a stop by the step's end; beyond one, the rate that
-                // takes back a fifth of the overshoot, no faster than the stop's recovery.
-                let recover =
-                    |overshoot: f64| (STOP_RECOVERY * overshoot / h).min(l.stop_recovery_speed);
-                let min = if q[i] >= lo {
-                    (lo - q[i]) / h
-                } else {
-                    recover(lo - q[i])
-                };
-                let max = if q[i] <= hi {
-                    (hi - q[i]) / h
-                } else {
-                    -recover(q[i] - hi)
-                };
-                if qd[i] < min + 1e-9 || q[i] < lo + 1e-9 {
-                    self.rows.push(CoordinateRow {
-                        coordinate: i,
-                        target: min,
-                        lo: 0.0,
-                        hi: f64::INFINITY,
-                        impulse: 0.0,
-                    });
-                }
-                if qd[i] > max - 1e-9 || q[i] > hi - 1e-9 {
-                    self.rows.push(CoordinateRow {
-                        coordinate: i,
-                        target: max,
-                        lo: f64::NEG_INFINITY,
-                        hi: 0.0,
-                        impulse: 0.0,
-                    });
-                }
-            }
+        for i in 0..self.len() {
+            self.coordinate_rows(i, q[i], qd[i], h);
         }
         self.impulse.iter_mut().for_each(|p| *p = 0.0);
         if self.rows.is_empty() {
             return;
         }
-        // The columns of H'⁻¹ the rows act through (one per constrained coordinate, each a
-        // solve with the factor): a coordinate's impulse moves every rate along its column.
+        self.inverse_columns();
+        self.project(qd);
+    }
+
+    /// Coordinate `i`'s rows at position `qi` and free rate `rate`: its motor, its dry friction,
+    /// and each stop that the rate would pass by the step's end.
+    fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, h: f64) {
+        let l = self.links[i];
+        let row = |target: f64, lo: f64, hi: f64| CoordinateRow {
+            coordinate: i,
+            target,
+            lo,
+            hi,
+            impulse: 0.0,
+        };
+        if let Some((v, f)) = l.motor {
+            self.rows.push(row(v, -h * f, h * f));
+        }
+        if l.friction > 0.0 {
+            self.rows.push(row(0.0, -h * l.friction, h * l.friction));
+        }
+        let Some((lo, hi)) = l.limits else {
+            return;
+        };
+        // The rate that reaches a stop by the step's end; beyond one, the rate that takes
+        // back a fifth of the overshoot, no faster than the stop's recovery.
+        let recover = |overshoot: f64| (STOP_RECOVERY * overshoot / h).min(l.stop_recovery_speed);
+        let min = if qi >= lo {
+            (lo - qi) / h
+        } else {
+            recover(lo - qi)
+        };
+        let max = if qi <= hi {
+            (hi - qi) / h
+        } else {
+            -recover(qi - hi)
+        };
+        if rate < min + 1e-9 || qi < lo + 1e-9 {
+            self.rows.push(row(min, 0.0, f64::INFINITY));
+        }
+        if rate > max - 1e-9 || qi > hi - 1e-9 {
+            self.rows.push(row(max, f64::NEG_INFINITY, 0.0));
+        }
+    }
+
+    /// The columns of `H'⁻¹` the rows act through (one per constrained coordinate, each a
+    /// solve with the factor `solve` left): a coordinate's impulse moves every rate along its
+    /// column.
+    fn inverse_columns(&mut self) {
+        let n = self.len();
         for r in 0..self.rows.len() {
             let j = self.rows[r].coordinate;
             if self.rows[..r].iter().any(|x| x.coordinate == j) {
@@ -101,6 +96,12 @@ impl ArticulatedTree {
             }
             self.column = col;
         }
+    }
+
+    /// Projected Gauss–Seidel over the rows until no impulse moves a rate by more than
+    /// round-off, the rates `qd` updated as it goes.
+    fn project(&mut self, qd: &mut [f64]) {
+        let n = self.len();
         for _sweep in 0..200 {
             let mut largest: f64 = 0.0;
             for r in 0..self.rows.len() {
@@ -120,7 +121,6 @@ impl ArticulatedTree {
                     largest = largest.max((delta * w).abs());
                 }
             }
-            // Converged when no row moves any rate by more than round-off.
             if largest < 1e-12 {
                 break;
             }

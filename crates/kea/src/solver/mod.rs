@@ -226,7 +226,6 @@ impl Solver {
             return Ok(stats);
         }
         let before = self.memory_used();
-
         let t0 = Stamp::now(params.timing);
         self.integ.prepare(bodies, params);
         self.islands.build(
@@ -238,18 +237,43 @@ impl Solver {
         );
         let t1 = Stamp::now(params.timing);
         stats.time_islands = t0.until(t1);
+        let mut step = StepArrays {
+            bodies,
+            blocks,
+            rows,
+            contacts,
+            params,
+            lambda,
+            reactions,
+            source,
+        };
+        self.clear_unsolved(&mut step, &mut stats);
+        self.solve_routed(&mut step, &mut stats);
+        if !self.iterative_islands.is_empty() {
+            self.solve_iterative(&mut step, &mut stats);
+        }
+        let t2 = Stamp::now(params.timing);
+        stats.time_solve = t1.until(t2);
+        self.integ.integrate(step.bodies, params.dt);
+        stats.time_integrate = t2.elapsed();
+        self.record_after_step(&mut step);
+        stats.workspace_grew = self.memory_used() > before;
+        Ok(stats)
+    }
 
-        for r in reactions.iter_mut() {
+    /// Zeroes the reactions, and the forces of the constraints and contacts that touch no
+    /// dynamic body (they carry none); counts the contacts that take part.
+    fn clear_unsolved(&self, step: &mut StepArrays<'_>, stats: &mut SolverStats) {
+        for r in step.reactions.iter_mut() {
             *r = [Reaction::default(); 2];
         }
-        // Constraints that touch no dynamic body carry no force.
-        for (k, blk) in blocks.iter().enumerate() {
+        for (k, blk) in step.blocks.iter().enumerate() {
             if self.islands.block_island[k] == u32::MAX {
                 let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
-                lambda[range].fill(0.0);
+                step.lambda[range].fill(0.0);
             }
         }
-        for (c, sc) in contacts.iter_mut().enumerate() {
+        for (c, sc) in step.contacts.iter_mut().enumerate() {
             let n = sc.contact.points().len();
             if self.islands.contact_island[c] == u32::MAX {
                 sc.contact
@@ -259,6 +283,12 @@ impl Solver {
                 stats.contact_points += n as u32;
             }
         }
+    }
+
+    /// Routes each island to its path and solves the exact ones; the others are listed for
+    /// the iterative pass (`iterative_islands`, `split`).
+    fn solve_routed(&mut self, step: &mut StepArrays<'_>, stats: &mut SolverStats) {
+        let params = step.params;
         self.reports.clear();
         reserve(&mut self.reports, self.islands.count());
         self.iterative_islands.clear();
@@ -267,58 +297,25 @@ impl Solver {
             let island = routing::IslandView {
                 islands: &self.islands,
                 k,
-                blocks,
-                contacts,
-                bodies,
+                blocks: step.blocks,
+                contacts: step.contacts,
+                bodies: step.bodies,
             };
             let choice = routing::choose(&params.routing, &island, params.gravity);
-            let island_rows = island.rows();
-            let path = choice.path;
-            if choice.rerouted {
-                stats.rerouted_islands += 1;
-            }
             let mut report = IslandReport {
-                path,
+                path: choice.path,
                 bodies: self.islands.island_bodies[k],
-                rows: island_rows,
+                rows: island.rows(),
                 iterations: 0,
                 pivots: 0,
             };
-            if path == SolverPath::Exact {
-                let t = Stamp::now(params.timing);
-                let before = stats;
-                let solved = self.exact.solve_island_with_contacts(
-                    self.islands.blocks(k),
-                    self.islands.contacts(k),
-                    blocks,
-                    rows,
-                    contacts,
-                    bodies,
-                    &mut self.integ,
-                    params,
-                    lambda,
-                    reactions,
-                    &mut stats,
-                );
-                stats.time_solve_exact += t.elapsed();
-                if solved {
-                    stats.exact_islands += 1;
-                    stats.exact_rows += stats.rows - before.rows;
-                    report.iterations = stats.lcp_iterations - before.lcp_iterations;
-                    report.pivots = stats.pivots - before.pivots;
-                } else {
-                    // A stack the exact path did not settle (sliding): the contact solver
-                    // takes it this step; a warning only where the world forced exact.
-                    report.path = SolverPath::Iterative;
-                    self.iterative_islands.push(k as u32);
-                    self.split.push(false);
-                    if params.routing.mode == SolverMode::Exact {
-                        stats.rerouted_islands += 1;
-                    }
-                }
-            } else {
+            if choice.rerouted {
+                stats.rerouted_islands += 1;
+            }
+            let exact = choice.path == SolverPath::Exact;
+            if !(exact && self.solve_exact(k, step, stats, &mut report)) {
                 self.iterative_islands.push(k as u32);
-                self.split.push(path == SolverPath::Split);
+                self.split.push(report.path == SolverPath::Split);
             }
             self.reports.push(report);
         }
@@ -328,44 +325,92 @@ impl Solver {
                 stats.rerouted_islands
             );
         }
-        if !self.iterative_islands.is_empty() {
-            let t = Stamp::now(params.timing);
-            let done = self.iterative.solve(
-                &self.iterative_islands,
-                &self.split,
-                &self.islands,
-                blocks,
-                rows,
-                contacts,
-                bodies,
-                &mut self.integ,
-                params,
-                lambda,
-                reactions,
-                source,
-            );
-            for (&k, &split) in self.iterative_islands.iter().zip(&self.split) {
-                let r = &mut self.reports[k as usize];
-                r.iterations = done.sweeps;
-                if split {
-                    stats.split_rows += r.rows;
-                } else {
-                    stats.iterative_rows += r.rows;
-                }
-                stats.rows += r.rows;
-                stats.largest_island_rows = stats.largest_island_rows.max(r.rows);
+    }
+
+    /// Island `k` on the exact path; false (its report turned iterative) when it was a stack
+    /// the exact path did not settle (sliding): the contact solver takes it this step, with a
+    /// warning only where the world forced exact.
+    fn solve_exact(
+        &mut self,
+        k: usize,
+        step: &mut StepArrays<'_>,
+        stats: &mut SolverStats,
+        report: &mut IslandReport,
+    ) -> bool {
+        let t = Stamp::now(step.params.timing);
+        let before = *stats;
+        let solved = self.exact.solve_island_with_contacts(
+            self.islands.blocks(k),
+            self.islands.contacts(k),
+            step.blocks,
+            step.rows,
+            step.contacts,
+            step.bodies,
+            &mut self.integ,
+            step.params,
+            step.lambda,
+            step.reactions,
+            stats,
+        );
+        stats.time_solve_exact += t.elapsed();
+        if solved {
+            stats.exact_islands += 1;
+            stats.exact_rows += stats.rows - before.rows;
+            report.iterations = stats.lcp_iterations - before.lcp_iterations;
+            report.pivots = stats.pivots - before.pivots;
+        } else {
+            report.path = SolverPath::Iterative;
+            if step.params.routing.mode == SolverMode::Exact {
+                stats.rerouted_islands += 1;
             }
-            stats.islands += self.iterative_islands.len() as u32;
-            stats.split_islands = self.split.iter().filter(|&&s| s).count() as u32;
-            stats.iterative_islands = self.iterative_islands.len() as u32 - stats.split_islands;
-            record_direct(&mut stats, &done.direct);
-            stats.iterative_sweeps = done.sweeps;
-            stats.colours = done.colours;
-            stats.overflow_contacts = done.overflow;
-            stats.simd_lanes = done.lanes;
-            stats.time_solve_iterative = t.elapsed();
         }
-        for (i, b) in bodies.iter_mut().enumerate() {
+        solved
+    }
+
+    /// The iterative and split islands, in one pass of the soft step.
+    fn solve_iterative(&mut self, step: &mut StepArrays<'_>, stats: &mut SolverStats) {
+        let t = Stamp::now(step.params.timing);
+        let done = self.iterative.solve(
+            &self.iterative_islands,
+            &self.split,
+            &self.islands,
+            step.blocks,
+            step.rows,
+            step.contacts,
+            step.bodies,
+            &mut self.integ,
+            step.params,
+            step.lambda,
+            step.reactions,
+            step.source,
+        );
+        for (&k, &split) in self.iterative_islands.iter().zip(&self.split) {
+            let r = &mut self.reports[k as usize];
+            r.iterations = done.sweeps;
+            if split {
+                stats.split_rows += r.rows;
+            } else {
+                stats.iterative_rows += r.rows;
+            }
+            stats.rows += r.rows;
+            stats.largest_island_rows = stats.largest_island_rows.max(r.rows);
+        }
+        stats.islands += self.iterative_islands.len() as u32;
+        stats.split_islands = self.split.iter().filter(|&&s| s).count() as u32;
+        stats.iterative_islands = self.iterative_islands.len() as u32 - stats.split_islands;
+        record_direct(stats, &done.direct);
+        stats.iterative_sweeps = done.sweeps;
+        stats.colours = done.colours;
+        stats.overflow_contacts = done.overflow;
+        stats.simd_lanes = done.lanes;
+        stats.time_solve_iterative = t.elapsed();
+    }
+
+    /// After the step: each body's path, each contact's sliding state from the bodies' new
+    /// velocities (static or kinetic friction next step), and the workspace this step needed
+    /// by its sizes (the reservation made ahead not counted).
+    fn record_after_step(&mut self, step: &mut StepArrays<'_>) {
+        for (i, b) in step.bodies.iter_mut().enumerate() {
             let k = self.islands.body_island[i];
             b.last_path = if k == u32::MAX {
                 SolverPath::None
@@ -375,14 +420,8 @@ impl Solver {
                     .map_or(SolverPath::None, |r| r.path)
             };
         }
-        let t2 = Stamp::now(params.timing);
-        stats.time_solve = t1.until(t2);
-
-        self.integ.integrate(bodies, params.dt);
-        stats.time_integrate = t2.elapsed();
-        // Each contact's sliding state, from the bodies' new velocities (static or kinetic
-        // friction next step).
-        for sc in contacts.iter_mut() {
+        let bodies = &*step.bodies;
+        for sc in step.contacts.iter_mut() {
             let ids = sc.bodies;
             let point_velocity = |side: usize, p: Vec3| {
                 ids[side]
@@ -394,8 +433,6 @@ impl Solver {
             let relative = |p: Vec3| point_velocity(0, p) - point_velocity(1, p);
             sc.contact.record_sliding(relative);
         }
-        stats.workspace_grew = self.memory_used() > before;
-        // What this step needed, by its sizes (the reservation made ahead is not counted).
         let rows = self.reports.iter().map(|r| r.rows as usize);
         let needed = required_bytes(
             rows.clone().sum(),
@@ -404,8 +441,19 @@ impl Solver {
             bodies.len(),
         );
         self.peak_needed = self.peak_needed.max(needed);
-        Ok(stats)
     }
+}
+
+/// One step's arrays, as [`Solver::step_with_source`] takes them.
+struct StepArrays<'a> {
+    bodies: &'a mut [SolverBody],
+    blocks: &'a [ConstraintBlock],
+    rows: &'a [Row],
+    contacts: &'a mut [SolverContact],
+    params: &'a SolverParams,
+    lambda: &'a mut [Real],
+    reactions: &'a mut [[Reaction; 2]],
+    source: Option<&'a dyn RowSource>,
 }
 
 impl Solver {

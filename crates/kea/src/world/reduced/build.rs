@@ -168,77 +168,95 @@ fn joint_frame(
     let first = sign > 0.0;
     let (parent_position, parent_rotation) = parent.unwrap_or((DVec3::ZERO, DQuat::IDENTITY));
     let to_parent = parent_rotation.inverse();
-    let rotation = (to_parent * dq(link.orientation)).normalize();
-    let position = to_parent * (d3(link.position) - parent_position);
-    // A vector or point held in the other body's frame, in the parent's frame (the world's
-    // for the root, whose other body is the static world or a disabled base).
+    // The root's other body is the static world or a disabled base, whose frame its joint
+    // holds vectors and points in: seen from the world's.
     let other = entry.bodies[usize::from(first)].and_then(|h| bodies.get(h).ok());
-    let base = |v: DVec3, point: bool| match (parent, other) {
-        (None, Some(b)) => dq(b.orientation) * v + if point { d3(b.position) } else { DVec3::ZERO },
-        _ => v,
+    let seen = Seen {
+        rotation: (to_parent * dq(link.orientation)).normalize(),
+        position: to_parent * (d3(link.position) - parent_position),
+        base: match (parent, other) {
+            (None, Some(b)) => Some((dq(b.orientation), d3(b.position))),
+            _ => None,
+        },
     };
     match &entry.kind {
-        ConstraintKind::Hinge(j) => {
-            let (axis, anchor, parent_axis, parent_anchor) = if first {
-                (
-                    j.local_axis1,
-                    j.local_anchor1,
-                    j.local_axis2,
-                    j.local_anchor2,
-                )
-            } else {
-                (
-                    j.local_axis2,
-                    j.local_anchor2,
-                    j.local_axis1,
-                    j.local_anchor1,
-                )
-            };
-            let (axis, anchor) = (d3(axis).normalize(), d3(anchor));
-            let parent_axis = base(d3(parent_axis), false).normalize();
-            let parent_anchor = base(d3(parent_anchor), true);
-            // The axes brought together, then the anchors.
-            let align = DQuat::from_rotation_arc(rotation * axis, parent_axis);
-            let rotation = (align * rotation).normalize();
-            TreeJoint {
-                kind: TreeJointKind::Hinge,
-                axis,
-                anchor,
-                origin: (parent_anchor - rotation * anchor, rotation),
-            }
-        }
-        ConstraintKind::Prismatic(j) => {
-            // relative_orientation turns body 1's frame into body 2's.
-            let held = dq(j.relative_orientation);
-            let (axis, anchor, parent_anchor, turn) = if first {
-                let axis = held.inverse() * d3(j.local_axis2);
-                (axis, j.local_anchor1, j.local_anchor2, held)
-            } else {
-                (
-                    d3(j.local_axis2),
-                    j.local_anchor2,
-                    j.local_anchor1,
-                    held.inverse(),
-                )
-            };
-            let axis = axis.normalize();
-            let parent_anchor = base(d3(parent_anchor), true);
-            let rotation = match (parent, other) {
-                (None, Some(b)) => (dq(b.orientation) * turn).normalize(),
-                _ => turn,
-            };
-            // The anchors' gap kept along the axis only.
-            let along = rotation * axis;
-            let gap = position + rotation * d3(anchor) - parent_anchor;
-            let gap = along * gap.dot(along);
-            TreeJoint {
-                kind: TreeJointKind::Slider,
-                axis,
-                anchor: DVec3::ZERO,
-                origin: (parent_anchor + gap - rotation * d3(anchor), rotation),
-            }
-        }
+        ConstraintKind::Hinge(j) => hinge_frame(j, first, &seen),
+        ConstraintKind::Prismatic(j) => slider_frame(j, first, &seen),
         _ => unreachable!("planned joints are hinges or sliders"),
+    }
+}
+
+/// A link as its parent's frame sees it now, and the frame the joint's other side holds its
+/// vectors and points in, seen from the parent's (`None`: the same).
+struct Seen {
+    rotation: DQuat,
+    position: DVec3,
+    base: Option<(DQuat, DVec3)>,
+}
+
+impl Seen {
+    fn vector(&self, v: DVec3) -> DVec3 {
+        self.base.map_or(v, |(r, _)| r * v)
+    }
+    fn point(&self, p: DVec3) -> DVec3 {
+        self.base.map_or(p, |(r, t)| r * p + t)
+    }
+}
+
+/// A hinge in the tree's terms: the link's axis brought onto the parent's, then its anchor
+/// onto the parent's.
+fn hinge_frame(j: &crate::constraint::Hinge, first: bool, seen: &Seen) -> TreeJoint {
+    let (axis, anchor, parent_axis, parent_anchor) = if first {
+        (
+            j.local_axis1,
+            j.local_anchor1,
+            j.local_axis2,
+            j.local_anchor2,
+        )
+    } else {
+        (
+            j.local_axis2,
+            j.local_anchor2,
+            j.local_axis1,
+            j.local_anchor1,
+        )
+    };
+    let (axis, anchor) = (d3(axis).normalize(), d3(anchor));
+    let parent_axis = seen.vector(d3(parent_axis)).normalize();
+    let parent_anchor = seen.point(d3(parent_anchor));
+    let align = DQuat::from_rotation_arc(seen.rotation * axis, parent_axis);
+    let rotation = (align * seen.rotation).normalize();
+    TreeJoint {
+        kind: TreeJointKind::Hinge,
+        axis,
+        anchor,
+        origin: (parent_anchor - rotation * anchor, rotation),
+    }
+}
+
+/// A slider in the tree's terms: the link turned as the joint holds it, and the anchors' gap
+/// kept along the axis only.
+fn slider_frame(j: &crate::constraint::Prismatic, first: bool, seen: &Seen) -> TreeJoint {
+    // relative_orientation turns body 1's frame into body 2's.
+    let held = dq(j.relative_orientation);
+    let (axis, anchor, parent_anchor, turn) = if first {
+        let axis = held.inverse() * d3(j.local_axis2);
+        (axis, j.local_anchor1, j.local_anchor2, held)
+    } else {
+        let turn = held.inverse();
+        (d3(j.local_axis2), j.local_anchor2, j.local_anchor1, turn)
+    };
+    let axis = axis.normalize();
+    let parent_anchor = seen.point(d3(parent_anchor));
+    let rotation = seen.base.map_or(turn, |(r, _)| (r * turn).normalize());
+    let along = rotation * axis;
+    let gap = seen.position + rotation * d3(anchor) - parent_anchor;
+    let gap = along * gap.dot(along);
+    TreeJoint {
+        kind: TreeJointKind::Slider,
+        axis,
+        anchor: DVec3::ZERO,
+        origin: (parent_anchor + gap - rotation * d3(anchor), rotation),
     }
 }
 
