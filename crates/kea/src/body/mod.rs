@@ -432,4 +432,27 @@ impl Body {
     pub(crate) fn update_transform(&mut self) {
         self.transform = Mat4::from_rotation_translation(self.orientation, self.position);
     }
+
+    /// Takes a step's result: pose, velocities and accelerations (a solver's, or the reduced
+    /// path's), the transform following.
+    pub(crate) fn take_motion(&mut self, m: &Motion) {
+        self.position = m.position;
+        self.orientation = m.orientation;
+        self.linear_velocity = m.linear_velocity;
+        self.angular_velocity = m.angular_velocity;
+        self.linear_acceleration = m.linear_acceleration;
+        self.angular_acceleration = m.angular_acceleration;
+        self.update_transform();
+    }
+}
+
+/// A body's state after a step, as a solver leaves it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Motion {
+    pub(crate) position: Vec3,
+    pub(crate) orientation: Quat,
+    pub(crate) linear_velocity: Vec3,
+    pub(crate) angular_velocity: Vec3,
+    pub(crate) linear_acceleration: Vec3,
+    pub(crate) angular_acceleration: Vec3,
 }

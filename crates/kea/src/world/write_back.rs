@@ -15,14 +15,15 @@ impl World {
         for (i, sb) in s.solver_bodies.iter().enumerate() {
             let slot = s.solver_to_slot[i] as usize;
             let b = self.bodies.at_mut(slot).expect("simulated bodies are live");
-            b.position = sb.position;
-            b.orientation = sb.orientation;
-            b.linear_velocity = sb.linear_velocity;
-            b.angular_velocity = sb.angular_velocity;
-            b.linear_acceleration = sb.linear_acceleration;
-            b.angular_acceleration = sb.angular_acceleration;
+            b.take_motion(&crate::body::Motion {
+                position: sb.position,
+                orientation: sb.orientation,
+                linear_velocity: sb.linear_velocity,
+                angular_velocity: sb.angular_velocity,
+                linear_acceleration: sb.linear_acceleration,
+                angular_acceleration: sb.angular_acceleration,
+            });
             b.last_path = sb.last_path;
-            b.update_transform();
         }
         // Accumulators are cleared for every body, simulated or not (the guide's rule), after
         // the step's last substep.

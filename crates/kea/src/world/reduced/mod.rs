@@ -35,6 +35,7 @@ pub(crate) use saved::SavedTree;
 
 use super::World;
 use crate::articulation::ArticulatedTree;
+use crate::body::Motion;
 use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
@@ -75,12 +76,7 @@ struct Mark {
 struct LinkResult {
     body: u32,
     joint: u32,
-    position: Vec3,
-    orientation: Quat,
-    linear_velocity: Vec3,
-    angular_velocity: Vec3,
-    linear_acceleration: Vec3,
-    angular_acceleration: Vec3,
+    motion: Motion,
     coordinate: Real,
     rate: Real,
     reaction: [Reaction; 2],
@@ -343,22 +339,25 @@ impl World {
             r.results.push(LinkResult {
                 body: p.body,
                 joint: p.joint,
-                position: v3(position),
-                orientation: rq(rotation),
-                linear_velocity,
-                angular_velocity,
-                linear_acceleration: (linear_velocity - b.linear_velocity) / h,
-                angular_acceleration: (angular_velocity - b.angular_velocity) / h,
+                motion: Motion {
+                    position: v3(position),
+                    orientation: rq(rotation),
+                    linear_velocity,
+                    angular_velocity,
+                    linear_acceleration: (linear_velocity - b.linear_velocity) / h,
+                    angular_acceleration: (angular_velocity - b.angular_velocity) / h,
+                },
                 coordinate: (p.at + p.sign * t.q_next[k]) as Real,
                 rate: (p.sign * t.qd_next[k]) as Real,
                 reaction: reactions(t.tree.reaction(k), b, parent, p.sign),
             });
         }
         let finite = r.results[t.first..].iter().all(|x| {
-            x.position.is_finite()
-                && x.orientation.is_finite()
-                && x.linear_velocity.is_finite()
-                && x.angular_velocity.is_finite()
+            let m = &x.motion;
+            m.position.is_finite()
+                && m.orientation.is_finite()
+                && m.linear_velocity.is_finite()
+                && m.angular_velocity.is_finite()
                 && x.coordinate.is_finite()
                 && x.reaction
                     .iter()
@@ -397,13 +396,7 @@ impl World {
             t.marks.clear();
             for x in &r.results[t.first..t.first + t.plan.len()] {
                 if let Some(b) = self.bodies.at_mut(x.body as usize) {
-                    b.position = x.position;
-                    b.orientation = x.orientation;
-                    b.linear_velocity = x.linear_velocity;
-                    b.angular_velocity = x.angular_velocity;
-                    b.linear_acceleration = x.linear_acceleration;
-                    b.angular_acceleration = x.angular_acceleration;
-                    b.update_transform();
+                    b.take_motion(&x.motion);
                     t.marks.push(mark(b, x.coordinate));
                 }
                 if let Some(e) = self.constraints.at_mut(x.joint as usize) {
