@@ -22,8 +22,12 @@ pub type MaterialId = u32;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Surface {
-    /// Coulomb friction coefficient, ≥ 0.
+    /// Coulomb friction coefficient, ≥ 0: the kinetic one when `static_friction` is set.
     pub friction: Real,
+    /// A static coefficient (≥ `friction`) that holds surfaces at rest on each other until
+    /// they slide (`kea::FrictionModel::StaticKinetic`); `None`: one coefficient.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub static_friction: Option<Real>,
     /// Coefficient of restitution, ≥ 0.
     pub restitution: Real,
     /// Slowest approach speed that bounces, m/s.
@@ -41,6 +45,7 @@ impl Default for Surface {
     fn default() -> Self {
         Self {
             friction: 0.5,
+            static_friction: None,
             restitution: 0.0,
             restitution_threshold: 0.1,
             softness: None,
@@ -61,6 +66,10 @@ impl Surface {
             ("slip", self.slip),
             ("adhesion", self.adhesion),
             ("softness", self.softness.unwrap_or(0.0)),
+            (
+                "static_friction",
+                self.static_friction.unwrap_or(self.friction),
+            ),
         ];
         for (arg, value) in fields {
             if !(value.is_finite() && value >= 0.0) {
@@ -71,6 +80,14 @@ impl Surface {
                 }
                 .into());
             }
+        }
+        if let Some(s) = self.static_friction.filter(|&s| s < self.friction) {
+            return Err(kea::KeaError::OutOfRange {
+                arg: "static_friction",
+                value: format!("{s} < friction {}", self.friction),
+                expected: "a static coefficient at least the (kinetic) friction",
+            }
+            .into());
         }
         Ok(())
     }
@@ -304,6 +321,17 @@ fn reverse(mut params: ContactParams, d: Vec3) -> (ContactParams, Option<Vec3>) 
 /// The combine rules of the module documentation.
 fn surface_params(a: &Surface, b: &Surface) -> ContactParams {
     let mu = (a.friction * b.friction).sqrt();
+    // Static coefficients combine as the kinetic ones do, a surface without one lending its
+    // single coefficient; a pair gets static friction when either surface has it.
+    let friction = match (a.static_friction, b.static_friction) {
+        (None, None) => FrictionModel::Coulomb { mu },
+        (sa, sb) => FrictionModel::StaticKinetic {
+            static_mu: (sa.unwrap_or(a.friction) * sb.unwrap_or(b.friction))
+                .sqrt()
+                .max(mu),
+            kinetic_mu: mu,
+        },
+    };
     let softness = match (a.softness, b.softness) {
         (None, None) => None,
         (x, y) => Some(x.unwrap_or(0.0) + y.unwrap_or(0.0)),
@@ -314,7 +342,7 @@ fn surface_params(a: &Surface, b: &Surface) -> ContactParams {
         } else {
             ContactType::Frictionless
         },
-        friction: [FrictionModel::Coulomb { mu }; 2],
+        friction: [friction; 2],
         restitution: a.restitution.max(b.restitution),
         restitution_threshold: a.restitution_threshold.max(b.restitution_threshold),
         softness,

@@ -188,6 +188,7 @@ fn add_materials(collision: &mut CollisionWorld, scene: &Scene) -> Result<Vec<St
         }
         let surface = Surface {
             friction: m.friction,
+            static_friction: m.static_friction,
             restitution: m.restitution,
             restitution_threshold: m.restitution_threshold,
             softness: m.softness,

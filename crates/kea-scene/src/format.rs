@@ -274,9 +274,12 @@ pub enum SolverSpec {
 pub struct MaterialSpec {
     /// Its name, used by colliders.
     pub name: String,
-    /// Coulomb μ (default 0.5).
+    /// Coulomb μ (default 0.5): the kinetic one when `static_friction` is given.
     #[serde(default = "half")]
     pub friction: Real,
+    /// A static μ (≥ `friction`) that holds surfaces at rest until they slide (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_friction: Option<Real>,
     /// Restitution (default 0).
     #[serde(default)]
     pub restitution: Real,

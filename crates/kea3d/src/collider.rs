@@ -188,6 +188,15 @@ impl Collider {
         self
     }
 
+    /// A static friction coefficient (≥ the friction, which is then the kinetic one): the
+    /// surface holds at rest until it slides (`kea::FrictionModel::StaticKinetic`).
+    pub fn static_friction(mut self, static_friction: Real) -> Self {
+        self.surface
+            .get_or_insert_with(Surface::default)
+            .static_friction = Some(static_friction);
+        self
+    }
+
     /// Coefficient of restitution (default 0).
     pub fn restitution(mut self, restitution: Real) -> Self {
         self.surface
