@@ -31,10 +31,20 @@ impl World {
             self.constraint_bodies
                 .resize(self.constraints.slot_count().max(slot + 1), [EMPTY; 2]);
         }
+        if self.tree_joint_slots.len() < self.constraint_bodies.len() {
+            self.tree_joint_slots
+                .resize(self.constraint_bodies.len(), false);
+        }
         self.constraint_bodies[slot] = match self.constraints.at(slot) {
             Some(e) if e.enabled => e.bodies.map(|b| b.map_or(NO_BODY, |h| h.index())),
             _ => [EMPTY; 2],
         };
+        self.tree_joint_slots[slot] = self.constraints.at(slot).is_some_and(|e| {
+            matches!(
+                e.kind,
+                ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
+            )
+        });
         if joint_changed {
             self.joint_revision = next_joint_revision();
         }
@@ -44,6 +54,7 @@ impl World {
     #[cfg(feature = "serde")]
     pub(super) fn reindex_constraints(&mut self) {
         self.constraint_bodies.clear();
+        self.tree_joint_slots.clear();
         for slot in 0..self.constraints.slot_count() {
             self.index_constraint(slot, false);
         }

@@ -201,6 +201,9 @@ pub struct World {
     /// `[EMPTY; 2]` for an empty or disabled slot: what a step scans to pass constraints of
     /// sleeping bodies without reading their entries (`constraint_index.rs`).
     constraint_bodies: Vec<[u32; 2]>,
+    /// Per constraint slot: a hinge or a prismatic joint (what the reduced path may take), so
+    /// that its search passes contacts without reading their entries.
+    tree_joint_slots: Vec<bool>,
     /// Changes whenever a joint is made, destroyed, enabled, disabled or re-bodied.
     joint_revision: u64,
     gravity: Vec3,
@@ -317,6 +320,7 @@ impl World {
             bodies: Arena::new(id, def.max_bodies, "bodies"),
             constraints: Arena::new(id, def.max_constraints, "constraints"),
             constraint_bodies: Vec::with_capacity(def.max_constraints),
+            tree_joint_slots: Vec::with_capacity(def.max_constraints),
             joint_revision: constraint_index::next_joint_revision(),
             gravity: def.gravity,
             epsilon: def.epsilon,

@@ -52,14 +52,7 @@ impl World {
                 return any;
             }
         }
-        let any = (0..self.constraints.slot_count()).any(|slot| {
-            self.constraints.at(slot).is_some_and(|e| {
-                matches!(
-                    e.kind,
-                    ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
-                )
-            })
-        });
+        let any = self.tree_joint_slots.iter().any(|&t| t);
         self.scratch.reduced.candidates = Some((revision, any));
         any
     }
@@ -90,10 +83,12 @@ impl World {
             if a == EMPTY {
                 continue;
             }
-            let reducible = self
-                .constraints
-                .at(slot)
-                .is_some_and(|e| reducible(e).is_some());
+            // Only a hinge or a slider can be a tree's: a contact's entry is not read.
+            let reducible = self.tree_joint_slots[slot]
+                && self
+                    .constraints
+                    .at(slot)
+                    .is_some_and(|e| reducible(e).is_some());
             let roles = [a, b].map(|x| r.role_of(x));
             match roles {
                 [Role::Link, Role::Link] if reducible => r.sets.union(a, b),
