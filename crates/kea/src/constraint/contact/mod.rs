@@ -336,7 +336,8 @@ impl Contact {
     /// Whether the contact's surfaces slid over each other at the end of its last step (their
     /// relative speed in the tangent plane past [`SLIDING_SPEED`]). A sliding contact is
     /// bounded by its kinetic coefficient ([`FrictionModel::StaticKinetic`]), a holding one by
-    /// its static coefficient.
+    /// its static coefficient. Tracked for contacts with static and kinetic friction only
+    /// (false for the others, which have one coefficient either way).
     #[must_use]
     pub fn is_sliding(&self) -> bool {
         self.sliding
@@ -353,6 +354,12 @@ impl Contact {
     /// velocity of the bodies' points at the friction centre in the tangent plane (`velocity`
     /// gives a world point's velocity on body 1 minus on body 2), past [`SLIDING_SPEED`].
     pub(crate) fn record_sliding(&mut self, velocity: impl Fn(Vec3) -> Vec3) {
+        let two_coefficients = |m: &FrictionModel| matches!(m, FrictionModel::StaticKinetic { .. });
+        if !self.params.friction.iter().any(two_coefficients) {
+            // One coefficient either way: nothing to track (the step's hot path).
+            self.sliding = false;
+            return;
+        }
         let v = velocity(self.friction_centre());
         let tangential = v - self.normal * v.dot(self.normal);
         self.sliding = self.params.contact_type != ContactType::Frictionless
