@@ -94,13 +94,7 @@ impl ExactWorkspace {
 
     /// Sizes `b`, the bounds, `x`, `w` and the sets for `n` rows.
     pub(super) fn size_vectors(&mut self, n: usize) {
-        for v in [
-            &mut self.b,
-            &mut self.lo,
-            &mut self.hi,
-            &mut self.x,
-            &mut self.w,
-        ] {
+        for v in self.row_vectors() {
             v.clear();
             v.resize(n, 0.0);
         }

@@ -123,16 +123,21 @@ impl ExactWorkspace {
         reserve(&mut self.mixed_reactions, n);
     }
 
-    pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
-        let n = island_rows;
-        reserve(&mut self.rows, n);
-        for v in [
+    /// The per-row vectors of the system: `b`, the bounds, `x` and `w`.
+    fn row_vectors(&mut self) -> [&mut Vec<f64>; 5] {
+        [
             &mut self.b,
             &mut self.lo,
             &mut self.hi,
             &mut self.x,
             &mut self.w,
-        ] {
+        ]
+    }
+
+    pub(crate) fn reserve(&mut self, _rows: usize, island_rows: usize) {
+        let n = island_rows;
+        reserve(&mut self.rows, n);
+        for v in self.row_vectors() {
             reserve(v, n);
         }
         reserve(&mut self.links, n);
