@@ -118,7 +118,7 @@ fn double_pendulum(mode: SolverMode) -> (Real, Real) {
 }
 
 #[test]
-#[ignore = "known failure (issue 25): VALIDATION #29 and #34 to the letter. The exact path (one linearisation a step at 60 Hz; also the default for these small islands) loses 1.1% of a 30° swing with a 1.5% rise, 2.3% of the conical pendulum's and 30% of the double pendulum's; the iterative path's double pendulum rises 3.7%; split islands rise 0.55-0.65%"]
+#[ignore = "known failure (issue 25): VALIDATION #29 and #34 to the letter. The exact path (one linearisation a step at 60 Hz; also the default for the ball-joint pendulums) loses 1.1% of a 30° swing with a 1.5% rise, 2.3% of the conical pendulum's and 30% of the double pendulum's; the iterative path's double pendulum rises 3.7%; split islands rise 0.55-0.65%; the hinged double pendulum's default is now the reduced path, whose semi-implicit Euler in joint coordinates rises 30% at 60 Hz (10% with 4 world substeps, 2.4% with 16)"]
 fn pendulums_keep_their_energy_on_every_path() {
     for mode in PATHS {
         let [simple, conical] = pendulums(mode);
