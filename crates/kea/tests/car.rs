@@ -34,6 +34,30 @@ fn rig(mode: SolverMode, damping: Real) -> (World, kea::BodyHandle, kea::Constra
     (world, chassis, j)
 }
 
+/// A free wheel under a chassis held fixed, no gravity: only its joint's motors move it.
+fn free_wheel(mode: SolverMode) -> (World, kea::BodyHandle, kea::ConstraintHandle) {
+    let mut world = world_on(mode, 4, 4);
+    world.set_gravity(Vec3::ZERO).unwrap();
+    let chassis = world
+        .create_body(&BodyDef {
+            mass: M,
+            enabled: false,
+            ..Default::default()
+        })
+        .unwrap();
+    let wheel = world
+        .create_body(&BodyDef {
+            position: Vec3::new(1.0, -0.3, 0.0),
+            inertia: inertia::solid_cylinder(1.0, 0.3, 0.1).unwrap(),
+            ..Default::default()
+        })
+        .unwrap();
+    let j = world
+        .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, 50.0)
+        .unwrap();
+    (world, wheel, j)
+}
+
 #[test]
 fn suspension_deflects_by_mg_over_k_and_rings_at_its_frequency() {
     for mode in PATHS {
@@ -97,25 +121,7 @@ fn locked_steering_holds_and_the_drive_spins_the_wheel() {
             "{mode:?}: locked steering turned by {steer}"
         );
         // A free wheel under a chassis held fixed: the drive motor spins it up.
-        let mut world = world_on(mode, 4, 4);
-        world.set_gravity(Vec3::ZERO).unwrap();
-        let chassis = world
-            .create_body(&BodyDef {
-                mass: M,
-                enabled: false,
-                ..Default::default()
-            })
-            .unwrap();
-        let wheel = world
-            .create_body(&BodyDef {
-                position: Vec3::new(1.0, -0.3, 0.0),
-                inertia: inertia::solid_cylinder(1.0, 0.3, 0.1).unwrap(),
-                ..Default::default()
-            })
-            .unwrap();
-        let j = world
-            .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, 50.0)
-            .unwrap();
+        let (mut world, wheel, j) = free_wheel(mode);
         world
             .car_wheel_mut(j)
             .unwrap()
@@ -140,25 +146,7 @@ fn locked_steering_holds_and_the_drive_spins_the_wheel() {
 fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
     for mode in PATHS {
         // A wheel on a chassis held fixed, no gravity: only the steering moves it.
-        let mut world = world_on(mode, 4, 4);
-        world.set_gravity(Vec3::ZERO).unwrap();
-        let chassis = world
-            .create_body(&BodyDef {
-                mass: M,
-                enabled: false,
-                ..Default::default()
-            })
-            .unwrap();
-        let wheel = world
-            .create_body(&BodyDef {
-                position: Vec3::new(1.0, -0.3, 0.0),
-                inertia: inertia::solid_cylinder(1.0, 0.3, 0.1).unwrap(),
-                ..Default::default()
-            })
-            .unwrap();
-        let j = world
-            .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, 50.0)
-            .unwrap();
+        let (mut world, _, j) = free_wheel(mode);
         {
             let cw = world.car_wheel_mut(j).unwrap();
             cw.steering_locked = false;
