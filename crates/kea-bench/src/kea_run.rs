@@ -48,17 +48,21 @@ impl KeaScene {
         };
         if let Some(mode) = forced {
             world
-                .set_routing(kea::Routing {
-                    mode,
-                    ..Default::default()
+                .update_settings(|s| {
+                    s.routing = kea::Routing {
+                        mode,
+                        ..Default::default()
+                    }
                 })
                 .expect("routing");
         }
         if scene.sleep {
             world
-                .set_dem(DemSettings {
-                    mode: DemMode::PartitionAutoDisable,
-                    ..Default::default()
+                .update_settings(|s| {
+                    s.dem = DemSettings {
+                        mode: DemMode::PartitionAutoDisable,
+                        ..Default::default()
+                    }
                 })
                 .expect("sleep");
         }
@@ -186,7 +190,7 @@ impl KeaScene {
 
 /// Joins body `b` to `a` (or the world) at `anchor` as `kind` says.
 fn add_joint(
-    world: &mut World,
+    mut world: &mut World,
     a: Option<BodyHandle>,
     b: BodyHandle,
     anchor: Vec3,
@@ -194,14 +198,18 @@ fn add_joint(
 ) -> ConstraintHandle {
     let hard = |x: f32| SingleLimit::hard(x as Real, 0.0);
     match kind {
-        JointKind::Ball => world.create_ball_joint(b, a, anchor).expect("ball joint"),
+        JointKind::Ball => world
+            .create_joint(b, a, kea::JointSpec::ball(anchor))
+            .expect("ball joint")
+            .into(),
         JointKind::LimitedBall { axis, cone, twist } => {
-            let h = world.create_ball_joint(b, a, anchor).expect("ball joint");
+            let h = world
+                .create_joint(b, a, kea::JointSpec::ball(anchor))
+                .expect("ball joint");
             let axis = v(axis);
-            world
-                .set_ball_limit_axes(h, axis, axis.any_orthonormal_vector())
+            h.set_limit_axes(&mut world, axis, axis.any_orthonormal_vector())
                 .expect("limit axes");
-            let limits = world.ball_limits_mut(h).expect("limits");
+            let limits = h.limits_mut(&mut world).expect("limits");
             // The cone angle is never negative: its lower stop is out of reach.
             limits
                 .cone
@@ -211,16 +219,17 @@ fn add_joint(
                 .twist
                 .set_limits(hard(-twist), hard(twist))
                 .expect("twist");
-            h
+            h.into()
         }
         JointKind::Hinge { axis, lower, upper } => {
-            let h = world.create_hinge(b, a, anchor, v(axis)).expect("hinge");
-            world
-                .hinge_limit_mut(h)
+            let h = world
+                .create_joint(b, a, kea::JointSpec::hinge(anchor, v(axis)))
+                .expect("hinge");
+            h.limit_mut(&mut world)
                 .expect("hinge limit")
                 .set_limits(hard(lower), hard(upper))
                 .expect("limits");
-            h
+            h.into()
         }
     }
 }

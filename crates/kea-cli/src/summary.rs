@@ -26,7 +26,7 @@ pub struct Summary {
 
 /// Kinetic plus gravitational potential energy of every body, J.
 pub fn energy(built: &PhysicsWorld) -> Real {
-    let g = built.dynamics().gravity();
+    let g = built.dynamics().settings().gravity;
     built
         .dynamics()
         .bodies()

@@ -44,7 +44,7 @@ impl Default for ContactStrategy {
 /// use kea_collision::{ColliderDef, CollisionWorld, Shape};
 ///
 /// let mut world = World::with_capacity(8, 64)?;
-/// world.set_gravity(Vec3::new(0.0, -9.81, 0.0))?;
+/// world.update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))?;
 /// let mut collision = CollisionWorld::new();
 /// collision.add_collider(&world, ColliderDef::new(None, Shape::plane(Vec3::Y)?))?;
 /// let ball = Shape::sphere(0.5)?;
@@ -401,7 +401,7 @@ impl CollisionWorld {
         // refused step must leave the contacts as they were.
         self.check_settings()?;
         self.last_dt = dt;
-        let t0 = Stamp::now(world.step_timing());
+        let t0 = Stamp::now(world.settings().step_timing);
         if self.generated_with != (self.strategy, self.margin) {
             self.generated_with = (self.strategy, self.margin);
             for p in &mut self.pairs.slots {
@@ -412,7 +412,7 @@ impl CollisionWorld {
         self.collect_jointed_pairs(world);
         self.update_bounds(world, dt);
         self.find_new_pairs();
-        let t1 = Stamp::now(world.step_timing());
+        let t1 = Stamp::now(world.settings().step_timing);
         self.narrow_phase(dt);
         self.apply(world)?;
         self.stats.time_broad_phase = t0.until(t1);

@@ -42,7 +42,7 @@ fn contacts(
 #[test]
 fn known_configurations_give_the_right_normal_and_depth() {
     let mut world = World::with_capacity(8, 64).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let mut collision = CollisionWorld::new();
     // Sphere–sphere: radii 0.5, centres 0.9 apart along x → depth 0.1, normal from body 2 to 1.
     let s = Shape::sphere(0.5).unwrap();
@@ -230,7 +230,7 @@ fn a_box_rests_on_a_plane_without_drift_or_rotation() {
 #[test]
 fn a_fast_small_sphere_does_not_pass_a_thin_wall() {
     let mut world = World::with_capacity(4, 64).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let mut collision = CollisionWorld::new();
     let wall = Shape::cuboid(Vec3::new(0.05, 2.0, 2.0)).unwrap();
     collision

@@ -21,7 +21,7 @@ fn ball(world: &mut World, position: Vec3) -> kea::BodyHandle {
 #[test]
 fn groups_masks_and_joints_filter_pairs() {
     let mut world = World::with_capacity(8, 64).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let mut collision = CollisionWorld::new();
     let s = Shape::sphere(0.5).unwrap();
     let a = ball(&mut world, Vec3::ZERO);
@@ -42,7 +42,7 @@ fn groups_masks_and_joints_filter_pairs() {
 
     // Same groups, but joined by a ball joint: still no contacts, until allowed.
     let mut world = World::with_capacity(8, 64).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let mut collision = CollisionWorld::new();
     let a = ball(&mut world, Vec3::ZERO);
     let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
@@ -59,7 +59,7 @@ fn groups_masks_and_joints_filter_pairs() {
         "unjoined: they collide"
     );
     let joint = world
-        .create_ball_joint(a, Some(b), Vec3::new(0.45, 0.0, 0.0))
+        .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(0.45, 0.0, 0.0)))
         .unwrap();
     collision.update_contacts(&mut world, DT).unwrap();
     assert!(
@@ -67,7 +67,9 @@ fn groups_masks_and_joints_filter_pairs() {
         "joined: no contacts"
     );
     assert_eq!(world.constraint_count(), 1, "only the joint is left");
-    collision.set_joint_collisions(&world, joint, true).unwrap();
+    collision
+        .set_joint_collisions(&world, joint.into(), true)
+        .unwrap();
     collision.update_contacts(&mut world, DT).unwrap();
     assert_eq!(
         collision.contacts_between(ca, cb).unwrap().len(),
@@ -75,7 +77,7 @@ fn groups_masks_and_joints_filter_pairs() {
         "allowed to collide"
     );
     collision
-        .set_joint_collisions(&world, joint, false)
+        .set_joint_collisions(&world, joint.into(), false)
         .unwrap();
     world.set_constraint_enabled(joint, false).unwrap();
     collision.update_contacts(&mut world, DT).unwrap();
@@ -92,11 +94,15 @@ fn groups_masks_and_joints_filter_pairs() {
 #[test]
 fn a_joint_made_in_a_sleeping_pile_parts_its_bodies_contacts() {
     let mut world = World::with_capacity(8, 64).unwrap();
-    world.set_gravity(Vec3::new(0.0, -9.81, 0.0)).unwrap();
     world
-        .set_dem(kea::DemSettings {
-            mode: kea::DemMode::PartitionAutoDisable,
-            ..Default::default()
+        .update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))
+        .unwrap();
+    world
+        .update_settings(|s| {
+            s.dem = kea::DemSettings {
+                mode: kea::DemMode::PartitionAutoDisable,
+                ..Default::default()
+            }
         })
         .unwrap();
     let mut collision = CollisionWorld::new();
@@ -132,7 +138,7 @@ fn a_joint_made_in_a_sleeping_pile_parts_its_bodies_contacts() {
     assert_eq!(world.joint_revision(), revision, "contacts are not joints");
     assert!(!collision.contacts_between(ca, cb).unwrap().is_empty());
     let joint = world
-        .create_ball_joint(a, Some(b), Vec3::new(0.0, 1.0, 0.0))
+        .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(0.0, 1.0, 0.0)))
         .unwrap();
     assert_ne!(world.joint_revision(), revision, "a new joint");
     collision.update_contacts(&mut world, DT).unwrap();

@@ -15,14 +15,19 @@ fn world(bodies: usize, sleeping: bool) -> (World, CollisionWorld) {
     let mut w = World::new(WorldDef {
         max_bodies: bodies + 1,
         max_constraints: 16 * bodies + 16,
-        gravity: Vec3::new(0.0, -9.81, 0.0),
+        settings: kea::WorldSettings {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            ..Default::default()
+        },
         ..Default::default()
     })
     .unwrap();
     if sleeping {
-        w.set_dem(DemSettings {
-            mode: DemMode::PartitionAutoDisable,
-            ..Default::default()
+        w.update_settings(|s| {
+            s.dem = DemSettings {
+                mode: DemMode::PartitionAutoDisable,
+                ..Default::default()
+            }
         })
         .unwrap();
     }
@@ -88,8 +93,12 @@ fn each_island_lists_exactly_its_bodies() {
     // Two boxes apart in the air, held together by a joint only.
     let j1 = add(&mut w, &mut c, unit_box(), Vec3::new(10.0, 5.0, 0.0));
     let j2 = add(&mut w, &mut c, unit_box(), Vec3::new(12.0, 5.0, 0.0));
-    w.create_ball_joint(j1, Some(j2), Vec3::new(11.0, 5.0, 0.0))
-        .unwrap();
+    w.create_joint(
+        j1,
+        Some(j2),
+        kea::JointSpec::ball(Vec3::new(11.0, 5.0, 0.0)),
+    )
+    .unwrap();
     for _ in 0..30 {
         common::step(&mut c, &mut w, DT).unwrap();
     }

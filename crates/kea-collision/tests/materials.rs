@@ -106,8 +106,11 @@ fn restitution_is_the_larger_of_the_pair_and_sleeping_pairs_are_left_alone() {
     let mut world = World::new(WorldDef {
         max_bodies: 4,
         max_constraints: 64,
-        dem: DemSettings {
-            mode: DemMode::PartitionAutoDisable,
+        settings: kea::WorldSettings {
+            dem: DemSettings {
+                mode: DemMode::PartitionAutoDisable,
+                ..Default::default()
+            },
             ..Default::default()
         },
         ..Default::default()

@@ -21,13 +21,18 @@ fn world(bodies: usize, mode: SolverMode) -> World {
     let mut w = World::new(WorldDef {
         max_bodies: bodies + 1,
         max_constraints: 16 * bodies + 16,
-        gravity: Vec3::new(0.0, -G, 0.0),
+        settings: kea::WorldSettings {
+            gravity: Vec3::new(0.0, -G, 0.0),
+            ..Default::default()
+        },
         ..Default::default()
     })
     .unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Default::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Default::default()
+        }
     })
     .unwrap();
     w
@@ -181,7 +186,7 @@ fn equal_balls_with_e_1_exchange_velocities_whatever_the_phase_of_the_impact() {
             let f = (k as Real + 0.5) / 10.0;
             let (v, r) = (2.0, 0.5);
             let mut w = world(2, mode);
-            w.set_gravity(Vec3::ZERO).unwrap();
+            w.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
             let mut c = CollisionWorld::new();
             c.materials
                 .set_surface(

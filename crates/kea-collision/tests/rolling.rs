@@ -42,13 +42,18 @@ fn roll(mode: SolverMode, roller: Roller, degrees: Real) -> Roll {
     let mut w = World::new(WorldDef {
         max_bodies: 2,
         max_constraints: 16,
-        gravity: Vec3::new(0.0, -G, 0.0),
+        settings: kea::WorldSettings {
+            gravity: Vec3::new(0.0, -G, 0.0),
+            ..Default::default()
+        },
         ..Default::default()
     })
     .unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Default::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Default::default()
+        }
     })
     .unwrap();
     let mut c = CollisionWorld::new();

@@ -16,9 +16,11 @@ fn lowest(mode: SolverMode, mass: Real, speed: Real) -> Real {
         ..Default::default()
     })
     .unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Default::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Default::default()
+        }
     })
     .unwrap();
     let mut c = CollisionWorld::new();

@@ -156,8 +156,8 @@ fn fingerprint(s: &Sandbox) -> u64 {
     }
     eat(w.time().to_bits());
     eat(w.step_count());
-    let g = w.gravity();
-    for x in [g.x, g.y, g.z, w.epsilon(), w.gamma()] {
+    let g = w.settings().gravity;
+    for x in [g.x, g.y, g.z, w.settings().epsilon, w.settings().gamma] {
         eat(bits(x));
     }
     eat(s.collision().collider_count() as u64);

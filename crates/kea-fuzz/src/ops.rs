@@ -3,8 +3,9 @@
 
 use crate::random::Rng;
 use kea::{
-    BodyDef, BodyHandle, ConstraintHandle, Contact, ContactPoint, Mat3, Real, Routing, SingleLimit,
-    SolverMode, SpeedLimits, Vec3, World, WorldDef,
+    BallJoint, BodyDef, BodyHandle, ConstraintHandle, Contact, ContactPoint, FixedPath, Hinge,
+    JointHandle, Mat3, Prismatic, Real, Routing, SingleLimit, SolverMode, SpeedLimits, Vec3, World,
+    WorldDef,
 };
 use kea3d::PhysicsWorld;
 use kea_collision::{ColliderDef, ColliderHandle, CollisionWorld, QueryFilter, Shape, ShapeCast};
@@ -147,10 +148,18 @@ impl Sandbox {
         let anchor = rng.vec3(-5.0, 5.0);
         let w = self.physics.dynamics_mut();
         let h = match rng.below(9) {
-            0 => w.create_ball_joint(a, b, anchor),
-            1 => w.create_hinge(a, b, anchor, rng.direction()),
-            2 => w.create_prismatic(a, b, anchor, rng.direction()),
-            3 => w.create_fixed_joint(a, b, anchor),
+            0 => w
+                .create_joint(a, b, kea::JointSpec::ball(anchor))
+                .map(JointHandle::raw),
+            1 => w
+                .create_joint(a, b, kea::JointSpec::hinge(anchor, rng.direction()))
+                .map(JointHandle::raw),
+            2 => w
+                .create_joint(a, b, kea::JointSpec::prismatic(anchor, rng.direction()))
+                .map(JointHandle::raw),
+            3 => w
+                .create_joint(a, b, kea::JointSpec::fixed(anchor))
+                .map(JointHandle::raw),
             4 => {
                 let axis1 = rng.direction();
                 let axis2 = axis1.any_orthonormal_vector();
@@ -159,23 +168,33 @@ impl Sandbox {
                 } else {
                     rng.direction()
                 };
-                w.create_universal_joint(a, b, anchor, axis1, axis2)
+                w.create_joint(a, b, kea::JointSpec::universal(anchor, axis1, axis2))
+                    .map(JointHandle::raw)
             }
-            5 => w.create_linear1(a, b, anchor, rng.direction()),
-            6 => w.create_linear2(a, b, anchor, rng.direction()),
-            7 => w.create_fixed_path(a, b, anchor, rng.chance(0.5)),
+            5 => w
+                .create_joint(a, b, kea::JointSpec::linear1(anchor, rng.direction()))
+                .map(JointHandle::raw),
+            6 => w
+                .create_joint(a, b, kea::JointSpec::linear2(anchor, rng.direction()))
+                .map(JointHandle::raw),
+            7 => w
+                .create_joint(a, b, kea::JointSpec::fixed_path(anchor, rng.chance(0.5)))
+                .map(JointHandle::raw),
             _ => {
                 let wheel = b.ok_or("no wheel")?;
                 let steer = rng.direction();
                 let axle = steer.any_orthonormal_vector();
-                w.create_car_wheel(
+                w.create_joint(
                     a,
-                    wheel,
-                    steer,
-                    axle,
-                    rng.real(10.0, 1e4),
-                    rng.real(0.0, 100.0),
+                    Some(wheel),
+                    kea::JointSpec::car_wheel(
+                        steer,
+                        axle,
+                        rng.real(10.0, 1e4),
+                        rng.real(0.0, 100.0),
+                    ),
                 )
+                .map(JointHandle::raw)
             }
         }
         .map_err(err)?;
@@ -193,19 +212,27 @@ impl Sandbox {
             SingleLimit::soft(rng.real(0.0, 2.0), rng.real(1.0, 1e4), rng.real(0.0, 10.0))
         };
         match rng.below(10) {
-            0 => w
-                .hinge_limit_mut(j)
+            0 => JointHandle::<Hinge>::from_raw(j)
+                .limit_mut(w)
                 .and_then(|l| l.set_limits(lower, upper)),
-            1 => w
-                .hinge_limit_mut(j)
+            1 => JointHandle::<Hinge>::from_raw(j)
+                .limit_mut(w)
                 .and_then(|l| l.set_motor(rng.real(-10.0, 10.0), rng.real(0.0, 1e3))),
-            2 => w
-                .prismatic_limit_mut(j)
+            2 => JointHandle::<Prismatic>::from_raw(j)
+                .limit_mut(w)
                 .and_then(|l| l.set_limits(lower, upper)),
             3 => w.set_breakable(j, Some(rng.real(0.0, 1e3)), None),
             4 => w.set_constraint_enabled(j, rng.chance(0.6)),
-            5 => w.set_path(j, rng.vec3(-5.0, 5.0), rng.vec3(-2.0, 2.0)),
-            6 => w.set_ball_limit_axes(j, rng.direction(), rng.direction()),
+            5 => JointHandle::<FixedPath>::from_raw(j).set_path(
+                w,
+                rng.vec3(-5.0, 5.0),
+                rng.vec3(-2.0, 2.0),
+            ),
+            6 => JointHandle::<BallJoint>::from_raw(j).set_limit_axes(
+                w,
+                rng.direction(),
+                rng.direction(),
+            ),
             7 => w.set_constraint_gamma(j, Some(rng.real(0.0, 1.0))),
             8 => w.reset_constraint(j),
             _ => w.destroy_constraint(j),
@@ -387,9 +414,9 @@ impl Sandbox {
     fn settings(&mut self, rng: &mut Rng) -> Outcome {
         let w = self.physics.dynamics_mut();
         match rng.below(9) {
-            0 => w.set_gravity(rng.vec3(-20.0, 20.0)),
-            1 => w.set_epsilon(rng.real(0.0, 0.1)),
-            2 => w.set_gamma(rng.real(0.0, 1.0)),
+            0 => w.update_settings(|s| s.gravity = rng.vec3(-20.0, 20.0)),
+            1 => w.update_settings(|s| s.epsilon = rng.real(0.0, 0.1)),
+            2 => w.update_settings(|s| s.gamma = rng.real(0.0, 1.0)),
             3 => {
                 let mode = [
                     SolverMode::Hybrid,
@@ -397,15 +424,19 @@ impl Sandbox {
                     SolverMode::Iterative,
                     SolverMode::Split,
                 ][rng.below(4)];
-                w.set_routing(Routing {
-                    mode,
-                    ..Routing::default()
+                w.update_settings(|s| {
+                    s.routing = Routing {
+                        mode,
+                        ..Routing::default()
+                    }
                 })
             }
-            4 => w.set_projection_iterations(rng.below(20) as u32),
-            5 => w.set_speed_limits(SpeedLimits {
-                linear: rng.real(1.0, 1e4),
-                angular: rng.real(1.0, 1e4),
+            4 => w.update_settings(|s| s.projection_iterations = rng.below(20) as u32),
+            5 => w.update_settings(|s| {
+                s.speed_limits = SpeedLimits {
+                    linear: rng.real(1.0, 1e4),
+                    angular: rng.real(1.0, 1e4),
+                }
             }),
             6 => {
                 self.physics.collision_mut().margin = rng.real(0.0, 0.1);

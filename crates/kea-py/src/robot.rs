@@ -248,7 +248,10 @@ impl PyWorld {
     /// Splits each step into this many substeps (1 to 64; default 1): finer integration
     /// at that many times the cost.
     fn set_substeps(&mut self, substeps: u32) -> PyResult<()> {
-        py(self.inner.dynamics_mut().set_world_substeps(substeps))
+        py(self
+            .inner
+            .dynamics_mut()
+            .update_settings(|s| s.world_substeps = substeps))
     }
 
     /// Length of the joint position vector (MuJoCo's `nq`).

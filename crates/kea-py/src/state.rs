@@ -5,7 +5,7 @@
 //! linear velocity of its centre of mass (3), angular velocity (3).
 
 use crate::convert::{quat, real};
-use kea3d::dynamics::{ConstraintHandle, Limit};
+use kea3d::dynamics::{ConstraintHandle, Hinge, JointHandle, Limit, Prismatic};
 use kea3d::{BodyHandle, PhysicsWorld, Result, Vec3};
 
 /// Numbers per body in a state row.
@@ -84,8 +84,8 @@ fn check_row(body: usize, row: &[f64]) -> Result<()> {
 /// The limit (coordinate, rate, motor) of a hinge or prismatic joint.
 pub fn limit(w: &PhysicsWorld, j: JointEntry) -> Result<Option<&Limit>> {
     Ok(match j.tag {
-        JointTag::Hinge => Some(w.dynamics().hinge(j.raw)?.limit()),
-        JointTag::Prismatic => Some(w.dynamics().prismatic(j.raw)?.limit()),
+        JointTag::Hinge => Some(JointHandle::<Hinge>::from_raw(j.raw).get(w)?.limit()),
+        JointTag::Prismatic => Some(JointHandle::<Prismatic>::from_raw(j.raw).get(w)?.limit()),
         JointTag::Other => None,
     })
 }
@@ -116,8 +116,8 @@ pub fn drive(w: &mut PhysicsWorld, j: JointEntry, velocity: f64) -> Result<()> {
         .into());
     };
     let lim = match j.tag {
-        JointTag::Hinge => w.dynamics_mut().hinge_limit_mut(j.raw)?,
-        _ => w.dynamics_mut().prismatic_limit_mut(j.raw)?,
+        JointTag::Hinge => JointHandle::<Hinge>::from_raw(j.raw).limit_mut(w)?,
+        _ => JointHandle::<Prismatic>::from_raw(j.raw).limit_mut(w)?,
     };
     Ok(lim.set_motor(real(velocity), max_force)?)
 }

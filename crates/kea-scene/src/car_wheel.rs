@@ -9,7 +9,7 @@ use kea::{BodyHandle, ConstraintHandle, World};
 /// Creates the car wheel `kind` (a [`JointKind::CarWheel`]) between chassis `b1` and wheel
 /// `b2`.
 pub(crate) fn create(
-    w: &mut World,
+    mut w: &mut World,
     kind: &JointKind,
     b1: BodyHandle,
     b2: Option<BodyHandle>,
@@ -41,9 +41,13 @@ pub(crate) fn create(
         ));
     }
     let h = w
-        .create_car_wheel(b1, wheel, v3(*steering_axis), v3(*axle), *k, *d)
+        .create_joint(
+            b1,
+            Some(wheel),
+            kea::JointSpec::car_wheel(v3(*steering_axis), v3(*axle), *k, *d),
+        )
         .map_err(|e| placed(place, e))?;
-    let j = w.car_wheel_mut(h).map_err(|e| placed(place, e))?;
+    let j = h.wheel_mut(&mut w).map_err(|e| placed(place, e))?;
     j.steering_locked = !steerable;
     if let Some(l) = suspension_limits {
         set_limits(
@@ -69,5 +73,5 @@ pub(crate) fn create(
             .set_motor(*speed, *torque)
             .map_err(|e| SceneError::at(format!("{place}.drive"), e))?;
     }
-    Ok(h)
+    Ok(h.into())
 }

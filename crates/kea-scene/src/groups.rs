@@ -386,7 +386,7 @@ fn add_chain(
         let anchor = Vec3::new(centre[0], centre[1] + 0.5 * spacing, centre[2]);
         let j = built
             .world
-            .create_ball_joint(h, previous, anchor)
+            .create_joint(h, previous, kea::JointSpec::ball(anchor))
             .map_err(|e| SceneError::at(place, e))?;
         name_joint(built, name(i), j, place)?;
         previous = Some(h);

@@ -13,9 +13,10 @@ use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3
 pub(crate) fn name_joint(
     built: &mut BuiltScene,
     name: String,
-    h: ConstraintHandle,
+    h: impl Into<ConstraintHandle>,
     place: &str,
 ) -> Result<(), SceneError> {
+    let h = h.into();
     if built.joint(&name).is_some() {
         return Err(SceneError::at(
             place,
@@ -108,9 +109,11 @@ pub(crate) fn create(
     let at = |e: KeaError| placed(place, e);
     let h = match kind {
         JointKind::Ball { anchor, .. } => {
-            let h = w.create_ball_joint(b1, b2, v3(*anchor)).map_err(at)?;
+            let h = w
+                .create_joint(b1, b2, kea::JointSpec::ball(v3(*anchor)))
+                .map_err(at)?;
             ball_limits(w, h, b1, kind, place)?;
-            h
+            h.raw()
         }
         JointKind::Hinge {
             anchor,
@@ -118,10 +121,12 @@ pub(crate) fn create(
             limits,
             motor,
         } => {
-            let h = w.create_hinge(b1, b2, v3(*anchor), v3(*axis)).map_err(at)?;
-            let limit = w.hinge_limit_mut(h).map_err(at)?;
+            let h = w
+                .create_joint(b1, b2, kea::JointSpec::hinge(v3(*anchor), v3(*axis)))
+                .map_err(at)?;
+            let limit = h.limit_mut(w).map_err(at)?;
             coordinate(limit, limits.as_ref(), *motor, place)?;
-            h
+            h.raw()
         }
         JointKind::Prismatic {
             anchor,
@@ -130,13 +135,16 @@ pub(crate) fn create(
             motor,
         } => {
             let h = w
-                .create_prismatic(b1, b2, v3(*anchor), v3(*axis))
+                .create_joint(b1, b2, kea::JointSpec::prismatic(v3(*anchor), v3(*axis)))
                 .map_err(at)?;
-            let limit = w.prismatic_limit_mut(h).map_err(at)?;
+            let limit = h.limit_mut(w).map_err(at)?;
             coordinate(limit, limits.as_ref(), *motor, place)?;
-            h
+            h.raw()
         }
-        JointKind::Fixed { anchor } => w.create_fixed_joint(b1, b2, v3(*anchor)).map_err(at)?,
+        JointKind::Fixed { anchor } => w
+            .create_joint(b1, b2, kea::JointSpec::fixed(v3(*anchor)))
+            .map_err(at)?
+            .raw(),
         JointKind::FixedPath {
             anchor,
             fixed_orientation,
@@ -144,7 +152,11 @@ pub(crate) fn create(
         } => {
             check_path(path, place)?;
             let h = w
-                .create_fixed_path(b1, b2, v3(*anchor), *fixed_orientation)
+                .create_joint(
+                    b1,
+                    b2,
+                    kea::JointSpec::fixed_path(v3(*anchor), *fixed_orientation),
+                )
                 .map_err(at)?;
             if !path.is_empty() {
                 built.paths.0.push(PathDriver {
@@ -152,21 +164,28 @@ pub(crate) fn create(
                     keys: path.clone(),
                 });
             }
-            h
+            h.raw()
         }
         JointKind::Universal {
             anchor,
             axis1,
             axis2,
         } => w
-            .create_universal_joint(b1, b2, v3(*anchor), v3(*axis1), v3(*axis2))
-            .map_err(at)?,
+            .create_joint(
+                b1,
+                b2,
+                kea::JointSpec::universal(v3(*anchor), v3(*axis1), v3(*axis2)),
+            )
+            .map_err(at)?
+            .raw(),
         JointKind::Linear1 { anchor, normal } => w
-            .create_linear1(b1, b2, v3(*anchor), v3(*normal))
-            .map_err(at)?,
+            .create_joint(b1, b2, kea::JointSpec::linear1(v3(*anchor), v3(*normal)))
+            .map_err(at)?
+            .raw(),
         JointKind::Linear2 { anchor, direction } => w
-            .create_linear2(b1, b2, v3(*anchor), v3(*direction))
-            .map_err(at)?,
+            .create_joint(b1, b2, kea::JointSpec::linear2(v3(*anchor), v3(*direction)))
+            .map_err(at)?
+            .raw(),
         JointKind::CarWheel { .. } => crate::car_wheel::create(w, kind, b1, b2, place)?,
     };
     Ok(h)
@@ -182,7 +201,7 @@ fn default_limit_axis(w: &World, b1: BodyHandle, anchor: Vec3) -> Result<Vec3, S
 /// Sets up the cone and twist limits of ball joint `h` (body 1 `b1`) given by `kind`, if any.
 fn ball_limits(
     w: &mut World,
-    h: ConstraintHandle,
+    h: kea::JointHandle<kea::BallJoint>,
     b1: BodyHandle,
     kind: &JointKind,
     place: &str,
@@ -204,9 +223,9 @@ fn ball_limits(
         None => default_limit_axis(w, b1, v3(*anchor))?,
     };
     let orthogonal = axis.any_orthonormal_vector();
-    w.set_ball_limit_axes(h, axis, orthogonal)
+    h.set_limit_axes(w, axis, orthogonal)
         .map_err(|e| placed(place, e))?;
-    let limits = w.ball_limits_mut(h).map_err(|e| placed(place, e))?;
+    let limits = h.limits_mut(w).map_err(|e| placed(place, e))?;
     if let Some(c) = *cone {
         if !(c.is_finite() && c > 0.0) {
             return Err(SceneError::at(

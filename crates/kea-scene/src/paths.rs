@@ -2,7 +2,7 @@
 //! step by the stepping pipeline.
 
 use crate::error::SceneError;
-use kea::{ConstraintHandle, Real, Vec3};
+use kea::{Real, Vec3};
 
 /// A scene's fixed-path joints with keyframed paths: before each step, every path is set to its
 /// position now, with the velocity that reaches its next position at the end of the step.
@@ -13,12 +13,12 @@ pub struct ScenePaths(pub(crate) Vec<PathDriver>);
 impl ScenePaths {
     /// For a step of `dt` starting at scene time `time`: each path joint, where its path is now,
     /// and the velocity that takes it to where the path is at the end of the step (the values
-    /// for [`kea::World::set_path`], which the stepping pipeline writes).
+    /// for [`kea::JointHandle::set_path`], which the stepping pipeline writes).
     pub fn samples(
         &self,
         time: Real,
         dt: Real,
-    ) -> impl Iterator<Item = (ConstraintHandle, Vec3, Vec3)> + '_ {
+    ) -> impl Iterator<Item = (kea::JointHandle<kea::FixedPath>, Vec3, Vec3)> + '_ {
         self.0.iter().map(move |p| {
             let (position, velocity) = p.sample(time, dt);
             (p.joint, position, velocity)
@@ -36,7 +36,7 @@ impl ScenePaths {
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct PathDriver {
     /// The joint.
-    pub joint: ConstraintHandle,
+    pub joint: kea::JointHandle<kea::FixedPath>,
     /// Keyframes, t strictly increasing.
     pub(crate) keys: Vec<[Real; 4]>,
 }

@@ -3,7 +3,7 @@
 //! tested like any other code.
 
 use crate::convert::{to_f64, to_real};
-use kea::{BodyDef, BodyHandle, ConstraintHandle, Quat, Real, StepStats, Vec3};
+use kea::{BodyDef, BodyHandle, CarWheel, FixedPath, JointHandle, Quat, Real, StepStats, Vec3};
 use kea3d::PhysicsWorld;
 use kea_collision::{ColliderDef, QueryFilter, Shape};
 use kea_scene::{build, Scene};
@@ -35,7 +35,7 @@ pub const DRAG_DAMPING: Real = 4.0;
 
 /// A body held by the mouse through a temporary fixed-path joint.
 struct Drag {
-    joint: ConstraintHandle,
+    joint: JointHandle<FixedPath>,
     body: BodyHandle,
     /// Where the mouse ray meets the drag plane, world frame.
     target: Vec3,
@@ -70,7 +70,7 @@ pub struct App {
     pub timings: Timings,
     drag: Option<Drag>,
     /// Car-wheel joints, each with the spin sign that rolls the car forwards.
-    pub(crate) wheels: Vec<(ConstraintHandle, Real)>,
+    pub(crate) wheels: Vec<(JointHandle<CarWheel>, Real)>,
     /// The last problem a user action ran into (a full world, a failed step), for the overlay.
     pub message: Option<String>,
     /// The body the mouse last grabbed (the camera can follow it).
@@ -174,7 +174,7 @@ impl App {
 
     /// Car-wheel joints, which the throttle and steering keys drive.
     #[must_use]
-    pub fn wheels(&self) -> Vec<ConstraintHandle> {
+    pub fn wheels(&self) -> Vec<JointHandle<CarWheel>> {
         self.wheels.iter().map(|(h, _)| *h).collect()
     }
 
@@ -220,10 +220,7 @@ impl App {
             let reach = d.target - d.held;
             let moved = reach.clamp_length_max(DRAG_SPEED * self.dt);
             d.held += moved;
-            let _ = self
-                .physics
-                .dynamics_mut()
-                .set_path(d.joint, d.held, moved / self.dt);
+            let _ = d.joint.set_path(&mut self.physics, d.held, moved / self.dt);
         }
         let start = Instant::now();
         match self.physics.step(self.dt) {
@@ -319,7 +316,7 @@ impl App {
         let Some(body) = def.body else { return false };
         let world = self.physics.dynamics_mut();
         let _ = world.wake_body(body);
-        match world.create_fixed_path(body, None, hit.point, false) {
+        match world.create_joint(body, None, kea::JointSpec::fixed_path(hit.point, false)) {
             Ok(joint) => {
                 self.last_grabbed = Some(body);
                 let damping = hold_damping(world, body);

@@ -15,7 +15,7 @@ impl App {
     pub fn drive(&mut self, throttle: Real, steer: Real) {
         let world = self.physics.dynamics_mut();
         for &(h, forwards) in &self.wheels {
-            let Ok(wheel) = world.car_wheel_mut(h) else {
+            let Ok(wheel) = h.wheel_mut(world) else {
                 continue;
             };
             let drive = if throttle == 0.0 {

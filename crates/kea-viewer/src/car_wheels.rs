@@ -1,14 +1,15 @@
 //! Finding a scene's car: its car-wheel joints, and which way each spins to roll the chassis
 //! forwards (what `App::drive` turns the arrow keys into).
 
-use kea::{BodyHandle, ConstraintHandle, Real, Vec3, World};
+use kea::{BodyHandle, CarWheel, JointHandle, Real, Vec3, World};
 
 /// Every car-wheel joint with the sign of spin that rolls its chassis forwards: towards the
 /// steerable wheels (or the chassis's +x if none steer), on ground below the wheel.
-pub(crate) fn car_wheels(world: &World) -> Vec<(ConstraintHandle, Real)> {
-    let wheels: Vec<(ConstraintHandle, [Option<BodyHandle>; 2])> = world
+pub(crate) fn car_wheels(world: &World) -> Vec<(JointHandle<CarWheel>, Real)> {
+    let wheels: Vec<(JointHandle<CarWheel>, [Option<BodyHandle>; 2])> = world
         .enabled_joints()
-        .filter(|(h, _)| world.car_wheel(*h).is_ok())
+        .map(|(h, bodies)| (JointHandle::from_raw(h), bodies))
+        .filter(|(h, _)| h.get(world).is_ok())
         .collect();
     let position = |b: Option<BodyHandle>| {
         b.and_then(|b| world.body(b).ok())
@@ -16,7 +17,7 @@ pub(crate) fn car_wheels(world: &World) -> Vec<(ConstraintHandle, Real)> {
     };
     let mut out = Vec::with_capacity(wheels.len());
     for &(h, [chassis, _]) in &wheels {
-        let Ok(joint) = world.car_wheel(h) else {
+        let Ok(joint) = h.get(world) else {
             continue;
         };
         let Some(body) = chassis.and_then(|c| world.body(c).ok()) else {
@@ -29,9 +30,7 @@ pub(crate) fn car_wheels(world: &World) -> Vec<(ConstraintHandle, Real)> {
         let middle = |only_steerable: bool| {
             let picked: Vec<Vec3> = same_car
                 .iter()
-                .filter(|(w, _)| {
-                    !only_steerable || world.car_wheel(*w).is_ok_and(|j| !j.steering_locked)
-                })
+                .filter(|(w, _)| !only_steerable || w.get(world).is_ok_and(|j| !j.steering_locked))
                 .map(|(_, b)| position(b[1]))
                 .collect();
             (!picked.is_empty())

@@ -226,7 +226,7 @@ pub fn typical_weight(world: &kea::World) -> Real {
         return 1.0;
     }
     masses.sort_by(Real::total_cmp);
-    let g = world.gravity().length();
+    let g = world.settings().gravity.length();
     let weight = masses[masses.len() / 2] * g;
     if weight > 0.0 {
         weight

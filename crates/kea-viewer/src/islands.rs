@@ -88,7 +88,7 @@ mod tests {
         };
         let (a, b, c) = (body(0.0), body(1.0), body(5.0));
         world
-            .create_ball_joint(a, Some(b), Vec3::new(0.5, 0.0, 0.0))
+            .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(0.5, 0.0, 0.0)))
             .unwrap();
         let mut islands = Islands::default();
         islands.rebuild(&world);

@@ -16,7 +16,7 @@ fn main() -> Result<(), kea::KeaError> {
         inertia: inertia::solid_box(2.0, Vec3::splat(0.15))?,
         ..Default::default()
     })?;
-    let hand = world.create_fixed_path(held, None, grip, true)?;
+    let hand = world.create_joint(held, None, kea::JointSpec::fixed_path(grip, true))?;
     world.set_breakable(hand, Some(60.0), None)?;
     println!(
         "animated_hand: a 2 kg box held at the end of a swinging arm; the grip breaks above 60 N"
@@ -30,7 +30,7 @@ fn main() -> Result<(), kea::KeaError> {
         let pos = Vec3::new(0.8 * angle.cos(), 1.5, 0.8 * angle.sin());
         let vel = Vec3::new(-0.8 * speed * angle.sin(), 0.0, 0.8 * speed * angle.cos());
         if world.is_constraint_enabled(hand)? {
-            world.set_path(hand, pos, vel)?;
+            hand.set_path(&mut world, pos, vel)?;
         }
         let stats = world.step(h)?;
         let force = world.constraint_reaction(hand)?[0].force.length();

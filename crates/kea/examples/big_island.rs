@@ -156,8 +156,11 @@ fn run(positions: &[Vec3], mode: SolverMode, steps: usize) -> (f64, StepStats, R
     let mut world = World::new(kea::WorldDef {
         max_bodies: n,
         max_constraints: 24 * n,
-        routing: Routing {
-            mode,
+        settings: kea::WorldSettings {
+            routing: Routing {
+                mode,
+                ..Default::default()
+            },
             ..Default::default()
         },
         ..Default::default()

@@ -11,7 +11,7 @@ const RADIUS: Real = 0.5;
 
 fn main() -> Result<(), kea::KeaError> {
     let mut world = World::with_capacity(1, 4)?;
-    world.set_gravity(Vec3::new(0.0, -9.8, 0.0))?;
+    world.update_settings(|s| s.gravity = Vec3::new(0.0, -9.8, 0.0))?;
     let ball = world.create_body(&BodyDef {
         position: Vec3::new(0.0, 5.0, 0.0),
         linear_velocity: Vec3::new(1.0, 0.0, 0.0),

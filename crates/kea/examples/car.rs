@@ -22,7 +22,7 @@ fn main() -> Result<(), kea::KeaError> {
     })?;
     // Wheels at the corners; the car faces +z, axles along x, steering along y.
     let corners = [(-0.9, 1.4), (0.9, 1.4), (-0.9, -1.4), (0.9, -1.4)];
-    let mut wheels: Vec<(BodyHandle, ConstraintHandle)> = Vec::new();
+    let mut wheels: Vec<(BodyHandle, kea::JointHandle<kea::CarWheel>)> = Vec::new();
     for (i, &(x, z)) in corners.iter().enumerate() {
         let wheel = world.create_body(&BodyDef {
             mass: 20.0,
@@ -30,8 +30,12 @@ fn main() -> Result<(), kea::KeaError> {
             inertia: inertia::solid_sphere(20.0, WHEEL_R)?,
             ..Default::default()
         })?;
-        let j = world.create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, 40_000.0, 4_000.0)?;
-        let cw = world.car_wheel_mut(j)?;
+        let j = world.create_joint(
+            chassis,
+            Some(wheel),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::X, 40_000.0, 4_000.0),
+        )?;
+        let cw = j.wheel_mut(&mut world)?;
         cw.suspension_limit_mut()
             .set_limits(SingleLimit::hard(-0.15, 0.0), SingleLimit::hard(0.15, 0.0))?;
         if i < 2 {
@@ -79,7 +83,7 @@ fn main() -> Result<(), kea::KeaError> {
         // Controls: rear drive; front steering towards a target angle by its motor.
         let target = if t > 3.0 { 0.35 } else { 0.0 };
         for (k, &(_, j)) in wheels.iter().enumerate() {
-            let cw = world.car_wheel_mut(j)?;
+            let cw = j.wheel_mut(&mut world)?;
             if k >= 2 {
                 // The axle points along +x; rolling forward (+z) spins it about +x.
                 cw.drive_mut().set_motor(12.0, 600.0)?;
@@ -94,7 +98,7 @@ fn main() -> Result<(), kea::KeaError> {
             let b = world.body(chassis)?;
             let susp: Vec<String> = wheels
                 .iter()
-                .map(|&(_, j)| format!("{:+.3}", world.car_wheel(j).unwrap().suspension_position()))
+                .map(|&(_, j)| format!("{:+.3}", j.get(&world).unwrap().suspension_position()))
                 .collect();
             println!(
                 "{:>6.2} {:>7.2} ({:>6.2}, {:>5.2}, {:>6.2}) {:>9.3} {:>22}",
@@ -103,7 +107,7 @@ fn main() -> Result<(), kea::KeaError> {
                 b.position().x,
                 b.position().y,
                 b.position().z,
-                world.car_wheel(wheels[0].1)?.steering_angle(),
+                wheels[0].1.get(&world)?.steering_angle(),
                 susp.join(" ")
             );
         }

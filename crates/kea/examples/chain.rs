@@ -21,7 +21,11 @@ fn main() -> Result<(), kea::KeaError> {
             linear_damping: 0.01,
             ..Default::default()
         })?;
-        joints.push(world.create_ball_joint(link, prev, p - Vec3::new(SPACING, 0.0, 0.0))?);
+        joints.push(world.create_joint(
+            link,
+            prev,
+            kea::JointSpec::ball(p - Vec3::new(SPACING, 0.0, 0.0)),
+        )?);
         links.push(link);
         prev = Some(link);
     }
@@ -37,7 +41,7 @@ fn main() -> Result<(), kea::KeaError> {
             let gap = joints
                 .iter()
                 .map(|&j| {
-                    let bj: &BallJoint = world.ball_joint(j).unwrap();
+                    let bj: &BallJoint = j.get(&world).unwrap();
                     let [b1, b2] = world.constraint_bodies(j).unwrap();
                     let a1 = world
                         .body(b1.unwrap())

@@ -7,7 +7,7 @@ use kea::{inertia, BodyDef, Real, Vec3, World};
 
 fn main() -> Result<(), kea::KeaError> {
     let mut world = World::with_capacity(1, 1)?;
-    world.set_gravity(Vec3::new(0.0, -9.8, 0.0))?;
+    world.update_settings(|s| s.gravity = Vec3::new(0.0, -9.8, 0.0))?;
     let ball = world.create_body(&BodyDef {
         position: Vec3::new(0.0, 10.0, 0.0),
         inertia: inertia::solid_sphere(1.0, 0.5)?,

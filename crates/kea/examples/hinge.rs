@@ -12,7 +12,7 @@ const HI_LIMIT: Real = 1.2;
 fn main() -> Result<(), kea::KeaError> {
     let two = std::env::args().nth(1).as_deref() == Some("2");
     let mut world = World::with_capacity(2, 2)?;
-    world.set_gravity(Vec3::new(0.0, -9.81, 0.0))?;
+    world.update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))?;
     let door = |p: Vec3| BodyDef {
         mass: 2.0,
         position: p,
@@ -26,8 +26,8 @@ fn main() -> Result<(), kea::KeaError> {
         None
     };
     // The guide: hinge at the origin, axis along x.
-    let hinge = world.create_hinge(body0, body1, Vec3::ZERO, Vec3::X)?;
-    let limit = world.hinge_limit_mut(hinge)?;
+    let hinge = world.create_joint(body0, body1, kea::JointSpec::hinge(Vec3::ZERO, Vec3::X))?;
+    let limit = hinge.limit_mut(&mut world)?;
     limit.set_limits(
         SingleLimit::hard(LO_LIMIT, 0.3),
         SingleLimit::hard(HI_LIMIT, 0.3),
@@ -44,11 +44,11 @@ fn main() -> Result<(), kea::KeaError> {
     let h: Real = 1.0 / 60.0;
     for n in 1..=240 {
         if n == 120 {
-            world.hinge_limit_mut(hinge)?.set_motor(-2.0, 30.0)?;
+            hinge.limit_mut(&mut world)?.set_motor(-2.0, 30.0)?;
         }
         world.step(h)?;
         if n % 12 == 0 {
-            let l = world.hinge(hinge)?.limit();
+            let l = hinge.get(&world)?.limit();
             println!(
                 "{:>6.2} {:>10.4} {:>10.4} {:>9} {:>12}",
                 n as Real * h,

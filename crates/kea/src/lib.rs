@@ -35,10 +35,10 @@ pub mod world;
 
 pub use body::{inertia, Body, BodyDef};
 pub use constraint::{
-    Actuator, BallJoint, Contact, ContactParams, ContactPoint, ContactType, CustomConstraint,
-    FixedJoint, FrictionModel, Hinge, Jacobian, JointDynamics, Limit, Linear1, Linear2, Motor,
-    Planar, PointForce, Prismatic, Row, RowBody, RowContext, RowWriter, SingleLimit, Softness,
-    Spring, UniversalJoint, MAX_CONTACT_POINTS,
+    Actuator, BallJoint, CarWheel, Contact, ContactParams, ContactPoint, ContactType,
+    CustomConstraint, FixedJoint, FixedPath, FrictionModel, Hinge, Jacobian, JointDynamics, Limit,
+    Linear1, Linear2, Motor, Planar, PointForce, Prismatic, Row, RowBody, RowContext, RowWriter,
+    SingleLimit, Softness, Spring, UniversalJoint, MAX_CONTACT_POINTS,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};
@@ -50,8 +50,9 @@ pub use solver::{
 };
 pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{
-    CollisionStats, DemMode, DemSettings, IslandList, JointRange, JointSketch, QuarantineEvent,
-    QuarantineReason, SpeedLimits, StepSize, StepStats, World, WorldDef, MAX_CAPACITY,
+    CollisionStats, DemMode, DemSettings, IslandList, JointHandle, JointKind, JointRange,
+    JointSketch, JointSpec, QuarantineEvent, QuarantineReason, SpeedLimits, StepSize, StepStats,
+    World, WorldDef, WorldSettings, MAX_CAPACITY,
 };
 #[cfg(feature = "serde")]
 pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};

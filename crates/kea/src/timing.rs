@@ -3,7 +3,7 @@
 //! A clock read costs tens of nanoseconds; a step reads it about a dozen times. That is
 //! nothing for a pile of boxes, but a tenth of the step of a two-body world stepped a
 //! thousand times in a batch, which reads no statistics. Worlds time their steps by default
-//! ([`crate::World::set_step_timing`] turns it off); stage times are then zero.
+//! ([`crate::WorldSettings::step_timing`] turns it off); stage times are then zero.
 
 use std::time::{Duration, Instant};
 

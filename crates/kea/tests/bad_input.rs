@@ -14,7 +14,7 @@ fn world_with_things() -> (World, BodyHandle) {
             ..Default::default()
         })
         .unwrap();
-    w.create_ball_joint(b, None, Vec3::new(0.0, 2.0, 0.0))
+    w.create_joint(b, None, kea::JointSpec::ball(Vec3::new(0.0, 2.0, 0.0)))
         .unwrap();
     w.step(0.01).unwrap();
     (w, b)
@@ -27,9 +27,9 @@ fn snapshot(w: &World) -> Snapshot {
         w.bodies().map(|(h, b)| (h, b.clone())).collect(),
         w.constraint_count(),
         w.time(),
-        w.gravity(),
-        w.epsilon(),
-        w.gamma(),
+        w.settings().gravity,
+        w.settings().epsilon,
+        w.settings().gamma,
     )
 }
 
@@ -171,11 +171,13 @@ fn bad_setters_change_nothing() {
     expect_err(&w, &before, e, "force", "NaN");
     let e = w.body_mut(b).unwrap().set_inertia(Mat3::ZERO).unwrap_err();
     expect_err(&w, &before, e, "inertia", "positive definite");
-    let e = w.set_gravity(Vec3::new(0.0, Real::NAN, 0.0)).unwrap_err();
+    let e = w
+        .update_settings(|s| s.gravity = Vec3::new(0.0, Real::NAN, 0.0))
+        .unwrap_err();
     expect_err(&w, &before, e, "gravity", "NaN");
-    let e = w.set_gamma(1.5).unwrap_err();
+    let e = w.update_settings(|s| s.gamma = 1.5).unwrap_err();
     expect_err(&w, &before, e, "gamma", "1.5");
-    let e = w.set_epsilon(-0.1).unwrap_err();
+    let e = w.update_settings(|s| s.epsilon = -0.1).unwrap_err();
     expect_err(&w, &before, e, "epsilon", "-0.1");
 }
 
@@ -265,8 +267,10 @@ fn a_full_world_grows_and_zero_capacity_is_refused() {
     let b = w.create_body(&BodyDef::default()).unwrap();
     let c = w.create_body(&BodyDef::default()).unwrap();
     assert_eq!(w.max_bodies(), 4, "doubled when full");
-    w.create_ball_joint(a, None, Vec3::ZERO).unwrap();
-    w.create_ball_joint(b, Some(c), Vec3::ZERO).unwrap();
+    w.create_joint(a, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    w.create_joint(b, Some(c), kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     assert_eq!(w.max_constraints(), 2);
     assert!(
         w.body(a).is_ok() && w.body(c).is_ok(),
@@ -286,11 +290,13 @@ fn a_full_world_grows_and_zero_capacity_is_refused() {
 #[test]
 fn constraint_state_rules() {
     let (mut w, b) = world_with_things();
-    let j = w.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    let j = w
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     let before = snapshot(&w);
     let e = w.set_constraint_bodies(j, b, None).unwrap_err();
     expect_err(&w, &before, e, "set_constraint_bodies", "disable it first");
-    let e = w.contact_mut(j).unwrap_err();
+    let e = w.contact_mut(j.into()).unwrap_err();
     expect_err(&w, &before, e, "contact", "ball joint");
     w.set_constraint_enabled(j, false).unwrap();
     w.set_constraint_bodies(j, b, None).unwrap();
@@ -322,10 +328,12 @@ fn a_failed_step_commits_neither_waking_nor_contact_state() {
     // A sleeping box with a persistent contact, touched by an awake ball through a contact,
     // and a broken custom constraint: the step fails, and nothing may have changed.
     let mut w = World::with_capacity(4, 8).unwrap();
-    w.set_dem(kea::DemSettings {
-        mode: kea::DemMode::PartitionAutoDisable,
-        alive_window: 0.0,
-        ..Default::default()
+    w.update_settings(|s| {
+        s.dem = kea::DemSettings {
+            mode: kea::DemMode::PartitionAutoDisable,
+            alive_window: 0.0,
+            ..Default::default()
+        }
     })
     .unwrap();
     let resting = w
@@ -336,7 +344,7 @@ fn a_failed_step_commits_neither_waking_nor_contact_state() {
         .unwrap();
     let ground = Contact::new(Vec3::ZERO, Vec3::Y, 0.0).unwrap();
     let support = w.create_contact(resting, None, ground).unwrap();
-    w.set_gravity(Vec3::ZERO).unwrap();
+    w.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     w.step(0.01).unwrap();
     assert!(w.body(resting).unwrap().is_sleeping());
     let ball = w

@@ -27,11 +27,10 @@ fn twist_limit_holds_when_the_bodies_frames_differ() {
             })
             .unwrap();
         let j = world
-            .create_ball_joint(limb, Some(parent), Vec3::ZERO)
+            .create_joint(limb, Some(parent), kea::JointSpec::ball(Vec3::ZERO))
             .unwrap();
-        world.set_ball_limit_axes(j, -Vec3::Y, Vec3::X).unwrap();
-        world
-            .ball_limits_mut(j)
+        j.set_limit_axes(&mut world, -Vec3::Y, Vec3::X).unwrap();
+        j.limits_mut(&mut world)
             .unwrap()
             .twist
             .set_limits(SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(0.5, 0.0))
@@ -44,7 +43,7 @@ fn twist_limit_holds_when_the_bodies_frames_differ() {
                 .unwrap();
             world.step(1.0 / 60.0).unwrap();
         }
-        let twist = world.ball_limits_mut(j).unwrap().twist.position();
+        let twist = j.limits_mut(&mut world).unwrap().twist.position();
         let q = world.body(limb).unwrap().orientation();
         let (axis, angle) = q.to_axis_angle();
         let turned: Real = angle * axis.y.signum();

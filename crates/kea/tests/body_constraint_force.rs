@@ -10,10 +10,13 @@ const G: Real = 9.81;
 
 fn world(mode: SolverMode) -> World {
     let mut w = World::with_capacity(8, 16).unwrap();
-    w.set_gravity(Vec3::new(0.0, -G, 0.0)).unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Routing::default()
+    w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
+        .unwrap();
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Routing::default()
+        }
     })
     .unwrap();
     w
@@ -44,7 +47,8 @@ fn a_swinging_bob_is_pulled_by_its_joint_with_m_a_minus_its_weight() {
                 ..BodyDef::default()
             })
             .unwrap();
-        w.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
+        w.create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+            .unwrap();
         let push = Vec3::new(0.0, 0.0, 2.0);
         for step in 0..60 {
             w.body_mut(bob).unwrap().add_force(push).unwrap();
@@ -125,9 +129,11 @@ fn a_body_between_two_joints_sums_both_and_a_free_body_has_none() {
             ..BodyDef::default()
         })
         .unwrap();
-    let left = w.create_ball_joint(mid, None, Vec3::ZERO).unwrap();
+    let left = w
+        .create_joint(mid, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     let right = w
-        .create_ball_joint(mid, None, Vec3::new(2.0, 0.0, 0.0))
+        .create_joint(mid, None, kea::JointSpec::ball(Vec3::new(2.0, 0.0, 0.0)))
         .unwrap();
     for _ in 0..10 {
         w.step(1.0 / 60.0).unwrap();
@@ -157,7 +163,8 @@ fn a_hinged_rod_in_reduced_coordinates_reports_its_hinge_force_the_same_way() {
             ..BodyDef::default()
         })
         .unwrap();
-    w.create_hinge(rod, None, Vec3::ZERO, Vec3::Z).unwrap();
+    w.create_joint(rod, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+        .unwrap();
     for step in 0..120 {
         let stats = w.step(1.0 / 240.0).unwrap();
         assert_eq!(stats.reduced_trees, 1);

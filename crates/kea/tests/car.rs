@@ -11,7 +11,10 @@ const M: Real = 10.0;
 
 /// A chassis of mass M above a wheel held fixed, on one car-wheel joint with a vertical
 /// steering/suspension axis and an axle along x.
-fn rig(mode: SolverMode, damping: Real) -> (World, kea::BodyHandle, kea::ConstraintHandle) {
+fn rig(
+    mode: SolverMode,
+    damping: Real,
+) -> (World, kea::BodyHandle, kea::JointHandle<kea::CarWheel>) {
     let mut world = world_on(mode, 4, 4);
     let chassis = world
         .create_body(&BodyDef {
@@ -29,15 +32,19 @@ fn rig(mode: SolverMode, damping: Real) -> (World, kea::BodyHandle, kea::Constra
         })
         .unwrap();
     let j = world
-        .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, damping)
+        .create_joint(
+            chassis,
+            Some(wheel),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::X, K, damping),
+        )
         .unwrap();
     (world, chassis, j)
 }
 
 /// A free wheel under a chassis held fixed, no gravity: only its joint's motors move it.
-fn free_wheel(mode: SolverMode) -> (World, kea::BodyHandle, kea::ConstraintHandle) {
+fn free_wheel(mode: SolverMode) -> (World, kea::BodyHandle, kea::JointHandle<kea::CarWheel>) {
     let mut world = world_on(mode, 4, 4);
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let chassis = world
         .create_body(&BodyDef {
             mass: M,
@@ -53,7 +60,11 @@ fn free_wheel(mode: SolverMode) -> (World, kea::BodyHandle, kea::ConstraintHandl
         })
         .unwrap();
     let j = world
-        .create_car_wheel(chassis, wheel, Vec3::Y, Vec3::X, K, 50.0)
+        .create_joint(
+            chassis,
+            Some(wheel),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::X, K, 50.0),
+        )
         .unwrap();
     (world, wheel, j)
 }
@@ -74,7 +85,7 @@ fn suspension_deflects_by_mg_over_k_and_rings_at_its_frequency() {
             "{mode:?}: sag {sag}"
         );
         // The joint reports it: the wheel centre sits above its rest point by the sag.
-        let d = world.car_wheel(j).unwrap().suspension_position();
+        let d = j.get(&world).unwrap().suspension_position();
         assert!(
             (d - expected).abs() < 0.01 * expected,
             "{mode:?}: suspension position {d}"
@@ -115,15 +126,14 @@ fn locked_steering_holds_and_the_drive_spins_the_wheel() {
                 .unwrap();
             world.step(1.0 / 60.0).unwrap();
         }
-        let steer = world.car_wheel(j).unwrap().steering_angle();
+        let steer = j.get(&world).unwrap().steering_angle();
         assert!(
             steer.abs() < 1e-3,
             "{mode:?}: locked steering turned by {steer}"
         );
         // A free wheel under a chassis held fixed: the drive motor spins it up.
         let (mut world, wheel, j) = free_wheel(mode);
-        world
-            .car_wheel_mut(j)
+        j.wheel_mut(&mut world)
             .unwrap()
             .drive_mut()
             .set_motor(10.0, 5.0)
@@ -131,7 +141,7 @@ fn locked_steering_holds_and_the_drive_spins_the_wheel() {
         for _ in 0..120 {
             world.step(1.0 / 60.0).unwrap();
         }
-        let spin = world.car_wheel(j).unwrap().spin_rate();
+        let spin = j.get(&world).unwrap().spin_rate();
         eprintln!("{mode:?}: wheel spin {spin} rad/s (target 10)");
         assert!((spin - 10.0).abs() < 1e-2, "{mode:?}: spin {spin}");
         let w = world.body(wheel).unwrap().angular_velocity();
@@ -148,7 +158,7 @@ fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
         // A wheel on a chassis held fixed, no gravity: only the steering moves it.
         let (mut world, _, j) = free_wheel(mode);
         {
-            let cw = world.car_wheel_mut(j).unwrap();
+            let cw = j.wheel_mut(&mut world).unwrap();
             cw.steering_locked = false;
             let steering = cw.steering_limit_mut();
             steering
@@ -163,7 +173,7 @@ fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
         let mut angles = Vec::new();
         for _ in 0..120 {
             world.step(h).unwrap();
-            angles.push(world.car_wheel(j).unwrap().steering_angle());
+            angles.push(j.get(&world).unwrap().steering_angle());
         }
         // At 1 rad/s: 0.2 rad after 0.2 s (the motor's force reaches the rate at once).
         let at = angles[23];
@@ -178,8 +188,7 @@ fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
             "{mode:?}: past the stop"
         );
         // Reversed, it runs to the lower stop.
-        world
-            .car_wheel_mut(j)
+        j.wheel_mut(&mut world)
             .unwrap()
             .steering_limit_mut()
             .set_motor(-1.0, 20.0)
@@ -187,7 +196,7 @@ fn the_steering_motor_turns_at_its_rate_until_the_stops_hold_it() {
         for _ in 0..120 {
             world.step(h).unwrap();
         }
-        let last = world.car_wheel(j).unwrap().steering_angle();
+        let last = j.get(&world).unwrap().steering_angle();
         assert!((last + 0.4).abs() < 2e-3, "{mode:?}: held at {last}");
     }
 }
@@ -198,8 +207,7 @@ fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
     for mode in PATHS {
         // A hard stop at 2 cm of compression: the chassis rests on it.
         let (mut world, _, j) = rig(mode, 200.0);
-        world
-            .car_wheel_mut(j)
+        j.wheel_mut(&mut world)
             .unwrap()
             .suspension_limit_mut()
             .set_limits(
@@ -210,7 +218,7 @@ fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
         for _ in 0..600 {
             world.step(1.0 / 60.0).unwrap();
         }
-        let d = world.car_wheel(j).unwrap().suspension_position();
+        let d = j.get(&world).unwrap().suspension_position();
         assert!(
             sag > 0.04 && (d - 0.02).abs() < 1e-3,
             "{mode:?}: hard stop at {d}"
@@ -219,8 +227,7 @@ fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
         // K d + k_s (d − 0.02) = M g.
         let (mut world, _, j) = rig(mode, 200.0);
         let ks: Real = 8000.0;
-        world
-            .car_wheel_mut(j)
+        j.wheel_mut(&mut world)
             .unwrap()
             .suspension_limit_mut()
             .set_limits(
@@ -231,7 +238,7 @@ fn suspension_stops_cap_the_travel_hard_and_share_the_load_soft() {
         for _ in 0..600 {
             world.step(1.0 / 60.0).unwrap();
         }
-        let d = world.car_wheel(j).unwrap().suspension_position();
+        let d = j.get(&world).unwrap().suspension_position();
         let expected = (M * 9.81 + ks * 0.02) / (K + ks);
         assert!(
             (d - expected).abs() < 0.02 * expected,

@@ -10,15 +10,17 @@
 
 mod common;
 use common::{max_gap, world_on};
-use kea::{inertia, BodyDef, ConstraintHandle, Real, SolverMode, Vec3, World};
+use kea::{inertia, BodyDef, Real, SolverMode, Vec3, World};
 
 const LINKS: usize = 100;
 const SPACING: Real = 0.1;
 
-fn chain(mode: SolverMode) -> (World, Vec<ConstraintHandle>) {
+fn chain(mode: SolverMode) -> (World, Vec<kea::JointHandle<kea::BallJoint>>) {
     let mut world = world_on(mode, LINKS + 1, LINKS + 1);
-    world.set_epsilon(1.0e-4).unwrap();
-    world.set_projection_iterations(8).unwrap();
+    world.update_settings(|s| s.epsilon = 1.0e-4).unwrap();
+    world
+        .update_settings(|s| s.projection_iterations = 8)
+        .unwrap();
     let mut prev = None;
     let mut joints = Vec::new();
     for i in 0..LINKS {
@@ -32,7 +34,11 @@ fn chain(mode: SolverMode) -> (World, Vec<ConstraintHandle>) {
             })
             .unwrap();
         let anchor = Vec3::new(x - SPACING, 0.0, 0.0);
-        joints.push(world.create_ball_joint(link, prev, anchor).unwrap());
+        joints.push(
+            world
+                .create_joint(link, prev, kea::JointSpec::ball(anchor))
+                .unwrap(),
+        );
         prev = Some(link);
     }
     (world, joints)
@@ -99,7 +105,11 @@ fn a_whipped_chain_of_capsules_holds_with_default_settings() {
             })
             .unwrap();
         let anchor = Vec3::new(i as Real * length, 0.0, 0.0);
-        joints.push(world.create_ball_joint(link, prev, anchor).unwrap());
+        joints.push(
+            world
+                .create_joint(link, prev, kea::JointSpec::ball(anchor))
+                .unwrap(),
+        );
         prev = Some(link);
     }
     let (mut worst, mut fastest, mut drift): (Real, Real, Real) = (0.0, 0.0, 0.0);

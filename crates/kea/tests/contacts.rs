@@ -93,7 +93,7 @@ fn adhesion_holds_up_to_its_maximum_force() {
     for mode in PATHS {
         for (pull, held) in [(0.9 as Real, true), (1.1, false)] {
             let (mut world, b) = box_world(mode, 1.0);
-            world.set_gravity(Vec3::ZERO).unwrap();
+            world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
             let params = ContactParams {
                 max_adhesive_force: 2.0,
                 ..Default::default()
@@ -129,7 +129,7 @@ fn soft_contact_settles_at_the_spring_deflection() {
             ..Default::default()
         };
         run_on_ground(&mut world, b, params, None, 0.05, 600, Vec3::ZERO);
-        let k = world.gamma() / (softness * H * H);
+        let k = world.settings().gamma / (softness * H * H);
         let expected = 2.0 * 9.81 / (4.0 * k);
         let sink = HALF.y - world.body(b).unwrap().position().y;
         eprintln!("{mode:?}: soft contact sink {sink:e}, expected {expected:e}");

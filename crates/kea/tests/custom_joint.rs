@@ -67,7 +67,7 @@ fn custom_distance_joint_holds_its_length() {
 #[test]
 fn rope_goes_slack_when_pushed_in() {
     let mut world = World::with_capacity(4, 4).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world
         .create_body(&BodyDef {
             position: Vec3::new(1.0, 0.0, 0.0),

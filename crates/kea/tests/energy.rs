@@ -65,7 +65,8 @@ fn bob(w: &mut World, at: Vec3, v: Vec3) {
             ..Default::default()
         })
         .unwrap();
-    w.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    w.create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
 }
 
 /// A pendulum released at 30° and a conical pendulum circling at 0.5 rad, on `mode`.
@@ -111,9 +112,14 @@ fn double_pendulum(mode: SolverMode) -> (Real, Real) {
     };
     let a = w.create_body(&rod(0.5)).unwrap();
     let b = w.create_body(&rod(1.5)).unwrap();
-    w.create_hinge(a, None, Vec3::ZERO, Vec3::Z).unwrap();
-    w.create_hinge(b, Some(a), Vec3::new(1.0, 0.0, 0.0), Vec3::Z)
+    w.create_joint(a, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
         .unwrap();
+    w.create_joint(
+        b,
+        Some(a),
+        kea::JointSpec::hinge(Vec3::new(1.0, 0.0, 0.0), Vec3::Z),
+    )
+    .unwrap();
     run(&mut w, 2.0 * G)
 }
 

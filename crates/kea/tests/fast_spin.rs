@@ -13,7 +13,7 @@ use kea::{inertia, BodyDef, Quat, Real, Vec3};
 /// chassis's hinge axis over 5 s, rad.
 fn wheel_misalignment(mode: kea::SolverMode, spin: Real, fast_spin: bool) -> Real {
     let mut world = world_on(mode, 4, 8);
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let turn = Vec3::new(0.0, 1.0, 0.0);
     let chassis = world
         .create_body(&BodyDef {
@@ -39,7 +39,7 @@ fn wheel_misalignment(mode: kea::SolverMode, spin: Real, fast_spin: bool) -> Rea
         })
         .unwrap();
     world
-        .create_hinge(wheel, Some(chassis), at, Vec3::X)
+        .create_joint(wheel, Some(chassis), kea::JointSpec::hinge(at, Vec3::X))
         .unwrap();
     let mut worst: Real = 0.0;
     for _ in 0..300 {
@@ -89,7 +89,9 @@ fn a_wheel_spinning_on_a_turning_chassis_stays_on_its_axle() {
 fn gyroscope(mode: kea::SolverMode, spin: Real) -> (Real, Real, Real, Real) {
     let mut world = world_on(mode, 2, 4);
     let (m, radius, arm, g) = (1.0, 0.2, 0.3, 9.81);
-    world.set_gravity(Vec3::new(0.0, -g, 0.0)).unwrap();
+    world
+        .update_settings(|s| s.gravity = Vec3::new(0.0, -g, 0.0))
+        .unwrap();
     let i_axle = 0.5 * m * radius * radius;
     let expected = m * g * arm / (i_axle * spin);
     let centre = Vec3::new(arm, 0.0, 0.0);
@@ -106,7 +108,9 @@ fn gyroscope(mode: kea::SolverMode, spin: Real) -> (Real, Real, Real, Real) {
             ..Default::default()
         })
         .unwrap();
-    world.create_ball_joint(disk, None, Vec3::ZERO).unwrap();
+    world
+        .create_joint(disk, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     let h: Real = 1.0 / 60.0;
     let steps = 240;
     let (mut angle, mut lowest): (Real, Real) = (0.0, 0.0);

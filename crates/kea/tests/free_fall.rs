@@ -73,7 +73,7 @@ fn free_fall_error_against_half_g_t_squared_is_first_order() {
 #[test]
 fn forces_are_applied_for_one_step_and_cleared() {
     let mut world = World::with_capacity(2, 2).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world
         .create_body(&BodyDef {
             mass: 2.0,
@@ -99,7 +99,7 @@ fn force_at_a_point_off_the_centre_moves_and_turns_the_body_after_a_step() {
     // A body away from the origin, turned, with three different moments of inertia: a force
     // at a point off its centre gives a = f / m and α = I_w⁻¹ ((p − x) × f) over a step.
     let mut world = World::with_capacity(2, 2).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let (m, centre) = (2.5, Vec3::new(3.0, -1.0, 2.0));
     let orientation = kea::Quat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1);
     let inertia = Mat3::from_diagonal(Vec3::new(0.4, 0.9, 1.6));
@@ -156,7 +156,7 @@ fn force_at_a_point_off_the_centre_moves_and_turns_the_body_after_a_step() {
 fn damping_is_implicit_and_exact() {
     // v_{n+1} = v_n / (1 + h d / m)
     let mut world = World::with_capacity(2, 2).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world
         .create_body(&BodyDef {
             mass: 2.0,

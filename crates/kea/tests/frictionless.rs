@@ -18,10 +18,13 @@ fn a_box_on_a_frictionless_contact_slides_freely_and_is_held_up() {
         SolverMode::Split,
     ] {
         let mut w = World::with_capacity(4, 8).unwrap();
-        w.set_gravity(Vec3::new(0.0, -G, 0.0)).unwrap();
-        w.set_routing(Routing {
-            mode,
-            ..Routing::default()
+        w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
+            .unwrap();
+        w.update_settings(|s| {
+            s.routing = Routing {
+                mode,
+                ..Routing::default()
+            }
         })
         .unwrap();
         let (m, half) = (2.0, 0.5);

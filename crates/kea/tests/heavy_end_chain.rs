@@ -10,13 +10,13 @@
 
 mod common;
 use common::{max_gap, world_on};
-use kea::{inertia, BodyDef, ConstraintHandle, Real, SolverMode, Vec3, World};
+use kea::{inertia, BodyDef, Real, SolverMode, Vec3, World};
 
 const LINKS: usize = 20;
 const SPACING: Real = 0.1;
 
 /// The chain along `dir` from the pin at the origin; the last body is the heavy end.
-fn chain(mode: SolverMode, dir: Vec3) -> (World, Vec<ConstraintHandle>) {
+fn chain(mode: SolverMode, dir: Vec3) -> (World, Vec<kea::JointHandle<kea::BallJoint>>) {
     let mut world = world_on(mode, LINKS + 2, LINKS + 2);
     let mut prev = None;
     let mut joints = Vec::new();
@@ -38,7 +38,7 @@ fn chain(mode: SolverMode, dir: Vec3) -> (World, Vec<ConstraintHandle>) {
             .unwrap();
         joints.push(
             world
-                .create_ball_joint(link, prev, at - dir * SPACING)
+                .create_joint(link, prev, kea::JointSpec::ball(at - dir * SPACING))
                 .unwrap(),
         );
         prev = Some(link);

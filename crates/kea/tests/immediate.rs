@@ -54,8 +54,10 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
 
     // Retained mode, without the world's extra position projection (the raw solver is compared).
     let mut world = World::with_capacity(2, 2).unwrap();
-    world.set_projection_iterations(0).unwrap();
-    world.set_gravity(g).unwrap();
+    world
+        .update_settings(|s| s.projection_iterations = 0)
+        .unwrap();
+    world.update_settings(|s| s.gravity = g).unwrap();
     let b = world
         .create_body(&BodyDef {
             mass: 2.0,
@@ -65,7 +67,9 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
             ..Default::default()
         })
         .unwrap();
-    let joint = world.create_ball_joint(b, None, ANCHOR).unwrap();
+    let joint = world
+        .create_joint(b, None, kea::JointSpec::ball(ANCHOR))
+        .unwrap();
 
     for _ in 0..500 {
         rows.clear();
@@ -125,13 +129,21 @@ fn islands_are_independent_and_static_bodies_do_not_join_them() {
     let fixed = mk(&mut world, 9.0);
     world.body_mut(fixed).unwrap().set_enabled(false);
     world
-        .create_ball_joint(a, None, Vec3::new(0.0, 0.0, 0.0))
+        .create_joint(a, None, kea::JointSpec::ball(Vec3::new(0.0, 0.0, 0.0)))
         .unwrap();
     world
-        .create_ball_joint(b, Some(fixed), Vec3::new(3.0, 0.0, 0.0))
+        .create_joint(
+            b,
+            Some(fixed),
+            kea::JointSpec::ball(Vec3::new(3.0, 0.0, 0.0)),
+        )
         .unwrap();
     world
-        .create_ball_joint(c, Some(fixed), Vec3::new(6.0, 0.0, 0.0))
+        .create_joint(
+            c,
+            Some(fixed),
+            kea::JointSpec::ball(Vec3::new(6.0, 0.0, 0.0)),
+        )
         .unwrap();
     let stats = world.step(0.01).unwrap();
     assert_eq!(
@@ -145,7 +157,7 @@ fn islands_are_independent_and_static_bodies_do_not_join_them() {
     );
     // Joining a and b makes one island of them.
     world
-        .create_ball_joint(a, Some(b), Vec3::new(1.5, -1.0, 0.0))
+        .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(1.5, -1.0, 0.0)))
         .unwrap();
     assert_eq!(world.step(0.01).unwrap().solver.islands, 2);
 }
@@ -162,9 +174,11 @@ fn chain_run(mode: SolverMode) -> Vec<(Vec3, Quat, Vec3)> {
     {
         let mut world = World::with_capacity(8, 8).unwrap();
         world
-            .set_routing(Routing {
-                mode,
-                ..Default::default()
+            .update_settings(|s| {
+                s.routing = Routing {
+                    mode,
+                    ..Default::default()
+                }
             })
             .unwrap();
         let mut prev = None;
@@ -178,7 +192,9 @@ fn chain_run(mode: SolverMode) -> Vec<(Vec3, Quat, Vec3)> {
                 })
                 .unwrap();
             let anchor = Vec3::new(i as Real * 0.5, 0.0, 0.0);
-            world.create_ball_joint(b, prev, anchor).unwrap();
+            world
+                .create_joint(b, prev, kea::JointSpec::ball(anchor))
+                .unwrap();
             prev = Some(b);
             handles.push(b);
         }
@@ -341,7 +357,11 @@ fn the_memory_pool_size_is_the_most_any_step_needed_not_what_was_reserved() {
                 })
                 .unwrap();
             world
-                .create_ball_joint(b, last, Vec3::new(k as kea::Real + 0.5, 0.0, 0.0))
+                .create_joint(
+                    b,
+                    last,
+                    kea::JointSpec::ball(Vec3::new(k as kea::Real + 0.5, 0.0, 0.0)),
+                )
                 .unwrap();
             last = Some(b);
             bodies.push(b);

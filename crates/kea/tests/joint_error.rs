@@ -11,7 +11,9 @@ fn joint_error_is_the_gap_a_moved_body_opens() {
             ..BodyDef::default()
         })
         .unwrap();
-    world.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
+    world
+        .create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     assert!(
         world.joint_error() < 1e-6,
         "a joint built in place is closed"
@@ -46,7 +48,9 @@ fn a_hinge_folded_back_on_itself_reports_the_angle_not_its_sine() {
             ..BodyDef::default()
         })
         .unwrap();
-    world.create_hinge(arm, None, Vec3::ZERO, Vec3::Y).unwrap();
+    world
+        .create_joint(arm, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Y))
+        .unwrap();
     // Turn the arm 170° about x, about the anchor: its hinge axis now points nearly down.
     let q = kea::Quat::from_rotation_x(170f32.to_radians() as kea::Real);
     let b = world.body_mut(arm).unwrap();
@@ -69,13 +73,16 @@ fn projection_closes_joints_in_steps_where_a_limit_comes_or_goes() {
     let def = kea::WorldDef {
         max_bodies: 2,
         max_constraints: 4,
-        projection_iterations: 4,
-        // Nearly rigid: projection keeps a soft joint's stretch under load (ε h² λ / γ), which
-        // would otherwise be most of what is measured.
-        epsilon: 1e-6,
-        // The maximal-coordinate path's projection (a reduced tree has no joint error).
-        routing: kea::Routing {
-            max_reduced_links: 0,
+        settings: kea::WorldSettings {
+            projection_iterations: 4,
+            // Nearly rigid: projection keeps a soft joint's stretch under load (ε h² λ / γ),
+            // which would otherwise be most of what is measured.
+            epsilon: 1e-6,
+            // The maximal-coordinate path's projection (a reduced tree has no joint error).
+            routing: kea::Routing {
+                max_reduced_links: 0,
+                ..Default::default()
+            },
             ..Default::default()
         },
         ..kea::WorldDef::default()
@@ -89,13 +96,15 @@ fn projection_closes_joints_in_steps_where_a_limit_comes_or_goes() {
                 ..BodyDef::default()
             })
             .unwrap();
-        let hinge = world.create_hinge(bob, None, Vec3::ZERO, Vec3::Z).unwrap();
+        let hinge = world
+            .create_joint(bob, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+            .unwrap();
         let stops = (
             kea::SingleLimit::hard(-0.6, 0.0),
             kea::SingleLimit::hard(0.6, 0.0),
         );
-        world
-            .hinge_limit_mut(hinge)
+        hinge
+            .limit_mut(&mut world)
             .unwrap()
             .set_limits(stops.0, stops.1)
             .unwrap();
@@ -104,14 +113,17 @@ fn projection_closes_joints_in_steps_where_a_limit_comes_or_goes() {
         for _ in 0..240 {
             world.step(1.0 / 60.0).unwrap();
             worst = worst.max(world.joint_error());
-            let limit = world.hinge_limit_mut(hinge).unwrap();
+            let limit = hinge.limit_mut(&mut world).unwrap();
             hits += usize::from(limit.is_at_limit(0.01));
         }
         (worst, hits)
     };
     let (projected, hits) = run(def.clone());
     let (unprojected, _) = run(kea::WorldDef {
-        projection_iterations: 0,
+        settings: kea::WorldSettings {
+            projection_iterations: 0,
+            ..def.settings
+        },
         ..def
     });
     assert!(

@@ -1,12 +1,13 @@
-//! A joint's anchor and axis set after it was made (`World::set_joint_position`,
-//! `World::set_joint_axis`): nothing jumps, the joint then holds about its new anchor and axis,
+//! A joint's anchor and axis set after it was made (`JointHandle::set_position`,
+//! `JointHandle::set_axis`): nothing jumps, the joint then holds about its new anchor and axis,
 //! and a refusal changes nothing.
 
-use kea::{BodyDef, BodyHandle, ConstraintHandle, Mat3, Real, SingleLimit, Vec3, World};
+use kea::{BodyDef, BodyHandle, Mat3, Real, SingleLimit, Vec3, World};
 
 fn world() -> World {
     let mut w = World::with_capacity(4, 8).unwrap();
-    w.set_gravity(Vec3::new(0.0, -9.81, 0.0)).unwrap();
+    w.update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))
+        .unwrap();
     w
 }
 
@@ -35,7 +36,9 @@ fn on_body(w: &World, b: BodyHandle, local: Vec3) -> Vec3 {
 fn a_hinge_moved_to_a_new_anchor_swings_about_it_without_a_jump() {
     let mut w = world();
     let b = rod(&mut w);
-    let h = w.create_hinge(b, None, Vec3::ZERO, Vec3::Z).unwrap();
+    let h = w
+        .create_joint(b, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+        .unwrap();
     w.body_mut(b)
         .unwrap()
         .set_linear_velocity(Vec3::new(1.0, 0.0, 0.0))
@@ -43,17 +46,17 @@ fn a_hinge_moved_to_a_new_anchor_swings_about_it_without_a_jump() {
     for _ in 0..30 {
         w.step(1.0 / 120.0).unwrap();
     }
-    let angle = w.hinge(h).unwrap().angle();
+    let angle = h.get(&w).unwrap().angle();
     let before = pose(&w, b);
     // The body's own centre becomes the pivot: the rod will turn about its middle.
     let centre = before.0;
-    w.set_joint_position(h, centre).unwrap();
+    h.set_position(&mut w, centre).unwrap();
     assert_eq!(pose(&w, b), before, "setting the anchor moved nothing");
     assert!(
         w.joint_error() < 1e-5,
         "the joint holds where the bodies are"
     );
-    assert_eq!(w.hinge(h).unwrap().angle(), angle, "the angle is kept");
+    assert_eq!(h.get(&w).unwrap().angle(), angle, "the angle is kept");
     for _ in 0..120 {
         w.step(1.0 / 120.0).unwrap();
     }
@@ -66,23 +69,25 @@ fn a_hinge_moved_to_a_new_anchor_swings_about_it_without_a_jump() {
 #[test]
 fn a_hinge_turned_to_a_new_axis_turns_only_about_it() {
     let mut w = world();
-    w.set_gravity(Vec3::ZERO).unwrap();
+    w.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = rod(&mut w);
-    let h = w.create_hinge(b, None, Vec3::ZERO, Vec3::Z).unwrap();
-    w.hinge_limit_mut(h)
+    let h = w
+        .create_joint(b, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+        .unwrap();
+    h.limit_mut(&mut w)
         .unwrap()
         .set_limits(SingleLimit::hard(-2.0, 0.0), SingleLimit::hard(2.0, 0.0))
         .unwrap();
     let before = pose(&w, b);
-    w.set_joint_axis(h, Vec3::Y).unwrap();
+    h.set_axis(&mut w, Vec3::Y).unwrap();
     assert_eq!(pose(&w, b), before, "setting the axis moved nothing");
     assert_eq!(
-        w.hinge(h).unwrap().angle(),
+        h.get(&w).unwrap().angle(),
         0.0,
         "the angle starts at 0 about the new axis"
     );
     assert!(
-        w.hinge(h).unwrap().limit().is_limited(),
+        h.get(&w).unwrap().limit().is_limited(),
         "the limits are kept"
     );
     // A spin about x and y: only the y part survives the joint.
@@ -96,7 +101,7 @@ fn a_hinge_turned_to_a_new_axis_turns_only_about_it() {
     let spin = w.body(b).unwrap().angular_velocity();
     assert!(spin.x.abs() < 1e-3 && spin.z.abs() < 1e-3, "{spin}");
     assert!(spin.y.abs() > 0.5, "{spin}");
-    assert!((w.hinge(h).unwrap().angle() - spin.y * 0.5).abs() < 0.05);
+    assert!((h.get(&w).unwrap().angle() - spin.y * 0.5).abs() < 0.05);
     // The anchor stays on the world's point.
     assert!(on_body(&w, b, Vec3::new(0.0, 0.5, 0.0)).length() < 1e-3);
 }
@@ -105,10 +110,12 @@ fn a_hinge_turned_to_a_new_axis_turns_only_about_it() {
 fn a_prismatic_joint_turned_to_a_new_axis_slides_along_it_and_keeps_its_travel_when_moved() {
     let mut w = world();
     let b = rod(&mut w);
-    let j: ConstraintHandle = w.create_prismatic(b, None, Vec3::ZERO, Vec3::X).unwrap();
+    let j = w
+        .create_joint(b, None, kea::JointSpec::prismatic(Vec3::ZERO, Vec3::X))
+        .unwrap();
     // Along x gravity does nothing; turned to the diagonal of x and −y it slides down it.
     let axis = Vec3::new(1.0, -1.0, 0.0).normalize();
-    w.set_joint_axis(j, axis).unwrap();
+    j.set_axis(&mut w, axis).unwrap();
     for _ in 0..60 {
         w.step(1.0 / 60.0).unwrap();
     }
@@ -123,13 +130,13 @@ fn a_prismatic_joint_turned_to_a_new_axis_slides_along_it_and_keeps_its_travel_w
     // Moving its anchor keeps the travel it reads: the next step reads as without the move.
     let mut control = w.clone();
     let at = w.body(b).unwrap().position();
-    w.set_joint_position(j, at + Vec3::new(0.0, 0.0, 0.3))
+    j.set_position(&mut w, at + Vec3::new(0.0, 0.0, 0.3))
         .unwrap();
     w.step(1.0 / 60.0).unwrap();
     control.step(1.0 / 60.0).unwrap();
     let (now, then) = (
-        w.prismatic(j).unwrap().distance(),
-        control.prismatic(j).unwrap().distance(),
+        j.get(&w).unwrap().distance(),
+        j.get(&control).unwrap().distance(),
     );
     assert!(now > 1.0, "it slid: {now}");
     assert!(
@@ -150,14 +157,22 @@ fn universal_and_linear2_axes_turn_and_bad_requests_change_nothing() {
         })
         .unwrap();
     let u = w
-        .create_universal_joint(b, None, Vec3::ZERO, Vec3::X, Vec3::Z)
+        .create_joint(
+            b,
+            None,
+            kea::JointSpec::universal(Vec3::ZERO, Vec3::X, Vec3::Z),
+        )
         .unwrap();
     let l = w
-        .create_linear2(c, Some(b), Vec3::new(0.0, -1.5, 0.0), Vec3::Y)
+        .create_joint(
+            c,
+            Some(b),
+            kea::JointSpec::linear2(Vec3::new(0.0, -1.5, 0.0), Vec3::Y),
+        )
         .unwrap();
-    w.set_joint_axis(u, Vec3::new(1.0, 0.0, 1.0).normalize())
+    u.set_axis(&mut w, Vec3::new(1.0, 0.0, 1.0).normalize())
         .unwrap();
-    w.set_joint_axis(l, Vec3::X).unwrap();
+    l.set_axis(&mut w, Vec3::X).unwrap();
     assert!(w.joint_error() < 1e-5);
     for _ in 0..60 {
         w.step(1.0 / 60.0).unwrap();
@@ -165,25 +180,19 @@ fn universal_and_linear2_axes_turn_and_bad_requests_change_nothing() {
     assert!(w.joint_error() < 1e-3, "{}", w.joint_error());
     // Refusals, each naming what is wrong and changing nothing.
     let ball = w
-        .create_ball_joint(c, None, Vec3::new(0.0, -1.5, 0.0))
+        .create_joint(c, None, kea::JointSpec::ball(Vec3::new(0.0, -1.5, 0.0)))
         .unwrap();
-    let snapshot = format!(
-        "{:?}",
-        (w.universal_joint(u).unwrap(), w.ball_joint(ball).unwrap())
-    );
-    let e = w.set_joint_axis(u, Vec3::new(2.0, 0.0, 0.0)).unwrap_err();
+    let snapshot = format!("{:?}", (u.get(&w).unwrap(), ball.get(&w).unwrap()));
+    let e = u.set_axis(&mut w, Vec3::new(2.0, 0.0, 0.0)).unwrap_err();
     assert!(e.to_string().contains("axis"), "{e}");
-    let e = w.set_joint_axis(ball, Vec3::X).unwrap_err();
-    assert!(e.to_string().contains("set_joint_axis"), "{e}");
-    let e = w
-        .set_joint_position(u, Vec3::new(Real::NAN, 0.0, 0.0))
+    let e = ball.set_axis(&mut w, Vec3::X).unwrap_err();
+    assert!(e.to_string().contains("set_axis"), "{e}");
+    let e = u
+        .set_position(&mut w, Vec3::new(Real::NAN, 0.0, 0.0))
         .unwrap_err();
     assert!(e.to_string().contains("anchor"), "{e}");
     assert_eq!(
         snapshot,
-        format!(
-            "{:?}",
-            (w.universal_joint(u).unwrap(), w.ball_joint(ball).unwrap())
-        )
+        format!("{:?}", (u.get(&w).unwrap(), ball.get(&w).unwrap()))
     );
 }

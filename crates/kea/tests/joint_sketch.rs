@@ -18,11 +18,12 @@ fn body(world: &mut World, position: Vec3) -> kea::BodyHandle {
 fn a_swinging_hinge_shows_its_angle_turning_zero_onto_body_ones_reference() {
     let mut world = World::with_capacity(4, 16).unwrap();
     let arm = body(&mut world, Vec3::new(1.0, 0.0, 0.0));
-    let h = world.create_hinge(arm, None, Vec3::ZERO, Vec3::Z).unwrap();
+    let h = world
+        .create_joint(arm, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+        .unwrap();
     let lower = SingleLimit::hard(-1.2, 0.0);
     let upper = SingleLimit::hard(0.4, 0.0);
-    world
-        .hinge_limit_mut(h)
+    h.limit_mut(&mut world)
         .unwrap()
         .set_limits(lower, upper)
         .unwrap();
@@ -45,7 +46,7 @@ fn a_swinging_hinge_shows_its_angle_turning_zero_onto_body_ones_reference() {
     // Zero turned by the angle about the axis is where the arm's own reference points now.
     let arm_direction = world.body(arm).unwrap().position().normalize();
     let turned = Quat::from_axis_angle(axis, now) * zero;
-    let reference = world.body(arm).unwrap().orientation() * world.hinge(h).unwrap().local_ref1;
+    let reference = world.body(arm).unwrap().orientation() * h.get(&world).unwrap().local_ref1;
     assert!(
         (turned - reference).length() < 1e-3,
         "{turned} vs {reference}"
@@ -61,14 +62,19 @@ fn a_swinging_hinge_shows_its_angle_turning_zero_onto_body_ones_reference() {
 #[test]
 fn a_slider_shows_its_stops_along_its_axis_and_its_distance() {
     let mut world = World::with_capacity(4, 16).unwrap();
-    world.set_gravity(Vec3::new(0.0, -9.81, 0.0)).unwrap();
+    world
+        .update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))
+        .unwrap();
     let carriage = body(&mut world, Vec3::new(0.0, 2.0, 0.0));
     let h = world
-        .create_prismatic(carriage, None, Vec3::new(0.0, 2.0, 0.0), Vec3::Y)
+        .create_joint(
+            carriage,
+            None,
+            kea::JointSpec::prismatic(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
+        )
         .unwrap();
     let (lower, upper) = (SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(0.5, 0.0));
-    world
-        .prismatic_limit_mut(h)
+    h.limit_mut(&mut world)
         .unwrap()
         .set_limits(lower, upper)
         .unwrap();
@@ -92,14 +98,17 @@ fn a_slider_shows_its_stops_along_its_axis_and_its_distance() {
 #[test]
 fn a_ball_joints_cone_keeps_body_ones_axis_within_the_half_angle() {
     let mut world = World::with_capacity(4, 16).unwrap();
-    world.set_gravity(Vec3::new(0.0, -9.81, 0.0)).unwrap();
+    world
+        .update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))
+        .unwrap();
     // A bob hanging sideways from the origin, its cone about −y of half angle 0.5 rad.
     let bob = body(&mut world, Vec3::new(1.0, 0.0, 0.0));
-    let h = world.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
-    world.set_ball_limit_axes(h, -Vec3::X, Vec3::Z).unwrap();
+    let h = world
+        .create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    h.set_limit_axes(&mut world, -Vec3::X, Vec3::Z).unwrap();
     let cone = SingleLimit::hard(0.5, 0.0);
-    world
-        .ball_limits_mut(h)
+    h.limits_mut(&mut world)
         .unwrap()
         .cone
         .set_limits(SingleLimit::hard(0.0, 0.0), cone)
@@ -128,7 +137,11 @@ fn a_contact_is_not_a_joint_and_a_free_joint_has_no_range() {
     let a = body(&mut world, Vec3::ZERO);
     let b = body(&mut world, Vec3::new(0.0, 1.0, 0.0));
     let hinge = world
-        .create_hinge(a, Some(b), Vec3::new(0.0, 0.5, 0.0), Vec3::X)
+        .create_joint(
+            a,
+            Some(b),
+            kea::JointSpec::hinge(Vec3::new(0.0, 0.5, 0.0), Vec3::X),
+        )
         .unwrap();
     let s = world.joint_sketch(hinge).unwrap().unwrap();
     assert!(s.range.is_none());

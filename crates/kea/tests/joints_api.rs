@@ -17,7 +17,11 @@ fn fixed_path_tracks_a_moving_path_within_a_millimetre() {
             })
             .unwrap();
         let j = world
-            .create_fixed_path(b, None, Vec3::new(0.5, 1.0, 0.0), false)
+            .create_joint(
+                b,
+                None,
+                kea::JointSpec::fixed_path(Vec3::new(0.5, 1.0, 0.0), false),
+            )
             .unwrap();
         let (r, w, h): (Real, Real, Real) = (0.5, 2.0, 1.0 / 60.0);
         let path = |t: Real| Vec3::new(r * (w * t).cos(), 1.0, r * (w * t).sin());
@@ -25,7 +29,7 @@ fn fixed_path_tracks_a_moving_path_within_a_millimetre() {
         let mut worst: Real = 0.0;
         for n in 0..300 {
             let t = n as Real * h;
-            world.set_path(j, path(t), vel(t)).unwrap();
+            j.set_path(&mut world, path(t), vel(t)).unwrap();
             world.step(h).unwrap();
             let p = world.body(b).unwrap().position();
             if n > 30 {
@@ -43,7 +47,9 @@ fn a_breakable_joint_breaks_at_its_threshold_not_before() {
     // downward pull breaks it once weight + pull passes 15 N, and only then.
     let mut world = World::with_capacity(4, 4).unwrap();
     let b = world.create_body(&BodyDef::default()).unwrap();
-    let j = world.create_fixed_path(b, None, Vec3::ZERO, true).unwrap();
+    let j = world
+        .create_joint(b, None, kea::JointSpec::fixed_path(Vec3::ZERO, true))
+        .unwrap();
     world.set_breakable(j, Some(15.0), None).unwrap();
     let mut broke_at = None;
     for n in 0..200 {
@@ -55,7 +61,7 @@ fn a_breakable_joint_breaks_at_its_threshold_not_before() {
             .unwrap();
         let stats = world.step(1.0 / 60.0).unwrap();
         if stats.broken_joints > 0 {
-            assert_eq!(world.broken_last_step(), &[j]);
+            assert_eq!(world.broken_last_step(), &[j.raw()]);
             broke_at = Some(9.81 + pull);
             break;
         }
@@ -75,7 +81,7 @@ fn powered_joints_keep_the_pair_momentum() {
     for mode in PATHS {
         for slider in [false, true] {
             let mut world = world_on(mode, 4, 4);
-            world.set_gravity(Vec3::ZERO).unwrap();
+            world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
             let mk = |w: &mut World, x: Real, m: Real| {
                 w.create_body(&BodyDef {
                     mass: m,
@@ -87,19 +93,15 @@ fn powered_joints_keep_the_pair_momentum() {
                 .unwrap()
             };
             let (a, b) = (mk(&mut world, 0.0, 2.0), mk(&mut world, 1.0, 1.0));
-            let j = if slider {
-                world
-                    .create_prismatic(b, Some(a), Vec3::new(0.5, 0.0, 0.0), Vec3::X)
-                    .unwrap()
-            } else {
-                world
-                    .create_hinge(b, Some(a), Vec3::new(0.5, 0.0, 0.0), Vec3::Z)
-                    .unwrap()
-            };
+            let anchor = Vec3::new(0.5, 0.0, 0.0);
             let limit = if slider {
-                world.prismatic_limit_mut(j)
+                let spec = kea::JointSpec::prismatic(anchor, Vec3::X);
+                let j = world.create_joint(b, Some(a), spec).unwrap();
+                j.limit_mut(&mut world)
             } else {
-                world.hinge_limit_mut(j)
+                let spec = kea::JointSpec::hinge(anchor, Vec3::Z);
+                let j = world.create_joint(b, Some(a), spec).unwrap();
+                j.limit_mut(&mut world)
             };
             limit.unwrap().set_motor(2.0, 5.0).unwrap();
             let momenta = |w: &World| {
@@ -138,7 +140,7 @@ fn powered_joints_keep_the_pair_momentum() {
 fn gamma_override_changes_only_its_joint() {
     let run = |gamma: Option<Real>| {
         let mut world = World::with_capacity(4, 4).unwrap();
-        world.set_gravity(Vec3::ZERO).unwrap();
+        world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
         let b = world
             .create_body(&BodyDef {
                 position: Vec3::new(1.1, 0.0, 0.0),
@@ -147,7 +149,7 @@ fn gamma_override_changes_only_its_joint() {
             .unwrap();
         // The anchor sits 0.1 m off the body's anchor point: the joint pulls it back at rate γ.
         let j = world
-            .create_ball_joint(b, None, Vec3::new(1.0, 0.0, 0.0))
+            .create_joint(b, None, kea::JointSpec::ball(Vec3::new(1.0, 0.0, 0.0)))
             .unwrap();
         world
             .body_mut(b)
@@ -172,47 +174,71 @@ fn bad_joint_input_is_named_and_changes_nothing() {
     let a = world.create_body(&BodyDef::default()).unwrap();
     let count = world.constraint_count();
     let e = world
-        .create_hinge(a, None, Vec3::ZERO, Vec3::ZERO)
+        .create_joint(a, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::ZERO))
         .unwrap_err()
         .to_string();
     assert!(e.contains("axis") && e.contains("length 0"), "{e}");
     let e = world
-        .create_prismatic(a, Some(a), Vec3::ZERO, Vec3::X)
+        .create_joint(a, Some(a), kea::JointSpec::prismatic(Vec3::ZERO, Vec3::X))
         .unwrap_err()
         .to_string();
     assert!(e.contains("same body"), "{e}");
     let e = world
-        .create_universal_joint(a, None, Vec3::ZERO, Vec3::X, Vec3::X)
+        .create_joint(
+            a,
+            None,
+            kea::JointSpec::universal(Vec3::ZERO, Vec3::X, Vec3::X),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("axis2") && e.contains("perpendicular"), "{e}");
     let e = world
-        .create_linear2(a, None, Vec3::new(Real::NAN, 0.0, 0.0), Vec3::X)
+        .create_joint(
+            a,
+            None,
+            kea::JointSpec::linear2(Vec3::new(Real::NAN, 0.0, 0.0), Vec3::X),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("anchor") && e.contains("NaN"), "{e}");
     let w = world.create_body(&BodyDef::default()).unwrap();
     let e = world
-        .create_car_wheel(a, w, Vec3::Y, Vec3::Y, 100.0, 1.0)
+        .create_joint(
+            a,
+            Some(w),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::Y, 100.0, 1.0),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("axle") && e.contains("perpendicular"), "{e}");
     let e = world
-        .create_car_wheel(a, w, Vec3::Y, Vec3::X, 0.0, 1.0)
+        .create_joint(
+            a,
+            Some(w),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::X, 0.0, 1.0),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("`k`") && e.contains('0'), "{e}");
     let e = world
-        .create_car_wheel(a, w, Vec3::Y, Vec3::X, 100.0, -1.0)
+        .create_joint(
+            a,
+            Some(w),
+            kea::JointSpec::car_wheel(Vec3::Y, Vec3::X, 100.0, -1.0),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("`d`") && e.contains("-1"), "{e}");
-    let ball2 = world.create_ball_joint(a, None, Vec3::ZERO).unwrap();
-    let e = world.set_ball_limit_axes(ball2, Vec3::Y, Vec3::Y);
+    let ball2 = world
+        .create_joint(a, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    let e = ball2.set_limit_axes(&mut world, Vec3::Y, Vec3::Y);
     assert!(e.unwrap_err().to_string().contains("orthogonal"));
     assert_eq!(world.constraint_count(), count + 1); // only the ball joint was created
-    let h = world.create_hinge(a, None, Vec3::ZERO, Vec3::Y).unwrap();
-    let limit = world.hinge_limit_mut(h).unwrap();
+    let h = world
+        .create_joint(a, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Y))
+        .unwrap();
+    let limit = h.limit_mut(&mut world).unwrap();
     let e = limit
         .set_limits(SingleLimit::hard(1.0, 0.0), SingleLimit::hard(-1.0, 0.0))
         .unwrap_err()
@@ -255,8 +281,11 @@ fn bad_joint_input_is_named_and_changes_nothing() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("gamma"), "{e}");
-    let ball = world.create_ball_joint(a, None, Vec3::ZERO).unwrap();
-    let e = world.hinge_limit_mut(ball).unwrap_err().to_string();
+    let ball = world
+        .create_joint(a, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    let not_a_hinge = kea::JointHandle::<kea::Hinge>::from_raw(ball.raw());
+    let e = not_a_hinge.limit_mut(&mut world).unwrap_err().to_string();
     assert!(e.contains("hinge") && e.contains("ball joint"), "{e}");
 }
 
@@ -270,16 +299,19 @@ fn reset_restores_the_guide_defaults() {
         })
         .unwrap();
     let h = world
-        .create_hinge(b, None, Vec3::new(0.0, -0.5, 0.0), Vec3::X)
+        .create_joint(
+            b,
+            None,
+            kea::JointSpec::hinge(Vec3::new(0.0, -0.5, 0.0), Vec3::X),
+        )
         .unwrap();
-    world
-        .hinge_limit_mut(h)
+    h.limit_mut(&mut world)
         .unwrap()
         .set_motor(1.0, 1.0)
         .unwrap();
     world.set_constraint_gamma(h, Some(0.5)).unwrap();
     world.reset_constraint(h).unwrap();
-    let hinge = world.hinge(h).unwrap();
+    let hinge = h.get(&world).unwrap();
     assert!(hinge.limit().motor().is_none() && !hinge.limit().is_limited());
     // Default position: the world origin; default axis: +y.
     assert!((hinge.local_anchor2 - Vec3::ZERO).length() < 1e-6);
@@ -290,20 +322,22 @@ fn reset_restores_the_guide_defaults() {
 #[test]
 fn a_weld_holds_a_settable_relative_orientation() {
     let mut world = World::with_capacity(4, 4).unwrap();
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world.create_body(&BodyDef::default()).unwrap();
-    let j = world.create_fixed_joint(b, None, Vec3::ZERO).unwrap();
+    let j = world
+        .create_joint(b, None, kea::JointSpec::fixed(Vec3::ZERO))
+        .unwrap();
     let target = kea::Quat::from_rotation_y(0.3);
-    world.set_relative_orientation(j, target).unwrap();
+    j.set_relative_orientation(&mut world, target).unwrap();
     for _ in 0..120 {
         world.step(1.0 / 60.0).unwrap();
     }
     let q = world.body(b).unwrap().orientation();
     assert!(q.dot(target).abs() > 1.0 - 1e-5, "{q} vs {target}");
-    let stored = world.fixed_joint(j).unwrap().relative_orientation;
+    let stored = j.get(&world).unwrap().relative_orientation;
     assert!(stored.abs_diff_eq(target, 1e-6), "{stored} vs {target}");
-    let e = world
-        .set_relative_orientation(j, kea::Quat::from_xyzw(0.0, 0.0, 0.0, 0.0))
+    let e = j
+        .set_relative_orientation(&mut world, kea::Quat::from_xyzw(0.0, 0.0, 0.0, 0.0))
         .unwrap_err();
     assert!(e.to_string().contains('q'));
 }

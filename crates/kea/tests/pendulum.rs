@@ -26,7 +26,9 @@ fn pendulum(mode: SolverMode) {
             ..Default::default()
         })
         .unwrap();
-    let joint = world.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
+    let joint = world
+        .create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     let mut crossings: Vec<Real> = Vec::new();
     let mut prev_x = world.body(bob).unwrap().position().x;
     let mut max_gap: Real = 0.0;
@@ -35,7 +37,7 @@ fn pendulum(mode: SolverMode) {
         assert!(stats.solver.is_clean());
         let body = world.body(bob).unwrap();
         let p = body.position();
-        let anchor = body.point_to_world(world.ball_joint(joint).unwrap().local_anchor1);
+        let anchor = body.point_to_world(joint.get(&world).unwrap().local_anchor1);
         max_gap = max_gap.max(anchor.length()); // the socket is at the origin
         if prev_x > 0.0 && p.x <= 0.0 {
             // Interpolate the downward crossing time.
@@ -87,7 +89,9 @@ fn conical_pendulum_period_on_every_path() {
                 ..Default::default()
             })
             .unwrap();
-        world.create_ball_joint(bob, None, Vec3::ZERO).unwrap();
+        world
+            .create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+            .unwrap();
         // The angle swept about the vertical, unwrapped.
         let (mut swept, mut last): (Real, Real) = (0.0, 0.0);
         for _ in 0..600 {

@@ -9,7 +9,8 @@ const G: Real = 9.81;
 
 fn world() -> World {
     let mut w = World::with_capacity(16, 32).unwrap();
-    w.set_gravity(Vec3::new(0.0, -G, 0.0)).unwrap();
+    w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
+        .unwrap();
     w
 }
 
@@ -31,7 +32,8 @@ fn rod(w: &mut World, top: Vec3, m: Real, l: Real, parent: Option<BodyHandle>) -
             ..BodyDef::default()
         })
         .unwrap();
-    w.create_hinge(b, parent, top, Vec3::Z).unwrap();
+    w.create_joint(b, parent, kea::JointSpec::hinge(top, Vec3::Z))
+        .unwrap();
     b
 }
 
@@ -99,7 +101,8 @@ fn a_three_link_chain_keeps_its_energy_and_its_joints() {
                 ..BodyDef::default()
             })
             .unwrap();
-        w.create_hinge(b, parent, top, Vec3::Z).unwrap();
+        w.create_joint(b, parent, kea::JointSpec::hinge(top, Vec3::Z))
+            .unwrap();
         parent = Some(b);
         bodies.push(b);
     }
@@ -138,7 +141,13 @@ fn a_three_link_chain_keeps_its_energy_and_its_joints() {
 
 /// A cart on a slider along x with two rods hanging from it (a branched tree), released with
 /// the rods at ±0.6 rad.
-fn branched(w: &mut World) -> (BodyHandle, [BodyHandle; 2], kea::ConstraintHandle) {
+fn branched(
+    w: &mut World,
+) -> (
+    BodyHandle,
+    [BodyHandle; 2],
+    kea::JointHandle<kea::Prismatic>,
+) {
     let cart = w
         .create_body(&BodyDef {
             mass: 3.0,
@@ -146,7 +155,9 @@ fn branched(w: &mut World) -> (BodyHandle, [BodyHandle; 2], kea::ConstraintHandl
             ..BodyDef::default()
         })
         .unwrap();
-    let slider = w.create_prismatic(cart, None, Vec3::ZERO, Vec3::X).unwrap();
+    let slider = w
+        .create_joint(cart, None, kea::JointSpec::prismatic(Vec3::ZERO, Vec3::X))
+        .unwrap();
     let rods = [(-0.3, 0.6), (0.3, -0.6)].map(|(x, angle): (Real, Real)| {
         let top = Vec3::new(x, 0.0, 0.0);
         let b = rod(w, top, 1.0, 1.0, Some(cart));
@@ -165,7 +176,7 @@ fn branched(w: &mut World) -> (BodyHandle, [BodyHandle; 2], kea::ConstraintHandl
 fn a_branched_tree_moves_as_on_the_maximal_path() {
     let run = |routing: Routing| {
         let mut w = world();
-        w.set_routing(routing).unwrap();
+        w.update_settings(|s| s.routing = routing).unwrap();
         let (cart, rods, _) = branched(&mut w);
         let mut reduced = 0;
         for _ in 0..1000 {
@@ -197,7 +208,11 @@ fn a_tree_touched_by_anything_else_goes_to_the_solver_and_comes_back() {
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
     // A second joint to the world closes a loop.
     let extra = w
-        .create_ball_joint(rods[0], None, w.body(rods[0]).unwrap().position())
+        .create_joint(
+            rods[0],
+            None,
+            kea::JointSpec::ball(w.body(rods[0]).unwrap().position()),
+        )
         .unwrap();
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 0);
     w.destroy_constraint(extra).unwrap();
@@ -215,17 +230,18 @@ fn a_tree_touched_by_anything_else_goes_to_the_solver_and_comes_back() {
     w.body_mut(cart).unwrap().set_linear_damping(0.0).unwrap();
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
     // A stop that bounces.
-    let slider = w
-        .enabled_joints()
-        .find(|(_, b)| b[0] == Some(cart))
-        .unwrap()
-        .0;
-    let limit = w.prismatic_limit_mut(slider).unwrap();
+    let slider = kea::JointHandle::<kea::Prismatic>::from_raw(
+        w.enabled_joints()
+            .find(|(_, b)| b[0] == Some(cart))
+            .unwrap()
+            .0,
+    );
+    let limit = slider.limit_mut(&mut w).unwrap();
     limit
         .set_limits(SingleLimit::hard(-1.0, 0.5), SingleLimit::hard(1.0, 0.5))
         .unwrap();
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 0);
-    let limit = w.prismatic_limit_mut(slider).unwrap();
+    let limit = slider.limit_mut(&mut w).unwrap();
     limit
         .set_limits(SingleLimit::hard(-1.0, 0.0), SingleLimit::hard(1.0, 0.0))
         .unwrap();
@@ -236,9 +252,11 @@ fn a_tree_touched_by_anything_else_goes_to_the_solver_and_comes_back() {
     w.body_mut(cart).unwrap().set_enabled(true);
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 1);
     // Off by setting.
-    w.set_routing(Routing {
-        max_reduced_links: 2,
-        ..Routing::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            max_reduced_links: 2,
+            ..Routing::default()
+        }
     })
     .unwrap();
     assert_eq!(w.step(1e-3).unwrap().reduced_trees, 0, "three links > 2");
@@ -272,11 +290,13 @@ fn a_hanging_rod_at_rest_carries_its_weight_through_its_hinge() {
 fn stops_hold_and_a_motor_drives_the_cart() {
     let mut w = world();
     let (cart, _, slider) = branched(&mut w);
-    w.prismatic_limit_mut(slider)
+    slider
+        .limit_mut(&mut w)
         .unwrap()
         .set_limits(SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(0.5, 0.0))
         .unwrap();
-    w.prismatic_limit_mut(slider)
+    slider
+        .limit_mut(&mut w)
         .unwrap()
         .set_motor(1.0, 200.0)
         .unwrap();
@@ -297,7 +317,7 @@ fn stops_hold_and_a_motor_drives_the_cart() {
     assert!(furthest < 0.5 + 1e-4, "past the stop: {furthest}");
     let x = w.body(cart).unwrap().position().x;
     assert!((x - 0.5).abs() < 1e-3, "resting on the stop at {x}");
-    let limit = w.prismatic_limit_mut(slider).unwrap();
+    let limit = slider.limit_mut(&mut w).unwrap();
     assert!(
         limit.is_at_limit(1e-3),
         "the joint reads {}",

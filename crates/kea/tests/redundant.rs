@@ -8,7 +8,7 @@ use kea::{BodyDef, Real, SolverMode, Vec3, World};
 #[test]
 fn redundant_ball_joints_with_zero_epsilon_are_reported_and_stay_finite() {
     let mut world = World::with_capacity(4, 8).unwrap();
-    world.set_epsilon(0.0).unwrap();
+    world.update_settings(|s| s.epsilon = 0.0).unwrap();
     let b = world
         .create_body(&BodyDef {
             position: Vec3::new(1.0, 0.0, 0.0),
@@ -16,8 +16,12 @@ fn redundant_ball_joints_with_zero_epsilon_are_reported_and_stay_finite() {
         })
         .unwrap();
     // Two identical joints: 6 rows, rank 3.
-    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
-    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    world
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    world
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     let mut singular_steps = 0;
     for _ in 0..300 {
         let stats = world.step(1.0 / 60.0).unwrap();
@@ -44,10 +48,10 @@ fn two_ball_joints_as_a_hinge_are_redundant_but_fine_with_default_epsilon() {
         })
         .unwrap();
     world
-        .create_ball_joint(b, None, Vec3::new(0.0, 0.0, -0.5))
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::new(0.0, 0.0, -0.5)))
         .unwrap();
     world
-        .create_ball_joint(b, None, Vec3::new(0.0, 0.0, 0.5))
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::new(0.0, 0.0, 0.5)))
         .unwrap();
     world
         .body_mut(b)
@@ -66,15 +70,19 @@ fn two_ball_joints_as_a_hinge_are_redundant_but_fine_with_default_epsilon() {
 #[test]
 fn redundant_rows_with_zero_epsilon_stay_finite_in_the_iterative_path() {
     let mut world = world_on(SolverMode::Iterative, 4, 8);
-    world.set_epsilon(0.0).unwrap();
+    world.update_settings(|s| s.epsilon = 0.0).unwrap();
     let b = world
         .create_body(&BodyDef {
             position: Vec3::new(1.0, 0.0, 0.0),
             ..Default::default()
         })
         .unwrap();
-    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
-    world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
+    world
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    world
+        .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
     for _ in 0..300 {
         let stats = world.step(1.0 / 60.0).unwrap();
         assert_eq!(stats.solver.iterative_islands, 1);

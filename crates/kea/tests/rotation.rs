@@ -7,7 +7,7 @@ use kea::{inertia, BodyDef, Quat, Real, Vec3, World};
 
 fn free_world() -> World {
     let mut w = World::with_capacity(4, 4).unwrap();
-    w.set_gravity(Vec3::ZERO).unwrap();
+    w.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     w
 }
 

@@ -3,12 +3,15 @@
 //! solver settings rejected with nothing changed.
 
 use kea::{
-    BodyDef, BodyHandle, ConstraintHandle, IterativeParams, Real, Routing, SolverMode, SolverPath,
-    Vec3, World,
+    BodyDef, BodyHandle, IterativeParams, Real, Routing, SolverMode, SolverPath, Vec3, World,
 };
 
 /// A chain of `n` ball-jointed bodies hanging from the world: 3n rows in one island.
-fn chain(world: &mut World, n: usize, x0: Real) -> (Vec<BodyHandle>, Vec<ConstraintHandle>) {
+fn chain(
+    world: &mut World,
+    n: usize,
+    x0: Real,
+) -> (Vec<BodyHandle>, Vec<kea::JointHandle<kea::BallJoint>>) {
     let (mut bodies, mut joints, mut prev) = (Vec::new(), Vec::new(), None);
     for i in 0..n {
         let p = Vec3::new(x0, -(i as Real + 1.0) * 0.2, 0.0);
@@ -20,7 +23,7 @@ fn chain(world: &mut World, n: usize, x0: Real) -> (Vec<BodyHandle>, Vec<Constra
             .unwrap();
         joints.push(
             world
-                .create_ball_joint(b, prev, p + Vec3::new(0.0, 0.2, 0.0))
+                .create_joint(b, prev, kea::JointSpec::ball(p + Vec3::new(0.0, 0.2, 0.0)))
                 .unwrap(),
         );
         bodies.push(b);
@@ -118,23 +121,29 @@ fn a_body_can_ask_for_the_exact_path_and_the_world_can_force_any() {
     let mut small = World::with_capacity(8, 8).unwrap();
     chain(&mut small, 2, 0.0);
     small
-        .set_routing(Routing {
-            mode: SolverMode::Iterative,
-            ..Default::default()
+        .update_settings(|s| {
+            s.routing = Routing {
+                mode: SolverMode::Iterative,
+                ..Default::default()
+            }
         })
         .unwrap();
     assert_eq!(small.step(1.0 / 60.0).unwrap().solver.iterative_islands, 1);
     small
-        .set_routing(Routing {
-            mode: SolverMode::Exact,
-            ..Default::default()
+        .update_settings(|s| {
+            s.routing = Routing {
+                mode: SolverMode::Exact,
+                ..Default::default()
+            }
         })
         .unwrap();
     assert_eq!(small.step(1.0 / 60.0).unwrap().solver.exact_islands, 1);
     small
-        .set_routing(Routing {
-            mode: SolverMode::Split,
-            ..Default::default()
+        .update_settings(|s| {
+            s.routing = Routing {
+                mode: SolverMode::Split,
+                ..Default::default()
+            }
         })
         .unwrap();
     assert_eq!(small.step(1.0 / 60.0).unwrap().solver.split_islands, 1);
@@ -145,9 +154,9 @@ fn a_body_can_ask_for_the_exact_path_and_the_world_can_force_any() {
 fn bad_solver_settings_are_rejected_and_change_nothing() {
     let mut world = World::with_capacity(4, 4).unwrap();
     let before = (
-        *world.iterative_params(),
-        *world.routing(),
-        world.projection_iterations(),
+        world.settings().iterative,
+        world.settings().routing,
+        world.settings().projection_iterations,
     );
     let cases: Vec<(IterativeParams, &str, &str)> = vec![
         (
@@ -192,37 +201,47 @@ fn bad_solver_settings_are_rejected_and_change_nothing() {
         ),
     ];
     for (p, arg, value) in cases {
-        let e = world.set_iterative_params(p).unwrap_err().to_string();
+        let e = world
+            .update_settings(|s| s.iterative = p)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(arg) && e.contains(value), "{e}");
     }
     for h in [0.0 as Real, 1.5, Real::NAN] {
         let e = world
-            .set_routing(Routing {
-                hysteresis: h,
-                ..Default::default()
+            .update_settings(|s| {
+                s.routing = Routing {
+                    hysteresis: h,
+                    ..Default::default()
+                }
             })
             .unwrap_err()
             .to_string();
         assert!(e.contains("hysteresis"), "{e}");
     }
     let e = world
-        .set_routing(Routing {
-            stack_bodies: 0,
-            ..Default::default()
+        .update_settings(|s| {
+            s.routing = Routing {
+                stack_bodies: 0,
+                ..Default::default()
+            }
         })
         .unwrap_err()
         .to_string();
     assert!(e.contains("stack_bodies") && e.contains('0'), "{e}");
-    let e = world.set_projection_iterations(17).unwrap_err().to_string();
+    let e = world
+        .update_settings(|s| s.projection_iterations = 17)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("projection_iterations") && e.contains("17"),
         "{e}"
     );
     assert_eq!(
         (
-            *world.iterative_params(),
-            *world.routing(),
-            world.projection_iterations()
+            world.settings().iterative,
+            world.settings().routing,
+            world.settings().projection_iterations
         ),
         before
     );

@@ -11,9 +11,11 @@ const H: Real = 1.0 / 60.0;
 fn resting_box_world(mode: DemMode) -> (World, kea::BodyHandle) {
     let mut world = World::with_capacity(8, 64).unwrap();
     world
-        .set_dem(DemSettings {
-            mode,
-            ..Default::default()
+        .update_settings(|s| {
+            s.dem = DemSettings {
+                mode,
+                ..Default::default()
+            }
         })
         .unwrap();
     let b = world
@@ -135,9 +137,11 @@ fn no_partition_gives_the_same_answer_in_one_island() {
     let run = |mode: DemMode| {
         let mut world = World::with_capacity(8, 8).unwrap();
         world
-            .set_dem(DemSettings {
-                mode,
-                ..Default::default()
+            .update_settings(|s| {
+                s.dem = DemSettings {
+                    mode,
+                    ..Default::default()
+                }
             })
             .unwrap();
         let mut bodies = Vec::new();
@@ -149,7 +153,11 @@ fn no_partition_gives_the_same_answer_in_one_island() {
                 })
                 .unwrap();
             world
-                .create_ball_joint(b, None, Vec3::new(i as Real * 3.0, 0.0, 0.0))
+                .create_joint(
+                    b,
+                    None,
+                    kea::JointSpec::ball(Vec3::new(i as Real * 3.0, 0.0, 0.0)),
+                )
                 .unwrap();
             bodies.push(b);
         }

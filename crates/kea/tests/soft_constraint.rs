@@ -42,7 +42,7 @@ fn soft_row_follows_the_implicit_euler_spring() {
 fn spring_run(mode: SolverMode) {
     let (m, k, d, h): (Real, Real, Real, Real) = (2.0, 300.0, 3.0, 0.01);
     let mut world = world_on(mode, 2, 2);
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world
         .create_body(&BodyDef {
             mass: m,
@@ -107,7 +107,7 @@ fn constant_load_against_a_soft_stop_deflects_by_f_over_k() {
 fn stop_run(mode: SolverMode) {
     let (k, f): (Real, Real) = (500.0, 20.0);
     let mut world = world_on(mode, 2, 2);
-    world.set_gravity(Vec3::ZERO).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
     let b = world.create_body(&BodyDef::default()).unwrap();
     world
         .add_custom_constraint(

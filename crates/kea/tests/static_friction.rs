@@ -18,10 +18,13 @@ fn box_on_ground(
     mu: (Real, Real),
 ) -> (World, BodyHandle, ConstraintHandle) {
     let mut w = World::with_capacity(4, 8).unwrap();
-    w.set_gravity(Vec3::new(0.0, -G, 0.0)).unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Routing::default()
+    w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
+        .unwrap();
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Routing::default()
+        }
     })
     .unwrap();
     let b = w

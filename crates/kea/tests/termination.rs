@@ -31,7 +31,7 @@ fn joints_anchored_at_the_edge_of_the_range_end_in_every_path() {
             let mut world = world_on(mode, 4, 8);
             let b = world.create_body(&BodyDef::default()).unwrap();
             if world
-                .create_ball_joint(b, None, Vec3::new(anchor, 0.0, 0.0))
+                .create_joint(b, None, kea::JointSpec::ball(Vec3::new(anchor, 0.0, 0.0)))
                 .is_ok()
             {
                 steps_end_finite(&mut world, &format!("{mode:?}, anchor {anchor:e}"));
@@ -57,9 +57,11 @@ fn huge_and_tiny_masses_on_joints_end_in_every_path() {
             ) else {
                 continue; // refused by name: fine
             };
-            world.create_ball_joint(a, None, Vec3::ZERO).unwrap();
             world
-                .create_ball_joint(b, Some(a), Vec3::new(1.5, 0.0, 0.0))
+                .create_joint(a, None, kea::JointSpec::ball(Vec3::ZERO))
+                .unwrap();
+            world
+                .create_joint(b, Some(a), kea::JointSpec::ball(Vec3::new(1.5, 0.0, 0.0)))
                 .unwrap();
             steps_end_finite(&mut world, &format!("{mode:?}, masses {m1:e} {m2:e}"));
         }
@@ -71,7 +73,7 @@ fn two_redundant_joints_on_one_body_never_produce_nan() {
     for mode in PATHS {
         for eps in [0.0, 1.0e-9] {
             let mut world = world_on(mode, 4, 8);
-            world.set_epsilon(eps).unwrap();
+            world.update_settings(|s| s.epsilon = eps).unwrap();
             let b = world
                 .create_body(&BodyDef {
                     position: Vec3::new(1.0, 0.0, 0.0),
@@ -79,9 +81,15 @@ fn two_redundant_joints_on_one_body_never_produce_nan() {
                     ..Default::default()
                 })
                 .unwrap();
-            world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
-            world.create_ball_joint(b, None, Vec3::ZERO).unwrap();
-            world.create_hinge(b, None, Vec3::ZERO, Vec3::Z).unwrap();
+            world
+                .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+                .unwrap();
+            world
+                .create_joint(b, None, kea::JointSpec::ball(Vec3::ZERO))
+                .unwrap();
+            world
+                .create_joint(b, None, kea::JointSpec::hinge(Vec3::ZERO, Vec3::Z))
+                .unwrap();
             for _ in 0..600 {
                 world.step(1.0 / 60.0).unwrap();
                 let p = world.body(b).unwrap().position();

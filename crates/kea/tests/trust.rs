@@ -131,7 +131,7 @@ fn blowing_island(w: &mut World) -> [BodyHandle; 2] {
     };
     let a = w.create_body(&body(1.0)).unwrap();
     let b = w.create_body(&body(2.0)).unwrap();
-    w.create_ball_joint(a, Some(b), Vec3::new(1.5, 0.0, 0.0))
+    w.create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(1.5, 0.0, 0.0)))
         .unwrap();
     w.add_custom_constraint(a, Some(b), Kick).unwrap();
     [a, b]
@@ -147,7 +147,7 @@ fn a_blown_island_is_quarantined_while_another_ball_keeps_falling_at_g() {
             ..Default::default()
         })
         .unwrap();
-    let g = w.gravity().y;
+    let g = w.settings().gravity.y;
     let dt: Real = 1.0 / 60.0;
     let mut frozen_at: Option<(u64, Vec<(Vec3, Vec3)>)> = None;
     for step in 1..=120u32 {
@@ -212,9 +212,11 @@ fn a_runaway_island_is_quarantined_by_the_speed_limit() {
     // Exact path: a ball dropped with 30 m/s down under a 20 m/s limit is frozen at its start.
     for mode in common::PATHS {
         let mut w = world_on(mode, 4, 4);
-        w.set_speed_limits(SpeedLimits {
-            linear: 20.0,
-            angular: 1.0e4,
+        w.update_settings(|s| {
+            s.speed_limits = SpeedLimits {
+                linear: 20.0,
+                angular: 1.0e4,
+            }
         })
         .unwrap();
         let b = w
@@ -236,9 +238,11 @@ fn a_runaway_island_is_quarantined_by_the_speed_limit() {
         }
         // Bad limits are refused by name.
         let e = w
-            .set_speed_limits(SpeedLimits {
-                linear: -1.0,
-                angular: 1.0,
+            .update_settings(|s| {
+                s.speed_limits = SpeedLimits {
+                    linear: -1.0,
+                    angular: 1.0,
+                }
             })
             .unwrap_err();
         refused_by_name(e, "speed_limits.linear", "-1");
@@ -251,12 +255,14 @@ fn an_anchor_of_3e38_is_refused_by_name_instead_of_hanging_the_exact_solver() {
     let b = w.create_body(&BodyDef::default()).unwrap();
     let far = Vec3::new(3.0e38, 0.0, 0.0);
     refused_by_name(
-        w.create_ball_joint(b, None, far).unwrap_err(),
+        w.create_joint(b, None, kea::JointSpec::ball(far))
+            .unwrap_err(),
         "anchor",
         "3e38",
     );
     refused_by_name(
-        w.create_hinge(b, None, far, Vec3::Y).unwrap_err(),
+        w.create_joint(b, None, kea::JointSpec::hinge(far, Vec3::Y))
+            .unwrap_err(),
         "anchor",
         "3e38",
     );
@@ -269,7 +275,8 @@ fn an_anchor_of_3e38_is_refused_by_name_instead_of_hanging_the_exact_solver() {
     // At the edge of the accepted range the step still finishes (and stays finite).
     let edge = Vec3::new(kea::error::MAX_COORDINATE, 0.0, 0.0);
     w.body_mut(b).unwrap().set_position(edge).unwrap();
-    w.create_ball_joint(b, None, edge + Vec3::Y).unwrap();
+    w.create_joint(b, None, kea::JointSpec::ball(edge + Vec3::Y))
+        .unwrap();
     for _ in 0..10 {
         w.step(1.0 / 60.0).unwrap();
     }

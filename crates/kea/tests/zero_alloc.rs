@@ -77,16 +77,20 @@ fn warm_step_allocates_nothing() {
 fn warm_allocations(mode: SolverMode) -> (usize, u32) {
     let mut world = World::with_capacity(16, 64).unwrap();
     world
-        .set_routing(Routing {
-            mode,
-            ..Default::default()
+        .update_settings(|s| {
+            s.routing = Routing {
+                mode,
+                ..Default::default()
+            }
         })
         .unwrap();
     // Auto-disable on, so the sleep bookkeeping is counted too.
     world
-        .set_dem(DemSettings {
-            mode: DemMode::PartitionAutoDisable,
-            ..Default::default()
+        .update_settings(|s| {
+            s.dem = DemSettings {
+                mode: DemMode::PartitionAutoDisable,
+                ..Default::default()
+            }
         })
         .unwrap();
     let ball = world
@@ -111,7 +115,7 @@ fn warm_allocations(mode: SolverMode) -> (usize, u32) {
         })
         .unwrap();
     world
-        .create_ball_joint(bob, None, Vec3::new(-1.0, 2.0, 0.0))
+        .create_joint(bob, None, kea::JointSpec::ball(Vec3::new(-1.0, 2.0, 0.0)))
         .unwrap();
     world.add_custom_constraint(crate_, None, Spring).unwrap();
     let params = ContactParams {

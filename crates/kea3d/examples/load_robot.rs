@@ -50,7 +50,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok()
         .and_then(|s| s.parse().ok())
     {
-        world.dynamics_mut().set_world_substeps(n)?;
+        world
+            .dynamics_mut()
+            .update_settings(|s| s.world_substeps = n)?;
     }
     let h = robot.timestep().unwrap_or(1e-3);
     let start = std::time::Instant::now();

@@ -29,14 +29,16 @@
 
 mod body;
 mod collider;
-mod joint;
 mod mass;
 pub mod robot;
 mod world;
 
 pub use body::{Body, BodyType};
 pub use collider::{Collider, DEFAULT_DENSITY};
-pub use joint::{Joint, JointHandle, JointKind};
+/// A joint to insert, made with a builder: `Joint::hinge(anchor, axis).limits(-1.0, 1.0)` (the
+/// dynamics layer's [`kea::JointSpec`]).
+pub use kea::JointSpec as Joint;
+pub use kea::{JointHandle, JointKind};
 pub use world::PhysicsWorld;
 
 /// The dynamics layer (the guide's Kea, Bcl and Mdt): [`kea`] re-exported.

@@ -28,10 +28,26 @@ fn type_name(ty: &syn::Type) -> Option<String> {
     }
 }
 
-/// Each type's (and trait's) methods, associated functions and public fields.
-fn members_of(items: &[syn::Item], out: &mut BTreeMap<String, BTreeSet<String>>) {
+/// The renames of `use … as …` items: (new name, original name).
+fn renames(tree: &syn::UseTree, out: &mut Vec<(String, String)>) {
+    match tree {
+        syn::UseTree::Path(p) => renames(&p.tree, out),
+        syn::UseTree::Rename(r) => out.push((r.rename.to_string(), r.ident.to_string())),
+        syn::UseTree::Group(g) => g.items.iter().for_each(|t| renames(t, out)),
+        _ => {}
+    }
+}
+
+/// Each type's (and trait's) methods, associated functions and public fields, and the
+/// renames of `use` items.
+fn collect_members(
+    items: &[syn::Item],
+    out: &mut BTreeMap<String, BTreeSet<String>>,
+    aliases: &mut Vec<(String, String)>,
+) {
     for item in items {
         match item {
+            syn::Item::Use(u) => renames(&u.tree, aliases),
             syn::Item::Impl(i) => {
                 let Some(owner) = type_name(&i.self_ty) else {
                     continue;
@@ -64,7 +80,7 @@ fn members_of(items: &[syn::Item], out: &mut BTreeMap<String, BTreeSet<String>>)
             }
             syn::Item::Mod(m) => {
                 if let Some((_, inner)) = &m.content {
-                    members_of(inner, out);
+                    collect_members(inner, out, aliases);
                 }
             }
             _ => {}
@@ -117,10 +133,16 @@ fn every_function_and_field_the_api_map_names_exists_on_its_type() {
     let map = std::fs::read_to_string(root.join("docs/api-map.md")).unwrap();
     let mut files = Vec::new();
     sources(&root.join("crates"), &mut files);
-    let mut members = BTreeMap::new();
+    let (mut members, mut aliases) = (BTreeMap::new(), Vec::new());
     for text in &files {
         let file = syn::parse_file(text).expect("the workspace's sources parse");
-        members_of(&file.items, &mut members);
+        collect_members(&file.items, &mut members, &mut aliases);
+    }
+    // A type re-exported under another name (`pub use kea::JointSpec as Joint`) has its
+    // members under both.
+    for (alias, original) in aliases {
+        let of_original = members.get(&original).cloned().unwrap_or_default();
+        members.entry(alias).or_default().extend(of_original);
     }
     let names = named_functions(&map);
     assert!(

@@ -14,7 +14,9 @@ fn world_on(mode: SolverMode) -> PhysicsWorld {
         mode,
         ..Routing::default()
     };
-    w.dynamics_mut().set_routing(routing).unwrap();
+    w.dynamics_mut()
+        .update_settings(|s| s.routing = routing)
+        .unwrap();
     w
 }
 

@@ -2,7 +2,7 @@
 //! car drives forward, the animated hand's grip breaks when it jerks, the ragdolls' joints stay
 //! within their limits, and the cradle's last ball swings out.
 
-use kea::{BodyHandle, Real};
+use kea::{BallJoint, BodyHandle, Hinge, JointHandle, Real};
 use kea3d::PhysicsWorld;
 use kea_scene::{build, Scene};
 
@@ -103,7 +103,7 @@ fn ragdoll_overshoot(built: &PhysicsWorld) -> [(Real, String); 3] {
     };
     for (name, h) in built.named_joints() {
         let w = built.dynamics();
-        if let Ok(hinge) = w.hinge(*h) {
+        if let Ok(hinge) = JointHandle::<Hinge>::from_raw(*h).get(w) {
             let l = hinge.limit();
             note(
                 0,
@@ -111,7 +111,8 @@ fn ragdoll_overshoot(built: &PhysicsWorld) -> [(Real, String); 3] {
                 name,
             );
         } else {
-            let limits = w.ball_joint(*h).unwrap().limits.unwrap();
+            let ball = JointHandle::<BallJoint>::from_raw(*h);
+            let limits = ball.get(w).unwrap().limits.unwrap();
             note(1, limits.cone.position() - limits.cone.upper().stop, name);
             note(2, limits.twist.overshoot().abs(), name);
         }

@@ -226,10 +226,12 @@ fn a_world_saved_with_a_quarantined_island_restores_its_report_and_replays() {
     use kea::{BodyDef, Mat3, Routing, SolverMode, Vec3, World};
     let mut w = World::with_capacity(8, 8).unwrap();
     // Gauss-Seidel forced, with no mass ratio turning the island away to split islands.
-    w.set_routing(Routing {
-        mode: SolverMode::Iterative,
-        mass_ratio: Real::INFINITY,
-        ..Routing::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode: SolverMode::Iterative,
+            mass_ratio: Real::INFINITY,
+            ..Routing::default()
+        }
     })
     .unwrap();
     // A redundant pair of ball joints between 1e-9 kg and 1e12 kg bodies blows up there; a
@@ -246,11 +248,20 @@ fn a_world_saved_with_a_quarantined_island_restores_its_report_and_replays() {
     };
     let light = body(&mut w, 1.0e-9, 1.0e-19, 1.0);
     let heavy = body(&mut w, 1.0e12, 1.0e19, 2.0);
-    w.create_ball_joint(light, Some(heavy), Vec3::new(1.5, 0.0, 0.0))
+    w.create_joint(
+        light,
+        Some(heavy),
+        kea::JointSpec::ball(Vec3::new(1.5, 0.0, 0.0)),
+    )
+    .unwrap();
+    w.create_joint(
+        light,
+        Some(heavy),
+        kea::JointSpec::ball(Vec3::new(1.0, 1.0, 0.0)),
+    )
+    .unwrap();
+    w.create_joint(light, None, kea::JointSpec::ball(Vec3::ZERO))
         .unwrap();
-    w.create_ball_joint(light, Some(heavy), Vec3::new(1.0, 1.0, 0.0))
-        .unwrap();
-    w.create_ball_joint(light, None, Vec3::ZERO).unwrap();
     let ball = body(&mut w, 1.0, 1.0, 50.0);
     while w.quarantine_report().is_empty() {
         assert!(w.step_count() < 120, "the island never blew up");

@@ -135,7 +135,8 @@ fn default_classes_inherit_and_childclass_applies() {
     assert!((mass("own") - 2000.0 * sphere).abs() < 1e-3);
     let damping = |n: &str| {
         let raw = robot.joint(n).unwrap().raw.unwrap();
-        world.dynamics().hinge(raw).unwrap().limit().dynamics()
+        let hinge = kea3d::JointHandle::<kea3d::dynamics::Hinge>::from_raw(raw);
+        hinge.get(&world).unwrap().limit().dynamics()
     };
     assert_eq!(damping("a").damping, 0.5);
     assert_eq!(damping("b").damping, 2.0);

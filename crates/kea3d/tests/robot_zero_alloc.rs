@@ -44,7 +44,10 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
     let robot = world
         .load_mjcf_str(xml, "hopper.xml", &MjcfOptions::default())
         .unwrap();
-    world.dynamics_mut().set_world_substeps(2).unwrap();
+    world
+        .dynamics_mut()
+        .update_settings(|s| s.world_substeps = 2)
+        .unwrap();
     let controls: Vec<Vec<Real>> = (0..4).map(|k| vec![0.3 * k as Real, -0.2, 0.1]).collect();
     let motors = vec![0.0 as Real; robot.velocity_count()];
     let caps = vec![10.0 as Real; robot.velocity_count()];

@@ -168,7 +168,10 @@ fn mjcf_swing(name: &str, ranges: &[(f64, f64)], speeds: &[f64], seeds: u64, sub
         let v0: Vec<f64> = speeds.iter().map(|&s| uniform(&mut seed, -s, s)).collect();
         let mut world = PhysicsWorld::new();
         let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
-        world.dynamics_mut().set_world_substeps(substeps).unwrap();
+        world
+            .dynamics_mut()
+            .update_settings(|s| s.world_substeps = substeps)
+            .unwrap();
         let gap = swing_gap(&mut world, &robot, file.to_str().unwrap(), &q0, &v0, 1000).unwrap();
         assert!(
             gap < 0.01,

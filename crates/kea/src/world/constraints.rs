@@ -2,8 +2,8 @@
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::World;
-use crate::constraint::{BallJoint, Contact, CustomConstraint};
-use crate::error::{check_coordinate, check_finite, check_non_negative, KeaError, KeaResult};
+use crate::constraint::{Contact, CustomConstraint};
+use crate::error::{check_finite, check_non_negative, KeaError, KeaResult};
 use crate::handle::{BodyHandle, ConstraintHandle};
 use crate::math::{Real, Vec3};
 use crate::solver::Reaction;
@@ -50,36 +50,14 @@ impl World {
         self.insert_constraint(ConstraintKind::Contact(contact), body1, body2)
     }
 
-    /// Creates an enabled ball-and-socket joint at a world point, between `body1` and `body2`
-    /// (`None`: the world). The anchor is stored in each body's frame.
-    pub fn create_ball_joint(
-        &mut self,
-        body1: BodyHandle,
-        body2: Option<BodyHandle>,
-        anchor: Vec3,
-    ) -> KeaResult<ConstraintHandle> {
-        check_coordinate("anchor", anchor)?;
-        self.check_pair(body1, body2)?;
-        let local_anchor1 = self.bodies.get(body1)?.point_to_local(anchor);
-        let local_anchor2 = match body2 {
-            Some(b) => self.bodies.get(b)?.point_to_local(anchor),
-            None => anchor,
-        };
-        let joint = BallJoint {
-            local_anchor1,
-            local_anchor2,
-            limits: None,
-        };
-        self.insert_constraint(ConstraintKind::Ball(Box::new(joint)), body1, body2)
-    }
-
     /// Overrides γ for this constraint's rows (those that do not set their own), or restores the
     /// world's with `None`.
     pub fn set_constraint_gamma(
         &mut self,
-        h: ConstraintHandle,
+        h: impl Into<ConstraintHandle>,
         gamma: Option<Real>,
     ) -> KeaResult<()> {
+        let h = h.into();
         if let Some(g) = gamma {
             check_finite("gamma", g)?;
             if !(0.0..=1.0).contains(&g) {
@@ -100,10 +78,11 @@ impl World {
     /// threshold.
     pub fn set_breakable(
         &mut self,
-        h: ConstraintHandle,
+        h: impl Into<ConstraintHandle>,
         max_force: Option<Real>,
         max_torque: Option<Real>,
     ) -> KeaResult<()> {
+        let h = h.into();
         if let Some(f) = max_force {
             check_non_negative("max_force", f)?;
         }
@@ -118,7 +97,8 @@ impl World {
 
     /// A readable dump of a constraint: kind, bodies, state, parameters, last forces (the
     /// guide's `Mdt*Log`).
-    pub fn constraint_log(&self, h: ConstraintHandle) -> KeaResult<String> {
+    pub fn constraint_log(&self, h: impl Into<ConstraintHandle>) -> KeaResult<String> {
+        let h = h.into();
         let e = self.constraints.get(h)?;
         Ok(format!(
             "{} {:?}: bodies {:?}, {}, γ override {:?}, breaks at force {:?} / torque {:?}\n  λ last step {:?}\n  reaction on body 1 {:?}, on body 2 {:?}\n  {:#?}",
@@ -148,7 +128,8 @@ impl World {
     }
 
     /// Destroys a constraint (the guide's `Mdt*Destroy`); its handle becomes stale.
-    pub fn destroy_constraint(&mut self, h: ConstraintHandle) -> KeaResult<()> {
+    pub fn destroy_constraint(&mut self, h: impl Into<ConstraintHandle>) -> KeaResult<()> {
+        let h = h.into();
         let entry = self.constraints.remove(h)?;
         let joint = !matches!(entry.kind, ConstraintKind::Contact(_));
         self.index_constraint(h.index() as usize, joint);
@@ -167,7 +148,12 @@ impl World {
     }
 
     /// Enables or disables a constraint; a disabled one is kept but ignored by the step.
-    pub fn set_constraint_enabled(&mut self, h: ConstraintHandle, enabled: bool) -> KeaResult<()> {
+    pub fn set_constraint_enabled(
+        &mut self,
+        h: impl Into<ConstraintHandle>,
+        enabled: bool,
+    ) -> KeaResult<()> {
+        let h = h.into();
         let entry = self.constraints.get_mut(h)?;
         let changed = entry.enabled != enabled;
         entry.enabled = enabled;
@@ -183,17 +169,19 @@ impl World {
     }
 
     /// Whether a constraint is enabled.
-    pub fn is_constraint_enabled(&self, h: ConstraintHandle) -> KeaResult<bool> {
+    pub fn is_constraint_enabled(&self, h: impl Into<ConstraintHandle>) -> KeaResult<bool> {
+        let h = h.into();
         Ok(self.constraints.get(h)?.enabled)
     }
 
     /// Changes a constraint's bodies; allowed only while it is disabled, as the guide requires.
     pub fn set_constraint_bodies(
         &mut self,
-        h: ConstraintHandle,
+        h: impl Into<ConstraintHandle>,
         body1: BodyHandle,
         body2: Option<BodyHandle>,
     ) -> KeaResult<()> {
+        let h = h.into();
         self.check_pair(body1, body2)?;
         let entry = self.constraints.get_mut(h)?;
         if entry.enabled {
@@ -209,12 +197,17 @@ impl World {
     }
 
     /// The bodies of a constraint (`None` is the static world).
-    pub fn constraint_bodies(&self, h: ConstraintHandle) -> KeaResult<[Option<BodyHandle>; 2]> {
+    pub fn constraint_bodies(
+        &self,
+        h: impl Into<ConstraintHandle>,
+    ) -> KeaResult<[Option<BodyHandle>; 2]> {
+        let h = h.into();
         Ok(self.constraints.get(h)?.bodies)
     }
 
     /// The kind of a constraint, as a name ("contact", "ball joint", or a custom name).
-    pub fn constraint_kind(&self, h: ConstraintHandle) -> KeaResult<&'static str> {
+    pub fn constraint_kind(&self, h: impl Into<ConstraintHandle>) -> KeaResult<&'static str> {
+        let h = h.into();
         Ok(self.constraints.get(h)?.kind.name())
     }
 
@@ -235,15 +228,10 @@ impl World {
             .map(|(h, e)| (h, e.bodies))
     }
 
-    /// Room for constraints (contacts included) now reserved; it doubles when full.
-    #[must_use]
-    pub fn constraint_capacity(&self) -> usize {
-        self.constraints.capacity()
-    }
-
     /// The force and torque the constraint applied to body 1 and body 2 in the last step
     /// (zero before its first step or while disabled).
-    pub fn constraint_reaction(&self, h: ConstraintHandle) -> KeaResult<[Reaction; 2]> {
+    pub fn constraint_reaction(&self, h: impl Into<ConstraintHandle>) -> KeaResult<[Reaction; 2]> {
+        let h = h.into();
         Ok(self.constraints.get(h)?.reaction)
     }
 
@@ -268,7 +256,8 @@ impl World {
     /// The λ (force) of each of the constraint's rows in the last step (empty before its first
     /// step or while disabled). For a contact, point by point: the normal force, then the
     /// friction force along each direction of [`Contact::tangent_basis`].
-    pub fn constraint_lambdas(&self, h: ConstraintHandle) -> KeaResult<&[Real]> {
+    pub fn constraint_lambdas(&self, h: impl Into<ConstraintHandle>) -> KeaResult<&[Real]> {
+        let h = h.into();
         let entry = self.constraints.get(h)?;
         let all = match entry.kind {
             ConstraintKind::Contact(_) => &self.scratch.contact_lambda,
@@ -313,14 +302,6 @@ impl World {
         match &entry.kind {
             ConstraintKind::Contact(_) => Ok(entry.reaction[0].force),
             other => Err(wrong_kind(h, "contact", other.name())),
-        }
-    }
-
-    /// A ball joint, read-only.
-    pub fn ball_joint(&self, h: ConstraintHandle) -> KeaResult<&BallJoint> {
-        match &self.constraints.get(h)?.kind {
-            ConstraintKind::Ball(j) => Ok(j),
-            other => Err(wrong_kind(h, "ball joint", other.name())),
         }
     }
 

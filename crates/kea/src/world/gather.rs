@@ -45,7 +45,8 @@ impl World {
             orientation: b.orientation,
             linear_velocity: b.linear_velocity,
             angular_velocity: b.angular_velocity,
-            free_linear_velocity: b.linear_velocity + h * (self.gravity + b.inv_mass * b.force),
+            free_linear_velocity: b.linear_velocity
+                + h * (self.settings.gravity + b.inv_mass * b.force),
             free_angular_velocity: b.angular_velocity + h * (inv_iw * b.torque),
             dynamic: true,
             fast_spin_axis: b.fast_spin_axis.map(|a| b.orientation * a),

@@ -15,7 +15,11 @@ impl World {
     /// guide's `Mdt*SetPosition`): its axes, its coordinate and its limits stay as they were.
     /// Refused, changing nothing, for a contact (`Contact::set_position`), a car wheel (whose
     /// anchor is its wheel's centre), a custom constraint, or a bad point.
-    pub fn set_joint_position(&mut self, h: ConstraintHandle, anchor: Vec3) -> KeaResult<()> {
+    pub(super) fn set_joint_position(
+        &mut self,
+        h: ConstraintHandle,
+        anchor: Vec3,
+    ) -> KeaResult<()> {
         let anchor = check_coordinate("anchor", anchor)?;
         let [b1, b2] = self.constraint_bodies(h)?;
         let ctx = self.pair_context(b1.expect("constraints have a first body"), b2)?;
@@ -45,7 +49,7 @@ impl World {
             }
             other => {
                 return Err(KeaError::InvalidState {
-                    operation: "set_joint_position",
+                    operation: "set_position",
                     reason: match other {
                         ConstraintKind::Contact(_) => "a contact's points are set on the contact",
                         ConstraintKind::Wheel(_) => "a car wheel is anchored at its wheel's centre",
@@ -62,7 +66,7 @@ impl World {
     /// are (the guide's `Mdt*SetAxis`): the joint is made again about it at its anchor, its
     /// coordinate starting at 0 there, its limits and motor kept. Refused, changing nothing,
     /// for other kinds, a bad axis, or a universal axis along its second axis.
-    pub fn set_joint_axis(&mut self, h: ConstraintHandle, axis: Vec3) -> KeaResult<()> {
+    pub(super) fn set_joint_axis(&mut self, h: ConstraintHandle, axis: Vec3) -> KeaResult<()> {
         let axis = check_unit("axis", axis)?;
         let [b1, b2] = self.constraint_bodies(h)?;
         let ctx = self.pair_context(b1.expect("constraints have a first body"), b2)?;
@@ -112,7 +116,7 @@ fn remade_about(kind: &ConstraintKind, ctx: &RowContext, axis: Vec3) -> KeaResul
         }
         _ => {
             return Err(KeaError::InvalidState {
-                operation: "set_joint_axis",
+                operation: "set_axis",
                 reason:
                     "only a hinge, a prismatic, a linear-2 or a universal joint has an axis to set",
             })

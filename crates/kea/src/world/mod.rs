@@ -13,6 +13,8 @@ mod constraints;
 mod gather;
 mod islands;
 mod joint_frames;
+mod joint_handle;
+mod joint_spec;
 mod joints;
 mod quarantine;
 mod reduced;
@@ -26,7 +28,10 @@ mod step_size;
 mod write_back;
 
 pub use islands::IslandList;
+pub use joint_handle::{JointHandle, JointKind};
+pub use joint_spec::JointSpec;
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
+pub use settings::WorldSettings;
 pub use sketch::{JointRange, JointSketch};
 pub use sleep::{DemMode, DemSettings};
 #[cfg(feature = "serde")]
@@ -37,13 +42,13 @@ pub use step::{CollisionStats, StepStats, PROJECTION_TOLERANCE};
 pub use step_size::StepSize;
 
 use crate::body::{Body, BodyDef};
-use crate::constraint::{Row, Spring};
-use crate::error::{check_vec3, KeaError, KeaResult};
+use crate::constraint::Row;
+use crate::error::{KeaError, KeaResult};
 use crate::handle::{next_world_id, Arena, BodyHandle, ConstraintHandle};
-use crate::math::{Real, Vec3};
+use crate::math::Real;
 use crate::solver::{
-    ConstraintBlock, IslandReport, IterativeParams, Reaction, Routing, Solver, SolverBody,
-    SolverContact, DEFAULT_CONTACT_SPRING,
+    ConstraintBlock, IslandReport, Reaction, Solver, SolverBody, SolverContact,
+    DEFAULT_CONTACT_SPRING,
 };
 use constraint_entry::ConstraintEntry;
 
@@ -60,43 +65,8 @@ pub struct WorldDef {
     /// memory grows as rows², so this is a hint, not a limit: bigger islands grow the workspace
     /// once (reported in [`StepStats`]). Default 256.
     pub max_island_rows: usize,
-    /// Gravity, m/s². Default (0, −9.81, 0).
-    pub gravity: Vec3,
-    /// Constraint softness ε (see [`crate::solver::SolverParams::epsilon`]). Default 0.01.
-    pub epsilon: Real,
-    /// Error reduction γ in [0, 1] (see [`crate::solver::SolverParams::gamma`]). Default 0.2.
-    pub gamma: Real,
-    /// Softness of contacts that have none of their own: a mass-independent spring (see
-    /// [`Spring`]). Default 240 Hz, damping ratio 10 ([`DEFAULT_CONTACT_SPRING`]).
-    pub contact_spring: Spring,
-    /// Pivoting iteration cap per LCP. Default 100.
-    pub max_lcp_iterations: u32,
-    /// Coulomb re-solve cap per island. Default 16.
-    pub max_friction_passes: u32,
-    /// Partitioning and automatic disabling of resting islands (the guide's DEM).
-    pub dem: DemSettings,
-    /// Which solver handles each island (default hybrid: small islands exact).
-    pub routing: Routing,
-    /// Settings of the iterative path.
-    pub iterative: IterativeParams,
-    /// Most position-projection passes after each step, for the islands the exact path solved
-    /// (0 to 16; default 0, only the guide's γ correction). Each pass writes the joints' rows at
-    /// the new state and moves bodies (not velocities) so that rigid joints close: a Newton
-    /// step, stopping early once every error is below 1 µm. Use it with rigid joints, a small
-    /// ε (≤ 1e-4): with the default ε a joint is a spring of stiffness `γ/(ε h²)` whose
-    /// stretch the projection would fight. 4 passes keep a 100-link chain whipped at 60 Hz
-    /// closed to 1 mm (`tests/chain.rs`).
-    pub projection_iterations: u32,
-    /// Speeds beyond which an island is quarantined as runaway (see
-    /// [`World::quarantine_report`]).
-    pub speed_limits: SpeedLimits,
-    /// Substeps of the whole step (1 to 64; default 1; the iterative path's own substeps are
-    /// [`IterativeParams::substeps`]): [`World::step`] by `h` runs this many steps of
-    /// `h / n`, the forces applied for the step acting on each (PyBullet's `numSubSteps`).
-    /// The integration error of a swinging arm shrinks as `1/n`, at `n` times the cost: a
-    /// chaotic double pendulum that parts from the exact path by 3 cm in 1 s at 1 ms keeps
-    /// within 5 mm with 8 (`kea3d/tests/robots_vs_mujoco.rs`).
-    pub world_substeps: u32,
+    /// What the step reads, changeable later with [`World::update_settings`].
+    pub settings: WorldSettings,
 }
 
 impl Default for WorldDef {
@@ -105,18 +75,7 @@ impl Default for WorldDef {
             max_bodies: 1024,
             max_constraints: 4096,
             max_island_rows: 256,
-            gravity: Vec3::new(0.0, -9.81, 0.0),
-            epsilon: 0.01,
-            gamma: 0.2,
-            contact_spring: DEFAULT_CONTACT_SPRING,
-            max_lcp_iterations: 100,
-            max_friction_passes: 16,
-            dem: DemSettings::default(),
-            routing: Routing::default(),
-            iterative: IterativeParams::default(),
-            projection_iterations: 0,
-            speed_limits: SpeedLimits::default(),
-            world_substeps: 1,
+            settings: WorldSettings::default(),
         }
     }
 }
@@ -175,15 +134,15 @@ struct StepScratch {
 /// alike gives bit-identical results.
 ///
 /// ```
-/// use kea::{BodyDef, Vec3, World};
+/// use kea::{BodyDef, JointSpec, Vec3, World};
 ///
 /// let mut world = World::with_capacity(16, 64)?; // room for 16 bodies, 64 constraints
-/// world.set_gravity(Vec3::new(0.0, -9.81, 0.0))?;
+/// world.update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))?;
 /// let bob = world.create_body(&BodyDef {
 ///     position: Vec3::new(1.0, 0.0, 0.0),
 ///     ..BodyDef::default()
 /// })?;
-/// world.create_ball_joint(bob, None, Vec3::ZERO)?; // a 1 m pendulum from the origin
+/// world.create_joint(bob, None, JointSpec::ball(Vec3::ZERO))?; // a 1 m pendulum from the origin
 /// for _ in 0..30 {
 ///     world.step(1.0 / 60.0)?;
 /// }
@@ -206,21 +165,9 @@ pub struct World {
     tree_joint_slots: Vec<bool>,
     /// Changes whenever a joint is made, destroyed, enabled, disabled or re-bodied.
     joint_revision: u64,
-    gravity: Vec3,
-    epsilon: Real,
-    gamma: Real,
-    contact_spring: Spring,
-    max_lcp_iterations: u32,
-    max_friction_passes: u32,
-    dem: DemSettings,
-    routing: Routing,
-    iterative: IterativeParams,
-    projection_iterations: u32,
-    speed_limits: SpeedLimits,
-    world_substeps: u32,
-    /// Whether steps read the clock for their statistics' stage times.
-    step_timing: bool,
+    settings: WorldSettings,
     /// Rows the solver's workspace was reserved for ([`WorldDef::max_island_rows`]).
+    #[cfg_attr(not(feature = "serde"), allow(dead_code))] // kept for snapshots
     max_island_rows: usize,
     /// Islands quarantined and not yet cleared.
     quarantine: Vec<QuarantineEvent>,
@@ -238,9 +185,7 @@ impl std::fmt::Debug for World {
             .field("id", &self.id)
             .field("bodies", &self.bodies.len())
             .field("constraints", &self.constraints.len())
-            .field("gravity", &self.gravity)
-            .field("epsilon", &self.epsilon)
-            .field("gamma", &self.gamma)
+            .field("settings", &self.settings)
             .field("time", &self.time)
             .finish()
     }
@@ -261,26 +206,7 @@ impl World {
     pub fn new(def: WorldDef) -> KeaResult<Self> {
         check_capacity("max_bodies", def.max_bodies)?;
         check_capacity("max_constraints", def.max_constraints)?;
-        check_vec3("gravity", def.gravity)?;
-        let params = crate::solver::SolverParams {
-            dt: 1.0,
-            epsilon: def.epsilon,
-            gamma: def.gamma,
-            gravity: def.gravity,
-            contact_spring: def.contact_spring,
-            max_lcp_iterations: def.max_lcp_iterations,
-            max_friction_passes: def.max_friction_passes,
-            partition: true,
-            routing: def.routing,
-            iterative: def.iterative,
-            timing: true,
-            body_forces: false,
-        };
-        params.validate()?;
-        def.dem.validate()?;
-        settings::check_projection(def.projection_iterations)?;
-        settings::check_substeps(def.world_substeps)?;
-        def.speed_limits.validate()?;
+        def.settings.validate()?;
         let id = next_world_id();
         let rows = def.max_constraints * ROWS_PER_CONSTRAINT;
         let island_rows = def.max_island_rows.min(rows);
@@ -322,19 +248,7 @@ impl World {
             constraint_bodies: Vec::with_capacity(def.max_constraints),
             tree_joint_slots: Vec::with_capacity(def.max_constraints),
             joint_revision: constraint_index::next_joint_revision(),
-            gravity: def.gravity,
-            epsilon: def.epsilon,
-            gamma: def.gamma,
-            contact_spring: def.contact_spring,
-            max_lcp_iterations: def.max_lcp_iterations,
-            max_friction_passes: def.max_friction_passes,
-            dem: def.dem,
-            routing: def.routing,
-            iterative: def.iterative,
-            projection_iterations: def.projection_iterations,
-            speed_limits: def.speed_limits,
-            world_substeps: def.world_substeps,
-            step_timing: true,
+            settings: def.settings,
             max_island_rows: def.max_island_rows,
             quarantine: Vec::new(),
             quarantine_roots: Vec::new(),
@@ -488,13 +402,6 @@ impl World {
         self.bodies.capacity()
     }
 
-    /// Rows of the largest island the solver's workspace was reserved for
-    /// ([`WorldDef::max_island_rows`]).
-    #[must_use]
-    pub fn max_island_rows(&self) -> usize {
-        self.max_island_rows
-    }
-
     /// Room for constraints now reserved (grows when full, see [`World::reserve`]).
     #[must_use]
     pub fn max_constraints(&self) -> usize {
@@ -512,7 +419,7 @@ impl World {
     /// let mut world = World::with_capacity(64, 64)?; // reserved, not used
     /// assert_eq!(world.memory_pool_size(), 0);
     /// let bob = world.create_body(&BodyDef { position: Vec3::X, ..BodyDef::default() })?;
-    /// world.create_ball_joint(bob, None, Vec3::ZERO)?;
+    /// world.create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))?;
     /// world.step(0.01)?;
     /// let used = world.memory_pool_size();
     /// assert!(used > 0 && used <= kea::solver::memory_required(&[3], 1));

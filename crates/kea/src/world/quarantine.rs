@@ -11,7 +11,7 @@ use crate::math::{is_finite3, Real, Vec3};
 use crate::solver::SolverBody;
 use crate::union_find::UnionFind;
 
-/// The speeds beyond which a body counts as runaway (see [`World::set_speed_limits`]).
+/// The speeds beyond which a body counts as runaway (see [`crate::WorldSettings::speed_limits`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedLimits {
@@ -93,25 +93,12 @@ impl World {
         released
     }
 
-    /// The speeds beyond which an island is quarantined as runaway.
-    #[must_use]
-    pub fn speed_limits(&self) -> SpeedLimits {
-        self.speed_limits
-    }
-
-    /// Sets the runaway speeds (both finite and > 0).
-    pub fn set_speed_limits(&mut self, limits: SpeedLimits) -> KeaResult<()> {
-        limits.validate()?;
-        self.speed_limits = limits;
-        Ok(())
-    }
-
     /// Checks the solver's results island by island; quarantines the bad ones (their solver
     /// bodies get their state before the step back; their joints no force, their contacts
     /// their forces of the last step). Returns how many bodies it quarantined. Costs one pass
     /// over the bodies when all is well.
     pub(super) fn quarantine_bad_islands(&mut self) -> u32 {
-        let limits = self.speed_limits;
+        let limits = self.settings.speed_limits;
         let s = &self.scratch;
         let all_well = s
             .solver_bodies
@@ -145,7 +132,7 @@ impl World {
     /// each island with a bad body, a non-finite joint force or contact force
     /// (`quarantine_root`).
     fn mark_bad_islands(&mut self) {
-        let limits = self.speed_limits;
+        let limits = self.settings.speed_limits;
         let s = &mut self.scratch;
         let n = s.solver_bodies.len();
         let sets = &mut s.quarantine_sets;
@@ -217,7 +204,7 @@ impl World {
     /// The bodies of bad islands: their state before the step (in the solver array, which
     /// write-back copies), frozen; one event per island. Returns how many.
     fn freeze_bad_bodies(&mut self) -> u32 {
-        let limits = self.speed_limits;
+        let limits = self.settings.speed_limits;
         let s = &mut self.scratch;
         let (sets, roots) = (&mut s.quarantine_sets, &s.quarantine_root);
         let first_event = self.quarantine.len();

@@ -65,7 +65,8 @@ fn stops(limit: &Limit) -> Option<(Real, Real)> {
 impl World {
     /// Where joint `h` is and how it is set up, at the bodies' present poses; `None` for a
     /// custom constraint (its geometry is its own). Errors for a contact or a stale handle.
-    pub fn joint_sketch(&self, h: ConstraintHandle) -> KeaResult<Option<JointSketch>> {
+    pub fn joint_sketch(&self, h: impl Into<ConstraintHandle>) -> KeaResult<Option<JointSketch>> {
+        let h = h.into();
         let entry = self.constraints.get(h)?;
         let [b1, b2] = entry.bodies;
         let point = |b: Option<BodyHandle>, p: Vec3| -> Vec3 {

@@ -88,27 +88,6 @@ impl DemSettings {
 }
 
 impl World {
-    /// The partitioning and auto-disable settings.
-    #[must_use]
-    pub fn dem(&self) -> &DemSettings {
-        &self.dem
-    }
-
-    /// Changes the partitioning and auto-disable settings (the guide's `MdtWorldSetDEMMode` and
-    /// threshold setters). Leaving auto-disable mode wakes every body.
-    pub fn set_dem(&mut self, settings: DemSettings) -> KeaResult<()> {
-        settings.validate()?;
-        self.dem = settings;
-        if settings.mode != DemMode::PartitionAutoDisable {
-            for slot in 0..self.bodies.slot_count() {
-                if let Some(b) = self.bodies.at_mut(slot) {
-                    b.wake();
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// Wakes a body and, at the next step, its whole island.
     pub fn wake_body(&mut self, h: BodyHandle) -> KeaResult<()> {
         self.bodies.get_mut(h)?.wake();
@@ -122,7 +101,10 @@ impl World {
         let n = self.bodies.slot_count();
         let s = &mut self.scratch;
         s.sleep_sets.reset(n);
-        let (ft, tt) = (self.dem.force_threshold, self.dem.torque_threshold);
+        let (ft, tt) = (
+            self.settings.dem.force_threshold,
+            self.settings.dem.torque_threshold,
+        );
         let active = |b: &crate::body::Body| {
             let pushed = b.force.length() > ft || b.torque.length() > tt;
             // A kinematic body set moving wakes itself and what it touches.
@@ -206,7 +188,7 @@ impl World {
     /// every body has rested for the alive window. Uses the grouping of [`World::wake_islands`].
     pub(super) fn disable_resting_islands(&mut self, dt: Real) {
         let n = self.bodies.slot_count();
-        let d = self.dem;
+        let d = self.settings.dem;
         let s = &mut self.scratch;
         // island_flag now holds the smallest resting time of each island's awake bodies.
         s.island_flag.clear();

@@ -6,7 +6,7 @@
 //! rebuilds it, which changes no result.
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
-use super::{QuarantineEvent, SpeedLimits, World, WorldDef};
+use super::{QuarantineEvent, SpeedLimits, World, WorldDef, WorldSettings};
 use crate::body::Body;
 use crate::constraint::Spring;
 use crate::error::{KeaError, KeaResult};
@@ -86,18 +86,18 @@ impl World {
             max_island_rows: self.max_island_rows,
             bodies: self.bodies.state(),
             constraints: self.constraints.state(),
-            gravity: self.gravity,
-            epsilon: self.epsilon,
-            gamma: self.gamma,
-            contact_spring: self.contact_spring,
-            max_lcp_iterations: self.max_lcp_iterations,
-            max_friction_passes: self.max_friction_passes,
-            dem: self.dem,
-            routing: self.routing,
-            iterative: self.iterative,
-            projection_iterations: self.projection_iterations,
-            speed_limits: self.speed_limits,
-            world_substeps: self.world_substeps,
+            gravity: self.settings.gravity,
+            epsilon: self.settings.epsilon,
+            gamma: self.settings.gamma,
+            contact_spring: self.settings.contact_spring,
+            max_lcp_iterations: self.settings.max_lcp_iterations,
+            max_friction_passes: self.settings.max_friction_passes,
+            dem: self.settings.dem,
+            routing: self.settings.routing,
+            iterative: self.settings.iterative,
+            projection_iterations: self.settings.projection_iterations,
+            speed_limits: self.settings.speed_limits,
+            world_substeps: self.settings.world_substeps,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -131,18 +131,21 @@ impl World {
             max_bodies: snapshot.max_bodies,
             max_constraints: snapshot.max_constraints,
             max_island_rows: snapshot.max_island_rows,
-            gravity: snapshot.gravity,
-            epsilon: snapshot.epsilon,
-            gamma: snapshot.gamma,
-            contact_spring: snapshot.contact_spring,
-            max_lcp_iterations: snapshot.max_lcp_iterations,
-            max_friction_passes: snapshot.max_friction_passes,
-            dem: snapshot.dem,
-            routing: snapshot.routing,
-            iterative: snapshot.iterative,
-            projection_iterations: snapshot.projection_iterations,
-            speed_limits: snapshot.speed_limits,
-            world_substeps: snapshot.world_substeps,
+            settings: WorldSettings {
+                gravity: snapshot.gravity,
+                epsilon: snapshot.epsilon,
+                gamma: snapshot.gamma,
+                contact_spring: snapshot.contact_spring,
+                max_lcp_iterations: snapshot.max_lcp_iterations,
+                max_friction_passes: snapshot.max_friction_passes,
+                dem: snapshot.dem,
+                routing: snapshot.routing,
+                iterative: snapshot.iterative,
+                projection_iterations: snapshot.projection_iterations,
+                speed_limits: snapshot.speed_limits,
+                world_substeps: snapshot.world_substeps,
+                step_timing: true,
+            },
         })?;
         let id = snapshot.id;
         world.id = id;

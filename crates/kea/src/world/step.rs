@@ -100,9 +100,9 @@ impl World {
         self.step_by(StepSize::new(dt)?)
     }
 
-    /// [`World::step`] by a step already checked: [`World::world_substeps`] steps of `dt / n`.
+    /// [`World::step`] by a step already checked: [`crate::WorldSettings::world_substeps`] steps of `dt / n`.
     pub fn step_by(&mut self, dt: StepSize) -> KeaResult<StepStats> {
-        let n = self.world_substeps;
+        let n = self.settings.world_substeps;
         let h = dt.seconds() / n as Real;
         // Inside the pool (a pipeline that hopped already) it stays where it is.
         crate::threads::on_pool(self.awake_body_count(), || {
@@ -116,7 +116,7 @@ impl World {
 
     /// One substep of `h` for a pipeline that runs its own stages between substeps (collision,
     /// drivers): the applied forces are kept for the next substep unless this is the `last`.
-    /// A pipeline calls it [`World::world_substeps`] times with `h = dt / n`.
+    /// A pipeline calls it [`crate::WorldSettings::world_substeps`] times with `h = dt / n`.
     pub fn substep_by(&mut self, h: StepSize, last: bool) -> KeaResult<StepStats> {
         crate::threads::on_pool(self.awake_body_count(), || {
             self.step_here(h.seconds(), last)
@@ -126,9 +126,9 @@ impl World {
     /// One (sub)step on the calling thread, `dt` checked; the applied forces are cleared after
     /// it when `last`.
     fn step_here(&mut self, dt: Real, last: bool) -> KeaResult<StepStats> {
-        let t0 = Stamp::now(self.step_timing);
+        let t0 = Stamp::now(self.settings.step_timing);
         let params = self.solver_params(dt);
-        let auto_disable = self.dem.mode == super::DemMode::PartitionAutoDisable;
+        let auto_disable = self.settings.dem.mode == super::DemMode::PartitionAutoDisable;
         if auto_disable {
             self.plan_wake();
         } else {
@@ -136,9 +136,9 @@ impl World {
         }
         let reduced_trees = self.step_reduced_trees(dt);
         self.collect_bodies();
-        let t1 = Stamp::now(self.step_timing);
+        let t1 = Stamp::now(self.settings.step_timing);
         let constraints = self.gather_rows(&params);
-        let t2 = Stamp::now(self.step_timing);
+        let t2 = Stamp::now(self.settings.step_timing);
         self.warm_start_lambda();
         let s = &mut self.scratch;
         s.reactions.clear();
@@ -166,7 +166,7 @@ impl World {
                 return Err(e);
             }
         };
-        let t3 = Stamp::now(self.step_timing);
+        let t3 = Stamp::now(self.settings.step_timing);
         // The step succeeded: from here on the world changes. Islands that blew up go back to
         // where they were, frozen.
         let quarantined_bodies = self.quarantine_bad_islands();
@@ -174,7 +174,7 @@ impl World {
         self.write_back(last);
         let reduced_bodies = self.reduced_body_count();
         self.commit_reduced_trees();
-        let t_proj = Stamp::now(self.step_timing);
+        let t_proj = Stamp::now(self.settings.step_timing);
         let projected = if solver_stats.exact_islands > 0 {
             self.project_positions(&params)
         } else {
@@ -189,7 +189,7 @@ impl World {
         }
         self.time += wide(dt);
         self.steps += 1;
-        let t4 = Stamp::now(self.step_timing);
+        let t4 = Stamp::now(self.settings.step_timing);
         let sleeping_bodies = if auto_disable {
             self.bodies.iter().filter(|(_, b)| b.sleeping).count() as u32
         } else {
@@ -260,23 +260,9 @@ impl World {
         }
     }
 
-    /// Asks every enabled constraint for its rows. Returns how many wrote any.
+    /// The solver's parameters for a step of `dt`.
     pub(super) fn solver_params(&self, dt: Real) -> SolverParams {
-        SolverParams {
-            dt,
-            epsilon: self.epsilon,
-            gamma: self.gamma,
-            gravity: self.gravity,
-            contact_spring: self.contact_spring,
-            max_lcp_iterations: self.max_lcp_iterations,
-            max_friction_passes: self.max_friction_passes,
-            partition: self.dem.mode != super::DemMode::NoPartition,
-            routing: self.routing,
-            iterative: self.iterative,
-            timing: self.step_timing,
-            // The world keeps each constraint's forces; nothing reads the per-body sums.
-            body_forces: false,
-        }
+        self.settings.solver_params(dt)
     }
 
     /// Position projection for exact islands, up to `projection_iterations` Newton passes
@@ -293,7 +279,7 @@ impl World {
         for (b, &slot) in s.blocks.iter().zip(&s.block_constraint) {
             s.step_layout.push((slot, b.first_row, b.row_count));
         }
-        for _ in 0..self.projection_iterations {
+        for _ in 0..self.settings.projection_iterations {
             self.gather_rows(params);
             let s = &mut self.scratch;
             line_up_lambda(s);
@@ -385,9 +371,9 @@ impl World {
             let ctx = RowContext {
                 bodies: [self.row_body(slots[0], dt).0, self.row_body(slots[1], dt).0],
                 dt,
-                epsilon: self.epsilon,
-                gamma: self.gamma,
-                contact_spring: self.contact_spring,
+                epsilon: self.settings.epsilon,
+                gamma: self.settings.gamma,
+                contact_spring: self.settings.contact_spring,
             };
             if let Some(entry) = self.constraints.at_mut(slot) {
                 entry.kind.commit(&ctx);

@@ -17,9 +17,11 @@ pub const PATHS: [SolverMode; 2] = [SolverMode::Exact, SolverMode::Iterative];
 /// A world with default parameters whose islands all go to `mode`'s path.
 pub fn world_on(mode: SolverMode, bodies: usize, constraints: usize) -> World {
     let mut w = World::with_capacity(bodies, constraints).unwrap();
-    w.set_routing(Routing {
-        mode,
-        ..Default::default()
+    w.update_settings(|s| {
+        s.routing = Routing {
+            mode,
+            ..Default::default()
+        }
     })
     .unwrap();
     w
@@ -195,11 +197,11 @@ impl BoxPlaneContacts {
 }
 
 /// Largest distance between the two anchors of any ball joint of `joints`.
-pub fn max_gap(world: &World, joints: &[ConstraintHandle]) -> Real {
+pub fn max_gap(world: &World, joints: &[kea::JointHandle<kea::BallJoint>]) -> Real {
     joints
         .iter()
         .map(|&j| {
-            let joint = world.ball_joint(j).unwrap();
+            let joint = j.get(world).unwrap();
             let [b1, b2] = world.constraint_bodies(j).unwrap();
             let a1 = world
                 .body(b1.unwrap())

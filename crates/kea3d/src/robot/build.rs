@@ -8,7 +8,9 @@ use super::spec::{Coordinate, GeomSpec, Inertial, JointSpec, JointType, Pose, Ro
 use super::xml::above;
 use super::ImportError;
 use crate::{Body, Joint, PhysicsWorld};
-use kea::{BodyHandle, ConstraintHandle, Limit, Real, SingleLimit};
+use kea::{
+    BodyHandle, ConstraintHandle, Hinge, JointHandle, Limit, Planar, Prismatic, Real, SingleLimit,
+};
 use kea_collision::MassProperties;
 use std::path::Path;
 
@@ -437,9 +439,15 @@ pub(crate) fn coordinate_limit(
 ) -> crate::Result<Option<&mut Limit>> {
     let w = world.dynamics_mut();
     Ok(match kind {
-        JointType::Revolute | JointType::Continuous => Some(w.hinge_limit_mut(raw)?),
-        JointType::Prismatic => Some(w.prismatic_limit_mut(raw)?),
-        JointType::Planar | JointType::Slide2 => Some(w.planar_limit_mut(raw, k)?),
+        JointType::Revolute | JointType::Continuous => {
+            Some(JointHandle::<Hinge>::try_from_raw(&*w, raw)?.limit_mut(w)?)
+        }
+        JointType::Prismatic => {
+            Some(JointHandle::<Prismatic>::try_from_raw(&*w, raw)?.limit_mut(w)?)
+        }
+        JointType::Planar | JointType::Slide2 => {
+            Some(JointHandle::<Planar>::try_from_raw(&*w, raw)?.limit_mut(w, k)?)
+        }
         _ => None,
     })
 }

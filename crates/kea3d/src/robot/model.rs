@@ -5,7 +5,7 @@
 use super::spec::{Coordinate, JointType, Pose};
 use super::xml::above;
 use crate::{PhysicsWorld, Result};
-use kea::{BodyHandle, ConstraintHandle, KeaError, Quat, Real, Vec3};
+use kea::{BodyHandle, ConstraintHandle, Hinge, JointHandle, KeaError, Planar, Quat, Real, Vec3};
 
 /// A link of a loaded robot.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -238,7 +238,10 @@ impl Robot {
             JointType::Revolute | JointType::Continuous => {
                 let c = &j.coords[0];
                 let tracked = match j.raw {
-                    Some(raw) => world.dynamics().hinge(raw)?.angle(),
+                    Some(raw) => {
+                        let d = world.dynamics();
+                        JointHandle::<Hinge>::try_from_raw(d, raw)?.angle(d)?
+                    }
                     None => 0.0,
                 };
                 out[0] = unwrap_about(delta.rotation, c.axis, tracked) + c.reference;
@@ -252,7 +255,12 @@ impl Robot {
                 if j.kind == JointType::Planar {
                     let c = &j.coords[2];
                     let tracked = match j.raw {
-                        Some(raw) => world.dynamics().planar_joint(raw)?.coordinates()[2],
+                        Some(raw) => {
+                            let d = world.dynamics();
+                            JointHandle::<Planar>::try_from_raw(d, raw)?
+                                .get(d)?
+                                .coordinates()[2]
+                        }
                         None => 0.0,
                     };
                     out[2] = unwrap_about(delta.rotation, c.axis, tracked) + c.reference;
@@ -339,7 +347,12 @@ impl Robot {
                 staged.set_rotation(body, pose[link].rotation)?;
             }
             if let (Some(raw), Some(angle)) = (j.raw, self.turn(j, qj)) {
-                staged.dynamics_mut().rebase_joint_angle(raw, angle)?;
+                let d = staged.dynamics_mut();
+                if j.kind == JointType::Planar {
+                    JointHandle::<Planar>::try_from_raw(&*d, raw)?.rebase_turn(d, angle)?;
+                } else {
+                    JointHandle::<Hinge>::try_from_raw(&*d, raw)?.rebase_angle(d, angle)?;
+                }
             }
         }
         *world = staged;

@@ -3,9 +3,9 @@
 use super::{Attached, PhysicsWorld};
 use crate::body::BodyType;
 use crate::collider::Collider;
-use crate::joint::{Joint, JointHandle, JointKind, Spec};
 use crate::Result;
-use kea::{BodyHandle, ConstraintHandle, Limit};
+use crate::{Joint, JointHandle, JointKind};
+use kea::BodyHandle;
 use kea_collision::{ColliderDef, ColliderHandle, MaterialId};
 
 impl PhysicsWorld {
@@ -111,70 +111,17 @@ impl PhysicsWorld {
         body2: Option<BodyHandle>,
         joint: Joint<J>,
     ) -> Result<JointHandle<J>> {
-        let w = &mut self.dynamics;
-        let raw = match joint.spec {
-            Spec::Ball(a) => w.create_ball_joint(body1, body2, a),
-            Spec::Hinge(a, axis) => w.create_hinge(body1, body2, a, axis),
-            Spec::Prismatic(a, axis) => w.create_prismatic(body1, body2, a, axis),
-            Spec::Fixed(a) => w.create_fixed_joint(body1, body2, a),
-            Spec::Universal(a, x, y) => w.create_universal_joint(body1, body2, a, x, y),
-            Spec::Linear1(a, n) => w.create_linear1(body1, body2, a, n),
-            Spec::Linear2(a, d) => w.create_linear2(body1, body2, a, d),
-            Spec::Planar {
-                anchor,
-                normal,
-                axis,
-                rotates,
-            } => w.create_planar(body1, body2, anchor, normal, axis, rotates),
-            Spec::FixedPath(a, fixed) => w.create_fixed_path(body1, body2, a, fixed),
-            Spec::CarWheel {
-                steering,
-                axle,
-                k,
-                d,
-            } => match body2 {
-                Some(wheel) => w.create_car_wheel(body1, wheel, steering, axle, k, d),
-                None => Err(kea::KeaError::InvalidState {
-                    operation: "insert_joint",
-                    reason: "a car wheel joins a chassis (body1) to a wheel (body2): give body2",
-                }),
-            },
-        }?;
-        if let Err(e) = self.configure_joint(raw, &joint) {
-            self.dynamics.destroy_constraint(raw)?;
-            return Err(e);
-        }
-        Ok(JointHandle::from_raw(raw))
-    }
-
-    /// Sets a new joint's limits, motor and collision rule.
-    fn configure_joint<J>(&mut self, raw: ConstraintHandle, joint: &Joint<J>) -> Result<()> {
-        if joint.limits.is_some() || joint.motor.is_some() {
-            let limit = self.limit_of(raw)?;
-            let mut changed = *limit;
-            if let Some((lo, hi)) = joint.limits {
-                changed.set_limits(lo, hi)?;
+        let h = self.dynamics.create_joint(body1, body2, joint)?;
+        if joint.collides_connected() {
+            if let Err(e) = self
+                .collision
+                .set_joint_collisions(&self.dynamics, h.raw(), true)
+            {
+                self.dynamics.destroy_constraint(h)?;
+                return Err(e);
             }
-            if let Some((v, f)) = joint.motor {
-                changed.set_motor(v, f)?;
-            }
-            *self.limit_of(raw)? = changed;
         }
-        if joint.collide_connected {
-            self.collision
-                .set_joint_collisions(&self.dynamics, raw, true)?;
-        }
-        Ok(())
-    }
-
-    /// The limit of a hinge or prismatic joint.
-    fn limit_of(&mut self, raw: ConstraintHandle) -> Result<&mut Limit> {
-        let kind = self.dynamics.constraint_kind(raw)?;
-        Ok(if kind == "hinge" {
-            self.dynamics.hinge_limit_mut(raw)?
-        } else {
-            self.dynamics.prismatic_limit_mut(raw)?
-        })
+        Ok(h)
     }
 
     /// Removes a joint.
@@ -186,6 +133,6 @@ impl PhysicsWorld {
 
     /// The joint of a typed handle, read-only.
     pub fn joint<J: JointKind>(&self, h: JointHandle<J>) -> Result<&J> {
-        Ok(J::read(&self.dynamics, h.raw())?)
+        Ok(h.get(&self.dynamics)?)
     }
 }

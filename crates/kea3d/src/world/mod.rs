@@ -168,19 +168,21 @@ impl PhysicsWorld {
     /// Gravity, m/s².
     #[must_use]
     pub fn gravity(&self) -> Vec3 {
-        self.dynamics.gravity()
+        self.dynamics.settings().gravity
     }
 
     /// Sets gravity, m/s².
     pub fn set_gravity(&mut self, g: impl Into<Vec3>) -> Result<()> {
-        Ok(self.dynamics.set_gravity(g.into())?)
+        Ok(self.dynamics.update_settings(|s| s.gravity = g.into())?)
     }
 
     /// Turns the stage times of the step statistics on (default) or off; off, no clock is
     /// read, which a small world stepped many times without reading its statistics notices
     /// (see [`kea::timing`]). The results are the same bits either way.
     pub fn set_step_timing(&mut self, on: bool) {
-        self.dynamics.set_step_timing(on);
+        self.dynamics
+            .update_settings(|s| s.step_timing = on)
+            .expect("the step-timing flag takes any value");
     }
 
     /// Reserves room for this many bodies, colliders and constraints (contacts included), so
@@ -288,4 +290,19 @@ fn unknown_body() -> crate::Error {
         reason: "the body was made through dynamics_mut(): use the dynamics layer for it",
     }
     .into()
+}
+
+/// Joint handles read a physics world as its dynamics layer: `hinge.angle(&world)`.
+impl AsRef<World> for PhysicsWorld {
+    fn as_ref(&self) -> &World {
+        &self.dynamics
+    }
+}
+
+/// Joint handles change a physics world's joints through its dynamics layer:
+/// `hinge.set_motor(&mut world, 1.0, 50.0)`.
+impl AsMut<World> for PhysicsWorld {
+    fn as_mut(&mut self) -> &mut World {
+        &mut self.dynamics
+    }
 }

@@ -37,7 +37,7 @@ impl PhysicsWorld {
     /// paths when they were set.
     fn run_stages(&mut self, dt: StepSize) -> Result<StepStats> {
         self.collision.check_settings()?;
-        let n = self.dynamics.world_substeps();
+        let n = self.dynamics.settings().world_substeps;
         let h = if n == 1 {
             dt
         } else {
@@ -68,7 +68,7 @@ impl PhysicsWorld {
         let time = self.dynamics.time() as Real;
         let h = dt.seconds();
         for (joint, position, velocity) in self.paths.samples(time, h) {
-            self.dynamics.set_path(joint, position, velocity)?;
+            joint.set_path(&mut self.dynamics, position, velocity)?;
         }
         for i in 0..self.driven.len() {
             let body = self.driven[i];

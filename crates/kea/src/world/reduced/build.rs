@@ -49,7 +49,7 @@ impl World {
                 ..TreeLink::default()
             }
         });
-        cache.tree.refill(links, d3(self.gravity));
+        cache.tree.refill(links, d3(self.settings.gravity));
         let n = plan.len();
         cache.q.clear();
         cache.q.resize(n, 0.0);
@@ -109,9 +109,9 @@ impl World {
         let ctx = RowContext {
             bodies: sides.map(row_body),
             dt: 1.0,
-            epsilon: self.epsilon,
-            gamma: self.gamma,
-            contact_spring: self.contact_spring,
+            epsilon: self.settings.epsilon,
+            gamma: self.settings.gamma,
+            contact_spring: self.settings.contact_spring,
         };
         let (at, rate) = match &entry.kind {
             ConstraintKind::Hinge(j) => j.angle_and_rate(&ctx),

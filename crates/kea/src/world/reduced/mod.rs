@@ -148,8 +148,11 @@ impl World {
         for t in &mut r.trees {
             t.stepped = false;
         }
-        let limit = self.routing.max_reduced_links;
-        if self.routing.mode != SolverMode::Hybrid || limit == 0 || !self.has_reducible_joints() {
+        let limit = self.settings.routing.max_reduced_links;
+        if self.settings.routing.mode != SolverMode::Hybrid
+            || limit == 0
+            || !self.has_reducible_joints()
+        {
             self.forget_unstepped_trees();
             return 0;
         }
@@ -208,7 +211,7 @@ impl World {
             .iter()
             .filter(|t| t.revision == self.joint_revision)
             .all(|t| {
-                t.plan.len() <= self.routing.max_reduced_links as usize
+                t.plan.len() <= self.settings.routing.max_reduced_links as usize
                     && self.untouched(t)
                     && t.plan.iter().all(|p| {
                         let b = self.bodies.at(p.body as usize);
@@ -297,7 +300,7 @@ impl World {
     /// Steps kept tree `index` by `h` into the results; false (nothing kept) if its inertia is
     /// singular or anything comes out non-finite.
     fn advance_tree(&mut self, index: usize, h: Real) -> bool {
-        let gravity = d3(self.gravity);
+        let gravity = d3(self.settings.gravity);
         let r = &mut self.scratch.reduced;
         let t = &mut r.trees[index];
         let (bodies, constraints) = (&self.bodies, &self.constraints);
