@@ -53,6 +53,17 @@ pub struct RayHit {
     pub normal: Vec3,
 }
 
+impl RayHit {
+    fn new(collider: ColliderHandle, ray: &Ray, hit: query::RayIntersection) -> Self {
+        Self {
+            collider,
+            distance: hit.time_of_impact,
+            point: ray.point_at(hit.time_of_impact),
+            normal: hit.normal,
+        }
+    }
+}
+
 /// A shape swept from a pose along `velocity` for `0 ≤ t ≤ max_time`.
 #[derive(Debug, Clone)]
 pub struct ShapeCast {
@@ -124,10 +135,7 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<Vec<RayHit>> {
-        check_point("origin", origin)?;
-        check_vec3("direction", direction)?;
-        check_non_negative("max_distance", max_distance)?;
-        check_reach("max_distance", direction, max_distance)?;
+        check_path(RAY_ARGS, origin, direction, max_distance)?;
         if direction.length_squared() == 0.0 {
             return Err(kea::KeaError::NotUnit {
                 arg: "direction",
@@ -147,12 +155,7 @@ impl CollisionWorld {
             })
             .map_err(|message| dependency("cast_ray", collider, message))?;
             if let Some(hit) = hit {
-                hits.push(RayHit {
-                    collider,
-                    distance: hit.time_of_impact,
-                    point: ray.point_at(hit.time_of_impact),
-                    normal: hit.normal,
-                });
+                hits.push(RayHit::new(collider, &ray, hit));
             }
         }
         hits.sort_by(|a, b| {
@@ -187,10 +190,7 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<bool> {
-        check_point("origin", origin)?;
-        check_vec3("direction", direction)?;
-        check_non_negative("max_distance", max_distance)?;
-        check_reach("max_distance", direction, max_distance)?;
+        check_path(RAY_ARGS, origin, direction, max_distance)?;
         let ray = Ray::new(origin, direction);
         for (collider, def, pose) in self.visible(world, filter) {
             let shape = def.shape.shared.as_ref();
@@ -213,10 +213,7 @@ impl CollisionWorld {
         direction: Vec3,
         max_distance: Real,
     ) -> CollisionResult<Option<RayHit>> {
-        check_point("origin", origin)?;
-        check_vec3("direction", direction)?;
-        check_non_negative("max_distance", max_distance)?;
-        check_reach("max_distance", direction, max_distance)?;
+        check_path(RAY_ARGS, origin, direction, max_distance)?;
         let def = self.collider(collider)?;
         let (position, rotation) = self.collider_pose(world, collider)?;
         let pose = Pose::from_parts(position, rotation);
@@ -224,12 +221,7 @@ impl CollisionWorld {
         let shape = def.shape.shared.as_ref();
         let hit = guarded(|| shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true))
             .map_err(|message| dependency("cast_ray_at", collider, message))?;
-        Ok(hit.map(|hit| RayHit {
-            collider,
-            distance: hit.time_of_impact,
-            point: ray.point_at(hit.time_of_impact),
-            normal: hit.normal,
-        }))
+        Ok(hit.map(|hit| RayHit::new(collider, &ray, hit)))
     }
 
     /// Sweeps a shape along a straight path and returns the first collider it touches.
@@ -247,10 +239,12 @@ impl CollisionWorld {
             max_time,
         } = cast;
         let (position, velocity, max_time) = (*position, *velocity, *max_time);
-        check_point("position", position)?;
-        check_vec3("velocity", velocity)?;
-        check_non_negative("max_time", max_time)?;
-        check_reach("max_time", velocity, max_time)?;
+        check_path(
+            ["position", "velocity", "max_time"],
+            position,
+            velocity,
+            max_time,
+        )?;
         if shape.kind_name() == "plane" {
             return Err(kea::KeaError::InvalidState {
                 operation: "cast_shape",
@@ -315,7 +309,7 @@ impl CollisionWorld {
         rotation: Quat,
         filter: QueryFilter,
     ) -> CollisionResult<Vec<ColliderHandle>> {
-        check_point("position", position)?;
+        kea::error::check_coordinate("position", position)?;
         let rotation = check_unit_quat("rotation", rotation)?;
         let pose = Pose::from_parts(position, rotation);
         let mut found = Vec::new();
@@ -339,7 +333,7 @@ impl CollisionWorld {
         max_distance: Real,
         filter: QueryFilter,
     ) -> CollisionResult<Option<PointHit>> {
-        check_point("point", point)?;
+        kea::error::check_coordinate("point", point)?;
         check_non_negative("max_distance", max_distance)?;
         let mut best: Option<PointHit> = None;
         for (collider, def, pose) in self.visible(world, filter) {
@@ -403,19 +397,21 @@ fn cast_times(
     Window::Times(0.0, max_time)
 }
 
-/// Checks that a query's point is finite and within [`kea::error::MAX_COORDINATE`] of the
-/// origin, where bodies can be.
-fn check_point(arg: &'static str, v: Vec3) -> CollisionResult<()> {
-    check_vec3(arg, v)?;
-    if v.abs().max_element() > kea::error::MAX_COORDINATE {
-        return Err(kea::KeaError::OutOfRange {
-            arg,
-            value: kea::error::format_vec3(v),
-            expected: "each coordinate must be within 1e9 m of the origin",
-        }
-        .into());
-    }
-    Ok(())
+/// A ray query's argument names: its origin, direction and length.
+const RAY_ARGS: [&str; 3] = ["origin", "direction", "max_distance"];
+
+/// Checks a path query's start point, direction (or velocity) and length (or time), whose
+/// argument names are `names`, before anything reaches parry.
+fn check_path(
+    names: [&'static str; 3],
+    start: Vec3,
+    direction: Vec3,
+    length: Real,
+) -> CollisionResult<()> {
+    kea::error::check_coordinate(names[0], start)?;
+    check_vec3(names[1], direction)?;
+    check_non_negative(names[2], length)?;
+    check_reach(names[2], direction, length)
 }
 
 /// Checks that a query reaches no farther than twice [`kea::error::MAX_COORDINATE`]: parry

@@ -197,47 +197,7 @@ impl Solver {
         lambda: &mut [Real],
         reactions: &mut [[Reaction; 2]],
     ) -> KeaResult<SolverStats> {
-        self.step_with_source(
-            bodies, blocks, rows, contacts, params, lambda, reactions, None,
-        )
-    }
-
-    /// [`Solver::step`], with `source` writing the blocks' rows again at each substep of the
-    /// iterative path (joints re-linearised at the present poses, so fast rotation inside a
-    /// step does not tear them). Row counts and kinds must not depend on the poses for a
-    /// block to be re-written; one whose rows change keeps those of the step's start.
-    #[allow(clippy::too_many_arguments)]
-    pub fn step_with_source(
-        &mut self,
-        bodies: &mut [SolverBody],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        contacts: &mut [SolverContact],
-        params: &SolverParams,
-        lambda: &mut [Real],
-        reactions: &mut [[Reaction; 2]],
-        source: Option<&dyn RowSource>,
-    ) -> KeaResult<SolverStats> {
-        validate_inputs(bodies, blocks, rows, contacts, params, lambda, reactions)?;
-        let mut stats = SolverStats::default();
-        if bodies.is_empty() {
-            // Nothing to solve (every body asleep, static or stepped in reduced coordinates).
-            self.reports.clear();
-            return Ok(stats);
-        }
-        let before = self.memory_used();
-        let t0 = Stamp::now(params.timing);
-        self.integ.prepare(bodies, params);
-        self.islands.build(
-            bodies.len(),
-            |i| !bodies[i].is_fixed(),
-            blocks,
-            contacts,
-            params.partition,
-        );
-        let t1 = Stamp::now(params.timing);
-        stats.time_islands = t0.until(t1);
-        let mut step = StepArrays {
+        self.step_arrays(StepArrays {
             bodies,
             blocks,
             rows,
@@ -245,8 +205,33 @@ impl Solver {
             params,
             lambda,
             reactions,
-            source,
-        };
+            source: None,
+        })
+    }
+
+    /// [`Solver::step`] on one step's arrays, with their row source if any.
+    pub(crate) fn step_arrays(&mut self, mut step: StepArrays<'_>) -> KeaResult<SolverStats> {
+        validate_inputs(&step)?;
+        let params = step.params;
+        let mut stats = SolverStats::default();
+        if step.bodies.is_empty() {
+            // Nothing to solve (every body asleep, static or stepped in reduced coordinates).
+            self.reports.clear();
+            return Ok(stats);
+        }
+        let before = self.memory_used();
+        let t0 = Stamp::now(params.timing);
+        let bodies = &*step.bodies;
+        self.integ.prepare(bodies, params);
+        self.islands.build(
+            bodies.len(),
+            |i| !bodies[i].is_fixed(),
+            step.blocks,
+            step.contacts,
+            params.partition,
+        );
+        let t1 = Stamp::now(params.timing);
+        stats.time_islands = t0.until(t1);
         self.clear_unsolved(&mut step, &mut stats);
         self.solve_routed(&mut step, &mut stats);
         if !self.iterative_islands.is_empty() {
@@ -444,16 +429,20 @@ impl Solver {
     }
 }
 
-/// One step's arrays, as [`Solver::step_with_source`] takes them.
-struct StepArrays<'a> {
-    bodies: &'a mut [SolverBody],
-    blocks: &'a [ConstraintBlock],
-    rows: &'a [Row],
-    contacts: &'a mut [SolverContact],
-    params: &'a SolverParams,
-    lambda: &'a mut [Real],
-    reactions: &'a mut [[Reaction; 2]],
-    source: Option<&'a dyn RowSource>,
+/// One step's arrays, as [`Solver::step`] takes them, and where the rows come from.
+pub(crate) struct StepArrays<'a> {
+    pub(crate) bodies: &'a mut [SolverBody],
+    pub(crate) blocks: &'a [ConstraintBlock],
+    pub(crate) rows: &'a [Row],
+    pub(crate) contacts: &'a mut [SolverContact],
+    pub(crate) params: &'a SolverParams,
+    pub(crate) lambda: &'a mut [Real],
+    pub(crate) reactions: &'a mut [[Reaction; 2]],
+    /// Writes the blocks' rows again at each substep of the iterative path (joints
+    /// re-linearised at the present poses, so fast rotation inside a step does not tear
+    /// them). Row counts and kinds must not depend on the poses for a block to be re-written;
+    /// one whose rows change keeps those of the step's start.
+    pub(crate) source: Option<&'a dyn RowSource>,
 }
 
 impl Solver {

@@ -1,20 +1,22 @@
 //! Checks on the immediate-mode inputs: every array consistent, every number finite, every
 //! body physical. The solver changes nothing before these pass.
 
-use super::{ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams};
+use super::{ConstraintBlock, SolverBody, StepArrays};
 use crate::constraint::Row;
 use crate::error::{KeaError, KeaResult};
 use crate::math::{is_finite3, Mat3, Real};
 
-pub(super) fn validate_inputs(
-    bodies: &[SolverBody],
-    blocks: &[ConstraintBlock],
-    rows: &[Row],
-    contacts: &[SolverContact],
-    params: &SolverParams,
-    lambda: &[Real],
-    reactions: &[[Reaction; 2]],
-) -> KeaResult<()> {
+pub(super) fn validate_inputs(step: &StepArrays<'_>) -> KeaResult<()> {
+    let StepArrays {
+        bodies,
+        blocks,
+        rows,
+        contacts,
+        params,
+        lambda,
+        reactions,
+        ..
+    } = step;
     params.validate()?;
     for (i, c) in contacts.iter().enumerate() {
         let [a, b] = c.bodies;

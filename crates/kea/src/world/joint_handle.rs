@@ -231,25 +231,46 @@ impl<J: JointKind> JointHandle<J> {
     }
 }
 
-impl JointHandle<Hinge> {
-    /// The hinge angle, rad (0 at creation, continuous past ±π).
-    pub fn angle(self, world: &impl AsRef<World>) -> KeaResult<Real> {
-        Ok(self.get(world)?.angle())
-    }
+/// A joint with one coordinate, limited and motorised: a hinge (its angle, rad) or a
+/// prismatic joint (its distance, m).
+pub trait OneCoordinate: JointKind {
+    /// The coordinate's limits and motor.
+    fn coordinate_limit(&mut self) -> &mut Limit;
+}
 
+impl OneCoordinate for Hinge {
+    fn coordinate_limit(&mut self) -> &mut Limit {
+        self.limit_mut()
+    }
+}
+
+impl OneCoordinate for Prismatic {
+    fn coordinate_limit(&mut self) -> &mut Limit {
+        self.limit_mut()
+    }
+}
+
+impl<J: OneCoordinate> JointHandle<J> {
     /// Its limits and motor, to change.
     pub fn limit_mut(self, world: &mut impl AsMut<World>) -> KeaResult<&mut Limit> {
-        Ok(self.get_mut(world.as_mut())?.limit_mut())
+        Ok(self.get_mut(world.as_mut())?.coordinate_limit())
     }
 
-    /// Drives the angle at `velocity` rad/s with at most `max_torque` N·m.
+    /// Drives the coordinate at `velocity` (rad/s or m/s) with at most `max_force` (N·m or N).
     pub fn set_motor(
         self,
         world: &mut impl AsMut<World>,
         velocity: Real,
-        max_torque: Real,
+        max_force: Real,
     ) -> KeaResult<()> {
-        self.limit_mut(world)?.set_motor(velocity, max_torque)
+        self.limit_mut(world)?.set_motor(velocity, max_force)
+    }
+}
+
+impl JointHandle<Hinge> {
+    /// The hinge angle, rad (0 at creation, continuous past ±π).
+    pub fn angle(self, world: &impl AsRef<World>) -> KeaResult<Real> {
+        Ok(self.get(world)?.angle())
     }
 
     /// Tells the hinge the continuous angle it has now, rad, after its bodies were re-posed
@@ -268,21 +289,6 @@ impl JointHandle<Prismatic> {
     /// The slide distance, m (0 at creation).
     pub fn distance(self, world: &impl AsRef<World>) -> KeaResult<Real> {
         Ok(self.get(world)?.distance())
-    }
-
-    /// Its limits and motor, to change.
-    pub fn limit_mut(self, world: &mut impl AsMut<World>) -> KeaResult<&mut Limit> {
-        Ok(self.get_mut(world.as_mut())?.limit_mut())
-    }
-
-    /// Drives the slide at `velocity` m/s with at most `max_force` N.
-    pub fn set_motor(
-        self,
-        world: &mut impl AsMut<World>,
-        velocity: Real,
-        max_force: Real,
-    ) -> KeaResult<()> {
-        self.limit_mut(world)?.set_motor(velocity, max_force)
     }
 }
 

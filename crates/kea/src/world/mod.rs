@@ -28,7 +28,7 @@ mod step_size;
 mod write_back;
 
 pub use islands::IslandList;
-pub use joint_handle::{JointHandle, JointKind};
+pub use joint_handle::{JointHandle, JointKind, OneCoordinate};
 pub use joint_spec::JointSpec;
 pub use quarantine::{QuarantineEvent, QuarantineReason, SpeedLimits};
 pub use settings::WorldSettings;

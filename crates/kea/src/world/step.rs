@@ -16,7 +16,7 @@ use super::World;
 use crate::constraint::RowContext;
 use crate::error::KeaResult;
 use crate::math::{is_finite3, wide, Mat3, Real, Vec3};
-use crate::solver::{Reaction, SolverBody, SolverParams, SolverStats};
+use crate::solver::{Reaction, SolverBody, SolverParams, SolverStats, StepArrays};
 use crate::timing::Stamp;
 use std::time::Duration;
 
@@ -147,16 +147,16 @@ impl World {
             constraints: &self.constraints,
             block_constraint: &s.block_constraint,
         };
-        let solver_stats = self.solver.step_with_source(
-            &mut s.solver_bodies,
-            &s.blocks,
-            &s.rows,
-            &mut s.contacts,
-            &params,
-            &mut s.lambda,
-            &mut s.reactions,
-            Some(&source),
-        );
+        let solver_stats = self.solver.step_arrays(StepArrays {
+            bodies: &mut s.solver_bodies,
+            blocks: &s.blocks,
+            rows: &s.rows,
+            contacts: &mut s.contacts,
+            params: &params,
+            lambda: &mut s.lambda,
+            reactions: &mut s.reactions,
+            source: Some(&source),
+        });
         let solver_stats = match solver_stats {
             Ok(stats) => stats,
             Err(e) => {

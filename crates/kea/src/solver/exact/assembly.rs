@@ -28,8 +28,8 @@ impl ExactWorkspace {
         for (k, &blk) in pattern.order.iter().enumerate() {
             self.block_position[blk as usize] = k as u32;
         }
-        self.a.clear();
-        self.a.resize(self.layout.values(), 0.0);
+        self.sys.a.clear();
+        self.sys.a.resize(self.layout.values(), 0.0);
         self.stamp += 1;
 
         // Blocks by body: each body couples every pair of the blocks that touch it.
@@ -71,7 +71,7 @@ impl ExactWorkspace {
                         pattern,
                         &self.layout,
                         &blocks,
-                        &mut self.a,
+                        &mut self.sys.a,
                         self.body_entries[e],
                         self.body_entries[f],
                     );
@@ -86,7 +86,7 @@ impl ExactWorkspace {
             let at = self.layout.offset(k);
             for i in 0..s {
                 for j in 0..i {
-                    self.a[at + j * s + i] = self.a[at + i * s + j];
+                    self.sys.a[at + j * s + i] = self.sys.a[at + i * s + j];
                 }
             }
         }
@@ -98,8 +98,8 @@ impl ExactWorkspace {
             v.clear();
             v.resize(n, 0.0);
         }
-        self.state.clear();
-        self.state.resize(n, Bound::Free);
+        self.sys.state.clear();
+        self.sys.state.resize(n, Bound::Free);
     }
 
     /// Fills `A = J M⁻¹ Jᵀ` (no diagonal terms) for the gathered rows, dense or block-sparse
@@ -107,7 +107,7 @@ impl ExactWorkspace {
     pub(super) fn fill_system(&mut self) {
         self.dense_now = self.dense_system();
         if self.dense_now {
-            self.dense.fill(&self.rows, &self.links);
+            self.dense.fill(&self.rows, &self.sys.links);
             self.size_vectors(self.rows.len());
         } else {
             self.assemble_matrix();
@@ -120,7 +120,7 @@ impl ExactWorkspace {
             return self.dense.diagonal(i);
         }
         let (at, stride, r) = self.diagonal_index(i);
-        self.a[at + r * stride + r]
+        self.sys.a[at + r * stride + r]
     }
 
     /// Where island row `i`'s diagonal lives: its block's offset, the block's size, and the
@@ -139,7 +139,7 @@ impl ExactWorkspace {
             return self.dense.add_diagonal(i, v);
         }
         let (at, stride, r) = self.diagonal_index(i);
-        self.a[at + r * stride + r] += v;
+        self.sys.a[at + r * stride + r] += v;
     }
 
     pub(super) fn assemble(
@@ -174,28 +174,29 @@ impl ExactWorkspace {
             }
             // No chord here (`Row::curvature`): one linearisation a step and the chord turned
             // a 30° pendulum's slow loss (1% in 10 s) into a gain (3%).
-            self.b[i] = (wide(row.c) - gamma * wide(row.xi) / h - jv) / h;
-            self.lo[i] = wide(row.lo);
-            self.hi[i] = wide(row.hi);
+            self.sys.b[i] = (wide(row.c) - gamma * wide(row.xi) / h - jv) / h;
+            self.sys.lo[i] = wide(row.lo);
+            self.sys.hi[i] = wide(row.hi);
         }
         // Warm start: each row at the set its last force puts it in; friction bounded by the
         // last normal force, or unbounded (the sticking guess) without one.
         for i in 0..n {
             let g = |j: usize| wide(guess[self.rows[j].global as usize]);
-            if let Some((normal, mu)) = self.links[i] {
+            if let Some((normal, mu)) = self.sys.links[i] {
                 let bound = mu * g(normal as usize).max(0.0);
-                (self.lo[i], self.hi[i]) = if bound > 0.0 {
+                (self.sys.lo[i], self.sys.hi[i]) = if bound > 0.0 {
                     (-bound, bound)
                 } else {
                     (f64::NEG_INFINITY, f64::INFINITY)
                 };
             }
-            self.state[i] = super::pivoting::state_from_guess(self.lo[i], self.hi[i], g(i));
+            self.sys.state[i] =
+                super::pivoting::state_from_guess(self.sys.lo[i], self.sys.hi[i], g(i));
             let ri = self.rows[i].global;
             if self.contact_rows_from.is_some_and(|f| ri >= f) && g(i) == 0.0 {
                 let row = &rows[ri as usize];
                 if row.lo == 0.0 && row.hi == Real::INFINITY && row.friction.is_none() {
-                    self.state[i] = Bound::Free;
+                    self.sys.state[i] = Bound::Free;
                 }
             }
         }

@@ -14,21 +14,23 @@ use super::pivoting::FrictionLink;
 use super::IslandRow;
 use crate::solver::{SolverParams, SolverStats};
 
-/// A dense island system and its LCP workspace.
+/// An island's boxed LCP `A x = b + w`, `lo ≤ x ≤ hi`: the matrix (dense here, block-packed
+/// on the sparse path), the right-hand side and bounds, the solution and slack, each row's
+/// friction link and bound state. Both exact paths keep one, beside their pivoting's
+/// workspace.
 #[derive(Debug, Default, Clone)]
-pub(crate) struct DenseIsland {
-    a: Vec<f64>,
-    b: Vec<f64>,
-    lo: Vec<f64>,
-    hi: Vec<f64>,
-    x: Vec<f64>,
-    w: Vec<f64>,
-    links: Vec<FrictionLink>,
-    state: Vec<Bound>,
-    lcp: LcpWorkspace,
+pub(crate) struct LcpArrays {
+    pub(super) a: Vec<f64>,
+    pub(super) b: Vec<f64>,
+    pub(super) lo: Vec<f64>,
+    pub(super) hi: Vec<f64>,
+    pub(super) x: Vec<f64>,
+    pub(super) w: Vec<f64>,
+    pub(super) links: Vec<FrictionLink>,
+    pub(super) state: Vec<Bound>,
 }
 
-impl DenseIsland {
+impl LcpArrays {
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
         (self.a.capacity()
@@ -40,16 +42,29 @@ impl DenseIsland {
             * 8
             + self.links.capacity() * std::mem::size_of::<FrictionLink>()
             + self.state.capacity()
-            + self.lcp.bytes()
+    }
+}
+
+/// A dense island system and its LCP workspace.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct DenseIsland {
+    sys: LcpArrays,
+    lcp: LcpWorkspace,
+}
+
+impl DenseIsland {
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        self.sys.bytes() + self.lcp.bytes()
     }
 
     /// Fills `A = J M⁻¹ Jᵀ` for the rows (no softness on the diagonal yet).
     pub(crate) fn fill(&mut self, rows: &[IslandRow], links: &[FrictionLink]) {
         let n = rows.len();
-        self.links.clear();
-        self.links.extend_from_slice(&links[..n]);
-        self.a.clear();
-        self.a.resize(n * n, 0.0);
+        self.sys.links.clear();
+        self.sys.links.extend_from_slice(&links[..n]);
+        self.sys.a.clear();
+        self.sys.a.resize(n * n, 0.0);
         for i in 0..n {
             let ri = rows[i];
             for j in i..n {
@@ -64,21 +79,21 @@ impl DenseIsland {
                         }
                     }
                 }
-                self.a[i * n + j] = s;
-                self.a[j * n + i] = s;
+                self.sys.a[i * n + j] = s;
+                self.sys.a[j * n + i] = s;
             }
         }
     }
 
     /// Row `i`'s diagonal entry.
     pub(crate) fn diagonal(&self, i: usize) -> f64 {
-        self.a[i * self.links.len() + i]
+        self.sys.a[i * self.sys.links.len() + i]
     }
 
     /// Adds `v` to row `i`'s diagonal entry.
     pub(crate) fn add_diagonal(&mut self, i: usize, v: f64) {
-        let n = self.links.len();
-        self.a[i * n + i] += v;
+        let n = self.sys.links.len();
+        self.sys.a[i * n + i] += v;
     }
 
     /// Solves the BLCP with Coulomb bounds iterated outside the pivoting: solve, re-set the
@@ -93,28 +108,28 @@ impl DenseIsland {
         params: &SolverParams,
         stats: &mut SolverStats,
     ) {
-        let n = self.links.len();
-        self.b.clear();
-        self.b.extend_from_slice(b);
-        self.lo.clear();
-        self.hi.clear();
+        let n = self.sys.links.len();
+        self.sys.b.clear();
+        self.sys.b.extend_from_slice(b);
+        self.sys.lo.clear();
+        self.sys.hi.clear();
         for i in 0..n {
             // First pass: friction unbounded, the sticking guess.
-            let (l, h) = match self.links[i] {
+            let (l, h) = match self.sys.links[i] {
                 Some(_) => (f64::NEG_INFINITY, f64::INFINITY),
                 None => (lo[i], hi[i]),
             };
-            self.lo.push(l);
-            self.hi.push(h);
+            self.sys.lo.push(l);
+            self.sys.hi.push(h);
         }
-        for v in [&mut self.x, &mut self.w] {
+        for v in [&mut self.sys.x, &mut self.sys.w] {
             v.clear();
             v.resize(n, 0.0);
         }
-        self.state.clear();
-        self.state.resize(n, Bound::Free);
-        lcp::initial_state(&self.lo, &self.hi, &mut self.state);
-        let has_friction = self.links.iter().any(Option::is_some);
+        self.sys.state.clear();
+        self.sys.state.resize(n, Bound::Free);
+        lcp::initial_state(&self.sys.lo, &self.sys.hi, &mut self.sys.state);
+        let has_friction = self.sys.links.iter().any(Option::is_some);
         let (mut singular, mut cycled, mut capped) = (false, false, false);
         let mut friction_converged = !has_friction;
         let mut iterations_left = lcp::affordable_iterations(n);
@@ -125,13 +140,13 @@ impl DenseIsland {
             }
             let rep = lcp::solve(
                 n,
-                &self.a,
-                &self.b,
-                &self.lo,
-                &self.hi,
-                &mut self.x,
-                &mut self.w,
-                &mut self.state,
+                &self.sys.a,
+                &self.sys.b,
+                &self.sys.lo,
+                &self.sys.hi,
+                &mut self.sys.x,
+                &mut self.sys.w,
+                &mut self.sys.state,
                 &mut self.lcp,
                 params.max_lcp_iterations.min(iterations_left),
             );
@@ -147,15 +162,15 @@ impl DenseIsland {
             }
             let mut moved = false;
             for i in 0..n {
-                if let Some((normal, mu)) = self.links[i] {
-                    let bound = mu * self.x[normal as usize].max(0.0);
-                    if (bound - self.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
-                        || self.hi[i].is_infinite()
+                if let Some((normal, mu)) = self.sys.links[i] {
+                    let bound = mu * self.sys.x[normal as usize].max(0.0);
+                    if (bound - self.sys.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
+                        || self.sys.hi[i].is_infinite()
                     {
                         moved = true;
                     }
-                    self.lo[i] = -bound;
-                    self.hi[i] = bound;
+                    self.sys.lo[i] = -bound;
+                    self.sys.hi[i] = bound;
                 }
             }
             if !moved {
@@ -167,8 +182,8 @@ impl DenseIsland {
             // The last solve used the previous bounds: clamp friction to the final ones so the
             // Coulomb cone is never exceeded, and report.
             for i in 0..n {
-                if self.links[i].is_some() {
-                    self.x[i] = self.x[i].clamp(self.lo[i], self.hi[i]);
+                if self.sys.links[i].is_some() {
+                    self.sys.x[i] = self.sys.x[i].clamp(self.sys.lo[i], self.sys.hi[i]);
                 }
             }
             stats.friction_unconverged_islands += 1;
@@ -192,6 +207,6 @@ impl DenseIsland {
                 params.max_lcp_iterations
             );
         }
-        x.copy_from_slice(&self.x);
+        x.copy_from_slice(&self.sys.x);
     }
 }

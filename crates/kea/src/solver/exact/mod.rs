@@ -46,7 +46,7 @@ use crate::constraint::Row;
 use crate::math::{to_f64, wide, DVec3, Real};
 use factor::Layout;
 use pattern::{BlockBodies, PatternCache};
-use pivoting::{Bound, FrictionLink, LcpWorkspace, System, Unknowns};
+use pivoting::{FrictionLink, LcpWorkspace, System, Unknowns};
 pub(crate) use pivoting::{LcpReport, Limits};
 pub(crate) use substep::{SubstepRow, SubstepSystem};
 
@@ -84,14 +84,8 @@ pub(crate) struct ExactWorkspace {
     body_entries: Vec<(u32, u8)>,
     patterns: PatternCache,
     layout: Layout,
-    a: Vec<f64>,
-    b: Vec<f64>,
-    lo: Vec<f64>,
-    hi: Vec<f64>,
-    x: Vec<f64>,
-    w: Vec<f64>,
-    links: Vec<FrictionLink>,
-    state: Vec<Bound>,
+    /// The block-sparse system (`a` block-packed by `layout`).
+    sys: dense::LcpArrays,
     lcp: LcpWorkspace,
     dense: dense::DenseIsland,
     /// The island being solved has contacts (and so takes the dense path).
@@ -126,11 +120,11 @@ impl ExactWorkspace {
     /// The per-row vectors of the system: `b`, the bounds, `x` and `w`.
     fn row_vectors(&mut self) -> [&mut Vec<f64>; 5] {
         [
-            &mut self.b,
-            &mut self.lo,
-            &mut self.hi,
-            &mut self.x,
-            &mut self.w,
+            &mut self.sys.b,
+            &mut self.sys.lo,
+            &mut self.sys.hi,
+            &mut self.sys.x,
+            &mut self.sys.w,
         ]
     }
 
@@ -140,8 +134,8 @@ impl ExactWorkspace {
         for v in self.row_vectors() {
             reserve(v, n);
         }
-        reserve(&mut self.links, n);
-        reserve(&mut self.state, n);
+        reserve(&mut self.sys.links, n);
+        reserve(&mut self.sys.state, n);
         reserve(&mut self.forest, n);
     }
 
@@ -163,15 +157,7 @@ impl ExactWorkspace {
                 * 4
             + self.block_key.capacity() * std::mem::size_of::<BlockBodies>()
             + self.body_entries.capacity() * 8
-            + self.a.capacity() * 8
-            + (self.b.capacity()
-                + self.lo.capacity()
-                + self.hi.capacity()
-                + self.x.capacity()
-                + self.w.capacity())
-                * 8
-            + self.links.capacity() * std::mem::size_of::<FrictionLink>()
-            + self.state.capacity()
+            + self.sys.bytes()
             + self.lcp.bytes()
             + self.dense.bytes()
     }
@@ -236,7 +222,7 @@ impl ExactWorkspace {
 
         // Forces back to rows, bodies and constraints.
         for (i, r) in self.rows.iter().enumerate() {
-            let l = self.x[i];
+            let l = self.sys.x[i];
             lambda[r.global as usize] = l as Real;
             for s in 0..2 {
                 if let Some(b) = r.bodies[s] {
@@ -261,7 +247,7 @@ impl ExactWorkspace {
         keep: impl Fn(&Row) -> bool,
     ) {
         self.rows.clear();
-        self.links.clear();
+        self.sys.links.clear();
         self.island_bodies.clear();
         self.block_first.clear();
         self.block_size.clear();
@@ -295,7 +281,7 @@ impl ExactWorkspace {
                     }
                 }
                 self.rows.push(ir);
-                self.links.push(
+                self.sys.links.push(
                     row.friction
                         .map(|f| (base + u32::from(f.normal_row), wide(f.mu))),
                 );
@@ -331,8 +317,14 @@ impl ExactWorkspace {
     fn solve_lcp(&mut self, params: &SolverParams, stats: &mut SolverStats) -> bool {
         let n = self.rows.len();
         if self.dense_now {
-            self.dense
-                .solve_with_friction(&self.b, &self.lo, &self.hi, &mut self.x, params, stats);
+            self.dense.solve_with_friction(
+                &self.sys.b,
+                &self.sys.lo,
+                &self.sys.hi,
+                &mut self.sys.x,
+                params,
+                stats,
+            );
             return true;
         }
         let limits = self.limits(params);
@@ -341,17 +333,17 @@ impl ExactWorkspace {
             &System {
                 pattern,
                 layout: &self.layout,
-                a: &self.a,
-                b: &self.b,
-                links: &self.links,
+                a: &self.sys.a,
+                b: &self.sys.b,
+                links: &self.sys.links,
                 stamp: self.stamp,
             },
             &mut Unknowns {
-                lo: &mut self.lo,
-                hi: &mut self.hi,
-                x: &mut self.x,
-                w: &mut self.w,
-                state: &mut self.state,
+                lo: &mut self.sys.lo,
+                hi: &mut self.sys.hi,
+                x: &mut self.sys.x,
+                w: &mut self.sys.w,
+                state: &mut self.sys.state,
             },
             &mut self.lcp,
             limits,

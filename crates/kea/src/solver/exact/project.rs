@@ -61,13 +61,13 @@ impl ExactWorkspace {
                 0.0
             };
             worst = worst.max(xi.abs());
-            self.b[i] = deflection - xi;
-            self.lo[i] = f64::NEG_INFINITY;
-            self.hi[i] = f64::INFINITY;
+            self.sys.b[i] = deflection - xi;
+            self.sys.lo[i] = f64::NEG_INFINITY;
+            self.sys.hi[i] = f64::INFINITY;
         }
         self.solve_lcp(params, stats);
         for (i, r) in self.rows.iter().enumerate() {
-            let d = self.x[i];
+            let d = self.sys.x[i];
             for s in 0..2 {
                 if let Some(b) = r.bodies[s] {
                     scratch.constraint_force[b as usize] += r.mj[2 * s] * d;

@@ -28,7 +28,7 @@ impl ExactWorkspace {
             let contacts_only = self.contact_rows_from == Some(0);
             return !(contacts_only && self.blocks_form_forest());
         }
-        self.links.iter().any(Option::is_some)
+        self.sys.links.iter().any(Option::is_some)
     }
 
     /// Whether the gathered blocks join the island's bodies without a loop (each block that

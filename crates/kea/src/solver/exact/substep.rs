@@ -63,7 +63,7 @@ impl SubstepSystem {
             ws.local_body[b as usize] = u32::MAX;
         }
         ws.rows.clear();
-        ws.links.clear();
+        ws.sys.links.clear();
         ws.block_first.clear();
         ws.block_size.clear();
         ws.block_key.clear();
@@ -91,7 +91,7 @@ impl SubstepSystem {
                 jac: r.jac,
                 mj: r.mj,
             });
-            ws.links.push(r.link);
+            ws.sys.links.push(r.link);
             self.extra.push(r.extra);
         }
         let size = ws.rows.len() as u32 - base;
@@ -126,7 +126,7 @@ impl SubstepSystem {
             let (first, size) = ws.layout.rows(k);
             let at = ws.layout.offset(k);
             for r in 0..size {
-                let d = &mut ws.a[at + r * size + r];
+                let d = &mut ws.sys.a[at + r * size + r];
                 *d += self.extra[first + r] + REGULARISATION * *d;
             }
         }
@@ -168,36 +168,36 @@ impl SubstepSystem {
         }
         ws.size_vectors(n);
         let pattern = ws.patterns.current();
-        let equalities = ws.links.iter().all(Option::is_none)
+        let equalities = ws.sys.links.iter().all(Option::is_none)
             && lo.iter().all(|&l| l == f64::NEG_INFINITY)
             && hi.iter().all(|&h| h == f64::INFINITY);
         if equalities {
             // Equalities first: `A (y − y₀) = r` straight through the factor, no pivoting.
-            ws.x[..n].copy_from_slice(&r[..n]);
+            ws.sys.x[..n].copy_from_slice(&r[..n]);
             let report = pivoting::solve_equalities(
                 &System {
                     pattern,
                     layout: &ws.layout,
-                    a: &ws.a,
-                    b: &ws.b,
-                    links: &ws.links,
+                    a: &ws.sys.a,
+                    b: &ws.sys.b,
+                    links: &ws.sys.links,
                     stamp: ws.stamp,
                 },
-                &mut ws.state,
-                &mut ws.x,
+                &mut ws.sys.state,
+                &mut ws.sys.x,
                 &mut ws.lcp,
             );
-            for (yi, dx) in y[..n].iter_mut().zip(&ws.x[..n]) {
+            for (yi, dx) in y[..n].iter_mut().zip(&ws.sys.x[..n]) {
                 *yi += dx;
             }
             return report;
         }
         self.product.clear();
         self.product.resize(n, 0.0);
-        super::factor::multiply(pattern, &ws.layout, &ws.a, y, &mut self.product);
+        super::factor::multiply(pattern, &ws.layout, &ws.sys.a, y, &mut self.product);
         for i in 0..n {
-            ws.b[i] = r[i] + self.product[i];
-            (ws.lo[i], ws.hi[i]) = match ws.links[i] {
+            ws.sys.b[i] = r[i] + self.product[i];
+            (ws.sys.lo[i], ws.sys.hi[i]) = match ws.sys.links[i] {
                 Some((normal, mu)) => {
                     let bound = mu * y[normal as usize].max(0.0);
                     if bound > 0.0 {
@@ -208,29 +208,29 @@ impl SubstepSystem {
                 }
                 None => (lo[i], hi[i]),
             };
-            ws.x[i] = y[i];
-            ws.state[i] = pivoting::state_from_guess(ws.lo[i], ws.hi[i], y[i]);
+            ws.sys.x[i] = y[i];
+            ws.sys.state[i] = pivoting::state_from_guess(ws.sys.lo[i], ws.sys.hi[i], y[i]);
         }
         let report = pivoting::solve(
             &System {
                 pattern,
                 layout: &ws.layout,
-                a: &ws.a,
-                b: &ws.b,
-                links: &ws.links,
+                a: &ws.sys.a,
+                b: &ws.sys.b,
+                links: &ws.sys.links,
                 stamp: ws.stamp,
             },
             &mut Unknowns {
-                lo: &mut ws.lo,
-                hi: &mut ws.hi,
-                x: &mut ws.x,
-                w: &mut ws.w,
-                state: &mut ws.state,
+                lo: &mut ws.sys.lo,
+                hi: &mut ws.sys.hi,
+                x: &mut ws.sys.x,
+                w: &mut ws.sys.w,
+                state: &mut ws.sys.state,
             },
             &mut ws.lcp,
             limits,
         );
-        y[..n].copy_from_slice(&ws.x[..n]);
+        y[..n].copy_from_slice(&ws.sys.x[..n]);
         report
     }
 }
