@@ -24,6 +24,7 @@ use crate::material::MaterialTable;
 use crate::pairs::{CachedPoint, Generated, ManifoldCache, PairState};
 use crate::parry::math::Pose;
 use crate::reduce::reduce;
+use kea::cache::prefetch;
 use kea::{BodyHandle, ContactPoint, Quat, Real, Vec3, MAX_CONTACT_POINTS};
 
 /// Relative displacement below which a pair's manifolds are moved rather than generated, m.
@@ -60,23 +61,6 @@ impl Wanted {
 
 /// How many pairs ahead the narrow phase fetches.
 const PREFETCH_AHEAD: usize = 4;
-
-/// Asks the processor to bring `x` into cache (a hint: nothing happens elsewhere than x86-64).
-#[inline(always)]
-fn prefetch<T>(x: &T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let p = (x as *const T).cast::<i8>();
-        for line in (0..std::mem::size_of::<T>()).step_by(64) {
-            // SAFETY: a prefetch never faults, and `p + line` stays inside `x`.
-            unsafe {
-                std::arch::x86_64::_mm_prefetch(p.add(line), std::arch::x86_64::_MM_HINT_T0);
-            }
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
-}
 
 /// `cos(CACHE_ANGLE / 2)`: rotations whose quaternions' dot product is at least this are
 /// within [`CACHE_ANGLE`] of each other (`|q₁·q₀| = cos(θ/2)`).

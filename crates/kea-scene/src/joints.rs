@@ -121,12 +121,8 @@ pub(crate) fn create(
             limits,
             motor,
         } => {
-            let h = w
-                .create_joint(b1, b2, kea::JointSpec::hinge(v3(*anchor), v3(*axis)))
-                .map_err(at)?;
-            let limit = h.limit_mut(w).map_err(at)?;
-            coordinate(limit, limits.as_ref(), *motor, place)?;
-            h.raw()
+            let spec = kea::JointSpec::hinge(v3(*anchor), v3(*axis));
+            one_coordinate(w, b1, b2, spec, limits.as_ref(), *motor, place)?
         }
         JointKind::Prismatic {
             anchor,
@@ -134,12 +130,8 @@ pub(crate) fn create(
             limits,
             motor,
         } => {
-            let h = w
-                .create_joint(b1, b2, kea::JointSpec::prismatic(v3(*anchor), v3(*axis)))
-                .map_err(at)?;
-            let limit = h.limit_mut(w).map_err(at)?;
-            coordinate(limit, limits.as_ref(), *motor, place)?;
-            h.raw()
+            let spec = kea::JointSpec::prismatic(v3(*anchor), v3(*axis));
+            one_coordinate(w, b1, b2, spec, limits.as_ref(), *motor, place)?
         }
         JointKind::Fixed { anchor } => w
             .create_joint(b1, b2, kea::JointSpec::fixed(v3(*anchor)))
@@ -189,6 +181,22 @@ pub(crate) fn create(
         JointKind::CarWheel { .. } => crate::car_wheel::create(w, kind, b1, b2, place)?,
     };
     Ok(h)
+}
+
+/// Creates a hinge or a slider and sets its limits and motor from the scene.
+fn one_coordinate<J: kea::OneCoordinate>(
+    w: &mut World,
+    b1: BodyHandle,
+    b2: Option<BodyHandle>,
+    spec: kea::JointSpec<J>,
+    limits: Option<&LimitSpec>,
+    motor: Option<[Real; 2]>,
+    place: &str,
+) -> Result<ConstraintHandle, SceneError> {
+    let h = w.create_joint(b1, b2, spec).map_err(|e| placed(place, e))?;
+    let limit = h.limit_mut(w).map_err(|e| placed(place, e))?;
+    coordinate(limit, limits, motor, place)?;
+    Ok(h.raw())
 }
 
 /// The default limit axis of a ball joint: from the anchor towards body 1's centre (the limb's

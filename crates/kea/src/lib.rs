@@ -23,6 +23,7 @@
 
 pub mod articulation;
 pub mod body;
+pub mod cache;
 pub mod constraint;
 pub mod error;
 mod handle;

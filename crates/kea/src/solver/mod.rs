@@ -355,20 +355,8 @@ impl Solver {
     /// The iterative and split islands, in one pass of the soft step.
     fn solve_iterative(&mut self, step: &mut StepArrays<'_>, stats: &mut SolverStats) {
         let t = Stamp::now(step.params.timing);
-        let done = self.iterative.solve(
-            &self.iterative_islands,
-            &self.split,
-            &self.islands,
-            step.blocks,
-            step.rows,
-            step.contacts,
-            step.bodies,
-            &mut self.integ,
-            step.params,
-            step.lambda,
-            step.reactions,
-            step.source,
-        );
+        let islands = (&self.iterative_islands[..], &self.split[..], &self.islands);
+        let done = self.iterative.solve(islands, step, &mut self.integ);
         for (&k, &split) in self.iterative_islands.iter().zip(&self.split) {
             let r = &mut self.reports[k as usize];
             r.iterations = done.sweeps;

@@ -52,11 +52,12 @@ joint_kind! {
     CarWheel => "car wheel joint",
 }
 
-impl ConstraintKind {
-    /// The joint inside, to be downcast to its kind; `None` for a contact or a custom one.
-    fn joint_any(&self) -> Option<&dyn Any> {
-        Some(match self {
-            ConstraintKind::Ball(j) => j.as_ref(),
+/// The joint inside a constraint kind, as `Option<&dyn Any>` (`as_ref`) or `Option<&mut dyn
+/// Any>` (`as_mut`); `None` for a contact or a custom constraint.
+macro_rules! joint_inside {
+    ($kind:expr, $unbox:ident) => {
+        Some(match $kind {
+            ConstraintKind::Ball(j) => j.$unbox(),
             ConstraintKind::Hinge(j) => j,
             ConstraintKind::Prismatic(j) => j,
             ConstraintKind::Fixed(j) => j,
@@ -65,26 +66,21 @@ impl ConstraintKind {
             ConstraintKind::Linear2(j) => j,
             ConstraintKind::Planar(j) => j,
             ConstraintKind::Path(j) => j,
-            ConstraintKind::Wheel(j) => j.as_ref(),
+            ConstraintKind::Wheel(j) => j.$unbox(),
             ConstraintKind::Contact(_) | ConstraintKind::Custom(_) => return None,
         })
+    };
+}
+
+impl ConstraintKind {
+    /// The joint inside, to be downcast to its kind; `None` for a contact or a custom one.
+    fn joint_any(&self) -> Option<&dyn Any> {
+        joint_inside!(self, as_ref)
     }
 
     /// [`ConstraintKind::joint_any`], to change.
     fn joint_any_mut(&mut self) -> Option<&mut dyn Any> {
-        Some(match self {
-            ConstraintKind::Ball(j) => j.as_mut(),
-            ConstraintKind::Hinge(j) => j,
-            ConstraintKind::Prismatic(j) => j,
-            ConstraintKind::Fixed(j) => j,
-            ConstraintKind::Universal(j) => j,
-            ConstraintKind::Linear1(j) => j,
-            ConstraintKind::Linear2(j) => j,
-            ConstraintKind::Planar(j) => j,
-            ConstraintKind::Path(j) => j,
-            ConstraintKind::Wheel(j) => j.as_mut(),
-            ConstraintKind::Contact(_) | ConstraintKind::Custom(_) => return None,
-        })
+        joint_inside!(self, as_mut)
     }
 }
 

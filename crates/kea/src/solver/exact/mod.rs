@@ -328,26 +328,7 @@ impl ExactWorkspace {
             return true;
         }
         let limits = self.limits(params);
-        let pattern = self.patterns.current();
-        let rep = pivoting::solve(
-            &System {
-                pattern,
-                layout: &self.layout,
-                a: &self.sys.a,
-                b: &self.sys.b,
-                links: &self.sys.links,
-                stamp: self.stamp,
-            },
-            &mut Unknowns {
-                lo: &mut self.sys.lo,
-                hi: &mut self.sys.hi,
-                x: &mut self.sys.x,
-                w: &mut self.sys.w,
-                state: &mut self.sys.state,
-            },
-            &mut self.lcp,
-            limits,
-        );
+        let rep = self.pivot(limits);
         if self.with_contacts && !rep.converged {
             return false;
         }
@@ -391,6 +372,34 @@ const STACK_WORK: usize = 20_000;
 const STACK_BOUND_UPDATES: u32 = 4;
 
 impl ExactWorkspace {
+    /// The block-sparse system as filled, its unknowns and the pivoting's workspace, borrowed
+    /// apart for a solve.
+    pub(super) fn split(&mut self) -> (System<'_>, Unknowns<'_>, &mut LcpWorkspace) {
+        let system = System {
+            pattern: self.patterns.current(),
+            layout: &self.layout,
+            a: &self.sys.a,
+            b: &self.sys.b,
+            links: &self.sys.links,
+            stamp: self.stamp,
+        };
+        let unknowns = Unknowns {
+            lo: &mut self.sys.lo,
+            hi: &mut self.sys.hi,
+            x: &mut self.sys.x,
+            w: &mut self.sys.w,
+            state: &mut self.sys.state,
+        };
+        (system, unknowns, &mut self.lcp)
+    }
+
+    /// Principal pivoting on the block-sparse system as filled, from the bounds, guesses and
+    /// bound states in `sys`; the solution is left in `sys.x`.
+    pub(super) fn pivot(&mut self, limits: Limits) -> LcpReport {
+        let (system, mut unknowns, lcp) = self.split();
+        pivoting::solve(&system, &mut unknowns, lcp, limits)
+    }
+
     /// The pivoting's caps: the solver's, or for a stack the smaller ones its fallback allows.
     fn limits(&self, params: &SolverParams) -> Limits {
         let general = Limits {

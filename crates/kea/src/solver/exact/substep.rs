@@ -9,7 +9,7 @@
 //! right-hand sides (the biased solve and the relax of a substep share one matrix).
 
 use super::pattern::BlockBodies;
-use super::pivoting::{self, FrictionLink, LcpReport, Limits, System, Unknowns};
+use super::pivoting::{self, FrictionLink, LcpReport, Limits};
 use super::{ExactWorkspace, IslandRow};
 use crate::math::DVec3;
 
@@ -174,19 +174,8 @@ impl SubstepSystem {
         if equalities {
             // Equalities first: `A (y − y₀) = r` straight through the factor, no pivoting.
             ws.sys.x[..n].copy_from_slice(&r[..n]);
-            let report = pivoting::solve_equalities(
-                &System {
-                    pattern,
-                    layout: &ws.layout,
-                    a: &ws.sys.a,
-                    b: &ws.sys.b,
-                    links: &ws.sys.links,
-                    stamp: ws.stamp,
-                },
-                &mut ws.sys.state,
-                &mut ws.sys.x,
-                &mut ws.lcp,
-            );
+            let (system, unknowns, lcp) = ws.split();
+            let report = pivoting::solve_equalities(&system, unknowns.state, unknowns.x, lcp);
             for (yi, dx) in y[..n].iter_mut().zip(&ws.sys.x[..n]) {
                 *yi += dx;
             }
@@ -211,25 +200,7 @@ impl SubstepSystem {
             ws.sys.x[i] = y[i];
             ws.sys.state[i] = pivoting::state_from_guess(ws.sys.lo[i], ws.sys.hi[i], y[i]);
         }
-        let report = pivoting::solve(
-            &System {
-                pattern,
-                layout: &ws.layout,
-                a: &ws.sys.a,
-                b: &ws.sys.b,
-                links: &ws.sys.links,
-                stamp: ws.stamp,
-            },
-            &mut Unknowns {
-                lo: &mut ws.sys.lo,
-                hi: &mut ws.sys.hi,
-                x: &mut ws.sys.x,
-                w: &mut ws.sys.w,
-                state: &mut ws.sys.state,
-            },
-            &mut ws.lcp,
-            limits,
-        );
+        let report = ws.pivot(limits);
         y[..n].copy_from_slice(&ws.sys.x[..n]);
         report
     }

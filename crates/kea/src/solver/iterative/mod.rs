@@ -26,18 +26,19 @@ mod contacts;
 mod disjoint;
 mod graph;
 mod rows;
+mod substep;
 
-use super::exact::{LcpReport, Limits, SubstepSystem};
+use super::exact::{LcpReport, SubstepSystem};
 use super::integrate::BodyScratch;
 use super::island::Islands;
 use super::wide::SimdLevel;
-use super::{ConstraintBlock, Reaction, RowSource, SolverBody, SolverContact, SolverParams};
-use crate::constraint::Row;
+use super::{SolverBody, StepArrays};
 use crate::error::{check_positive, KeaError, KeaResult};
 use crate::math::{from_f64, Real};
 use bodies::BodyStates;
-use contacts::{ContactSolver, KernelParams, PrepareParams, Stage};
+use contacts::{ContactSolver, Stage};
 use rows::JointRows;
+use substep::SubstepPlan;
 
 /// Settings of the iterative path. Every field has its unit, normal value and range.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -180,19 +181,85 @@ impl DirectReport {
 const STABILISATION_TOLERANCE: Real = 1.0e-5;
 
 impl IterativeWorkspace {
+    /// Gathers the islands' joint rows and contacts, with their bodies' local states.
+    fn gather_islands(
+        &mut self,
+        (islands, split, all): (&[u32], &[bool], &Islands),
+        step: &mut StepArrays<'_>,
+        scratch: &mut BodyScratch,
+        hs: Real,
+    ) {
+        let (bodies, params) = (&*step.bodies, step.params);
+        self.states.begin(bodies.len());
+        self.rows.begin();
+        self.contacts.begin();
+        self.blocks.clear();
+        for (&k, &direct) in islands.iter().zip(split) {
+            let k = k as usize;
+            self.blocks.extend_from_slice(all.blocks(k));
+            self.rows.gather(
+                all.blocks(k),
+                step.blocks,
+                step.rows,
+                bodies,
+                &mut self.states,
+                scratch,
+                params,
+                hs,
+                step.lambda,
+                direct,
+            );
+            for &c in all.contacts(k) {
+                let sc = &step.contacts[c as usize];
+                let a = self.states.local(sc.bodies[0], bodies, scratch, params, hs);
+                let b = self.states.local(sc.bodies[1], bodies, scratch, params, hs);
+                self.contacts.add(c, sc, a, b);
+            }
+        }
+    }
+
+    /// The rows' forces and reactions, the contacts' forces and the bodies' new states and
+    /// constraint forces, written back.
+    fn write_out(&mut self, step: &mut StepArrays<'_>, scratch: &mut BodyScratch, hs: Real) {
+        let (h, params) = (step.params.dt, step.params);
+        self.rows.write_out(
+            &self.states,
+            step.blocks,
+            &self.blocks,
+            step.rows,
+            scratch,
+            h,
+            step.lambda,
+            step.reactions,
+        );
+        self.contacts.store(
+            step.contacts,
+            &self.states,
+            scratch,
+            (h, hs),
+            params.body_forces,
+        );
+        self.states.write_out(step.bodies, scratch, h);
+        for &g in &self.states.global[1..] {
+            let b = &mut step.bodies[g as usize];
+            if !b.is_fixed() {
+                b.constraint_force = from_f64(scratch.constraint_force[g as usize]);
+                b.constraint_torque = from_f64(scratch.constraint_torque[g as usize]);
+            }
+        }
+    }
+
     /// Post-stabilisation of the split islands' joints (see
     /// [`IterativeParams::post_stabilisation`]): rows written again at the new poses (with a
     /// row source; else their tracked errors on the last substep's Jacobians, one pass), then
     /// one Newton step on positions per pass.
     fn post_stabilise(
         &mut self,
-        source: Option<&dyn RowSource>,
-        blocks: &[ConstraintBlock],
+        plan: &SubstepPlan<'_>,
         bodies: &[SolverBody],
-        params: &SolverParams,
-        limits: Limits,
         report: &mut DirectReport,
     ) {
+        let (source, blocks, params, limits) = (plan.source, plan.blocks, plan.params, plan.limits);
         // Where the relax stage needed fresh rows, the last substep left them linearised (and
         // assembled) at these poses.
         let linearised_now = self.states.has_fast_spin();
@@ -248,179 +315,40 @@ impl IterativeWorkspace {
 
     /// Solves the islands `islands` (ids in `all`) together and integrates their bodies; the
     /// joints of those marked in `split` (one flag per island) are solved directly.
-    /// `lambda` holds the rows' warm-start forces on input and their forces on output;
+    /// `step.lambda` holds the rows' warm-start forces on input and their forces on output;
     /// contacts carry their warm start and get their forces.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve(
         &mut self,
-        islands: &[u32],
-        split: &[bool],
-        all: &Islands,
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        contacts: &mut [SolverContact],
-        bodies: &mut [SolverBody],
+        (islands, split, all): (&[u32], &[bool], &Islands),
+        step: &mut StepArrays<'_>,
         scratch: &mut BodyScratch,
-        params: &SolverParams,
-        lambda: &mut [Real],
-        reactions: &mut [[Reaction; 2]],
-        source: Option<&dyn RowSource>,
     ) -> IterativeReport {
+        let params = step.params;
         let it = &params.iterative;
-        let h = params.dt;
-        let n_sub = it.substeps;
-        let hs = h / n_sub as Real;
-        self.states.begin(bodies.len());
-        self.rows.begin();
-        self.contacts.begin();
-        self.blocks.clear();
-        for (&k, &direct) in islands.iter().zip(split) {
-            let k = k as usize;
-            self.blocks.extend_from_slice(all.blocks(k));
-            self.rows.gather(
-                all.blocks(k),
-                blocks,
-                rows,
-                bodies,
-                &mut self.states,
-                scratch,
-                params,
-                hs,
-                lambda,
-                direct,
-            );
-            for &c in all.contacts(k) {
-                let sc = &contacts[c as usize];
-                let a = self.states.local(sc.bodies[0], bodies, scratch, params, hs);
-                let b = self.states.local(sc.bodies[1], bodies, scratch, params, hs);
-                self.contacts.add(c, sc, a, b);
-            }
-        }
-        let prepare = PrepareParams {
-            h,
-            hs,
-            spring: params.contact_spring,
-            gamma: params.gamma,
-        };
-        self.contacts
-            .prepare(contacts, bodies, &mut self.states, it.simd, &prepare);
-        let mut kernel = KernelParams {
-            inv_hs: 1.0 / hs,
-            max_push: it.max_correction_speed,
-            substep: 0.0,
-            closing: false,
-            friction_in_solve: it.relax_iterations == 0,
-            h,
-            hs,
-        };
-
-        let direct = self.rows.has_direct();
-        let limits = Limits {
-            iterations: params.max_lcp_iterations,
-            bound_updates: params.max_friction_passes,
-        };
+        let hs = params.dt / it.substeps as Real;
+        self.gather_islands((islands, split, all), step, scratch, hs);
+        let kinds = (self.rows.has_direct(), self.states.has_fast_spin());
+        let mut plan = SubstepPlan::new(params, step.blocks, step.source, hs, kinds);
+        self.contacts.prepare(
+            step.contacts,
+            step.bodies,
+            &mut self.states,
+            it.simd,
+            &plan.prepare,
+        );
         let mut report = DirectReport::default();
-        let max_speed = it.max_correction_speed;
-        // Where a body spins fast about an axle (a wheel, a gyroscope), the relax stage needs
-        // the rows at the poses the substep reached: on the rows of the substep's start its
-        // pushes, square to the old axle, feed the spin (a gyroscope gained 4% in 4 s).
-        // Elsewhere the rows of the substep's start serve both stages.
-        let fresh_relax = source.is_some() && self.states.has_fast_spin();
-        for sub in 0..n_sub {
-            kernel.substep = sub as Real;
-            match source {
-                Some(source) if sub > 0 && !fresh_relax => {
-                    // Joints at the present poses (the step's start rows served the first).
-                    self.rows
-                        .relinearise(source, blocks, bodies, &mut self.states, params);
-                    if direct {
-                        self.rows.assemble_direct(&self.states, &mut self.direct);
-                    }
-                }
-                _ if sub == 0 && direct => {
-                    self.rows.assemble_direct(&self.states, &mut self.direct);
-                }
-                _ => {}
-            }
-            self.states.integrate_velocities(hs);
-            self.rows.warm_start(&mut self.states);
-            self.contacts
-                .run(Stage::WarmStart, &mut self.states, &kernel);
-            for _ in 0..it.iterations {
-                self.rows.sweep(&mut self.states, hs, true, max_speed);
-                self.contacts.run(Stage::Solve, &mut self.states, &kernel);
-            }
-            // Split islands' joints last, so that they hold exactly whatever the contacts did.
-            if direct {
-                let r = self.rows.solve_direct(
-                    &mut self.states,
-                    &mut self.direct,
-                    hs,
-                    true,
-                    max_speed,
-                    limits,
-                );
-                report.add(r);
-            }
-            self.states.integrate_positions(bodies, hs);
-            self.rows.advance_clock(hs);
-            if let (Some(source), true) = (source, fresh_relax) {
-                // Joints at the poses just reached, for the relax stage and the next substep.
-                self.rows
-                    .relinearise(source, blocks, bodies, &mut self.states, params);
-                if direct {
-                    self.rows.assemble_direct(&self.states, &mut self.direct);
-                }
-            }
-            for r in 0..it.relax_iterations {
-                kernel.closing = sub + 1 == n_sub && r + 1 == it.relax_iterations;
-                self.rows.sweep(&mut self.states, hs, false, max_speed);
-                self.contacts.run(Stage::Relax, &mut self.states, &kernel);
-            }
-            if direct && it.relax_iterations > 0 {
-                let r = self.rows.solve_direct(
-                    &mut self.states,
-                    &mut self.direct,
-                    hs,
-                    false,
-                    max_speed,
-                    limits,
-                );
-                report.add(r);
-            }
-            self.rows.accumulate();
-        }
+        self.run_substeps(step.bodies, &mut plan, &mut report);
         report.rows = self.direct.len() as u32;
         self.contacts
-            .run(Stage::Restitution, &mut self.states, &kernel);
-        self.rows.restitution(&mut self.states, h);
-        if direct {
-            self.post_stabilise(source, blocks, bodies, params, limits, &mut report);
+            .run(Stage::Restitution, &mut self.states, &plan.kernel);
+        self.rows.restitution(&mut self.states, params.dt);
+        if plan.direct {
+            self.post_stabilise(&plan, step.bodies, &mut report);
         }
-
-        self.rows.write_out(
-            &self.states,
-            blocks,
-            &self.blocks,
-            rows,
-            scratch,
-            h,
-            lambda,
-            reactions,
-        );
-        self.contacts
-            .store(contacts, &self.states, scratch, (h, hs), params.body_forces);
-        self.states.write_out(bodies, scratch, h);
-        for &g in &self.states.global[1..] {
-            let b = &mut bodies[g as usize];
-            if !b.is_fixed() {
-                b.constraint_force = from_f64(scratch.constraint_force[g as usize]);
-                b.constraint_torque = from_f64(scratch.constraint_torque[g as usize]);
-            }
-        }
+        self.write_out(step, scratch, hs);
         let (colours, overflow) = self.contacts.colour_stats();
         IterativeReport {
-            sweeps: n_sub * (it.iterations + it.relax_iterations),
+            sweeps: it.substeps * (it.iterations + it.relax_iterations),
             colours,
             overflow,
             lanes: self.contacts.lanes(),

@@ -19,6 +19,7 @@ use super::super::{reserve, SolverBody, SolverContact};
 use super::bodies::{delta_records, vel_records, BodyStates};
 use super::disjoint::Disjoint;
 use super::graph::{Colouring, COLOURS, OVERFLOW};
+use crate::cache::prefetch;
 use crate::math::{Real, Vec3};
 use batch::ContactBatch;
 pub(crate) use batch::PrepareParams;
@@ -346,53 +347,21 @@ impl ContactSolver {
         };
         let split = self.order.len() - self.colour_count[COLOURS] as usize;
         let (coloured, overflow) = self.order.split_at(split);
-        build(
-            &mut self.overflow,
-            overflow,
-            &self.entries,
-            &self.colour_count,
-            true,
+        let source = LoadSource {
+            entries: &self.entries,
+            colour_count: &self.colour_count,
             contacts,
             states,
-            &position,
+            position: &position,
             k,
-        );
+        };
+        build(&mut self.overflow, overflow, true, &source);
         match self.level {
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Wide => build(
-                &mut self.wide,
-                coloured,
-                &self.entries,
-                &self.colour_count,
-                false,
-                contacts,
-                states,
-                &position,
-                k,
-            ),
+            SimdLevel::Wide => build(&mut self.wide, coloured, false, &source),
             #[cfg(target_arch = "x86_64")]
-            SimdLevel::Narrow => build(
-                &mut self.narrow,
-                coloured,
-                &self.entries,
-                &self.colour_count,
-                false,
-                contacts,
-                states,
-                &position,
-                k,
-            ),
-            _ => build(
-                &mut self.scalar,
-                coloured,
-                &self.entries,
-                &self.colour_count,
-                false,
-                contacts,
-                states,
-                &position,
-                k,
-            ),
+            SimdLevel::Narrow => build(&mut self.narrow, coloured, false, &source),
+            _ => build(&mut self.scalar, coloured, false, &source),
         }
         let (vel, forcing) = (
             vel_records(&mut states.vel),
@@ -463,17 +432,15 @@ impl ContactSolver {
 /// Writes the contacts of `order` (already sorted by colour) into `lanes`' batches, reusing
 /// last step's batches: every lane and point is written, so nothing is zeroed twice.
 #[allow(clippy::too_many_arguments)]
-fn build<F: FloatW>(
-    lanes: &mut Lanes<F>,
-    order: &[u32],
-    entries: &[Entry],
-    colour_count: &[u32],
-    overflow: bool,
-    contacts: &[SolverContact],
-    states: &BodyStates,
-    position: &(dyn Fn(u32) -> Vec3 + Sync),
-    k: &PrepareParams,
-) {
+fn build<F: FloatW>(lanes: &mut Lanes<F>, order: &[u32], overflow: bool, source: &LoadSource<'_>) {
+    let LoadSource {
+        entries,
+        colour_count,
+        contacts,
+        states,
+        position,
+        k,
+    } = *source;
     lanes.colour_start.clear();
     let colours: &[u32] = if overflow {
         &colour_count[COLOURS..]
@@ -537,25 +504,19 @@ fn build<F: FloatW>(
     lanes.colour_start.push(used as u32);
 }
 
+/// What the batches' lanes are loaded from: the step's contact entries in colour order, the
+/// contacts, the bodies' states and positions, and the step's parameters.
+struct LoadSource<'a> {
+    entries: &'a [Entry],
+    colour_count: &'a [u32],
+    contacts: &'a [SolverContact],
+    states: &'a BodyStates,
+    position: &'a (dyn Fn(u32) -> Vec3 + Sync),
+    k: &'a PrepareParams,
+}
+
 /// How many contacts ahead the loaders fetch.
 const PREFETCH_AHEAD: usize = 6;
-
-/// Asks the processor to bring `x` into cache (a hint: nothing happens elsewhere than x86-64).
-#[inline(always)]
-fn prefetch<T>(x: &T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let p = (x as *const T).cast::<i8>();
-        for line in (0..std::mem::size_of::<T>()).step_by(64) {
-            // SAFETY: a prefetch never faults, and `p + line` stays inside `x`.
-            unsafe {
-                std::arch::x86_64::_mm_prefetch(p.add(line), std::arch::x86_64::_MM_HINT_T0);
-            }
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
-}
 
 /// Writes the forces of `lanes`' contacts back (on all cores with the `parallel` feature),
 /// then adds them to the bodies' constraint forces (on this thread: bodies are shared).
