@@ -2,13 +2,13 @@
 //! and `A = J M⁻¹ Jᵀ` filled block by block, the diagonal (constraint softness) added, and the
 //! right-hand side.
 
-use super::factor::Layout;
-use super::pattern::Pattern;
-use super::pivoting::Bound;
 use super::{ExactWorkspace, IslandRow};
 use crate::constraint::Row;
 use crate::math::{to_f64, wide, Real};
 use crate::solver::integrate::BodyScratch;
+use crate::solver::sparse::factor::Layout;
+use crate::solver::sparse::pattern::Pattern;
+use crate::solver::sparse::pivoting::Bound;
 use crate::solver::SolverParams;
 
 impl ExactWorkspace {
@@ -190,8 +190,11 @@ impl ExactWorkspace {
                     (f64::NEG_INFINITY, f64::INFINITY)
                 };
             }
-            self.sys.state[i] =
-                super::pivoting::state_from_guess(self.sys.lo[i], self.sys.hi[i], g(i));
+            self.sys.state[i] = crate::solver::sparse::pivoting::state_from_guess(
+                self.sys.lo[i],
+                self.sys.hi[i],
+                g(i),
+            );
             let ri = self.rows[i].global;
             if self.contact_rows_from.is_some_and(|f| ri >= f) && g(i) == 0.0 {
                 let row = &rows[ri as usize];

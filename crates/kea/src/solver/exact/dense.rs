@@ -9,9 +9,9 @@
 // Dense kernels over row and block indices read clearest as index loops.
 #![allow(clippy::needless_range_loop)]
 
-use super::lcp_dense::{self as lcp, Bound, LcpWorkspace};
-use super::pivoting::FrictionLink;
 use super::IslandRow;
+use crate::solver::sparse::lcp_dense::{self as lcp, Bound, LcpWorkspace};
+use crate::solver::sparse::pivoting::FrictionLink;
 use crate::solver::{SolverParams, SolverStats};
 
 /// An island's boxed LCP `A x = b + w`, `lo ≤ x ≤ hi`: the matrix (dense here, block-packed

@@ -5,8 +5,8 @@
 //! Assembly. Rows come in blocks (a joint's, a contact's); for rows i, j and each dynamic body
 //! k their blocks share, `A_ij += J_ik · M_k⁻¹ J_jkᵀ` with `M_k⁻¹ = diag(1/m_k, I_w,k⁻¹)`; then
 //! `A_ii += ε_i + s_i/h` (softness and slip) and `b_i = (c_i − γ_i·xi_i/h − J_i·v_f)/h`. Only
-//! blocks that share a body couple, so `A` is sparse: [`pattern`] orders the blocks so that
-//! factorising creates little or no fill (none for a tree), [`factor`] factorises, and
+//! blocks that share a body couple, so `A` is sparse: the sparse library's [`pattern`](crate::solver::sparse::pattern) orders the blocks so that
+//! factorising creates little or no fill (none for a tree), [`factor`](crate::solver::sparse::factor) factorises, and
 //! [`pivoting`] solves the LCP over that fixed structure, warm started from last step's forces.
 //! A chain or an articulated tree costs time linear in its rows.
 //!
@@ -28,15 +28,9 @@
 mod assembly;
 mod contacts;
 mod dense;
-mod factor;
-mod held_factor;
-mod lcp_dense;
-mod pattern;
-mod pivoting;
 mod project;
 mod sparsity;
 mod substep;
-mod system;
 
 use super::integrate::BodyScratch;
 use super::{
@@ -44,10 +38,10 @@ use super::{
 };
 use crate::constraint::Row;
 use crate::math::{to_f64, wide, DVec3, Real};
-use factor::Layout;
-use pattern::{BlockBodies, PatternCache};
-use pivoting::{FrictionLink, LcpWorkspace, System, Unknowns};
-pub(crate) use pivoting::{LcpReport, Limits};
+use crate::solver::sparse::factor::Layout;
+use crate::solver::sparse::pattern::{BlockBodies, PatternCache};
+use crate::solver::sparse::pivoting::{self, FrictionLink, LcpWorkspace, System, Unknowns};
+pub(crate) use crate::solver::sparse::{LcpReport, Limits};
 pub(crate) use substep::{SubstepRow, SubstepSystem};
 
 /// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
@@ -184,7 +178,7 @@ impl ExactWorkspace {
             + 6 * n * 8
             + n * std::mem::size_of::<FrictionLink>()
             + n
-            + lcp_dense::LcpWorkspace::bytes_for(n)
+            + crate::solver::sparse::lcp_dense::LcpWorkspace::bytes_for(n)
     }
 
     /// Solves one island and accumulates its constraint forces into `scratch`. `lambda` holds

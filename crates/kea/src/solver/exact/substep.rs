@@ -8,10 +8,10 @@
 //! linearisation, and then solves for the rows' impulses as often as it likes with different
 //! right-hand sides (the biased solve and the relax of a substep share one matrix).
 
-use super::pattern::BlockBodies;
-use super::pivoting::{self, FrictionLink, LcpReport, Limits};
 use super::{ExactWorkspace, IslandRow};
 use crate::math::DVec3;
+use crate::solver::sparse::pattern::BlockBodies;
+use crate::solver::sparse::pivoting::{self, FrictionLink, LcpReport, Limits};
 
 /// A relative compliance added to every row's diagonal: redundant joints (two hinges on one
 /// axis) keep a solvable system, at a stiffness no step can tell from rigid.
@@ -183,7 +183,13 @@ impl SubstepSystem {
         }
         self.product.clear();
         self.product.resize(n, 0.0);
-        super::factor::multiply(pattern, &ws.layout, &ws.sys.a, y, &mut self.product);
+        crate::solver::sparse::factor::multiply(
+            pattern,
+            &ws.layout,
+            &ws.sys.a,
+            y,
+            &mut self.product,
+        );
         for i in 0..n {
             ws.sys.b[i] = r[i] + self.product[i];
             (ws.sys.lo[i], ws.sys.hi[i]) = match ws.sys.links[i] {

@@ -28,9 +28,10 @@ mod graph;
 mod rows;
 mod substep;
 
-use super::exact::{LcpReport, SubstepSystem};
+use super::exact::SubstepSystem;
 use super::integrate::BodyScratch;
 use super::island::Islands;
+use super::sparse::LcpReport;
 use super::wide::SimdLevel;
 use super::{SolverBody, StepArrays};
 use crate::error::{check_positive, KeaError, KeaResult};

@@ -24,7 +24,7 @@
 use super::contacts::{KernelParams, PrepareParams, Stage};
 use super::{DirectReport, IterativeWorkspace};
 use crate::math::Real;
-use crate::solver::exact::Limits;
+use crate::solver::sparse::Limits;
 use crate::solver::{ConstraintBlock, RowSource, SolverBody, SolverParams};
 
 /// What every substep of a step shares.

@@ -12,7 +12,8 @@
 use super::super::bodies::{BodyStates, NONE};
 use super::{JointRows, HARD, UNILATERAL};
 use crate::math::{to_f64, wide, Real, Vec3};
-use crate::solver::exact::{LcpReport, Limits, SubstepRow, SubstepSystem};
+use crate::solver::exact::{SubstepRow, SubstepSystem};
+use crate::solver::sparse::{LcpReport, Limits};
 
 /// The fraction of a hard equality row's error its biased direct solve removes per substep
 /// (the relax solve then takes the correcting velocity out again).

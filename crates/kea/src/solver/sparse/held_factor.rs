@@ -186,9 +186,9 @@ impl HeldFactor {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::exact::factor::tests::{rnd, RandomIsland};
-    use crate::solver::exact::factor::Layout;
-    use crate::solver::exact::pattern::PatternCache;
+    use crate::solver::sparse::factor::tests::{rnd, RandomIsland};
+    use crate::solver::sparse::factor::Layout;
+    use crate::solver::sparse::pattern::PatternCache;
 
     /// Refactorising only the components whose held rows changed gives the same bits as a
     /// fresh factorisation, on random systems of several components (many bodies, few blocks).

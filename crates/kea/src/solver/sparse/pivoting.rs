@@ -383,9 +383,9 @@ fn solve_free(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::exact::factor::tests::{rnd, RandomIsland};
-    use crate::solver::exact::factor::Layout;
-    use crate::solver::exact::pattern::PatternCache;
+    use crate::solver::sparse::factor::tests::{rnd, RandomIsland};
+    use crate::solver::sparse::factor::Layout;
+    use crate::solver::sparse::pattern::PatternCache;
 
     /// Checks the BLCP conditions of `x` against the dense `a`.
     fn check(n: usize, a: &[f64], b: &[f64], lo: &[f64], hi: &[f64], x: &[f64], case: usize) {

@@ -247,7 +247,7 @@ fn backward_solve(l: &[f64], s: usize, y: &mut [f64]) {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::solver::exact::pattern::{BlockBodies, PatternCache};
+    use crate::solver::sparse::pattern::{BlockBodies, PatternCache};
 
     /// A deterministic pseudo-random number in [-1, 1).
     pub(crate) fn rnd(seed: &mut u64) -> f64 {

@@ -1,0 +1,32 @@
+//! The sparse-solve library both solver paths call: the boxed LCP of a symmetric positive
+//! definite system, in `f64`.
+//!
+//! Problem (BLCP): given `A = J M⁻¹ Jᵀ + E` (`E` the rows' softness), `b` and bounds
+//! `lo ≤ hi`, find `x` and `w = A x − b` with, for each row, `lo ≤ x ≤ hi` and `w ≥ 0` where
+//! `x = lo`, `w ≤ 0` where `x = hi`, `w = 0` between. A Coulomb row's bounds are `±μ λ_n`, its
+//! normal row's force, moved inside the solve.
+//!
+//! * [`pattern`]: which constraint blocks couple (they share a dynamic body) and the
+//!   elimination order (minimum degree) that keeps the factor's fill small (none for a tree);
+//! * [`factor`]: the block layout over that pattern, `A x`, and the block Cholesky
+//!   `A = L Lᵀ` with its forward and back solves, in time linear in a tree's rows;
+//! * [`held_factor`]: that factorisation kept across pivots, with the rows held at a bound
+//!   replaced by identity rows, refactorising only the islands a pivot touched;
+//! * [`pivoting`]: block principal pivoting with a single-pivot fallback over the held
+//!   factor, and the equality-only solve that needs no pivoting;
+//! * [`lcp_dense`]: the same BLCP on a dense `A` (islands of redundant contacts);
+//! * [`system`]: the borrowed view (`A` over its pattern and layout, `b`, friction links)
+//!   that pivoting solves and the held factor factorises.
+//!
+//! The exact path (`solver/exact`) assembles an island's system and calls this; the iterative
+//! path calls it for the split islands' joint rows inside its substeps
+//! (`exact::SubstepSystem`, over the same assembly).
+
+pub(crate) mod factor;
+pub(crate) mod held_factor;
+pub(crate) mod lcp_dense;
+pub(crate) mod pattern;
+pub(crate) mod pivoting;
+pub(crate) mod system;
+
+pub(crate) use pivoting::{LcpReport, Limits};
