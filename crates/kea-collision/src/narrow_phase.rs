@@ -18,7 +18,7 @@
 //! the default contact stiffness, without it the column sways and stands.
 
 use crate::capacity::reserve_total;
-use crate::collider::{ColliderDef, Slot, WORLD_BOUND};
+use crate::collider::{Collider, ColliderDef, Slot, WORLD_BOUND};
 use crate::manifold_gen::Generator;
 use crate::material::MaterialTable;
 use crate::pairs::{CachedPoint, Generated, ManifoldCache, PairState};
@@ -233,27 +233,9 @@ impl NarrowWorker {
         };
         let (pose_a, pose_b) = (a.pose, b.pose);
         p.flipped = flip;
-        let revision = shared.materials.revision();
-        let refresh = p.params_revision != revision;
-        if refresh {
-            let (m1, m2) = if flip {
-                (b.def.material, a.def.material)
-            } else {
-                (a.def.material, b.def.material)
-            };
-            let Ok(pair) = shared.materials.pair_contact(m1, m2) else {
-                return;
-            };
-            p.params = pair.params;
-            p.direction = pair.friction_direction;
-            let max_points = pair.strategy.map_or(0, |s| s.max_points as u8);
-            if max_points != p.max_points {
-                // Another strategy: the kept manifolds have the old number of points.
-                p.max_points = max_points;
-                p.generated_at = None;
-            }
-            p.params_revision = revision;
-        }
+        let Some(refresh) = refresh_params(shared, p, flip, (&a.def, &b.def)) else {
+            return;
+        };
         let frame = Frame {
             pair: slot,
             bodies: (body1, body2),
@@ -275,10 +257,25 @@ impl NarrowWorker {
         p.generated_at = Some(Generated::new(pose_a, pose_b));
         // Bounded so that a runaway body cannot hand parry an infinite (or NaN) margin.
         let prediction = (shared.margin + shared.dt * (a.motion + b.motion)).min(WORLD_BOUND);
+        if self.generate(slot, p, (a, b), prediction) {
+            self.keep_generated(shared, p, &frame);
+        }
+    }
+
+    /// The shapes' manifolds into the generator's output; false (nothing to keep) for shapes
+    /// that cannot collide or output that is not trusted (the pair is then generated afresh
+    /// next step, its old manifolds dropped).
+    fn generate(
+        &mut self,
+        slot: u32,
+        p: &mut PairState,
+        (a, b): (&Collider, &Collider),
+        prediction: Real,
+    ) -> bool {
         let (sa, sb) = (a.def.shared_shape(), b.def.shared_shape());
         let generator = &mut self.generator;
         let generated = crate::guard::guarded(|| {
-            generator.generate(sa.as_ref(), &pose_a, sb.as_ref(), &pose_b, prediction)
+            generator.generate(sa.as_ref(), &a.pose, sb.as_ref(), &b.pose, prediction)
         });
         let finite = |g: &crate::manifold_gen::GenManifold| {
             g.normal_a.is_finite()
@@ -288,17 +285,20 @@ impl NarrowWorker {
                     .all(|q| q.local_a.is_finite() && q.local_b.is_finite() && q.dist.is_finite())
         };
         match generated {
-            Ok(true) if self.generator.out.iter().all(finite) => {}
-            Ok(false) => return, // a pair of shapes that cannot collide (two meshes)
+            Ok(true) if self.generator.out.iter().all(finite) => true,
+            Ok(false) => false, // a pair of shapes that cannot collide (two meshes)
             _ => {
-                // Nothing of this pair's output is trusted; its old manifolds go, and it is
-                // generated afresh next step.
                 self.generator.out.clear();
                 p.generated_at = None;
                 self.failed.push(slot);
-                return;
+                false
             }
         }
+    }
+
+    /// Each generated manifold reduced to the pair's point cap and cached, and wanted.
+    fn keep_generated(&mut self, shared: &Shared<'_>, p: &PairState, frame: &Frame) {
+        let (pose_a, pose_b) = frame.poses;
         let (points, keep) = &mut self.reduce_scratch;
         for g in &self.generator.out {
             points.clear();
@@ -339,6 +339,36 @@ impl NarrowWorker {
             self.manifolds += 1;
         }
     }
+}
+
+/// The pair's contact parameters read again from the material table when it changed; whether
+/// they were (`None`: the materials are gone, nothing to do this step).
+fn refresh_params(
+    shared: &Shared<'_>,
+    p: &mut PairState,
+    flip: bool,
+    (a, b): (&ColliderDef, &ColliderDef),
+) -> Option<bool> {
+    let revision = shared.materials.revision();
+    if p.params_revision == revision {
+        return Some(false);
+    }
+    let (m1, m2) = if flip {
+        (b.material, a.material)
+    } else {
+        (a.material, b.material)
+    };
+    let pair = shared.materials.pair_contact(m1, m2).ok()?;
+    p.params = pair.params;
+    p.direction = pair.friction_direction;
+    let max_points = pair.strategy.map_or(0, |s| s.max_points as u8);
+    if max_points != p.max_points {
+        // Another strategy: the kept manifolds have the old number of points.
+        p.max_points = max_points;
+        p.generated_at = None;
+    }
+    p.params_revision = revision;
+    Some(true)
 }
 
 /// What every manifold of one pair shares this step.

@@ -5,7 +5,7 @@
 
 use super::super::integrate::BodyScratch;
 use super::super::{
-    ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams, SolverStats,
+    reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams, SolverStats,
 };
 use super::ExactWorkspace;
 use crate::constraint::{
@@ -13,6 +13,116 @@ use crate::constraint::{
 };
 use crate::math::Real;
 use crate::solver::EXACT_CONTACT_STIFFENING;
+
+/// An island's joint rows and its contacts' rows as one system: the blocks (joints first, in
+/// island order, then contacts), their rows, warm-start guesses, forces and reactions.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct MixedIsland {
+    rows: Vec<Row>,
+    blocks: Vec<ConstraintBlock>,
+    order: Vec<u32>,
+    lambda: Vec<Real>,
+    guess: Vec<Real>,
+    reactions: Vec<[Reaction; 2]>,
+}
+
+impl MixedIsland {
+    /// Reserves room for islands of `n` rows.
+    pub(crate) fn reserve(&mut self, n: usize) {
+        reserve(&mut self.rows, n);
+        reserve(&mut self.blocks, n);
+        reserve(&mut self.order, n);
+        reserve(&mut self.lambda, n);
+        reserve(&mut self.guess, n);
+        reserve(&mut self.reactions, n);
+    }
+
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        self.rows.capacity() * std::mem::size_of::<Row>()
+            + self.blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
+            + self.order.capacity() * 4
+            + (self.lambda.capacity() + self.guess.capacity()) * std::mem::size_of::<Real>()
+            + self.reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+    }
+
+    /// Copies the island's joint blocks, their rows and their last forces.
+    fn gather_joints(
+        &mut self,
+        island_blocks: &[u32],
+        blocks: &[ConstraintBlock],
+        rows: &[Row],
+        lambda: &[Real],
+    ) {
+        self.rows.clear();
+        self.blocks.clear();
+        self.guess.clear();
+        for &k in island_blocks {
+            let blk = blocks[k as usize];
+            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
+            self.blocks.push(ConstraintBlock {
+                first_row: self.rows.len() as u32,
+                ..blk
+            });
+            self.rows.extend_from_slice(&rows[range.clone()]);
+            self.guess.extend_from_slice(&lambda[range]);
+        }
+    }
+
+    /// Writes each contact's rows, warm started from its points' last forces.
+    fn add_contacts(
+        &mut self,
+        island_contacts: &[u32],
+        contacts: &[SolverContact],
+        ctx: impl Fn(&SolverContact) -> RowContext,
+    ) {
+        for &c in island_contacts {
+            let sc = &contacts[c as usize];
+            let first = self.rows.len();
+            sc.contact
+                .write_rows(&ctx(sc), &mut RowWriter::new(&mut self.rows));
+            warm_contact_rows(&sc.contact, &self.rows[first..], &mut self.guess);
+            self.blocks.push(ConstraintBlock {
+                bodies: sc.bodies,
+                first_row: first as u32,
+                row_count: (self.rows.len() - first) as u32,
+            });
+        }
+        self.order.clear();
+        self.order.extend(0..self.blocks.len() as u32);
+        self.lambda.clear();
+        self.lambda.extend_from_slice(&self.guess);
+        self.reactions.clear();
+        self.reactions
+            .resize(self.blocks.len(), [Reaction::default(); 2]);
+    }
+
+    /// The joints' forces and reactions back in the step's arrays, and each contact's point
+    /// forces.
+    fn write_back(
+        &self,
+        (island_blocks, island_contacts): (&[u32], &[u32]),
+        blocks: &[ConstraintBlock],
+        out: (&mut [Real], &mut [[Reaction; 2]]),
+        contacts: &mut [SolverContact],
+    ) {
+        let (lambda, reactions) = out;
+        for (i, &k) in island_blocks.iter().enumerate() {
+            let blk = &blocks[k as usize];
+            let from = self.blocks[i].first_row as usize;
+            let n = blk.row_count as usize;
+            lambda[blk.first_row as usize..blk.first_row as usize + n]
+                .copy_from_slice(&self.lambda[from..from + n]);
+            reactions[k as usize] = self.reactions[i];
+        }
+        for (i, &c) in island_contacts.iter().enumerate() {
+            let blk = &self.blocks[island_blocks.len() + i];
+            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
+            let (rows, lambda) = (&self.rows[range.clone()], &self.lambda[range]);
+            store_point_forces(&mut contacts[c as usize].contact, rows, lambda);
+        }
+    }
+}
 
 impl ExactWorkspace {
     /// Solves an island of joint blocks and contacts: the contacts write their rows (three
@@ -47,25 +157,8 @@ impl ExactWorkspace {
                 stats,
             );
         }
-        let mut mrows = std::mem::take(&mut self.mixed_rows);
-        let mut mblocks = std::mem::take(&mut self.mixed_blocks);
-        let mut order = std::mem::take(&mut self.mixed_order);
-        let mut mlambda = std::mem::take(&mut self.mixed_lambda);
-        let mut mreactions = std::mem::take(&mut self.mixed_reactions);
-        let mut mguess = std::mem::take(&mut self.mixed_guess);
-        mrows.clear();
-        mblocks.clear();
-        mguess.clear();
-        for &k in island_blocks {
-            let blk = blocks[k as usize];
-            let range = blk.first_row as usize..(blk.first_row + blk.row_count) as usize;
-            mblocks.push(ConstraintBlock {
-                first_row: mrows.len() as u32,
-                ..blk
-            });
-            mrows.extend_from_slice(&rows[range.clone()]);
-            mguess.extend_from_slice(&lambda[range]);
-        }
+        let mut mixed = std::mem::take(&mut self.mixed);
+        mixed.gather_joints(island_blocks, blocks, rows, lambda);
         // A pile's contacts run stiff (see EXACT_CONTACT_STIFFENING); beside joints they keep
         // the world's spring, the balance the joints' own softness was set against.
         let contact_spring = if island_blocks.is_empty() {
@@ -73,67 +166,34 @@ impl ExactWorkspace {
         } else {
             params.contact_spring
         };
-        for &c in island_contacts {
-            let sc = &contacts[c as usize];
-            let ctx = RowContext {
-                bodies: sc.bodies.map(|b| row_body(b, bodies, scratch)),
-                dt: params.dt,
-                epsilon: params.epsilon,
-                gamma: params.gamma,
-                contact_spring,
-            };
-            let first = mrows.len();
-            sc.contact.write_rows(&ctx, &mut RowWriter::new(&mut mrows));
-            warm_contact_rows(&sc.contact, &mrows[first..], &mut mguess);
-            mblocks.push(ConstraintBlock {
-                bodies: sc.bodies,
-                first_row: first as u32,
-                row_count: (mrows.len() - first) as u32,
-            });
-        }
-        order.clear();
-        order.extend(0..mblocks.len() as u32);
-        mlambda.clear();
-        mlambda.extend_from_slice(&mguess);
-        mreactions.clear();
-        mreactions.resize(mblocks.len(), [Reaction::default(); 2]);
+        let ctx = |sc: &SolverContact| RowContext {
+            bodies: sc.bodies.map(|b| row_body(b, bodies, scratch)),
+            dt: params.dt,
+            epsilon: params.epsilon,
+            gamma: params.gamma,
+            contact_spring,
+        };
+        mixed.add_contacts(island_contacts, contacts, ctx);
         self.with_contacts = true;
-        self.contact_rows_from = mblocks.get(island_blocks.len()).map(|b| b.first_row);
+        self.contact_rows_from = mixed.blocks.get(island_blocks.len()).map(|b| b.first_row);
+        let MixedIsland {
+            rows: mrows,
+            blocks: mblocks,
+            order,
+            lambda: mlambda,
+            reactions: mreactions,
+            ..
+        } = &mut mixed;
         let solved = self.solve_island(
-            &order,
-            &mblocks,
-            &mrows,
-            bodies,
-            scratch,
-            params,
-            &mut mlambda,
-            &mut mreactions,
-            stats,
+            order, mblocks, mrows, bodies, scratch, params, mlambda, mreactions, stats,
         );
         self.with_contacts = false;
         self.contact_rows_from = None;
-        for (i, &k) in island_blocks.iter().enumerate().filter(|_| solved) {
-            let blk = &blocks[k as usize];
-            let from = mblocks[i].first_row as usize;
-            let n = blk.row_count as usize;
-            lambda[blk.first_row as usize..blk.first_row as usize + n]
-                .copy_from_slice(&mlambda[from..from + n]);
-            reactions[k as usize] = mreactions[i];
+        if solved {
+            let island = (island_blocks, island_contacts);
+            mixed.write_back(island, blocks, (lambda, reactions), contacts);
         }
-        for (i, &c) in island_contacts.iter().enumerate().filter(|_| solved) {
-            let blk = &mblocks[island_blocks.len() + i];
-            let block_rows =
-                &mrows[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
-            let block_lambda =
-                &mlambda[blk.first_row as usize..(blk.first_row + blk.row_count) as usize];
-            store_point_forces(&mut contacts[c as usize].contact, block_rows, block_lambda);
-        }
-        self.mixed_rows = mrows;
-        self.mixed_blocks = mblocks;
-        self.mixed_order = order;
-        self.mixed_lambda = mlambda;
-        self.mixed_reactions = mreactions;
-        self.mixed_guess = mguess;
+        self.mixed = mixed;
         solved
     }
 }

@@ -56,15 +56,9 @@ pub(crate) struct IslandRow {
 /// Workspace for island solves; grows to the largest island seen.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct ExactWorkspace {
-    /// An island's joint rows and its contacts' rows together, with their blocks, forces,
-    /// warm-start guesses and reactions (contacts reach the exact path as contacts and are
-    /// written as rows here).
-    mixed_rows: Vec<Row>,
-    mixed_blocks: Vec<ConstraintBlock>,
-    mixed_order: Vec<u32>,
-    mixed_lambda: Vec<Real>,
-    mixed_guess: Vec<Real>,
-    mixed_reactions: Vec<[Reaction; 2]>,
+    /// An island's joint rows and its contacts' rows together (contacts reach the exact path
+    /// as contacts and are written as rows here).
+    mixed: contacts::MixedIsland,
     rows: Vec<IslandRow>,
     /// The island's blocks: first row, row count, the dynamic bodies they touch (island-local
     /// numbers) and, per local body, the blocks that touch it and in which slot.
@@ -102,13 +96,7 @@ const VALUES_PER_ROW: usize = 48;
 impl ExactWorkspace {
     /// Reserves room for islands of `island_rows` rows, joints and contacts together.
     pub(crate) fn reserve_mixed(&mut self, island_rows: usize) {
-        let n = island_rows;
-        reserve(&mut self.mixed_rows, n);
-        reserve(&mut self.mixed_blocks, n);
-        reserve(&mut self.mixed_order, n);
-        reserve(&mut self.mixed_lambda, n);
-        reserve(&mut self.mixed_guess, n);
-        reserve(&mut self.mixed_reactions, n);
+        self.mixed.reserve(island_rows);
     }
 
     /// The per-row vectors of the system: `b`, the bounds, `x` and `w`.
@@ -134,12 +122,7 @@ impl ExactWorkspace {
     }
 
     pub(crate) fn bytes(&self) -> usize {
-        self.mixed_rows.capacity() * std::mem::size_of::<Row>()
-            + self.mixed_blocks.capacity() * std::mem::size_of::<ConstraintBlock>()
-            + self.mixed_order.capacity() * 4
-            + (self.mixed_lambda.capacity() + self.mixed_guess.capacity())
-                * std::mem::size_of::<Real>()
-            + self.mixed_reactions.capacity() * std::mem::size_of::<[Reaction; 2]>()
+        self.mixed.bytes()
             + self.rows.capacity() * std::mem::size_of::<IslandRow>()
             + (self.block_first.capacity()
                 + self.block_size.capacity()

@@ -25,9 +25,7 @@ impl JointRows {
         warm: &[Real],
         direct: bool,
     ) {
-        let h = params.dt;
         self.any_direct |= direct && !island_blocks.is_empty();
-        let n_sub = params.iterative.substeps as Real;
         for &k in island_blocks {
             let blk = &blocks[k as usize];
             let base = self.row_global.len() as u32;
@@ -50,105 +48,89 @@ impl JointRows {
                         * (row.jacobian[0].linear.dot(jm[1].0)
                             + row.jacobian[0].angular.dot(jm[1].1));
                 }
-                // Only a row's own softness is a physical spring; the world's ε regularises the
-                // exact path's matrix and is not needed here (see the module docs).
-                let (eps, gamma) = match row
-                    .spring
-                    .and_then(|sp| (diag > 0.0).then(|| sp.softness(1.0 / diag, h)).flatten())
-                {
-                    Some(s) => (s.epsilon, row.gamma.unwrap_or(s.gamma)),
-                    None => (
-                        row.softness.unwrap_or(0.0),
-                        row.gamma.unwrap_or(params.gamma),
-                    ),
+                let packed = PackedRow {
+                    global: g,
+                    local,
+                    jm,
+                    diag,
+                    kinematic,
+                    tuning: RowTuning::of(row, diag, params, hs),
+                    warm: warm[g as usize],
+                    direct,
                 };
-                let mut flags = 0u8;
-                let (rate, extra) = if eps > 0.0 {
-                    let k = gamma / (eps * h * h);
-                    let d = (1.0 - gamma) / (eps * h);
-                    let hkd = hs * k + d;
-                    (hs * k / hkd / hs, 1.0 / (hs * hkd))
-                } else {
-                    flags |= HARD;
-                    ((1.0 - (1.0 - gamma).powf(1.0 / n_sub)) / hs, 0.0)
-                };
-                if row.bounce {
-                    flags |= BOUNCE;
-                }
-                if row.friction.is_none() && row.hi == Real::INFINITY && row.lo > Real::NEG_INFINITY
-                {
-                    flags |= UNILATERAL;
-                }
-                // Only rows that can only push (stops, user contacts) are softened: Gauss-Seidel
-                // on a stiff stack needs it, while joints converge without and keep their
-                // geometry (softened, a hinged rod swung 1% slow).
-                let (ms, is) = if flags & HARD != 0 && flags & UNILATERAL != 0 {
-                    hard_softening(rate, hs)
-                } else {
-                    (1.0, 0.0)
-                };
-                self.mass_scale.push(ms);
-                self.impulse_scale.push(is);
-                self.row_global.push(g);
-                self.row_a.push(local[0]);
-                self.row_b.push(local[1]);
-                self.ja_lin.push(row.jacobian[0].linear);
-                self.ja_ang.push(row.jacobian[0].angular);
-                self.jb_lin.push(row.jacobian[1].linear);
-                self.jb_ang.push(row.jacobian[1].angular);
-                self.ma_lin.push(jm[0].0);
-                self.ma_ang.push(jm[0].1);
-                self.mb_lin.push(jm[1].0);
-                self.mb_ang.push(jm[1].1);
-                self.diag.push(diag);
-                self.xi0.push(row.xi);
-                // A bounce target waits for the post-pass; the substeps treat the row as
-                // resting.
-                let c = if row.bounce { 0.0 } else { row.c };
-                self.target.push(c - kinematic);
-                self.bounce_target.push(row.c - kinematic);
-                self.chord.push(0.5 * hs * row.curvature);
-                self.lo.push(row.lo * hs);
-                self.hi.push(row.hi * hs);
-                match row.friction {
-                    Some(f) => {
-                        self.link.push(base + u32::from(f.normal_row));
-                        self.mu.push(f.mu);
-                    }
-                    None => {
-                        self.link.push(NONE);
-                        self.mu.push(0.0);
-                    }
-                }
-                self.extra.push(extra + row.slip / hs);
-                self.rate.push(rate);
-                self.flags.push(flags);
-                let w = warm[g as usize];
-                self.impulse.push(if w.is_finite() { w * hs } else { 0.0 });
-                self.total.push(0.0);
-                self.in_block.push(false);
-                self.direct.push(direct);
-                self.pair_of.push(NONE);
-                self.lever.push(row_lever(row));
+                self.push_row(row, &packed, base, hs);
             }
-            self.share_lever(base as usize..self.lever.len());
-            let blocks_before = self.eq_start.len();
-            self.make_block(base as usize, rows, blk);
-            self.make_pairs(base as usize, rows);
-            self.blk_global.push(k);
-            self.blk_base.push(base);
-            self.blk_count.push(blk.row_count);
-            self.blk_eq.push(if self.eq_start.len() > blocks_before {
-                blocks_before as u32
-            } else {
-                NONE
-            });
+            self.close_block(k, blk, base, rows);
         }
         // Warm-start impulses must respect their bounds.
         for i in 0..self.row_global.len() {
             let (lo, hi) = self.bounds(i);
             self.impulse[i] = self.impulse[i].clamp(lo, hi);
         }
+    }
+
+    /// Appends one row to every array.
+    fn push_row(&mut self, row: &Row, p: &PackedRow, base: u32, hs: Real) {
+        let t = p.tuning;
+        self.mass_scale.push(t.mass_scale);
+        self.impulse_scale.push(t.impulse_scale);
+        self.row_global.push(p.global);
+        self.row_a.push(p.local[0]);
+        self.row_b.push(p.local[1]);
+        self.ja_lin.push(row.jacobian[0].linear);
+        self.ja_ang.push(row.jacobian[0].angular);
+        self.jb_lin.push(row.jacobian[1].linear);
+        self.jb_ang.push(row.jacobian[1].angular);
+        self.ma_lin.push(p.jm[0].0);
+        self.ma_ang.push(p.jm[0].1);
+        self.mb_lin.push(p.jm[1].0);
+        self.mb_ang.push(p.jm[1].1);
+        self.diag.push(p.diag);
+        self.xi0.push(row.xi);
+        // A bounce target waits for the post-pass; the substeps treat the row as resting.
+        let c = if row.bounce { 0.0 } else { row.c };
+        self.target.push(c - p.kinematic);
+        self.bounce_target.push(row.c - p.kinematic);
+        self.chord.push(0.5 * hs * row.curvature);
+        self.lo.push(row.lo * hs);
+        self.hi.push(row.hi * hs);
+        match row.friction {
+            Some(f) => {
+                self.link.push(base + u32::from(f.normal_row));
+                self.mu.push(f.mu);
+            }
+            None => {
+                self.link.push(NONE);
+                self.mu.push(0.0);
+            }
+        }
+        self.extra.push(t.extra + row.slip / hs);
+        self.rate.push(t.rate);
+        self.flags.push(t.flags);
+        let w = p.warm;
+        self.impulse.push(if w.is_finite() { w * hs } else { 0.0 });
+        self.total.push(0.0);
+        self.in_block.push(false);
+        self.direct.push(p.direct);
+        self.pair_of.push(NONE);
+        self.lever.push(row_lever(row));
+    }
+
+    /// Closes constraint `k`'s rows from `base` on: their shared lever, their equality block
+    /// and tangent pairs, and the block's record.
+    fn close_block(&mut self, k: u32, blk: &ConstraintBlock, base: u32, rows: &[Row]) {
+        self.share_lever(base as usize..self.lever.len());
+        let blocks_before = self.eq_start.len();
+        self.make_block(base as usize, rows, blk);
+        self.make_pairs(base as usize, rows);
+        self.blk_global.push(k);
+        self.blk_base.push(base);
+        self.blk_count.push(blk.row_count);
+        self.blk_eq.push(if self.eq_start.len() > blocks_before {
+            blocks_before as u32
+        } else {
+            NONE
+        });
     }
 
     /// Gives every row of one constraint (`rows`) the longest lever among them.
@@ -247,6 +229,80 @@ impl JointRows {
 /// A row's mass data on its block's bodies: the velocity term of its kinematic bodies (a
 /// constant target offset), `M⁻¹Jᵀ` per body, and `J M⁻¹ Jᵀ` (without the cross terms of a row
 /// whose two slots are one body). `inv_inertia` gives a solver body's world inverse inertia.
+/// One row as [`JointRows::gather`] packs it.
+struct PackedRow {
+    global: u32,
+    local: [u32; 2],
+    jm: [(Vec3, Vec3); 2],
+    diag: Real,
+    kinematic: Real,
+    tuning: RowTuning,
+    warm: Real,
+    direct: bool,
+}
+
+/// How a row is solved in the substeps: its error-correction rate, extra compliance, kind
+/// flags and (for hard unilateral rows) softening.
+#[derive(Clone, Copy)]
+struct RowTuning {
+    rate: Real,
+    extra: Real,
+    flags: u8,
+    mass_scale: Real,
+    impulse_scale: Real,
+}
+
+impl RowTuning {
+    /// A row with effective inverse mass `diag`, in substeps of `hs` of a step `params.dt`.
+    fn of(row: &Row, diag: Real, params: &SolverParams, hs: Real) -> Self {
+        let h = params.dt;
+        let n_sub = params.iterative.substeps as Real;
+        // Only a row's own softness is a physical spring; the world's ε regularises the exact
+        // path's matrix and is not needed here (see the module docs).
+        let (eps, gamma) = match row
+            .spring
+            .and_then(|sp| (diag > 0.0).then(|| sp.softness(1.0 / diag, h)).flatten())
+        {
+            Some(s) => (s.epsilon, row.gamma.unwrap_or(s.gamma)),
+            None => (
+                row.softness.unwrap_or(0.0),
+                row.gamma.unwrap_or(params.gamma),
+            ),
+        };
+        let mut flags = 0u8;
+        let (rate, extra) = if eps > 0.0 {
+            let k = gamma / (eps * h * h);
+            let d = (1.0 - gamma) / (eps * h);
+            let hkd = hs * k + d;
+            (hs * k / hkd / hs, 1.0 / (hs * hkd))
+        } else {
+            flags |= HARD;
+            ((1.0 - (1.0 - gamma).powf(1.0 / n_sub)) / hs, 0.0)
+        };
+        if row.bounce {
+            flags |= BOUNCE;
+        }
+        if row.friction.is_none() && row.hi == Real::INFINITY && row.lo > Real::NEG_INFINITY {
+            flags |= UNILATERAL;
+        }
+        // Only rows that can only push (stops, user contacts) are softened: Gauss-Seidel on a
+        // stiff stack needs it, while joints converge without and keep their geometry
+        // (softened, a hinged rod swung 1% slow).
+        let (mass_scale, impulse_scale) = if flags & HARD != 0 && flags & UNILATERAL != 0 {
+            hard_softening(rate, hs)
+        } else {
+            (1.0, 0.0)
+        };
+        Self {
+            rate,
+            extra,
+            flags,
+            mass_scale,
+            impulse_scale,
+        }
+    }
+}
+
 pub(super) fn row_masses(
     row: &Row,
     blk: &ConstraintBlock,
