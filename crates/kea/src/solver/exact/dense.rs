@@ -109,33 +109,14 @@ impl DenseIsland {
         stats: &mut SolverStats,
     ) {
         let n = self.sys.links.len();
-        self.sys.b.clear();
-        self.sys.b.extend_from_slice(b);
-        self.sys.lo.clear();
-        self.sys.hi.clear();
-        for i in 0..n {
-            // First pass: friction unbounded, the sticking guess.
-            let (l, h) = match self.sys.links[i] {
-                Some(_) => (f64::NEG_INFINITY, f64::INFINITY),
-                None => (lo[i], hi[i]),
-            };
-            self.sys.lo.push(l);
-            self.sys.hi.push(h);
-        }
-        for v in [&mut self.sys.x, &mut self.sys.w] {
-            v.clear();
-            v.resize(n, 0.0);
-        }
-        self.sys.state.clear();
-        self.sys.state.resize(n, Bound::Free);
-        lcp::initial_state(&self.sys.lo, &self.sys.hi, &mut self.sys.state);
+        self.start(b, lo, hi);
         let has_friction = self.sys.links.iter().any(Option::is_some);
-        let (mut singular, mut cycled, mut capped) = (false, false, false);
+        let mut trouble = Trouble::default();
         let mut friction_converged = !has_friction;
         let mut iterations_left = lcp::affordable_iterations(n);
         for _pass in 0..params.max_friction_passes {
             if iterations_left == 0 {
-                capped = true;
+                trouble.capped = true;
                 break;
             }
             let rep = lcp::solve(
@@ -154,26 +135,10 @@ impl DenseIsland {
             stats.friction_passes += 1;
             stats.lcp_iterations += rep.iterations;
             stats.pivots += rep.pivots;
-            singular |= rep.singular;
-            cycled = rep.cycled;
-            capped = rep.capped && !rep.converged;
-            if !has_friction {
-                break;
-            }
-            let mut moved = false;
-            for i in 0..n {
-                if let Some((normal, mu)) = self.sys.links[i] {
-                    let bound = mu * self.sys.x[normal as usize].max(0.0);
-                    if (bound - self.sys.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
-                        || self.sys.hi[i].is_infinite()
-                    {
-                        moved = true;
-                    }
-                    self.sys.lo[i] = -bound;
-                    self.sys.hi[i] = bound;
-                }
-            }
-            if !moved {
+            trouble.singular |= rep.singular;
+            trouble.cycled = rep.cycled;
+            trouble.capped = rep.capped && !rep.converged;
+            if !has_friction || !self.move_friction_bounds() {
                 friction_converged = true;
                 break;
             }
@@ -192,21 +157,79 @@ impl DenseIsland {
                 params.max_friction_passes
             );
         }
-        if singular {
+        trouble.report(n, params, stats);
+        x.copy_from_slice(&self.sys.x);
+    }
+
+    /// The first pass's system: `b`, the bounds with friction unbounded (the sticking guess),
+    /// `x = w = 0` and the bound states they give.
+    fn start(&mut self, b: &[f64], lo: &[f64], hi: &[f64]) {
+        let n = self.sys.links.len();
+        self.sys.b.clear();
+        self.sys.b.extend_from_slice(b);
+        self.sys.lo.clear();
+        self.sys.hi.clear();
+        for i in 0..n {
+            let (l, h) = match self.sys.links[i] {
+                Some(_) => (f64::NEG_INFINITY, f64::INFINITY),
+                None => (lo[i], hi[i]),
+            };
+            self.sys.lo.push(l);
+            self.sys.hi.push(h);
+        }
+        for v in [&mut self.sys.x, &mut self.sys.w] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.sys.state.clear();
+        self.sys.state.resize(n, Bound::Free);
+        lcp::initial_state(&self.sys.lo, &self.sys.hi, &mut self.sys.state);
+    }
+
+    /// Sets each friction row's bounds to `±μ λ_n` from its normal row's force; whether any
+    /// moved (a first pass's infinite bounds always do).
+    fn move_friction_bounds(&mut self) -> bool {
+        let mut moved = false;
+        for i in 0..self.sys.links.len() {
+            if let Some((normal, mu)) = self.sys.links[i] {
+                let bound = mu * self.sys.x[normal as usize].max(0.0);
+                if (bound - self.sys.hi[i]).abs() > 1.0e-9 * (1.0 + bound)
+                    || self.sys.hi[i].is_infinite()
+                {
+                    moved = true;
+                }
+                self.sys.lo[i] = -bound;
+                self.sys.hi[i] = bound;
+            }
+        }
+        moved
+    }
+}
+
+/// What went wrong in an island's dense solves, counted and logged once.
+#[derive(Default)]
+struct Trouble {
+    singular: bool,
+    cycled: bool,
+    capped: bool,
+}
+
+impl Trouble {
+    fn report(&self, n: usize, params: &SolverParams, stats: &mut SolverStats) {
+        if self.singular {
             stats.singular_islands += 1;
             log::warn!("kea: singular constraint system ({n} rows) regularised: redundant constraints with too small epsilon?");
         }
-        if cycled {
+        if self.cycled {
             stats.cycled_islands += 1;
             log::warn!("kea: LCP pivoting cycle detected ({n} rows)");
         }
-        if capped {
+        if self.capped {
             stats.capped_islands += 1;
             log::warn!(
                 "kea: LCP iteration cap {} reached ({n} rows)",
                 params.max_lcp_iterations
             );
         }
-        x.copy_from_slice(&self.sys.x);
     }
 }

@@ -114,9 +114,8 @@ pub(crate) fn solve(
 ) -> LcpReport {
     let n = sys.b.len();
     let mut report = LcpReport::default();
-    let diag_max = diagonal_max(sys);
-    let tiny = 1.0e-13 * diag_max.max(1.0e-300);
-    let floor = 1.0e-9 * diag_max.max(1.0e-300);
+    let diag_max = diagonal_max(sys).max(1.0e-300);
+    let (tiny, floor) = (1.0e-13 * diag_max, 1.0e-9 * diag_max);
     let tol_w = 1.0e-11 * sys.b.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
     ws.held.resize(n, 0.0);
     ws.history = [0; 16];
@@ -125,10 +124,7 @@ pub(crate) fn solve(
             .iter()
             .zip(u.hi.iter())
             .all(|(&lo, &hi)| lo == f64::NEG_INFINITY && hi == f64::INFINITY);
-    let mut best = usize::MAX;
-    let mut block_budget = 3u32;
-    let mut fallback = false;
-
+    let mut rule = PivotRule::default();
     // The iteration cap holds for each set of bounds, so the loop runs at most
     // `iterations × (bound_updates + 1)` times.
     let mut pass_start = 0u32;
@@ -149,76 +145,29 @@ pub(crate) fn solve(
             report.converged = true;
             break;
         }
-        multiply(sys.pattern, sys.layout, sys.a, u.x, u.w);
-        for (w, b) in u.w.iter_mut().zip(sys.b) {
-            *w -= b;
-        }
-        let tol_x = 1.0e-11 * u.x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-        let violates = |i: usize, u: &Unknowns<'_>| match u.state[i] {
-            _ if u.lo[i] == u.hi[i] => false,
-            Bound::Free => u.x[i] < u.lo[i] - tol_x || u.x[i] > u.hi[i] + tol_x,
-            Bound::Lower => u.w[i] < -tol_w,
-            Bound::Upper => u.w[i] > tol_w,
-        };
-        let mut count = 0usize;
-        let mut last = 0usize;
-        for i in 0..n {
-            if violates(i, u) {
-                count += 1;
-                last = i;
-            }
-        }
+        let tol = slack_and_tolerances(sys, u, tol_w);
+        let (count, last) = violations(n, u, tol);
         if count == 0 {
             // Solved for these bounds: re-set the Coulomb bounds from the normal forces and
             // solve again from the same sets while they move.
             if report.bound_updates < limits.bound_updates && update_bounds(sys.links, u) {
                 report.bound_updates += 1;
                 settle_states(u);
-                best = usize::MAX;
-                block_budget = 3;
-                fallback = false;
+                rule = PivotRule::default();
                 ws.history = [0; 16];
                 pass_start = iteration + 1;
                 continue;
             }
-            // With the updates spent the bounds were not re-set: they must already agree.
-            report.converged = !bounds_disagree(sys.links, u);
-            report.bounds_moving = !report.converged;
-            // Held rows sit exactly on their (settled) bounds.
-            for i in 0..n {
-                match u.state[i] {
-                    Bound::Lower => u.x[i] = u.lo[i],
-                    Bound::Upper => u.x[i] = u.hi[i],
-                    Bound::Free => {}
-                }
-            }
+            finish_converged(n, sys.links, u, &mut report);
             break;
         }
-        let h = hash_state(u.state);
-        fallback |= ws.history.contains(&h);
-        ws.history[iteration as usize % 16] = h;
-        if count < best {
-            best = count;
-            block_budget = 3;
-        }
-        if block_budget > 0 && !fallback {
-            block_budget -= 1;
-            for i in 0..n {
-                if violates(i, u) {
-                    move_index(i, u);
-                    report.pivots += 1;
-                }
-            }
-        } else {
-            move_index(last, u);
-            report.pivots += 1;
-        }
+        rule.pivot(iteration, (n, count, last), u, ws, tol, &mut report);
         if iteration + 1 == total {
             report.capped = true;
         }
     }
     if !report.converged {
-        report.cycled = fallback && !report.bounds_moving;
+        report.cycled = rule.fallback && !report.bounds_moving;
         report.bounds_moving |= bounds_disagree(sys.links, u);
         // The best answer found, within the final bounds (the Coulomb cone included).
         update_bounds(sys.links, u);
@@ -227,6 +176,110 @@ pub(crate) fn solve(
         }
     }
     report
+}
+
+/// `w = A x − b` for the present `x`, and the tolerances a violation is judged by
+/// (`x` past a bound, `w` of the wrong sign at one).
+fn slack_and_tolerances(sys: &System<'_>, u: &mut Unknowns<'_>, tol_w: f64) -> (f64, f64) {
+    multiply(sys.pattern, sys.layout, sys.a, u.x, u.w);
+    for (w, b) in u.w.iter_mut().zip(sys.b) {
+        *w -= b;
+    }
+    let tol_x = 1.0e-11 * u.x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+    (tol_x, tol_w)
+}
+
+/// Whether row `i` breaks its complementarity: a free row past a bound, a held row pushed the
+/// wrong way.
+fn violates(i: usize, u: &Unknowns<'_>, (tol_x, tol_w): (f64, f64)) -> bool {
+    match u.state[i] {
+        _ if u.lo[i] == u.hi[i] => false,
+        Bound::Free => u.x[i] < u.lo[i] - tol_x || u.x[i] > u.hi[i] + tol_x,
+        Bound::Lower => u.w[i] < -tol_w,
+        Bound::Upper => u.w[i] > tol_w,
+    }
+}
+
+/// How many of the `n` rows violate, and the last of them.
+fn violations(n: usize, u: &Unknowns<'_>, tol: (f64, f64)) -> (usize, usize) {
+    let (mut count, mut last) = (0, 0);
+    for i in 0..n {
+        if violates(i, u, tol) {
+            count += 1;
+            last = i;
+        }
+    }
+    (count, last)
+}
+
+/// Ends a solve whose sets satisfy complementarity: with the bound updates spent the bounds
+/// were not re-set, so they must already agree; held rows sit exactly on their bounds.
+fn finish_converged(
+    n: usize,
+    links: &[FrictionLink],
+    u: &mut Unknowns<'_>,
+    report: &mut LcpReport,
+) {
+    report.converged = !bounds_disagree(links, u);
+    report.bounds_moving = !report.converged;
+    for i in 0..n {
+        match u.state[i] {
+            Bound::Lower => u.x[i] = u.lo[i],
+            Bound::Upper => u.x[i] = u.hi[i],
+            Bound::Free => {}
+        }
+    }
+}
+
+/// Which rows change sets each iteration: all the violators at once (block pivoting) while
+/// their count keeps falling within three tries, else only the last one (single pivoting,
+/// which cannot cycle), and single pivoting for good once a set of states comes back.
+struct PivotRule {
+    best: usize,
+    block_budget: u32,
+    fallback: bool,
+}
+
+impl Default for PivotRule {
+    fn default() -> Self {
+        Self {
+            best: usize::MAX,
+            block_budget: 3,
+            fallback: false,
+        }
+    }
+}
+
+impl PivotRule {
+    fn pivot(
+        &mut self,
+        iteration: u32,
+        (n, count, last): (usize, usize, usize),
+        u: &mut Unknowns<'_>,
+        ws: &mut LcpWorkspace,
+        tol: (f64, f64),
+        report: &mut LcpReport,
+    ) {
+        let h = hash_state(u.state);
+        self.fallback |= ws.history.contains(&h);
+        ws.history[iteration as usize % 16] = h;
+        if count < self.best {
+            self.best = count;
+            self.block_budget = 3;
+        }
+        if self.block_budget > 0 && !self.fallback {
+            self.block_budget -= 1;
+            for i in 0..n {
+                if violates(i, u, tol) {
+                    move_index(i, u);
+                    report.pivots += 1;
+                }
+            }
+        } else {
+            move_index(last, u);
+            report.pivots += 1;
+        }
+    }
 }
 
 /// Solves the system when every row is an equality (no bound, no Coulomb link): `x` holds the
