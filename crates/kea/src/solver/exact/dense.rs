@@ -10,7 +10,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::IslandRow;
-use crate::solver::sparse::lcp_dense::{self as lcp, Bound, LcpWorkspace};
+use crate::solver::sparse::lcp_dense::{self as lcp, Bound, LcpWorkspace, Unknowns};
 use crate::solver::sparse::pivoting::FrictionLink;
 use crate::solver::{SolverParams, SolverStats};
 
@@ -119,18 +119,16 @@ impl DenseIsland {
                 trouble.capped = true;
                 break;
             }
-            let rep = lcp::solve(
-                n,
-                &self.sys.a,
-                &self.sys.b,
-                &self.sys.lo,
-                &self.sys.hi,
-                &mut self.sys.x,
-                &mut self.sys.w,
-                &mut self.sys.state,
-                &mut self.lcp,
-                params.max_lcp_iterations.min(iterations_left),
-            );
+            let mut unknowns = Unknowns {
+                lo: &mut self.sys.lo,
+                hi: &mut self.sys.hi,
+                x: &mut self.sys.x,
+                w: &mut self.sys.w,
+                state: &mut self.sys.state,
+            };
+            let cap = params.max_lcp_iterations.min(iterations_left);
+            let system = (&self.sys.a[..], &self.sys.b[..]);
+            let rep = lcp::solve(n, system, &mut unknowns, &mut self.lcp, cap);
             iterations_left -= rep.iterations.min(iterations_left);
             stats.friction_passes += 1;
             stats.lcp_iterations += rep.iterations;

@@ -22,6 +22,9 @@
 //! and the result is flagged. A state visited twice flags a cycle; the iteration cap is a
 //! parameter. None of these abort: the caller gets the best `x` found, clamped to its bounds.
 
+pub(crate) use super::sets::Unknowns;
+use super::sets::{settle_states, violations, PivotRule};
+
 /// Where an index currently sits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Bound {
@@ -53,7 +56,6 @@ pub(crate) struct LcpWorkspace {
     free: Vec<usize>,
     factor: Vec<f64>,
     rhs: Vec<f64>,
-    history: [u64; 16],
 }
 
 impl LcpWorkspace {
@@ -115,112 +117,50 @@ pub(crate) fn affordable_iterations(n: usize) -> u32 {
     (DENSE_WORK_BUDGET / (n.max(1) as f64).powi(3)).clamp(2.0, 1.0e6) as u32
 }
 
-/// Solves the BLCP. `state` is read as the starting guess and left at the final sets; `x` and
-/// `w` receive the solution and `A x − b`.
-#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+/// Solves the BLCP. `u.state` is read as the starting guess and left at the final sets;
+/// `u.x` and `u.w` receive the solution and `A x − b`.
 pub(crate) fn solve(
     n: usize,
-    a: &[f64],
-    b: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    x: &mut [f64],
-    w: &mut [f64],
-    state: &mut [Bound],
+    (a, b): (&[f64], &[f64]),
+    u: &mut Unknowns<'_>,
     ws: &mut LcpWorkspace,
     max_iterations: u32,
 ) -> LcpReport {
     ws.reserve(n);
     let mut report = LcpReport::default();
     // Indices that cannot be at a bound (both infinite) stay free; fix impossible states.
-    for i in 0..n {
-        state[i] = match state[i] {
-            _ if lo[i] == hi[i] => Bound::Lower,
-            Bound::Lower if lo[i] == f64::NEG_INFINITY => Bound::Free,
-            Bound::Upper if hi[i] == f64::INFINITY => Bound::Free,
-            s => s,
-        };
-    }
+    settle_states(u);
     let b_scale = b[..n].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
     let diag_max = (0..n).fold(0.0_f64, |m, i| m.max(a[i * n + i].abs()));
     let tol_w = 1.0e-11 * b_scale;
-    let mut best = usize::MAX;
-    let mut block_budget = 3u32;
-    let mut fallback = false;
-    ws.history = [0; 16];
-
+    let mut rule = PivotRule::default();
     for iteration in 0..max_iterations {
         report.iterations = iteration + 1;
-        report.singular |= solve_free_block(n, a, b, lo, hi, x, state, ws, diag_max);
+        report.singular |= solve_free_block(n, (a, b), u, ws, diag_max);
         // w = A x − b everywhere.
         for i in 0..n {
             let row = &a[i * n..i * n + n];
-            let mut s = -b[i];
-            for j in 0..n {
-                s += row[j] * x[j];
-            }
-            w[i] = s;
+            u.w[i] = row
+                .iter()
+                .zip(&u.x[..n])
+                .fold(-b[i], |s, (aij, xj)| s + aij * xj);
         }
-        let x_scale = x[..n].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-        let tol_x = 1.0e-11 * x_scale;
-        // An index with lo = hi is fixed: never a violation, whatever w says.
-        let violates = |i: usize, x: &[f64], w: &[f64], s: Bound| match s {
-            _ if lo[i] == hi[i] => false,
-            Bound::Free => x[i] < lo[i] - tol_x || x[i] > hi[i] + tol_x,
-            Bound::Lower => w[i] < -tol_w,
-            Bound::Upper => w[i] > tol_w,
-        };
-        let mut count = 0usize;
-        let mut last = 0usize;
-        for i in 0..n {
-            if violates(i, x, w, state[i]) {
-                count += 1;
-                last = i;
-            }
-        }
+        let tol_x = 1.0e-11 * u.x[..n].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+        let (count, last) = violations(n, u, (tol_x, tol_w));
         if count == 0 {
             report.converged = true;
             break;
         }
-        // Cycle check on the set pattern.
-        let h = hash_state(&state[..n]);
-        if ws.history.contains(&h) {
-            fallback = true;
-        }
-        ws.history[iteration as usize % 16] = h;
-
-        let move_one = |i: usize, x: &[f64], state: &mut [Bound]| {
-            state[i] = match state[i] {
-                Bound::Free if x[i] < lo[i] => Bound::Lower,
-                Bound::Free => Bound::Upper,
-                _ => Bound::Free,
-            };
-        };
-        if count < best {
-            best = count;
-            block_budget = 3;
-        }
-        if block_budget > 0 && !fallback {
-            block_budget -= 1;
-            for i in 0..n {
-                if violates(i, x, w, state[i]) {
-                    move_one(i, x, state);
-                    report.pivots += 1;
-                }
-            }
-        } else {
-            move_one(last, x, state);
-            report.pivots += 1;
-        }
+        report.pivots += rule.pivot(iteration, (n, count, last), u, (tol_x, tol_w));
         if iteration + 1 == max_iterations {
             report.capped = true;
         }
     }
     if !report.converged {
         // A revisited state only matters if the single-pivot fallback did not recover.
-        report.cycled = fallback;
+        report.cycled = rule.fallback;
         for i in 0..n {
-            x[i] = x[i].clamp(lo[i], hi[i]);
+            u.x[i] = u.x[i].clamp(u.lo[i], u.hi[i]);
         }
     }
     report
@@ -231,15 +171,14 @@ pub(crate) fn solve(
 #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 fn solve_free_block(
     n: usize,
-    a: &[f64],
-    b: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    x: &mut [f64],
-    state: &[Bound],
+    (a, b): (&[f64], &[f64]),
+    u: &mut Unknowns<'_>,
     ws: &mut LcpWorkspace,
     diag_max: f64,
 ) -> bool {
+    let Unknowns {
+        lo, hi, x, state, ..
+    } = u;
     ws.free.clear();
     for i in 0..n {
         match state[i] {
@@ -388,7 +327,15 @@ mod tests {
         let mut st = vec![Bound::Free; n];
         initial_state(lo, hi, &mut st);
         let mut ws = LcpWorkspace::default();
-        let r = solve(n, a, b, lo, hi, &mut x, &mut w, &mut st, &mut ws, 100);
+        let (mut lo, mut hi) = (lo.to_vec(), hi.to_vec());
+        let mut u = Unknowns {
+            lo: &mut lo,
+            hi: &mut hi,
+            x: &mut x,
+            w: &mut w,
+            state: &mut st,
+        };
+        let r = solve(n, (a, b), &mut u, &mut ws, 100);
         (x, r)
     }
 

@@ -15,6 +15,8 @@
 //! * [`pivoting`]: block principal pivoting with a single-pivot fallback over the held
 //!   factor, and the equality-only solve that needs no pivoting;
 //! * [`lcp_dense`]: the same BLCP on a dense `A` (islands of redundant contacts);
+//! * [`sets`]: the complementarity sets both pivotings keep, what violates them and the
+//!   pivot rule (block pivoting while it gains, single pivoting once it cycles);
 //! * [`system`]: the borrowed view (`A` over its pattern and layout, `b`, friction links)
 //!   that pivoting solves and the held factor factorises.
 //!
@@ -27,6 +29,7 @@ pub(crate) mod held_factor;
 pub(crate) mod lcp_dense;
 pub(crate) mod pattern;
 pub(crate) mod pivoting;
+mod sets;
 pub(crate) mod system;
 
 pub(crate) use pivoting::{LcpReport, Limits};

@@ -35,8 +35,9 @@
 
 use super::factor::{multiply, solve as factor_solve};
 use super::held_factor::HeldFactor;
-use super::lcp_dense::hash_state;
 pub(crate) use super::lcp_dense::Bound;
+pub(crate) use super::sets::Unknowns;
+use super::sets::{settle_states, violations, PivotRule};
 
 /// What happened in one LCP solve.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -61,15 +62,6 @@ pub(crate) struct LcpReport {
 
 pub(crate) use super::system::{FrictionLink, System};
 
-/// The unknowns and their sets: read as the starting guess, left at the solution.
-pub(crate) struct Unknowns<'a> {
-    pub lo: &'a mut [f64],
-    pub hi: &'a mut [f64],
-    pub x: &'a mut [f64],
-    pub w: &'a mut [f64],
-    pub state: &'a mut [Bound],
-}
-
 /// Caps on the work of one solve.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Limits {
@@ -82,7 +74,6 @@ pub(crate) struct Limits {
 pub(crate) struct LcpWorkspace {
     factor: HeldFactor,
     held: Vec<f64>,
-    history: [u64; 16],
 }
 
 impl LcpWorkspace {
@@ -118,7 +109,6 @@ pub(crate) fn solve(
     let (tiny, floor) = (1.0e-13 * diag_max, 1.0e-9 * diag_max);
     let tol_w = 1.0e-11 * sys.b.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
     ws.held.resize(n, 0.0);
-    ws.history = [0; 16];
     let unbounded = sys.links.iter().all(Option::is_none)
         && u.lo
             .iter()
@@ -154,14 +144,13 @@ pub(crate) fn solve(
                 report.bound_updates += 1;
                 settle_states(u);
                 rule = PivotRule::default();
-                ws.history = [0; 16];
                 pass_start = iteration + 1;
                 continue;
             }
             finish_converged(n, sys.links, u, &mut report);
             break;
         }
-        rule.pivot(iteration, (n, count, last), u, ws, tol, &mut report);
+        report.pivots += rule.pivot(iteration, (n, count, last), u, tol);
         if iteration + 1 == total {
             report.capped = true;
         }
@@ -189,29 +178,6 @@ fn slack_and_tolerances(sys: &System<'_>, u: &mut Unknowns<'_>, tol_w: f64) -> (
     (tol_x, tol_w)
 }
 
-/// Whether row `i` breaks its complementarity: a free row past a bound, a held row pushed the
-/// wrong way.
-fn violates(i: usize, u: &Unknowns<'_>, (tol_x, tol_w): (f64, f64)) -> bool {
-    match u.state[i] {
-        _ if u.lo[i] == u.hi[i] => false,
-        Bound::Free => u.x[i] < u.lo[i] - tol_x || u.x[i] > u.hi[i] + tol_x,
-        Bound::Lower => u.w[i] < -tol_w,
-        Bound::Upper => u.w[i] > tol_w,
-    }
-}
-
-/// How many of the `n` rows violate, and the last of them.
-fn violations(n: usize, u: &Unknowns<'_>, tol: (f64, f64)) -> (usize, usize) {
-    let (mut count, mut last) = (0, 0);
-    for i in 0..n {
-        if violates(i, u, tol) {
-            count += 1;
-            last = i;
-        }
-    }
-    (count, last)
-}
-
 /// Ends a solve whose sets satisfy complementarity: with the bound updates spent the bounds
 /// were not re-set, so they must already agree; held rows sit exactly on their bounds.
 fn finish_converged(
@@ -227,57 +193,6 @@ fn finish_converged(
             Bound::Lower => u.x[i] = u.lo[i],
             Bound::Upper => u.x[i] = u.hi[i],
             Bound::Free => {}
-        }
-    }
-}
-
-/// Which rows change sets each iteration: all the violators at once (block pivoting) while
-/// their count keeps falling within three tries, else only the last one (single pivoting,
-/// which cannot cycle), and single pivoting for good once a set of states comes back.
-struct PivotRule {
-    best: usize,
-    block_budget: u32,
-    fallback: bool,
-}
-
-impl Default for PivotRule {
-    fn default() -> Self {
-        Self {
-            best: usize::MAX,
-            block_budget: 3,
-            fallback: false,
-        }
-    }
-}
-
-impl PivotRule {
-    fn pivot(
-        &mut self,
-        iteration: u32,
-        (n, count, last): (usize, usize, usize),
-        u: &mut Unknowns<'_>,
-        ws: &mut LcpWorkspace,
-        tol: (f64, f64),
-        report: &mut LcpReport,
-    ) {
-        let h = hash_state(u.state);
-        self.fallback |= ws.history.contains(&h);
-        ws.history[iteration as usize % 16] = h;
-        if count < self.best {
-            self.best = count;
-            self.block_budget = 3;
-        }
-        if self.block_budget > 0 && !self.fallback {
-            self.block_budget -= 1;
-            for i in 0..n {
-                if violates(i, u, tol) {
-                    move_index(i, u);
-                    report.pivots += 1;
-                }
-            }
-        } else {
-            move_index(last, u);
-            report.pivots += 1;
         }
     }
 }
@@ -322,28 +237,6 @@ fn diagonal_max(sys: &System<'_>) -> f64 {
         }
     }
     m
-}
-
-/// Corrects sets a bound change made impossible: `lo = hi` is held at `lo`, an infinite bound
-/// cannot hold an index.
-fn settle_states(u: &mut Unknowns<'_>) {
-    for i in 0..u.state.len() {
-        u.state[i] = match u.state[i] {
-            _ if u.lo[i] == u.hi[i] => Bound::Lower,
-            Bound::Lower if u.lo[i] == f64::NEG_INFINITY => Bound::Free,
-            Bound::Upper if u.hi[i] == f64::INFINITY => Bound::Free,
-            s => s,
-        };
-    }
-}
-
-/// Moves index `i` to the set its violation asks for.
-fn move_index(i: usize, u: &mut Unknowns<'_>) {
-    u.state[i] = match u.state[i] {
-        Bound::Free if u.x[i] < u.lo[i] => Bound::Lower,
-        Bound::Free => Bound::Upper,
-        _ => Bound::Free,
-    };
 }
 
 /// How far a Coulomb bound may be from `μ·λₙ` and count as settled: this fraction of the
