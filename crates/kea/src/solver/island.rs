@@ -95,39 +95,7 @@ impl Islands {
                 }
             }
         }
-        // Bodies in at least one constraint get an island, numbered by first appearance.
-        self.body_island.clear();
-        self.body_island.resize(body_count, u32::MAX);
-        self.island_of_root.clear();
-        self.island_of_root.resize(body_count, u32::MAX);
-        self.scratch.clear();
-        self.scratch.resize(body_count, 0);
-        for pair in edges() {
-            for b in pair.iter().flatten() {
-                if dynamic(*b as usize) {
-                    self.scratch[*b as usize] = 1;
-                }
-            }
-        }
-        let mut islands = 0u32;
-        for i in 0..body_count {
-            if self.scratch[i] == 0 {
-                continue;
-            }
-            let r = self.sets.find(i as u32) as usize;
-            if self.island_of_root[r] == u32::MAX {
-                self.island_of_root[r] = islands;
-                islands += 1;
-            }
-            self.body_island[i] = self.island_of_root[r];
-        }
-        self.island_bodies.clear();
-        self.island_bodies.resize(islands as usize, 0);
-        for &k in &self.body_island {
-            if k != u32::MAX {
-                self.island_bodies[k as usize] += 1;
-            }
-        }
+        let islands = self.number_islands(body_count, &dynamic, edges());
         let island_of = |pair: [Option<u32>; 2], body_island: &[u32]| {
             pair.iter()
                 .flatten()
@@ -158,6 +126,50 @@ impl Islands {
             &mut self.contact_order,
             &mut self.scratch,
         );
+    }
+
+    /// Numbers the islands of the bodies in at least one constraint by first appearance, and
+    /// counts their bodies; returns how many there are.
+    #[allow(clippy::needless_range_loop)]
+    fn number_islands(
+        &mut self,
+        body_count: usize,
+        dynamic: impl Fn(usize) -> bool,
+        edges: impl Iterator<Item = [Option<u32>; 2]>,
+    ) -> u32 {
+        self.body_island.clear();
+        self.body_island.resize(body_count, u32::MAX);
+        self.island_of_root.clear();
+        self.island_of_root.resize(body_count, u32::MAX);
+        self.scratch.clear();
+        self.scratch.resize(body_count, 0);
+        for pair in edges {
+            for b in pair.iter().flatten() {
+                if dynamic(*b as usize) {
+                    self.scratch[*b as usize] = 1;
+                }
+            }
+        }
+        let mut islands = 0u32;
+        for i in 0..body_count {
+            if self.scratch[i] == 0 {
+                continue;
+            }
+            let r = self.sets.find(i as u32) as usize;
+            if self.island_of_root[r] == u32::MAX {
+                self.island_of_root[r] = islands;
+                islands += 1;
+            }
+            self.body_island[i] = self.island_of_root[r];
+        }
+        self.island_bodies.clear();
+        self.island_bodies.resize(islands as usize, 0);
+        for &k in &self.body_island {
+            if k != u32::MAX {
+                self.island_bodies[k as usize] += 1;
+            }
+        }
+        islands
     }
 
     /// The blocks of island `k`.

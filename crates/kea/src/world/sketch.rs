@@ -69,91 +69,126 @@ impl World {
         let h = h.into();
         let entry = self.constraints.get(h)?;
         let [b1, b2] = entry.bodies;
-        let point = |b: Option<BodyHandle>, p: Vec3| -> Vec3 {
-            match b.and_then(|b| self.body(b).ok()) {
-                Some(body) => body.point_to_world(p),
-                None => p,
-            }
-        };
-        let vector = |b: Option<BodyHandle>, v: Vec3| -> Vec3 {
-            match b.and_then(|b| self.body(b).ok()) {
-                Some(body) => (body.orientation() * v).normalize_or_zero(),
-                None => v.normalize_or_zero(),
-            }
-        };
-        let sketch = |anchors: (Vec3, Vec3), axes, range| JointSketch {
+        let at = Poses {
+            world: self,
+            bodies: [b1, b2],
             kind: entry.kind.name(),
-            anchors: [point(b1, anchors.0), point(b2, anchors.1)],
+        };
+        match &entry.kind {
+            ConstraintKind::Contact(_) => Err(wrong_kind(h, "joint", "contact")),
+            ConstraintKind::Custom(_) => Ok(None),
+            kind => Ok(at.sketch(kind)),
+        }
+    }
+}
+
+/// A joint's two bodies at their present poses, turning its body-frame geometry into the
+/// world frame.
+struct Poses<'a> {
+    world: &'a World,
+    bodies: [Option<BodyHandle>; 2],
+    kind: &'static str,
+}
+
+impl Poses<'_> {
+    /// Body `side`'s point `p` in the world (the static world's points are world points).
+    fn point(&self, side: usize, p: Vec3) -> Vec3 {
+        match self.bodies[side].and_then(|b| self.world.body(b).ok()) {
+            Some(body) => body.point_to_world(p),
+            None => p,
+        }
+    }
+
+    /// Body `side`'s direction `v` in the world, unit.
+    fn vector(&self, side: usize, v: Vec3) -> Vec3 {
+        match self.bodies[side].and_then(|b| self.world.body(b).ok()) {
+            Some(body) => (body.orientation() * v).normalize_or_zero(),
+            None => v.normalize_or_zero(),
+        }
+    }
+
+    fn with(
+        &self,
+        anchors: (Vec3, Vec3),
+        axes: [Option<Vec3>; 2],
+        range: Option<JointRange>,
+    ) -> JointSketch {
+        JointSketch {
+            kind: self.kind,
+            anchors: [self.point(0, anchors.0), self.point(1, anchors.1)],
             axes,
             range,
-        };
-        Ok(Some(match &entry.kind {
-            ConstraintKind::Contact(_) => return Err(wrong_kind(h, "joint", "contact")),
-            ConstraintKind::Custom(_) => return Ok(None),
+        }
+    }
+
+    /// The sketch of a joint; `None` for a contact or a custom constraint.
+    fn sketch(&self, kind: &ConstraintKind) -> Option<JointSketch> {
+        Some(match kind {
             ConstraintKind::Ball(j) => {
                 let range = j.limits.as_ref().and_then(|l| {
                     let (_, upper) = stops(&l.cone)?;
                     Some(JointRange::Cone {
-                        axis: vector(b2, l.primary2),
+                        axis: self.vector(1, l.primary2),
                         half_angle: upper,
-                        now: vector(b1, l.primary1),
+                        now: self.vector(0, l.primary1),
                     })
                 });
-                sketch((j.local_anchor1, j.local_anchor2), [None, None], range)
+                self.with((j.local_anchor1, j.local_anchor2), [None, None], range)
             }
             ConstraintKind::Hinge(j) => {
                 let range = stops(j.limit()).map(|stops| JointRange::Angle {
-                    zero: vector(b2, j.local_ref2),
+                    zero: self.vector(1, j.local_ref2),
                     stops,
                     now: j.angle(),
                 });
-                let axis = Some(vector(b2, j.local_axis2));
-                sketch((j.local_anchor1, j.local_anchor2), [axis, None], range)
+                let axis = Some(self.vector(1, j.local_axis2));
+                self.with((j.local_anchor1, j.local_anchor2), [axis, None], range)
             }
             ConstraintKind::Prismatic(j) => {
                 let range = stops(j.limit()).map(|stops| JointRange::Slide {
                     stops,
                     now: j.distance(),
                 });
-                let axis = Some(vector(b2, j.local_axis2));
-                sketch((j.local_anchor1, j.local_anchor2), [axis, None], range)
+                let axis = Some(self.vector(1, j.local_axis2));
+                self.with((j.local_anchor1, j.local_anchor2), [axis, None], range)
             }
             ConstraintKind::Fixed(j) => {
-                sketch((j.local_anchor1, j.local_anchor2), [None, None], None)
+                self.with((j.local_anchor1, j.local_anchor2), [None, None], None)
             }
             ConstraintKind::Universal(j) => {
                 let axes = [
-                    Some(vector(b1, j.local_axis1)),
-                    Some(vector(b2, j.local_axis2)),
+                    Some(self.vector(0, j.local_axis1)),
+                    Some(self.vector(1, j.local_axis2)),
                 ];
-                sketch((j.local_anchor1, j.local_anchor2), axes, None)
+                self.with((j.local_anchor1, j.local_anchor2), axes, None)
             }
             ConstraintKind::Linear1(j) => {
-                let axis = Some(vector(b2, j.local_normal2));
-                sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)
+                let axis = Some(self.vector(1, j.local_normal2));
+                self.with((j.local_anchor1, j.local_anchor2), [axis, None], None)
             }
             ConstraintKind::Planar(j) => {
-                let axis = Some(vector(b2, j.local_normal2));
-                sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)
+                let axis = Some(self.vector(1, j.local_normal2));
+                self.with((j.local_anchor1, j.local_anchor2), [axis, None], None)
             }
             ConstraintKind::Linear2(j) => {
-                let axis = Some(vector(b2, j.local_direction2));
-                sketch((j.local_anchor1, j.local_anchor2), [axis, None], None)
+                let axis = Some(self.vector(1, j.local_direction2));
+                self.with((j.local_anchor1, j.local_anchor2), [axis, None], None)
             }
             ConstraintKind::Path(j) => JointSketch {
-                kind: entry.kind.name(),
-                anchors: [point(b1, j.local_anchor1), j.path_position],
+                kind: self.kind,
+                anchors: [self.point(0, j.local_anchor1), j.path_position],
                 axes: [None, None],
                 range: None,
             },
             ConstraintKind::Wheel(j) => {
                 // The wheel's anchor is its centre: body 2's origin.
                 let axes = [
-                    Some(vector(b1, j.local_steering1)),
-                    Some(vector(b2, j.local_axle2)),
+                    Some(self.vector(0, j.local_steering1)),
+                    Some(self.vector(1, j.local_axle2)),
                 ];
-                sketch((j.local_anchor1, Vec3::ZERO), axes, None)
+                self.with((j.local_anchor1, Vec3::ZERO), axes, None)
             }
-        }))
+            ConstraintKind::Contact(_) | ConstraintKind::Custom(_) => return None,
+        })
     }
 }

@@ -139,33 +139,7 @@ impl World {
         let t1 = Stamp::now(self.settings.step_timing);
         let constraints = self.gather_rows(&params);
         let t2 = Stamp::now(self.settings.step_timing);
-        self.warm_start_lambda();
-        let s = &mut self.scratch;
-        s.reactions.clear();
-        s.reactions.resize(s.blocks.len(), [Reaction::default(); 2]);
-        let source = JointSource {
-            constraints: &self.constraints,
-            block_constraint: &s.block_constraint,
-        };
-        let solver_stats = self.solver.step_arrays(StepArrays {
-            bodies: &mut s.solver_bodies,
-            blocks: &s.blocks,
-            rows: &s.rows,
-            contacts: &mut s.contacts,
-            params: &params,
-            lambda: &mut s.lambda,
-            reactions: &mut s.reactions,
-            source: Some(&source),
-        });
-        let solver_stats = match solver_stats {
-            Ok(stats) => stats,
-            Err(e) => {
-                // Leave last step's λ where the read-outs expect it.
-                std::mem::swap(&mut s.lambda, &mut s.prev_lambda);
-                self.discard_reduced_trees();
-                return Err(e);
-            }
-        };
+        let solver_stats = self.solve_gathered(&params)?;
         let t3 = Stamp::now(self.settings.step_timing);
         // The step succeeded: from here on the world changes. Islands that blew up go back to
         // where they were, frozen.
@@ -212,6 +186,35 @@ impl World {
             time_total: t0.until(t4),
             collision: CollisionStats::default(),
         })
+    }
+
+    /// The solver on the gathered bodies, rows and contacts, warm started from the last
+    /// step's λ, its joints re-written inside the substeps. On error nothing was written: the
+    /// last step's λ is back where the read-outs expect it and the kept trees are dropped.
+    fn solve_gathered(&mut self, params: &SolverParams) -> KeaResult<SolverStats> {
+        self.warm_start_lambda();
+        let s = &mut self.scratch;
+        s.reactions.clear();
+        s.reactions.resize(s.blocks.len(), [Reaction::default(); 2]);
+        let source = JointSource {
+            constraints: &self.constraints,
+            block_constraint: &s.block_constraint,
+        };
+        let solved = self.solver.step_arrays(StepArrays {
+            bodies: &mut s.solver_bodies,
+            blocks: &s.blocks,
+            rows: &s.rows,
+            contacts: &mut s.contacts,
+            params,
+            lambda: &mut s.lambda,
+            reactions: &mut s.reactions,
+            source: Some(&source),
+        });
+        if solved.is_err() {
+            std::mem::swap(&mut s.lambda, &mut s.prev_lambda);
+            self.discard_reduced_trees();
+        }
+        solved
     }
 
     pub(super) fn collect_bodies(&mut self) {

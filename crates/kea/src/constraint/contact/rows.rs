@@ -139,24 +139,39 @@ impl Contact {
     fn write_point_rows(&self, point: &ContactPoint, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
         let p = point.position;
-        let n = self.normal;
-        let r1 = p - b1.position;
-        let r2 = p + point.to_second - b2.position;
-        let prm = &self.params;
+        let (r1, r2) = (p - b1.position, p + point.to_second - b2.position);
         let jac = |d: Vec3| {
             [
                 Jacobian::new(d, r1.cross(d)),
                 Jacobian::new(-d, -r2.cross(d)),
             ]
         };
-        let spring = ctx.contact_spring;
+        let normal_row = out.push(self.normal_row(point, ctx, jac(self.normal)));
+        let directions = match self.params.contact_type {
+            ContactType::Frictionless => 0,
+            ContactType::Friction1D => 1,
+            ContactType::Friction2D => 2,
+        };
+        if directions == 0 {
+            return;
+        }
+        let (t1, t2) = self.friction_directions_at(ctx, p);
+        for (k, t) in [t1, t2].into_iter().enumerate().take(directions) {
+            out.push(self.friction_row(k, jac(t), normal_row, ctx.contact_spring));
+        }
+    }
 
-        let mut normal = Row::new(jac(n)[0], jac(n)[1])
+    /// A point's normal row: soft (its own softness or the contact spring) while resting,
+    /// rigid across a speculative gap, a bounce row when it strikes fast enough.
+    fn normal_row(&self, point: &ContactPoint, ctx: &RowContext, jac: [Jacobian; 2]) -> Row {
+        let [b1, b2] = &ctx.bodies;
+        let (p, n, prm) = (point.position, self.normal, &self.params);
+        let mut normal = Row::new(jac[0], jac[1])
             .with_error(-point.penetration)
             .with_bounds(-prm.max_adhesive_force, Real::INFINITY);
         match prm.softness {
             Some(s) => normal.softness = Some(s),
-            None => normal.spring = Some(spring),
+            None => normal.spring = Some(ctx.contact_spring),
         }
         let gap = -point.penetration;
         if gap > 0.0 {
@@ -183,45 +198,36 @@ impl Contact {
             normal.spring = None;
             normal.gamma = Some(0.0);
         }
-        let normal_row = out.push(normal);
+        normal
+    }
 
-        let directions = match prm.contact_type {
-            ContactType::Frictionless => 0,
-            ContactType::Friction1D => 1,
-            ContactType::Friction2D => 2,
-        };
-        if directions == 0 {
-            return;
+    /// A point's friction row along direction `k` (Jacobian `jac`), bounded by its model.
+    fn friction_row(&self, k: usize, jac: [Jacobian; 2], normal_row: u16, spring: Spring) -> Row {
+        let prm = &self.params;
+        let mut row = Row::new(jac[0], jac[1])
+            .with_target_velocity(prm.slide[k])
+            .with_slip(prm.slip[k]);
+        // A friction row has no position error to recover, so softness would make a resting
+        // body creep at ε·h·F for ever; it gets about a thousandth of the normal row's
+        // softness, just enough to regularise redundant contacts.
+        match prm.softness {
+            Some(s) => row.softness = Some(s * FRICTION_SOFTNESS_RATIO),
+            None => {
+                row.spring = Some(Spring::new(
+                    spring.hertz * FRICTION_STIFFNESS_FACTOR,
+                    spring.damping_ratio,
+                ));
+            }
         }
-        let (t1, t2) = self.friction_directions_at(ctx, p);
-        for (k, t) in [t1, t2].into_iter().enumerate().take(directions) {
-            let j = jac(t);
-            let mut row = Row::new(j[0], j[1])
-                .with_target_velocity(prm.slide[k])
-                .with_slip(prm.slip[k]);
-            // A friction row has no position error to recover, so softness would make a
-            // resting body creep at ε·h·F for ever; it gets about a thousandth of the normal
-            // row's softness, just enough to regularise redundant contacts.
-            match prm.softness {
-                Some(s) => row.softness = Some(s * FRICTION_SOFTNESS_RATIO),
-                None => {
-                    row.spring = Some(Spring::new(
-                        spring.hertz * FRICTION_STIFFNESS_FACTOR,
-                        spring.damping_ratio,
-                    ));
-                }
+        // Friction acts on velocity only: no position error to drive (γ = 0).
+        row.gamma = Some(0.0);
+        match prm.friction[k] {
+            FrictionModel::Infinite => row,
+            FrictionModel::Box { max_force } => row.with_bounds(-max_force, max_force),
+            FrictionModel::Coulomb { .. } | FrictionModel::StaticKinetic { .. } => {
+                let mu = self.coulomb_mu(k).unwrap_or(0.0);
+                row.with_friction_link(normal_row, mu)
             }
-            // Friction acts on velocity only: no position error to drive (γ = 0).
-            row.gamma = Some(0.0);
-            match prm.friction[k] {
-                FrictionModel::Infinite => {}
-                FrictionModel::Box { max_force } => row = row.with_bounds(-max_force, max_force),
-                FrictionModel::Coulomb { .. } | FrictionModel::StaticKinetic { .. } => {
-                    let mu = self.coulomb_mu(k).unwrap_or(0.0);
-                    row = row.with_friction_link(normal_row, mu);
-                }
-            }
-            out.push(row);
         }
     }
 }

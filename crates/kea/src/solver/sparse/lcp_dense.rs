@@ -202,18 +202,32 @@ fn solve_free_block(
         }
         ws.rhs[k] = s;
     }
-    // Regularise by growing shifts, 1e-10 to 1e4 of the largest diagonal (8 tries); a matrix
-    // that needs more, or holds a non-finite number, is hopeless.
+    let Some(regularised) = factor_free(a, n, ws, diag_max) else {
+        // Leave the free unknowns at zero: no force rather than a wild one.
+        for &i in &ws.free {
+            x[i] = 0.0;
+        }
+        return true;
+    };
+    substitute(&ws.factor, &mut ws.rhs, m);
+    for (k, &i) in ws.free.iter().enumerate() {
+        x[i] = ws.rhs[k];
+    }
+    regularised
+}
+
+/// Factorises the free block `A_FF` into `ws.factor`, regularising by growing shifts, 1e-10
+/// to 1e4 of the largest diagonal (8 tries); whether it had to (`None`: a matrix that needs
+/// more, or holds a non-finite number, is hopeless).
+fn factor_free(a: &[f64], n: usize, ws: &mut LcpWorkspace, diag_max: f64) -> Option<bool> {
     let mut shift = 0.0;
     let mut regularised = false;
-    let mut factored = false;
     for _ in 0..=REGULARISATION_TRIES {
         if !diag_max.is_finite() {
-            break;
+            return None;
         }
         if cholesky(a, n, &ws.free, &mut ws.factor, shift, diag_max) {
-            factored = true;
-            break;
+            return Some(regularised);
         }
         regularised = true;
         shift = if shift == 0.0 {
@@ -222,17 +236,12 @@ fn solve_free_block(
             shift * 100.0
         };
     }
-    if !factored {
-        // Leave the free unknowns at zero: no force rather than a wild one.
-        for &i in &ws.free {
-            x[i] = 0.0;
-        }
-        return true;
-    }
-    // Forward and back substitution with L (m×m, row-major lower triangle, its diagonal held
-    // inverted).
-    let l = &ws.factor;
-    let y = &mut ws.rhs;
+    None
+}
+
+/// Forward and back substitution with `L` (m×m, row-major lower triangle, its diagonal held
+/// inverted): `y ← (L Lᵀ)⁻¹ y`.
+fn substitute(l: &[f64], y: &mut [f64], m: usize) {
     for i in 0..m {
         let mut s = y[i];
         for k in 0..i {
@@ -247,10 +256,6 @@ fn solve_free_block(
         }
         y[i] = s * l[i * m + i];
     }
-    for (k, &i) in ws.free.iter().enumerate() {
-        x[i] = y[k];
-    }
-    regularised
 }
 
 /// Shifts tried before a free block is given up as hopeless.

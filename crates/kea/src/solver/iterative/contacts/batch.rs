@@ -374,7 +374,6 @@ fn quad<F: FloatW>(inv_inertia: &Sym3<F>, a: V3<F>) -> F {
 #[inline(always)]
 pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forcing: Records<'_>) {
     let zero = F::zero();
-    let one = F::splat(1.0);
     let (ma, mb) = (F::load(&c.inv_mass_a), F::load(&c.inv_mass_b));
     let (ia, ib) = (c.inv_inertia_a.load(), c.inv_inertia_b.load());
     let n = c.normal.load();
@@ -388,10 +387,6 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
     let raw = extra.gt(zero);
     let (mass_scale, impulse_scale) = (F::load(&c.mass_scale), F::load(&c.impulse_scale));
     let min_normal = F::load(&c.min_normal);
-    let mu = [F::load(&c.mu[0]), F::load(&c.mu[1])];
-    let fixed = [F::load(&c.fixed_limit[0]), F::load(&c.fixed_limit[1])];
-    let slip = [F::load(&c.slip[0]), F::load(&c.slip[1])];
-    let disc = F::load(&c.disc).gt(F::splat(0.5));
     // The manifold's warm normal impulse, and its moment arm sum, bound the friction's.
     let (mut held, mut held_lever) = (zero, zero);
     for (j, p) in c.p.iter_mut().enumerate().take(c.points as usize) {
@@ -418,17 +413,37 @@ pub(crate) fn derive<F: FloatW>(c: &mut ContactBatch<F>, vel: Records<'_>, forci
         zero.store(&mut p.total_normal);
         zero.store(&mut p.bounce);
     }
+    derive_friction(c, (ma, mb), (&ia, &ib), (n, t), (held, held_lever));
+}
+
+/// The friction part of [`derive`]: the tangent and twist masses at the manifold's centre and
+/// the friction warm start within this step's bounds (`held`: the manifold's warm normal
+/// impulse, `held_lever` its moment about the centre).
+#[inline(always)]
+fn derive_friction<F: FloatW>(
+    c: &mut ContactBatch<F>,
+    (ma, mb): (F, F),
+    (ia, ib): (&Sym3<F>, &Sym3<F>),
+    (n, t): (V3<F>, [V3<F>; 2]),
+    (held, held_lever): (F, F),
+) {
+    let (zero, one) = (F::zero(), F::splat(1.0));
+    let count = F::load(&c.count);
+    let mu = [F::load(&c.mu[0]), F::load(&c.mu[1])];
+    let fixed = [F::load(&c.fixed_limit[0]), F::load(&c.fixed_limit[1])];
+    let slip = [F::load(&c.slip[0]), F::load(&c.slip[1])];
+    let disc = F::load(&c.disc).gt(F::splat(0.5));
     // Friction at the centre: one isotropic mass, each direction softened by its slip.
     let (rca, rcb) = (c.r_ca.load(), c.r_cb.load());
     let some = count.gt(zero);
-    let k1 = ma + mb + quad(&ia, rca.cross(t[0])) + quad(&ib, rcb.cross(t[0]));
-    let k2 = ma + mb + quad(&ia, rca.cross(t[1])) + quad(&ib, rcb.cross(t[1]));
+    let k1 = ma + mb + quad(ia, rca.cross(t[0])) + quad(ib, rcb.cross(t[0]));
+    let k2 = ma + mb + quad(ia, rca.cross(t[1])) + quad(ib, rcb.cross(t[1]));
     let kt = F::splat(0.5) * (k1 + k2);
     for (m, s) in c.tangent_mass.iter_mut().zip(slip) {
         mass(kt + s, some).store(m);
     }
     let twisting = count.gt(one);
-    mass(quad(&ia, n) + quad(&ib, n), twisting).store(&mut c.twist_mass);
+    mass(quad(ia, n) + quad(ib, n), twisting).store(&mut c.twist_mass);
     // The friction warm start, within this step's bounds.
     let limit = [mu[0] * held + fixed[0], mu[1] * held + fixed[1]];
     let pt = [

@@ -298,45 +298,8 @@ impl ContactSolver {
         k: &PrepareParams,
     ) {
         self.level = level.detect();
-        self.colouring.begin(states.len());
-        self.colour_count.clear();
-        self.colour_count.resize(COLOURS + 1, 0);
-        for e in &mut self.entries {
-            let (wa, wb) = (states.writable[e.a as usize], states.writable[e.b as usize]);
-            e.colour = self.colouring.assign(e.a, wa, e.b, wb);
-            let c = if e.colour == OVERFLOW {
-                COLOURS
-            } else {
-                e.colour as usize
-            };
-            self.colour_count[c] += 1;
-        }
-        // Order: by colour, then most points first (a stable counting sort), so that the lanes
-        // of a batch have as many points as each other.
-        const P: usize = crate::constraint::MAX_CONTACT_POINTS;
-        let key = |e: &Entry| {
-            let c = if e.colour == OVERFLOW {
-                COLOURS
-            } else {
-                e.colour as usize
-            };
-            c * P + (P - e.points as usize)
-        };
-        self.bucket.clear();
-        self.bucket.resize((COLOURS + 1) * P + 1, 0);
-        for e in &self.entries {
-            self.bucket[key(e) + 1] += 1;
-        }
-        for i in 1..self.bucket.len() {
-            self.bucket[i] += self.bucket[i - 1];
-        }
-        self.order.clear();
-        self.order.resize(self.entries.len(), 0);
-        for (i, e) in self.entries.iter().enumerate() {
-            let slot = &mut self.bucket[key(e)];
-            self.order[*slot as usize] = i as u32;
-            *slot += 1;
-        }
+        self.colour(states);
+        self.order_by_colour_and_points();
         let position = |slot: u32| {
             let g = states.global[slot as usize];
             if slot == 0 {
@@ -377,6 +340,53 @@ impl ContactSolver {
             #[cfg(target_arch = "x86_64")]
             SimdLevel::Narrow => self.narrow.derive(vel, forcing, derive_batches),
             _ => self.scalar.derive(vel, forcing, derive_batches),
+        }
+    }
+
+    /// Gives each filed contact a colour (no body twice in one colour among the bodies the
+    /// colours write; the rest overflow) and counts each colour's contacts.
+    fn colour(&mut self, states: &BodyStates) {
+        self.colouring.begin(states.len());
+        self.colour_count.clear();
+        self.colour_count.resize(COLOURS + 1, 0);
+        for e in &mut self.entries {
+            let (wa, wb) = (states.writable[e.a as usize], states.writable[e.b as usize]);
+            e.colour = self.colouring.assign(e.a, wa, e.b, wb);
+            let c = if e.colour == OVERFLOW {
+                COLOURS
+            } else {
+                e.colour as usize
+            };
+            self.colour_count[c] += 1;
+        }
+    }
+
+    /// Orders the contacts by colour, then most points first (a stable counting sort), so
+    /// that the lanes of a batch have as many points as each other.
+    fn order_by_colour_and_points(&mut self) {
+        const P: usize = crate::constraint::MAX_CONTACT_POINTS;
+        let key = |e: &Entry| {
+            let c = if e.colour == OVERFLOW {
+                COLOURS
+            } else {
+                e.colour as usize
+            };
+            c * P + (P - e.points as usize)
+        };
+        self.bucket.clear();
+        self.bucket.resize((COLOURS + 1) * P + 1, 0);
+        for e in &self.entries {
+            self.bucket[key(e) + 1] += 1;
+        }
+        for i in 1..self.bucket.len() {
+            self.bucket[i] += self.bucket[i - 1];
+        }
+        self.order.clear();
+        self.order.resize(self.entries.len(), 0);
+        for (i, e) in self.entries.iter().enumerate() {
+            let slot = &mut self.bucket[key(e)];
+            self.order[*slot as usize] = i as u32;
+            *slot += 1;
         }
     }
 
