@@ -175,27 +175,7 @@ impl CollisionWorld {
         world: &World,
         def: ColliderDef,
     ) -> CollisionResult<ColliderHandle> {
-        if let Some(b) = def.body {
-            world.body(b)?;
-            if def.shape.kind_name() == "plane" {
-                return Err(kea::KeaError::InvalidState {
-                    operation: "add_collider",
-                    reason: "a plane is unbounded static geometry: give it body None",
-                }
-                .into());
-            }
-        }
-        self.materials.check(def.material)?;
-        crate::error::check_extent("offset", def.offset)?;
-        let len = def.rotation.length();
-        if !def.rotation.is_finite() || (len - 1.0).abs() > 1.0e-3 {
-            return Err(kea::KeaError::NotUnit {
-                arg: "rotation",
-                value: format!("{}", def.rotation),
-                length: kea::math::wide(len),
-            }
-            .into());
-        }
+        self.check_collider(world, &def)?;
         let local = Pose::from_parts(def.offset, def.rotation.normalize());
         let sphere = def.shared_shape().compute_bounding_sphere(&local);
         let reach = sphere.center().length() + sphere.radius();
@@ -251,6 +231,33 @@ impl CollisionWorld {
             index,
             generation: self.slots[index as usize].generation,
         })
+    }
+
+    /// Checks a new collider: its body exists, a plane is static, its material is in the
+    /// table, its offset finite and its rotation unit.
+    fn check_collider(&self, world: &World, def: &ColliderDef) -> CollisionResult<()> {
+        if let Some(b) = def.body {
+            world.body(b)?;
+            if def.shape.kind_name() == "plane" {
+                return Err(kea::KeaError::InvalidState {
+                    operation: "add_collider",
+                    reason: "a plane is unbounded static geometry: give it body None",
+                }
+                .into());
+            }
+        }
+        self.materials.check(def.material)?;
+        crate::error::check_extent("offset", def.offset)?;
+        let len = def.rotation.length();
+        if !def.rotation.is_finite() || (len - 1.0).abs() > 1.0e-3 {
+            return Err(kea::KeaError::NotUnit {
+                arg: "rotation",
+                value: format!("{}", def.rotation),
+                length: kea::math::wide(len),
+            }
+            .into());
+        }
+        Ok(())
     }
 
     /// Moves a collider within its body's frame (or the world, for static geometry): a new

@@ -7,8 +7,8 @@ use crate::collision_world::{handle_of, CollisionWorld};
 use crate::error::CollisionResult;
 use crate::events::{ContactEvent, ContactEventKind};
 use crate::narrow_phase::{NarrowWorker, Wanted};
-use crate::pairs::{ManifoldCache, PairManifold};
-use kea::{Contact, World};
+use crate::pairs::{ManifoldCache, PairManifold, PairState};
+use kea::{Contact, ContactParams, ContactPoint, Vec3, World};
 
 impl CollisionWorld {
     /// Writes the wanted manifolds into the world. A new manifold that finds the world's
@@ -79,21 +79,18 @@ impl CollisionWorld {
             return Ok(());
         }
         p.touching_now |= points.iter().any(|q| q.penetration > -touch);
+        let found = ContactFound {
+            points,
+            params,
+            direction,
+            cache: generated.get(w.cache as usize).copied(),
+        };
         match p.manifolds.get_mut(w.existing as usize) {
             Some(m) if w.existing != Wanted::NEW && world.contact(m.handle).is_ok() => {
                 let c = world.contact_mut(m.handle)?;
-                if w.cache != Wanted::KEPT || c.normal() != w.normal {
-                    c.set_normal(w.normal)?;
-                }
-                c.set_points(points)?;
-                if w.refresh {
-                    c.set_params(params)?;
-                }
-                if direction.is_some() || c.direction().is_some() {
-                    c.set_direction(direction)?;
-                }
-                if let Some(g) = generated.get(w.cache as usize) {
-                    m.cache = *g;
+                found.update(c, w)?;
+                if let Some(g) = found.cache {
+                    m.cache = g;
                 }
                 m.seen = true;
             }
@@ -102,27 +99,7 @@ impl CollisionWorld {
                 self.stats.dropped_manifolds += 1;
                 p.generated_at = None; // generated again next step, when room may be free
             }
-            _ => {
-                let mut c = Contact::with_points(w.normal, points)?;
-                c.set_params(params)?;
-                c.set_direction(direction)?;
-                let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
-                let cache = generated.get(w.cache as usize).copied();
-                if let Some(m) = p.manifolds.get_mut(w.existing as usize) {
-                    // Its old contact went away with a body: a new one in its place.
-                    m.handle = handle;
-                    if let Some(g) = cache {
-                        m.cache = g;
-                    }
-                    m.seen = true;
-                } else {
-                    p.manifolds.push(PairManifold {
-                        cache: cache.unwrap_or_default(),
-                        handle,
-                        seen: true,
-                    });
-                }
-            }
+            _ => found.create(world, w, p)?,
         }
         Ok(())
     }
@@ -179,5 +156,53 @@ impl CollisionWorld {
                 self.events.push(ContactEvent { kind, colliders });
             }
         }
+    }
+}
+
+/// A manifold the narrow phase wants as a contact this step.
+struct ContactFound<'a> {
+    points: &'a [ContactPoint],
+    params: ContactParams,
+    direction: Option<Vec3>,
+    cache: Option<ManifoldCache>,
+}
+
+impl ContactFound<'_> {
+    /// Updates the pair's existing contact, writing only what changed.
+    fn update(&self, c: &mut Contact, w: &Wanted) -> CollisionResult<()> {
+        if w.cache != Wanted::KEPT || c.normal() != w.normal {
+            c.set_normal(w.normal)?;
+        }
+        c.set_points(self.points)?;
+        if w.refresh {
+            c.set_params(self.params)?;
+        }
+        if self.direction.is_some() || c.direction().is_some() {
+            c.set_direction(self.direction)?;
+        }
+        Ok(())
+    }
+
+    /// Makes a new contact for the pair: in the place of one that went away with a body, or
+    /// as a new manifold.
+    fn create(&self, world: &mut World, w: &Wanted, p: &mut PairState) -> CollisionResult<()> {
+        let mut c = Contact::with_points(w.normal, self.points)?;
+        c.set_params(self.params)?;
+        c.set_direction(self.direction)?;
+        let handle = world.create_contact(w.bodies.0, w.bodies.1, c)?;
+        if let Some(m) = p.manifolds.get_mut(w.existing as usize) {
+            m.handle = handle;
+            if let Some(g) = self.cache {
+                m.cache = g;
+            }
+            m.seen = true;
+        } else {
+            p.manifolds.push(PairManifold {
+                cache: self.cache.unwrap_or_default(),
+                handle,
+                seen: true,
+            });
+        }
+        Ok(())
     }
 }

@@ -109,6 +109,47 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
         }
     }
     let defaults = WorldDef::default();
+    Ok(WorldDef {
+        max_bodies,
+        max_constraints,
+        max_island_rows: w.max_island_rows.unwrap_or(defaults.max_island_rows),
+        settings: settings_of(w, &defaults.settings)?,
+    })
+}
+
+/// The world's settings from the scene, the defaults `d` where it gives none.
+fn settings_of(w: &WorldSpec, d: &kea::WorldSettings) -> Result<kea::WorldSettings, SceneError> {
+    let it = w.iterative.clone().unwrap_or_default();
+    Ok(kea::WorldSettings {
+        gravity: v3(w.gravity),
+        epsilon: w.epsilon,
+        gamma: w.gamma,
+        max_lcp_iterations: w.max_lcp_iterations.unwrap_or(d.max_lcp_iterations),
+        max_friction_passes: w.max_friction_passes.unwrap_or(d.max_friction_passes),
+        dem: dem_of(w)?,
+        routing: routing_of(w),
+        iterative: IterativeParams {
+            substeps: it.substeps,
+            iterations: it.iterations,
+            relax_iterations: it.relax_iterations,
+            max_correction_speed: it.max_correction_speed,
+            ..IterativeParams::default()
+        },
+        contact_spring: w.contact_spring.map_or(d.contact_spring, |s| {
+            kea::Spring::new(s.hertz, s.damping_ratio)
+        }),
+        projection_iterations: w.projection_iterations,
+        world_substeps: w.world_substeps,
+        speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
+            linear: s.linear,
+            angular: s.angular,
+        }),
+        step_timing: true,
+    })
+}
+
+/// Sleeping (the guide's auto-disable) and its thresholds, checked.
+fn dem_of(w: &WorldSpec) -> Result<DemSettings, SceneError> {
     let s = w.sleep_thresholds.clone().unwrap_or_default();
     let dem = DemSettings {
         mode: if w.sleep {
@@ -126,53 +167,26 @@ fn world_def(w: &WorldSpec, body_count: usize) -> Result<WorldDef, SceneError> {
     };
     dem.validate()
         .map_err(|e| SceneError::at("world.sleep_thresholds", e))?;
+    Ok(dem)
+}
+
+/// The solver path and the routing thresholds.
+fn routing_of(w: &WorldSpec) -> Routing {
     let r = w.routing.clone().unwrap_or_default();
-    let it = w.iterative.clone().unwrap_or_default();
-    let d = defaults.settings;
-    Ok(WorldDef {
-        max_bodies,
-        max_constraints,
-        max_island_rows: w.max_island_rows.unwrap_or(defaults.max_island_rows),
-        settings: kea::WorldSettings {
-            gravity: v3(w.gravity),
-            epsilon: w.epsilon,
-            gamma: w.gamma,
-            max_lcp_iterations: w.max_lcp_iterations.unwrap_or(d.max_lcp_iterations),
-            max_friction_passes: w.max_friction_passes.unwrap_or(d.max_friction_passes),
-            dem,
-            routing: Routing {
-                mode: match w.solver {
-                    SolverSpec::Hybrid => SolverMode::Hybrid,
-                    SolverSpec::Exact => SolverMode::Exact,
-                    SolverSpec::Iterative => SolverMode::Iterative,
-                    SolverSpec::Split => SolverMode::Split,
-                },
-                max_exact_rows: r.max_exact_rows,
-                max_exact_bodies: r.max_exact_bodies,
-                hysteresis: r.hysteresis,
-                mass_ratio: r.mass_ratio,
-                stack_bodies: r.stack_bodies,
-                max_reduced_links: r.max_reduced_links,
-            },
-            iterative: IterativeParams {
-                substeps: it.substeps,
-                iterations: it.iterations,
-                relax_iterations: it.relax_iterations,
-                max_correction_speed: it.max_correction_speed,
-                ..IterativeParams::default()
-            },
-            contact_spring: w.contact_spring.map_or(d.contact_spring, |s| {
-                kea::Spring::new(s.hertz, s.damping_ratio)
-            }),
-            projection_iterations: w.projection_iterations,
-            world_substeps: w.world_substeps,
-            speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
-                linear: s.linear,
-                angular: s.angular,
-            }),
-            step_timing: true,
+    Routing {
+        mode: match w.solver {
+            SolverSpec::Hybrid => SolverMode::Hybrid,
+            SolverSpec::Exact => SolverMode::Exact,
+            SolverSpec::Iterative => SolverMode::Iterative,
+            SolverSpec::Split => SolverMode::Split,
         },
-    })
+        max_exact_rows: r.max_exact_rows,
+        max_exact_bodies: r.max_exact_bodies,
+        hysteresis: r.hysteresis,
+        mass_ratio: r.mass_ratio,
+        stack_bodies: r.stack_bodies,
+        max_reduced_links: r.max_reduced_links,
+    }
 }
 
 /// Adds the named materials and the pair table; returns the names by id.

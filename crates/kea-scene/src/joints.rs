@@ -133,28 +133,20 @@ pub(crate) fn create(
             let spec = kea::JointSpec::prismatic(v3(*anchor), v3(*axis));
             one_coordinate(w, b1, b2, spec, limits.as_ref(), *motor, place)?
         }
-        JointKind::Fixed { anchor } => w
-            .create_joint(b1, b2, kea::JointSpec::fixed(v3(*anchor)))
-            .map_err(at)?
-            .raw(),
+        JointKind::Fixed { anchor } => {
+            plain(w, (b1, b2), kea::JointSpec::fixed(v3(*anchor)), place)?
+        }
         JointKind::FixedPath {
             anchor,
             fixed_orientation,
             path,
         } => {
             check_path(path, place)?;
-            let h = w
-                .create_joint(
-                    b1,
-                    b2,
-                    kea::JointSpec::fixed_path(v3(*anchor), *fixed_orientation),
-                )
-                .map_err(at)?;
+            let spec = kea::JointSpec::fixed_path(v3(*anchor), *fixed_orientation);
+            let h = w.create_joint(b1, b2, spec).map_err(at)?;
             if !path.is_empty() {
-                built.paths.0.push(PathDriver {
-                    joint: h,
-                    keys: path.clone(),
-                });
+                let keys = path.clone();
+                built.paths.0.push(PathDriver { joint: h, keys });
             }
             h.raw()
         }
@@ -162,25 +154,34 @@ pub(crate) fn create(
             anchor,
             axis1,
             axis2,
-        } => w
-            .create_joint(
-                b1,
-                b2,
-                kea::JointSpec::universal(v3(*anchor), v3(*axis1), v3(*axis2)),
-            )
-            .map_err(at)?
-            .raw(),
-        JointKind::Linear1 { anchor, normal } => w
-            .create_joint(b1, b2, kea::JointSpec::linear1(v3(*anchor), v3(*normal)))
-            .map_err(at)?
-            .raw(),
-        JointKind::Linear2 { anchor, direction } => w
-            .create_joint(b1, b2, kea::JointSpec::linear2(v3(*anchor), v3(*direction)))
-            .map_err(at)?
-            .raw(),
+        } => {
+            let spec = kea::JointSpec::universal(v3(*anchor), v3(*axis1), v3(*axis2));
+            plain(w, (b1, b2), spec, place)?
+        }
+        JointKind::Linear1 { anchor, normal } => plain(
+            w,
+            (b1, b2),
+            kea::JointSpec::linear1(v3(*anchor), v3(*normal)),
+            place,
+        )?,
+        JointKind::Linear2 { anchor, direction } => {
+            let spec = kea::JointSpec::linear2(v3(*anchor), v3(*direction));
+            plain(w, (b1, b2), spec, place)?
+        }
         JointKind::CarWheel { .. } => crate::car_wheel::create(w, kind, b1, b2, place)?,
     };
     Ok(h)
+}
+
+/// Creates a joint that takes nothing more than its spec.
+fn plain<J: kea::JointKind>(
+    w: &mut World,
+    (b1, b2): (BodyHandle, Option<BodyHandle>),
+    spec: kea::JointSpec<J>,
+    place: &str,
+) -> Result<ConstraintHandle, SceneError> {
+    let h = w.create_joint(b1, b2, spec).map_err(|e| placed(place, e))?;
+    Ok(h.raw())
 }
 
 /// Creates a hinge or a slider and sets its limits and motor from the scene.
