@@ -32,40 +32,7 @@ pub struct KeaScene {
 impl KeaScene {
     pub fn build(scene: &Scene) -> Self {
         let n = scene.bodies.len();
-        let mut world = World::new(WorldDef {
-            max_bodies: n + 1,
-            // Room for fast bodies' speculative contacts (a whipped chain's links meet many).
-            max_constraints: 32 * n + scene.joints.len() + 64,
-            ..Default::default()
-        })
-        .expect("world");
-        let forced = match std::env::var("KEA_BENCH_MODE").as_deref() {
-            Ok("split") => Some(kea::SolverMode::Split),
-            Ok("exact") => Some(kea::SolverMode::Exact),
-            Ok("iterative") => Some(kea::SolverMode::Iterative),
-            _ if scene.kea_exact => Some(kea::SolverMode::Exact),
-            _ => None,
-        };
-        if let Some(mode) = forced {
-            world
-                .update_settings(|s| {
-                    s.routing = kea::Routing {
-                        mode,
-                        ..Default::default()
-                    }
-                })
-                .expect("routing");
-        }
-        if scene.sleep {
-            world
-                .update_settings(|s| {
-                    s.dem = DemSettings {
-                        mode: DemMode::PartitionAutoDisable,
-                        ..Default::default()
-                    }
-                })
-                .expect("sleep");
-        }
+        let mut world = world_for(scene);
         let mut collision = CollisionWorld::new();
         collision.reserve(n + scene.statics.len());
         for s in &scene.statics {
@@ -79,36 +46,11 @@ impl KeaScene {
             };
             collision.add_collider(&world, def).expect("static");
         }
-        let mut bodies = Vec::with_capacity(n);
-        for b in &scene.bodies {
-            // Kea's capsules lie along y: turned onto x, with the inertia turned alike.
-            let (shape, rotation) = match b.shape {
-                Shape::Cuboid(h) => (KeaShape::cuboid(v(h)), Quat::IDENTITY),
-                Shape::Ball(r) => (KeaShape::sphere(r as Real), Quat::IDENTITY),
-                Shape::CapsuleX(hh, r) => (
-                    KeaShape::capsule(hh as Real, r as Real),
-                    Quat::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real),
-                ),
-                Shape::CapsuleY(hh, r) => {
-                    (KeaShape::capsule(hh as Real, r as Real), Quat::IDENTITY)
-                }
-            };
-            let shape = shape.expect("shape");
-            let mp = shape.mass_properties(b.density as Real).expect("mass");
-            let r = Mat3::from_quat(rotation);
-            let body = world
-                .create_body(&BodyDef {
-                    mass: mp.mass,
-                    inertia: r * mp.inertia * r.transpose(),
-                    position: v(b.position),
-                    ..Default::default()
-                })
-                .expect("body");
-            let mut def = ColliderDef::new(Some(body), shape);
-            def.rotation = rotation;
-            collision.add_collider(&world, def).expect("collider");
-            bodies.push((body, v(b.position)));
-        }
+        let bodies: Vec<_> = scene
+            .bodies
+            .iter()
+            .map(|b| (add_body(&mut world, &mut collision, b), v(b.position)))
+            .collect();
         let mut joints = Vec::new();
         for j in &scene.joints {
             let a = j.a.map(|i| bodies[i].0);
@@ -278,4 +220,74 @@ pub fn run(scene: &Scene) -> Outcome {
         stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / steps),
         failed,
     }
+}
+
+/// The world for a scene: room for its bodies, joints and their contacts; the solver path a
+/// `KEA_BENCH_MODE` forces (or the scene asks for); sleeping if the scene sleeps.
+fn world_for(scene: &Scene) -> World {
+    let n = scene.bodies.len();
+    let mut world = World::new(WorldDef {
+        max_bodies: n + 1,
+        // Room for fast bodies' speculative contacts (a whipped chain's links meet many).
+        max_constraints: 32 * n + scene.joints.len() + 64,
+        ..Default::default()
+    })
+    .expect("world");
+    let forced = match std::env::var("KEA_BENCH_MODE").as_deref() {
+        Ok("split") => Some(kea::SolverMode::Split),
+        Ok("exact") => Some(kea::SolverMode::Exact),
+        Ok("iterative") => Some(kea::SolverMode::Iterative),
+        _ if scene.kea_exact => Some(kea::SolverMode::Exact),
+        _ => None,
+    };
+    world
+        .update_settings(|s| {
+            if let Some(mode) = forced {
+                s.routing = kea::Routing {
+                    mode,
+                    ..Default::default()
+                };
+            }
+            if scene.sleep {
+                s.dem = DemSettings {
+                    mode: DemMode::PartitionAutoDisable,
+                    ..Default::default()
+                };
+            }
+        })
+        .expect("settings");
+    world
+}
+
+/// A scene body and its collider; Kea's capsules lie along y: turned onto x, with the inertia
+/// turned alike.
+fn add_body(
+    world: &mut World,
+    collision: &mut CollisionWorld,
+    b: &crate::scenes::Body,
+) -> BodyHandle {
+    let (shape, rotation) = match b.shape {
+        Shape::Cuboid(h) => (KeaShape::cuboid(v(h)), Quat::IDENTITY),
+        Shape::Ball(r) => (KeaShape::sphere(r as Real), Quat::IDENTITY),
+        Shape::CapsuleX(hh, r) => (
+            KeaShape::capsule(hh as Real, r as Real),
+            Quat::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real),
+        ),
+        Shape::CapsuleY(hh, r) => (KeaShape::capsule(hh as Real, r as Real), Quat::IDENTITY),
+    };
+    let shape = shape.expect("shape");
+    let mp = shape.mass_properties(b.density as Real).expect("mass");
+    let r = Mat3::from_quat(rotation);
+    let body = world
+        .create_body(&BodyDef {
+            mass: mp.mass,
+            inertia: r * mp.inertia * r.transpose(),
+            position: v(b.position),
+            ..Default::default()
+        })
+        .expect("body");
+    let mut def = ColliderDef::new(Some(body), shape);
+    def.rotation = rotation;
+    collision.add_collider(world, def).expect("collider");
+    body
 }

@@ -74,32 +74,7 @@ impl RapierScene {
                     (fixed, anchor)
                 }
             };
-            // Jointed bodies do not collide, as in Kea.
-            let joint: GenericJoint = match j.kind {
-                JointKind::Ball => SphericalJointBuilder::new()
-                    .local_anchor1(local_a)
-                    .local_anchor2(local_b)
-                    .contacts_enabled(false)
-                    .into(),
-                JointKind::LimitedBall { axis, cone, twist } => {
-                    // The joint's x axis along the limb: twist about it, swing about the others.
-                    let turn = Rotation::from_rotation_arc(Vector::X, v(axis));
-                    SphericalJointBuilder::new()
-                        .local_frame1(Pose::from_parts(local_a, turn))
-                        .local_frame2(Pose::from_parts(local_b, turn))
-                        .limits(JointAxis::AngX, [-twist, twist])
-                        .limits(JointAxis::AngY, [-cone, cone])
-                        .limits(JointAxis::AngZ, [-cone, cone])
-                        .contacts_enabled(false)
-                        .into()
-                }
-                JointKind::Hinge { axis, lower, upper } => RevoluteJointBuilder::new(v(axis))
-                    .local_anchor1(local_a)
-                    .local_anchor2(local_b)
-                    .limits([lower, upper])
-                    .contacts_enabled(false)
-                    .into(),
-            };
+            let joint = rapier_joint(j.kind, local_a, local_b);
             impulse_joints.insert(a, b, joint, true);
             joints.push((j.a.map(|i| handles[i].0), local_a, b, local_b));
         }
@@ -191,5 +166,35 @@ pub fn run(scene: &Scene) -> Outcome {
         quality,
         stages_ms: [0.0; 3],
         failed: None,
+    }
+}
+
+/// The Rapier joint of a scene joint with its anchors in each body's frame; jointed bodies do
+/// not collide, as in Kea.
+fn rapier_joint(kind: JointKind, local_a: Vector, local_b: Vector) -> GenericJoint {
+    match kind {
+        JointKind::Ball => SphericalJointBuilder::new()
+            .local_anchor1(local_a)
+            .local_anchor2(local_b)
+            .contacts_enabled(false)
+            .into(),
+        JointKind::LimitedBall { axis, cone, twist } => {
+            // The joint's x axis along the limb: twist about it, swing about the others.
+            let turn = Rotation::from_rotation_arc(Vector::X, v(axis));
+            SphericalJointBuilder::new()
+                .local_frame1(Pose::from_parts(local_a, turn))
+                .local_frame2(Pose::from_parts(local_b, turn))
+                .limits(JointAxis::AngX, [-twist, twist])
+                .limits(JointAxis::AngY, [-cone, cone])
+                .limits(JointAxis::AngZ, [-cone, cone])
+                .contacts_enabled(false)
+                .into()
+        }
+        JointKind::Hinge { axis, lower, upper } => RevoluteJointBuilder::new(v(axis))
+            .local_anchor1(local_a)
+            .local_anchor2(local_b)
+            .limits([lower, upper])
+            .contacts_enabled(false)
+            .into(),
     }
 }

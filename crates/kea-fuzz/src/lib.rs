@@ -173,32 +173,36 @@ fn poisoned(s: &Sandbox) -> bool {
     })
 }
 
+/// The watchdog: a detached thread that exits the process if the operation in flight (its
+/// start, ms since `epoch`, stored in the first flag; `u64::MAX` between operations) runs past
+/// ten times `bound`; it ends when the second flag is set.
+fn watchdog(seed: u64, bound: Duration, epoch: Instant) -> (Arc<AtomicU64>, Arc<AtomicBool>) {
+    let started_ms = Arc::new(AtomicU64::new(u64::MAX));
+    let done = Arc::new(AtomicBool::new(false));
+    let (started, finished) = (started_ms.clone(), done.clone());
+    let limit = bound.as_millis() as u64 * 10;
+    std::thread::spawn(move || {
+        while !finished.load(Ordering::Relaxed) {
+            let at = started.load(Ordering::Relaxed);
+            let now = epoch.elapsed().as_millis() as u64;
+            if at != u64::MAX && now.saturating_sub(at) > limit {
+                eprintln!("kea-fuzz: HANG: seed {seed}: an operation ran past {limit} ms");
+                std::process::exit(3);
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    });
+    (started_ms, done)
+}
+
 /// Runs `ops` operations from `seed`, with `bound` as the per-operation time bound.
 pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
     install_panic_counter();
     let mut report = Report::default();
     let mut rng = Rng::new(seed);
     let mut sandbox = Sandbox::new(&mut rng);
-    // The watchdog: the operation in flight and when it started.
-    let started_ms = Arc::new(AtomicU64::new(u64::MAX));
-    let done = Arc::new(AtomicBool::new(false));
     let epoch = Instant::now();
-    {
-        let (started_ms, done) = (started_ms.clone(), done.clone());
-        let limit = bound.as_millis() as u64 * 10;
-        // Detached: it ends when the run does.
-        std::thread::spawn(move || {
-            while !done.load(Ordering::Relaxed) {
-                let at = started_ms.load(Ordering::Relaxed);
-                let now = epoch.elapsed().as_millis() as u64;
-                if at != u64::MAX && now.saturating_sub(at) > limit {
-                    eprintln!("kea-fuzz: HANG: seed {seed}: an operation ran past {limit} ms");
-                    std::process::exit(3);
-                }
-                std::thread::sleep(Duration::from_millis(50));
-            }
-        });
-    }
+    let (started_ms, done) = watchdog(seed, bound, epoch);
     for n in 0..ops {
         if rng.chance(0.002) {
             sandbox = Sandbox::new(&mut rng);
