@@ -33,14 +33,11 @@ impl FixedJoint {
     /// Writes the six rows.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
-        write_anchor_rows(
-            b1,
-            b2,
+        let (a1, a2) = (
             b1.point_to_world(self.local_anchor1),
             b2.point_to_world(self.local_anchor2),
-            ctx.dt,
-            out,
         );
+        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         write_orientation_rows(b1, b2, self.relative_orientation, out);
     }
 }

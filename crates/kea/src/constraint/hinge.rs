@@ -12,6 +12,7 @@
 
 use super::ball::write_anchor_rows;
 use super::joint::{rate, spin_axle, wrap_angle, write_alignment_rows};
+use super::limit::limit_accessors;
 use super::{Jacobian, Limit, RowContext, RowWriter};
 use crate::math::{orthonormal_basis, Real, Vec3};
 
@@ -40,29 +41,21 @@ impl Hinge {
     /// angle starts at 0.
     #[must_use]
     pub fn new(ctx: &RowContext, anchor: Vec3, axis: Vec3) -> Self {
-        let [b1, b2] = &ctx.bodies;
-        let reference = orthonormal_basis(axis).0;
-        let (q1, q2) = (b1.orientation.inverse(), b2.orientation.inverse());
+        let [local_anchor1, local_anchor2] = ctx.local_points(anchor);
+        let [local_axis1, local_axis2] = ctx.local_vectors(axis);
+        let [local_ref1, local_ref2] = ctx.local_vectors(orthonormal_basis(axis).0);
         Self {
-            local_anchor1: q1 * (anchor - b1.position),
-            local_anchor2: q2 * (anchor - b2.position),
-            local_axis1: q1 * axis,
-            local_axis2: q2 * axis,
-            local_ref1: q1 * reference,
-            local_ref2: q2 * reference,
+            local_anchor1,
+            local_anchor2,
+            local_axis1,
+            local_axis2,
+            local_ref1,
+            local_ref2,
             angle: 0.0,
             limit: Limit::default(),
         }
     }
-    /// The limits and motor on the angle.
-    #[must_use]
-    pub fn limit(&self) -> &Limit {
-        &self.limit
-    }
-    /// The limits and motor, to change.
-    pub fn limit_mut(&mut self) -> &mut Limit {
-        &mut self.limit
-    }
+    limit_accessors!("angle");
     /// The hinge angle after the last step, rad (continuous: may exceed ±π).
     #[must_use]
     pub fn angle(&self) -> Real {

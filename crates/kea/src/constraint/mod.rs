@@ -128,6 +128,21 @@ pub struct RowContext {
     pub contact_spring: Spring,
 }
 
+impl RowContext {
+    /// World point `p` in each body's frame (a joint's anchors as it is made).
+    #[must_use]
+    pub fn local_points(&self, p: Vec3) -> [Vec3; 2] {
+        self.bodies
+            .map(|b| b.orientation.inverse() * (p - b.position))
+    }
+
+    /// World direction `v` in each body's frame (a joint's axes as it is made).
+    #[must_use]
+    pub fn local_vectors(&self, v: Vec3) -> [Vec3; 2] {
+        self.bodies.map(|b| b.orientation.inverse() * v)
+    }
+}
+
 /// A user-written constraint (the guide: "You Can Add Your Own Joint Types"): it only has to
 /// write rows. Add it with [`crate::World::add_custom_constraint`]. It must be `Clone` (derive
 /// it), so that a world holding it can be cloned.

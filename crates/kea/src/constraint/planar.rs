@@ -46,17 +46,18 @@ impl Planar {
     /// `rotates`; its coordinates start at 0.
     #[must_use]
     pub fn new(ctx: &RowContext, anchor: Vec3, normal: Vec3, axis: Vec3, rotates: bool) -> Self {
-        let [b1, b2] = &ctx.bodies;
-        let (q1, q2) = (b1.orientation.inverse(), b2.orientation.inverse());
         let axis = (axis - normal * axis.dot(normal)).normalize();
+        let [local_anchor1, local_anchor2] = ctx.local_points(anchor);
+        let [local_normal1, local_normal2] = ctx.local_vectors(normal);
+        let [local_ref1, local_axis2] = ctx.local_vectors(axis);
         Self {
-            local_anchor1: q1 * (anchor - b1.position),
-            local_anchor2: q2 * (anchor - b2.position),
-            local_normal1: q1 * normal,
-            local_normal2: q2 * normal,
-            local_axis2: q2 * axis,
-            local_ref1: q1 * axis,
-            relative_orientation: q2 * b1.orientation,
+            local_anchor1,
+            local_anchor2,
+            local_normal1,
+            local_normal2,
+            local_axis2,
+            local_ref1,
+            relative_orientation: ctx.bodies[1].orientation.inverse() * ctx.bodies[0].orientation,
             rotates,
             angle: 0.0,
             limits: [Limit::default(); 3],

@@ -9,6 +9,7 @@
 use super::joint::{
     perpendiculars, rate, relative_point_jacobian, write_orientation_rows, write_plane_rows,
 };
+use super::limit::limit_accessors;
 use super::{Limit, RowContext, RowWriter};
 use crate::math::{Quat, Real, Vec3};
 
@@ -41,15 +42,7 @@ impl Prismatic {
             limit: Limit::default(),
         }
     }
-    /// The limits and motor on the distance.
-    #[must_use]
-    pub fn limit(&self) -> &Limit {
-        &self.limit
-    }
-    /// The limits and motor, to change.
-    pub fn limit_mut(&mut self) -> &mut Limit {
-        &mut self.limit
-    }
+    limit_accessors!("distance");
     /// Distance along the axis after the last step, m.
     #[must_use]
     pub fn distance(&self) -> Real {

@@ -37,14 +37,11 @@ impl UniversalJoint {
     /// Writes the four rows.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
         let [b1, b2] = &ctx.bodies;
-        write_anchor_rows(
-            b1,
-            b2,
+        let (a1, a2) = (
             b1.point_to_world(self.local_anchor1),
             b2.point_to_world(self.local_anchor2),
-            ctx.dt,
-            out,
         );
+        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         let u1 = b1.vector_to_world(self.local_axis1);
         let u2 = b2.vector_to_world(self.local_axis2);
         let c = u1.cross(u2);

@@ -325,19 +325,10 @@ impl Solver {
     ) -> bool {
         let t = Stamp::now(step.params.timing);
         let before = *stats;
-        let solved = self.exact.solve_island_with_contacts(
-            self.islands.blocks(k),
-            self.islands.contacts(k),
-            step.blocks,
-            step.rows,
-            step.contacts,
-            step.bodies,
-            &mut self.integ,
-            step.params,
-            step.lambda,
-            step.reactions,
-            stats,
-        );
+        let island = (self.islands.blocks(k), self.islands.contacts(k));
+        let solved = self
+            .exact
+            .solve_island_with_contacts(island, step, &mut self.integ, stats);
         stats.time_solve_exact += t.elapsed();
         if solved {
             stats.exact_islands += 1;
@@ -478,13 +469,16 @@ impl Solver {
             if !exact {
                 continue;
             }
-            let e = self.exact.project_island(
-                self.islands.blocks(k),
+            let input = exact::IslandInputs {
                 blocks,
                 rows,
                 bodies,
-                &mut self.integ,
                 params,
+            };
+            let e = self.exact.project_island(
+                self.islands.blocks(k),
+                input,
+                &mut self.integ,
                 lambda,
                 &mut stats,
             );

@@ -4,14 +4,13 @@
 //! the next step's warm start).
 
 use super::super::integrate::BodyScratch;
-use super::super::{
-    reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverParams, SolverStats,
-};
-use super::ExactWorkspace;
+use super::super::{reserve, ConstraintBlock, Reaction, SolverBody, SolverContact, SolverStats};
+use super::{ExactWorkspace, IslandInputs};
 use crate::constraint::{
     Contact, PointForce, Row, RowBody, RowContext, RowWriter, Spring, MAX_CONTACT_POINTS,
 };
 use crate::math::Real;
+use crate::solver::StepArrays;
 use crate::solver::EXACT_CONTACT_STIFFENING;
 
 /// An island's joint rows and its contacts' rows as one system: the blocks (joints first, in
@@ -129,36 +128,26 @@ impl ExactWorkspace {
     /// per point) next to a copy of the joints' rows, the whole is solved as one LCP, and the
     /// forces go back to the joints' λ and reactions and to each contact point. Returns false,
     /// having written nothing, for a stack its pivoting did not settle.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_island_with_contacts(
         &mut self,
-        island_blocks: &[u32],
-        island_contacts: &[u32],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        contacts: &mut [SolverContact],
-        bodies: &[SolverBody],
+        (island_blocks, island_contacts): (&[u32], &[u32]),
+        step: &mut StepArrays<'_>,
         scratch: &mut BodyScratch,
-        params: &SolverParams,
-        lambda: &mut [Real],
-        reactions: &mut [[Reaction; 2]],
         stats: &mut SolverStats,
     ) -> bool {
+        let (blocks, rows, bodies, params) = (step.blocks, step.rows, &*step.bodies, step.params);
+        let input = IslandInputs {
+            blocks,
+            rows,
+            bodies,
+            params,
+        };
         if island_contacts.is_empty() {
-            return self.solve_island(
-                island_blocks,
-                blocks,
-                rows,
-                bodies,
-                scratch,
-                params,
-                lambda,
-                reactions,
-                stats,
-            );
+            let out = (&mut *step.lambda, &mut *step.reactions);
+            return self.solve_island(island_blocks, input, scratch, out, stats);
         }
         let mut mixed = std::mem::take(&mut self.mixed);
-        mixed.gather_joints(island_blocks, blocks, rows, lambda);
+        mixed.gather_joints(island_blocks, blocks, rows, step.lambda);
         // A pile's contacts run stiff (see EXACT_CONTACT_STIFFENING); beside joints they keep
         // the world's spring, the balance the joints' own softness was set against.
         let contact_spring = if island_blocks.is_empty() {
@@ -173,7 +162,7 @@ impl ExactWorkspace {
             gamma: params.gamma,
             contact_spring,
         };
-        mixed.add_contacts(island_contacts, contacts, ctx);
+        mixed.add_contacts(island_contacts, step.contacts, ctx);
         self.with_contacts = true;
         self.contact_rows_from = mixed.blocks.get(island_blocks.len()).map(|b| b.first_row);
         let MixedIsland {
@@ -184,14 +173,19 @@ impl ExactWorkspace {
             reactions: mreactions,
             ..
         } = &mut mixed;
-        let solved = self.solve_island(
-            order, mblocks, mrows, bodies, scratch, params, mlambda, mreactions, stats,
-        );
+        let input = IslandInputs {
+            blocks: mblocks,
+            rows: mrows,
+            bodies,
+            params,
+        };
+        let solved = self.solve_island(order, input, scratch, (mlambda, mreactions), stats);
         self.with_contacts = false;
         self.contact_rows_from = None;
         if solved {
             let island = (island_blocks, island_contacts);
-            mixed.write_back(island, blocks, (lambda, reactions), contacts);
+            let out = (&mut *step.lambda, &mut *step.reactions);
+            mixed.write_back(island, blocks, out, step.contacts);
         }
         self.mixed = mixed;
         solved

@@ -53,6 +53,16 @@ pub(crate) struct IslandRow {
     pub(crate) mj: [DVec3; 4],
 }
 
+/// What an island solve reads: the step's constraint blocks and rows, its bodies and its
+/// parameters.
+#[derive(Clone, Copy)]
+pub(crate) struct IslandInputs<'a> {
+    pub(crate) blocks: &'a [ConstraintBlock],
+    pub(crate) rows: &'a [Row],
+    pub(crate) bodies: &'a [SolverBody],
+    pub(crate) params: &'a SolverParams,
+}
+
 /// Workspace for island solves; grows to the largest island seen.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct ExactWorkspace {
@@ -167,19 +177,20 @@ impl ExactWorkspace {
     /// Solves one island and accumulates its constraint forces into `scratch`. `lambda` holds
     /// each row's force of the last step on entry (the warm start) and of this step on return.
     /// Returns false, having written nothing, for a stack its pivoting did not settle.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_island(
         &mut self,
         island_blocks: &[u32],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        bodies: &[SolverBody],
+        input: IslandInputs<'_>,
         scratch: &mut BodyScratch,
-        params: &SolverParams,
-        lambda: &mut [Real],
-        reactions: &mut [[Reaction; 2]],
+        (lambda, reactions): (&mut [Real], &mut [[Reaction; 2]]),
         stats: &mut SolverStats,
     ) -> bool {
+        let IslandInputs {
+            blocks,
+            rows,
+            bodies,
+            params,
+        } = input;
         let h = wide(params.dt);
         self.gather(island_blocks, blocks, rows, bodies, scratch, |_| true);
         let n = self.rows.len();

@@ -3,7 +3,7 @@
 //! bodies, not velocities.
 
 use super::super::integrate::BodyScratch;
-use super::super::{ConstraintBlock, SolverBody, SolverParams, SolverStats};
+use super::super::SolverStats;
 use super::ExactWorkspace;
 use crate::constraint::Row;
 use crate::math::{wide, Real};
@@ -18,18 +18,20 @@ impl ExactWorkspace {
     /// to zero would fight the velocity solve, which keeps that deflection. The displacements are
     /// accumulated in `scratch` (linear in `constraint_force`, angular in `constraint_torque`)
     /// for the caller to apply. Returns the largest error it started from.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn project_island(
         &mut self,
         island_blocks: &[u32],
-        blocks: &[ConstraintBlock],
-        rows: &[Row],
-        bodies: &[SolverBody],
+        input: super::IslandInputs<'_>,
         scratch: &mut BodyScratch,
-        params: &SolverParams,
         lambda: &[Real],
         stats: &mut SolverStats,
     ) -> f64 {
+        let super::IslandInputs {
+            blocks,
+            rows,
+            bodies,
+            params,
+        } = input;
         let projectable = |r: &Row| {
             r.lo == Real::NEG_INFINITY
                 && r.hi == Real::INFINITY

@@ -105,6 +105,20 @@ impl JointRows {
         self.direct_index.get(i).is_some_and(|&d| d != NONE)
     }
 
+    /// Starts a pass of the direct system and gives it each direct row's right-hand side,
+    /// bounds and guess, `(r, lo, hi, guess)` from `row(self, i)`.
+    fn fill_direct(
+        &self,
+        sys: &mut SubstepSystem,
+        row: impl Fn(&Self, usize) -> (f64, f64, f64, f64),
+    ) {
+        sys.begin_pass();
+        for &i in &self.direct_rows {
+            let (r, lo, hi, guess) = row(self, i as usize);
+            sys.push(r, lo, hi, guess);
+        }
+    }
+
     /// One direct pass over the split islands' rows (module docs): the biased solve with
     /// `use_bias`, else the relax.
     pub(crate) fn solve_direct(
@@ -117,24 +131,22 @@ impl JointRows {
         limits: Limits,
     ) -> LcpReport {
         let n = self.direct_rows.len();
-        sys.begin_pass();
-        for s in 0..n {
-            let i = self.direct_rows[s] as usize;
-            let soft_relax = !use_bias && self.flags[i] & HARD == 0;
-            let (jv, xi) = self.jv_and_error_shifted(states, i, soft_relax, NO_SHIFT);
-            let bias = if use_bias && self.correction(i) == Correction::Equality {
+        self.fill_direct(sys, |rows, i| {
+            let soft_relax = !use_bias && rows.flags[i] & HARD == 0;
+            let (jv, xi) = rows.jv_and_error_shifted(states, i, soft_relax, NO_SHIFT);
+            let bias = if use_bias && rows.correction(i) == Correction::Equality {
                 DIRECT_RATE * xi / hs
             } else {
-                self.bias(i, xi, hs, use_bias, max_speed)
+                rows.bias(i, xi, hs, use_bias, max_speed)
             };
-            let r = self.target[i]
-                - self.chord_for(i, use_bias)
+            let r = rows.target[i]
+                - rows.chord_for(i, use_bias)
                 - bias
                 - jv
-                - self.extra[i] * self.impulse[i];
-            let (lo, hi) = (wide(self.lo[i]), wide(self.hi[i]));
-            sys.push(wide(r), lo, hi, wide(self.impulse[i]));
-        }
+                - rows.extra[i] * rows.impulse[i];
+            let (lo, hi) = (wide(rows.lo[i]), wide(rows.hi[i]));
+            (wide(r), lo, hi, wide(rows.impulse[i]))
+        });
         let report = sys.solve(limits);
         for s in 0..n {
             let i = self.direct_rows[s] as usize;
@@ -159,17 +171,15 @@ impl JointRows {
         limits: Limits,
     ) -> LcpReport {
         let n = self.direct_rows.len();
-        sys.begin_pass();
-        for s in 0..n {
-            let i = self.direct_rows[s] as usize;
-            let (_, xi) = self.jv_and_error_shifted(states, i, false, NO_SHIFT);
-            let (lo, hi, r) = match self.correction(i) {
+        self.fill_direct(sys, |rows, i| {
+            let (_, xi) = rows.jv_and_error_shifted(states, i, false, NO_SHIFT);
+            let (lo, hi, r) = match rows.correction(i) {
                 Correction::Equality => (f64::NEG_INFINITY, f64::INFINITY, -wide(xi)),
                 Correction::Push if xi < 0.0 => (0.0, f64::INFINITY, -wide(xi)),
                 _ => (0.0, 0.0, 0.0),
             };
-            sys.push(r, lo, hi, 0.0);
-        }
+            (r, lo, hi, 0.0)
+        });
         let report = sys.solve(limits);
         // Each body's move summed over its rows, then made once.
         self.moves.clear();
