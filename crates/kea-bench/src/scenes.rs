@@ -89,6 +89,24 @@ pub struct Scene {
     pub kea_exact: bool,
 }
 
+impl Scene {
+    /// Bodies on the ground, no joints, awake, timed from the first step, judged by how far
+    /// they moved (the piles).
+    fn on_ground(name: String, bodies: Vec<Body>, steps: usize) -> Self {
+        Self {
+            name,
+            bodies,
+            statics: vec![Static::Ground],
+            joints: Vec::new(),
+            sleep: false,
+            settle: 0,
+            steps,
+            quality: Quality::Displacement,
+            kea_exact: false,
+        }
+    }
+}
+
 /// A pyramid of unit cubes in the x-y plane: `base` boxes at the bottom, each row half a box
 /// in, touching (as Kea's `pyramid` scene and Rapier's stress tests build them).
 pub fn pyramid(base: usize, steps: usize) -> Scene {
@@ -104,17 +122,11 @@ pub fn pyramid(base: usize, steps: usize) -> Scene {
             });
         }
     }
-    Scene {
-        name: format!("pyramid, base {base} ({} boxes)", bodies.len()),
+    Scene::on_ground(
+        format!("pyramid, base {base} ({} boxes)", bodies.len()),
         bodies,
-        statics: vec![Static::Ground],
-        joints: Vec::new(),
-        sleep: false,
-        settle: 0,
         steps,
-        quality: Quality::Displacement,
-        kea_exact: false,
-    }
+    )
 }
 
 /// The same pyramid with sleeping on, timed once it is asleep.
@@ -174,17 +186,7 @@ pub fn column(n: usize, steps: usize) -> Scene {
             density: 1.0,
         })
         .collect();
-    Scene {
-        name: format!("column of {n} boxes"),
-        bodies,
-        statics: vec![Static::Ground],
-        joints: Vec::new(),
-        sleep: false,
-        settle: 0,
-        steps,
-        quality: Quality::Displacement,
-        kea_exact: false,
-    }
+    Scene::on_ground(format!("column of {n} boxes"), bodies, steps)
 }
 
 /// A column of `n` unit cubes alternating 100 kg and 1 kg, heavy at the bottom.

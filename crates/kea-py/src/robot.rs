@@ -311,17 +311,7 @@ impl PyWorld {
     /// A link's frame in the world: position (3) and quaternion (x, y, z, w).
     fn link_pose(&self, name: &str) -> PyResult<LinkPose> {
         let robot = self.robot()?;
-        let index = robot
-            .links()
-            .iter()
-            .position(|l| l.name == name)
-            .ok_or_else(|| {
-                bad(
-                    "name",
-                    format!("{name:?}"),
-                    "the name of one of the robot's links",
-                )
-            })?;
+        let index = link_index(robot, name)?;
         let pose = py(robot.link_pose(&self.inner, index))?;
         let (p, q): (Vec3, Quat) = (pose.translation, pose.rotation);
         Ok((

@@ -296,23 +296,11 @@ impl PyWorld {
                 py(w.insert_joint(b1, b2, Joint::universal(anchor, axis, axis2)))?.raw()
             }
             "hinge" => {
-                let mut j = Joint::hinge(anchor, axis);
-                if let Some((lo, hi)) = limits {
-                    j = j.limits(real(lo), real(hi));
-                }
-                if let Some((v, f)) = motor {
-                    j = j.motor(real(v), real(f));
-                }
+                let j = with_drive(Joint::hinge(anchor, axis), limits, motor);
                 py(w.insert_joint(b1, b2, j))?.raw()
             }
             "prismatic" => {
-                let mut j = Joint::prismatic(anchor, axis);
-                if let Some((lo, hi)) = limits {
-                    j = j.limits(real(lo), real(hi));
-                }
-                if let Some((v, f)) = motor {
-                    j = j.motor(real(v), real(f));
-                }
+                let j = with_drive(Joint::prismatic(anchor, axis), limits, motor);
                 py(w.insert_joint(b1, b2, j))?.raw()
             }
             other => {
@@ -482,4 +470,19 @@ impl PyWorld {
             self.inner.time()
         )
     }
+}
+
+/// A hinge or slider spec with the limits and motor Python gave, if any.
+fn with_drive<J: kea3d::dynamics::OneCoordinate>(
+    mut j: Joint<J>,
+    limits: Option<(f64, f64)>,
+    motor: Option<(f64, f64)>,
+) -> Joint<J> {
+    if let Some((lo, hi)) = limits {
+        j = j.limits(real(lo), real(hi));
+    }
+    if let Some((v, f)) = motor {
+        j = j.motor(real(v), real(f));
+    }
+    j
 }

@@ -80,10 +80,46 @@ def _spaces():
     return observation, action
 
 
-class CartPoleVecEnv(gym.vector.VectorEnv):
-    """``num_envs`` cart-poles in one ``kea.Batch``, stepped on ``threads`` threads."""
+class AutoresetVecEnv(gym.vector.VectorEnv):
+    """The next-step autoreset both Kea vector environments share: an environment that ended
+    restarts at the next ``step``, which reports reward 0 and neither ending for it. A subclass
+    sets ``num_envs``, ``_rng``, ``_steps`` and ``_done``, and defines ``_restart(which)`` (put
+    the chosen environments back at a start) and ``_observe()``."""
 
     metadata = {"autoreset_mode": gym.vector.AutoresetMode.NEXT_STEP}
+
+    def _restart(self, which: np.ndarray) -> None:
+        raise NotImplementedError
+
+    def _observe(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
+        if seed is not None:
+            self._rng = np.random.default_rng(seed)
+        self._restart(np.ones(self.num_envs, dtype=bool))
+        self._done[:] = False
+        return self._observe(), {}
+
+    def _begin_step(self) -> np.ndarray:
+        """Restarts the environments that ended; returns which."""
+        restart = self._done.copy()
+        self._restart(restart)
+        return restart
+
+    def _end_step(self, restart, obs, reward, terminated, max_steps):
+        """Counts the step and returns Gymnasium's tuple for it."""
+        self._steps += 1
+        truncated = (self._steps >= max_steps) & ~terminated
+        reward = np.where(restart, 0.0, reward)
+        terminated[restart] = False
+        truncated[restart] = False
+        self._done = terminated | truncated
+        return obs, reward, terminated, truncated, {}
+
+
+class CartPoleVecEnv(AutoresetVecEnv):
+    """``num_envs`` cart-poles in one ``kea.Batch``, stepped on ``threads`` threads."""
 
     def __init__(self, num_envs: int = 16, threads: Optional[int] = None):
         self.num_envs = num_envs
@@ -107,29 +143,18 @@ class CartPoleVecEnv(gym.vector.VectorEnv):
         self.batch.set_state(state)
         self._steps[idx] = 0
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
-        if seed is not None:
-            self._rng = np.random.default_rng(seed)
-        self._restart(np.ones(self.num_envs, dtype=bool))
-        self._done[:] = False
-        return observe(self.batch.state()), {}
+    def _observe(self) -> np.ndarray:
+        return observe(self.batch.state())
 
     def step(self, actions):
-        restart = self._done.copy()
-        self._restart(restart)
+        restart = self._begin_step()
         a = np.clip(np.asarray(actions, dtype=np.float64).reshape(self.num_envs), -1.0, 1.0)
         self._motors[:, 0] = a * MOTOR_SPEED
         self.batch.set_motors(self._motors)
         self.batch.step(DT, SUBSTEPS)
-        obs = observe(self.batch.state())
-        self._steps += 1
+        obs = self._observe()
         terminated = (np.abs(obs[:, 1]) > TILT_LIMIT) | (np.abs(obs[:, 0]) >= RAIL - 1e-3)
-        truncated = (self._steps >= MAX_STEPS) & ~terminated
-        reward = np.where(restart, 0.0, 1.0)
-        terminated[restart] = False
-        truncated[restart] = False
-        self._done = terminated | truncated
-        return obs, reward, terminated, truncated, {}
+        return self._end_step(restart, obs, np.ones(self.num_envs), terminated, MAX_STEPS)
 
 
 class CartPoleEnv(gym.Env):

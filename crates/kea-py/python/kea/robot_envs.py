@@ -28,6 +28,7 @@ import gymnasium as gym
 import numpy as np
 
 import kea
+from kea.envs import AutoresetVecEnv
 
 
 def _package_dir(name: str) -> str:
@@ -47,10 +48,9 @@ def pybullet_data_file(name: str) -> str:
     return os.path.join(_package_dir("pybullet_data"), name)
 
 
-class _RobotVecEnv(gym.vector.VectorEnv):
+class _RobotVecEnv(AutoresetVecEnv):
     """What every task shares: a batch of one robot's world, reset and stepped as arrays."""
 
-    metadata = {"autoreset_mode": gym.vector.AutoresetMode.NEXT_STEP}
     max_steps = 1000
     frame_skip = 1
 
@@ -97,29 +97,15 @@ class _RobotVecEnv(gym.vector.VectorEnv):
         self.batch.set_joint_velocities(v)
         self._steps[idx] = 0
 
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
-        if seed is not None:
-            self._rng = np.random.default_rng(seed)
-        self._restart(np.ones(self.num_envs, dtype=bool))
-        self._done[:] = False
-        return self._observe(), {}
-
     def step(self, actions):
-        restart = self._done.copy()
-        self._restart(restart)
+        restart = self._begin_step()
         low, high = self.single_action_space.low, self.single_action_space.high
         a = np.clip(np.asarray(actions, dtype=np.float64).reshape(self.num_envs, -1), low, high)
         self._apply(a)
         self.batch.step(self.dt_physics, self.frame_skip)
-        self._steps += 1
         obs = self._observe()
         reward, terminated = self._reward(a)
-        truncated = (self._steps >= self.max_steps) & ~terminated
-        reward = np.where(restart, 0.0, reward)
-        terminated[restart] = False
-        truncated[restart] = False
-        self._done = terminated | truncated
-        return obs, reward, terminated, truncated, {}
+        return self._end_step(restart, obs, reward, terminated, self.max_steps)
 
 
 class ReacherVecEnv(_RobotVecEnv):

@@ -2,7 +2,7 @@
 //! and motor, checked whole before the world changes.
 
 use super::constraint_entry::ConstraintKind;
-use super::joint_handle::{JointHandle, JointKind};
+use super::joint_handle::{JointHandle, JointKind, OneCoordinate};
 use super::World;
 use crate::constraint::{
     BallJoint, CarWheel, FixedJoint, FixedPath, Hinge, Limit, Linear1, Linear2, Planar, Prismatic,
@@ -220,27 +220,20 @@ impl JointSpec<CarWheel> {
     }
 }
 
-/// Joints with one limited, motorised degree of freedom.
-macro_rules! limited {
-    ($($ty:ty),*) => {$(
-        impl JointSpec<$ty> {
-            /// Hard stops at `lower` and `upper` (rad or m), no bounce.
-            pub fn limits(mut self, lower: Real, upper: Real) -> Self {
-                self.limits = Some((SingleLimit::hard(lower, 0.0), SingleLimit::hard(upper, 0.0)));
-                self
-            }
+/// Joints with one limited, motorised coordinate (a hinge's angle, a slider's distance).
+impl<J: OneCoordinate> JointSpec<J> {
+    /// Hard stops at `lower` and `upper` (rad or m), no bounce.
+    pub fn limits(mut self, lower: Real, upper: Real) -> Self {
+        self.limits = Some((SingleLimit::hard(lower, 0.0), SingleLimit::hard(upper, 0.0)));
+        self
+    }
 
-            /// A motor driving it at `velocity` (rad/s or m/s) with at most `max_force`
-            /// (N·m or N).
-            pub fn motor(mut self, velocity: Real, max_force: Real) -> Self {
-                self.motor = Some((velocity, max_force));
-                self
-            }
-        }
-    )*};
+    /// A motor driving it at `velocity` (rad/s or m/s) with at most `max_force` (N·m or N).
+    pub fn motor(mut self, velocity: Real, max_force: Real) -> Self {
+        self.motor = Some((velocity, max_force));
+        self
+    }
 }
-
-limited!(Hinge, Prismatic);
 
 impl<J: JointKind> JointSpec<J> {
     /// Checks every value and builds the joint for the bodies' poses in `ctx`.
