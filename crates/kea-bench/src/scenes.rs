@@ -92,6 +92,26 @@ pub struct Scene {
 impl Scene {
     /// Bodies on the ground, no joints, awake, timed from the first step, judged by how far
     /// they moved (the piles).
+    /// Jointed bodies among `statics`, awake, judged by how far their joints open.
+    fn jointed(
+        name: String,
+        (bodies, joints): (Vec<Body>, Vec<Joint>),
+        statics: Vec<Static>,
+        steps: usize,
+    ) -> Self {
+        Self {
+            name,
+            bodies,
+            statics,
+            joints,
+            sleep: false,
+            settle: 0,
+            steps,
+            quality: Quality::JointGap,
+            kea_exact: false,
+        }
+    }
+
     fn on_ground(name: String, bodies: Vec<Body>, steps: usize) -> Self {
         Self {
             name,
@@ -221,17 +241,12 @@ pub fn chain(links: usize, steps: usize) -> Scene {
             kind: JointKind::Ball,
         })
         .collect();
-    Scene {
-        name: format!("{links}-link chain, released horizontal"),
-        bodies,
-        statics: Vec::new(),
-        joints,
-        sleep: false,
-        settle: 0,
+    Scene::jointed(
+        format!("{links}-link chain, released horizontal"),
+        (bodies, joints),
+        Vec::new(),
         steps,
-        quality: Quality::JointGap,
-        kea_exact: false,
-    }
+    )
 }
 
 /// A chain of `links` capsules hanging straight down from a pin at rest (3 rows a joint, so
@@ -342,15 +357,10 @@ pub fn ragdolls(count: usize, steps: usize) -> Scene {
         half: [0.5, 0.15 * (i + 1) as f32, 1.5],
         position: [-1.0 + i as f32, 0.15 * (i + 1) as f32, 0.0],
     };
-    Scene {
-        name: format!("{count} ragdolls on steps"),
-        bodies,
-        statics: vec![Static::Ground, step(0), step(1), step(2), step(3)],
-        joints,
-        sleep: false,
-        settle: 0,
+    Scene::jointed(
+        format!("{count} ragdolls on steps"),
+        (bodies, joints),
+        vec![Static::Ground, step(0), step(1), step(2), step(3)],
         steps,
-        quality: Quality::JointGap,
-        kea_exact: false,
-    }
+    )
 }

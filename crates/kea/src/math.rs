@@ -4,36 +4,46 @@
 //! `f64`. The vector types are glam's, chosen to match. The exact LCP solver always works in `f64`
 //! whatever `Real` is (see [`crate::solver`]).
 
+/// The precision's aliases: `$real` with glam's vector, quaternion and matrix types of it.
+macro_rules! precision {
+    ($real:ident, $vec3:ty, $quat:ty, $mat3:ty, $mat4:ty, $which:literal) => {
+        #[doc = concat!("The crate's real number type (the guide's `MeReal`): `", stringify!($real), "` ", $which, ".")]
+        pub type Real = $real;
+        /// A 3-vector of [`Real`] (the guide's `MeVector3`).
+        pub type Vec3 = $vec3;
+        /// A unit quaternion of [`Real`] describing an orientation.
+        pub type Quat = $quat;
+        /// A 3×3 matrix of [`Real`] (the guide's `MeMatrix3`), column-major.
+        pub type Mat3 = $mat3;
+        /// A 4×4 matrix of [`Real`] (the guide's `MeMatrix4`), column-major, as renderers expect.
+        pub type Mat4 = $mat4;
+        /// π in [`Real`].
+        pub const PI: Real = std::$real::consts::PI;
+    };
+}
+
 #[cfg(not(feature = "f64"))]
 mod precision {
-    /// The crate's real number type (the guide's `MeReal`): `f32` by default.
-    pub type Real = f32;
-    /// A 3-vector of [`Real`] (the guide's `MeVector3`).
-    pub type Vec3 = glam::Vec3;
-    /// A unit quaternion of [`Real`] describing an orientation.
-    pub type Quat = glam::Quat;
-    /// A 3×3 matrix of [`Real`] (the guide's `MeMatrix3`), column-major.
-    pub type Mat3 = glam::Mat3;
-    /// A 4×4 matrix of [`Real`] (the guide's `MeMatrix4`), column-major, as renderers expect.
-    pub type Mat4 = glam::Mat4;
-    /// π in [`Real`].
-    pub const PI: Real = std::f32::consts::PI;
+    precision!(
+        f32,
+        glam::Vec3,
+        glam::Quat,
+        glam::Mat3,
+        glam::Mat4,
+        "by default"
+    );
 }
 
 #[cfg(feature = "f64")]
 mod precision {
-    /// The crate's real number type (the guide's `MeReal`): `f64` with the `f64` feature.
-    pub type Real = f64;
-    /// A 3-vector of [`Real`] (the guide's `MeVector3`).
-    pub type Vec3 = glam::DVec3;
-    /// A unit quaternion of [`Real`] describing an orientation.
-    pub type Quat = glam::DQuat;
-    /// A 3×3 matrix of [`Real`] (the guide's `MeMatrix3`), column-major.
-    pub type Mat3 = glam::DMat3;
-    /// A 4×4 matrix of [`Real`] (the guide's `MeMatrix4`), column-major, as renderers expect.
-    pub type Mat4 = glam::DMat4;
-    /// π in [`Real`].
-    pub const PI: Real = std::f64::consts::PI;
+    precision!(
+        f64,
+        glam::DVec3,
+        glam::DQuat,
+        glam::DMat3,
+        glam::DMat4,
+        "with the `f64` feature"
+    );
 }
 
 pub use precision::*;

@@ -83,13 +83,22 @@ def _spaces():
 class AutoresetVecEnv(gym.vector.VectorEnv):
     """The next-step autoreset both Kea vector environments share: an environment that ended
     restarts at the next ``step``, which reports reward 0 and neither ending for it. A subclass
-    sets ``num_envs``, ``_rng``, ``_steps`` and ``_done``, and defines ``_restart(which)`` (put
-    the chosen environments back at a start) and ``_observe()``."""
+    sets ``num_envs``, ``batch``, ``_rng``, ``_steps`` and ``_done``, and defines
+    ``_start(idx)`` (give the environments ``idx``, just reset to the batch's template, their
+    random start) and ``_observe()``."""
 
     metadata = {"autoreset_mode": gym.vector.AutoresetMode.NEXT_STEP}
 
-    def _restart(self, which: np.ndarray) -> None:
+    def _start(self, idx: np.ndarray) -> None:
         raise NotImplementedError
+
+    def _restart(self, which: np.ndarray) -> None:
+        idx = np.flatnonzero(which)
+        if idx.size == 0:
+            return
+        self.batch.reset(idx.tolist())
+        self._start(idx)
+        self._steps[idx] = 0
 
     def _observe(self) -> np.ndarray:
         raise NotImplementedError
@@ -133,15 +142,10 @@ class CartPoleVecEnv(AutoresetVecEnv):
         self._done = np.zeros(num_envs, dtype=bool)
         self._motors = np.zeros((num_envs, 2))
 
-    def _restart(self, which: np.ndarray) -> None:
-        idx = np.flatnonzero(which)
-        if idx.size == 0:
-            return
-        self.batch.reset(idx.tolist())
+    def _start(self, idx: np.ndarray) -> None:
         state = self.batch.state()
         state[idx] = initial_states(self._template, self._rng, idx.size)
         self.batch.set_state(state)
-        self._steps[idx] = 0
 
     def _observe(self) -> np.ndarray:
         return observe(self.batch.state())

@@ -85,17 +85,12 @@ class _RobotVecEnv(AutoresetVecEnv):
     def _reward(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         raise NotImplementedError
 
-    def _restart(self, which: np.ndarray) -> None:
-        idx = np.flatnonzero(which)
-        if idx.size == 0:
-            return
-        self.batch.reset(idx.tolist())
+    def _start(self, idx: np.ndarray) -> None:
         q = self.batch.joint_positions()
         v = self.batch.joint_velocities()
         q[idx], v[idx] = self._initial(idx.size)
         self.batch.set_joint_positions(q)
         self.batch.set_joint_velocities(v)
-        self._steps[idx] = 0
 
     def step(self, actions):
         restart = self._begin_step()

@@ -171,6 +171,17 @@ impl BallJoint {
     }
 }
 
+/// The anchor rows of [`write_anchor_rows`] for anchors given in each body's frame.
+pub fn write_anchor_rows_local(
+    ctx: &RowContext,
+    (local1, local2): (Vec3, Vec3),
+    out: &mut RowWriter<'_>,
+) {
+    let [b1, b2] = &ctx.bodies;
+    let (a1, a2) = (b1.point_to_world(local1), b2.point_to_world(local2));
+    write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
+}
+
 /// The three rows of any joint that holds anchor `a1` of body 1 on anchor `a2` of body 2,
 /// over a step of `h` (for their curvature, [`Row::curvature`]).
 ///

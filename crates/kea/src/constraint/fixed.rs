@@ -1,7 +1,7 @@
 //! Fixed joint (the guide's fixed-path-fixed-orientation `MdtFPFOJoint` used as a weld):
 //! removes all 6 DOF. Rows: the anchor point (3) and the relative orientation (3).
 
-use super::ball::write_anchor_rows;
+use super::ball::write_anchor_rows_local;
 use super::joint::write_orientation_rows;
 use super::{RowContext, RowWriter};
 use crate::math::{Quat, Vec3};
@@ -32,12 +32,8 @@ impl FixedJoint {
     }
     /// Writes the six rows.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+        write_anchor_rows_local(ctx, (self.local_anchor1, self.local_anchor2), out);
         let [b1, b2] = &ctx.bodies;
-        let (a1, a2) = (
-            b1.point_to_world(self.local_anchor1),
-            b2.point_to_world(self.local_anchor2),
-        );
-        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         write_orientation_rows(b1, b2, self.relative_orientation, out);
     }
 }

@@ -3,7 +3,7 @@
 //! `C = u₁·u₂`, `J = (0, u₁ × u₂), (0, −u₁ × u₂)` (two hinges back to back, torque transmitted
 //! about the third direction).
 
-use super::ball::write_anchor_rows;
+use super::ball::write_anchor_rows_local;
 use super::{Jacobian, Row, RowContext, RowWriter};
 use crate::math::Vec3;
 
@@ -36,12 +36,8 @@ impl UniversalJoint {
     }
     /// Writes the four rows.
     pub fn write_rows(&self, ctx: &RowContext, out: &mut RowWriter<'_>) {
+        write_anchor_rows_local(ctx, (self.local_anchor1, self.local_anchor2), out);
         let [b1, b2] = &ctx.bodies;
-        let (a1, a2) = (
-            b1.point_to_world(self.local_anchor1),
-            b2.point_to_world(self.local_anchor2),
-        );
-        write_anchor_rows(b1, b2, a1, a2, ctx.dt, out);
         let u1 = b1.vector_to_world(self.local_axis1);
         let u2 = b2.vector_to_world(self.local_axis2);
         let c = u1.cross(u2);

@@ -7,16 +7,9 @@ use crate::error::{KeaError, KeaResult};
 use crate::math::{is_finite3, Mat3, Real};
 
 pub(super) fn validate_inputs(step: &StepArrays<'_>) -> KeaResult<()> {
-    let StepArrays {
-        bodies,
-        blocks,
-        rows,
-        contacts,
-        params,
-        lambda,
-        reactions,
-        ..
-    } = step;
+    let (bodies, blocks, rows) = (&*step.bodies, step.blocks, step.rows);
+    let (contacts, params) = (&*step.contacts, step.params);
+    let (lambda, reactions) = (&*step.lambda, &*step.reactions);
     params.validate()?;
     for (i, c) in contacts.iter().enumerate() {
         let [a, b] = c.bodies;
