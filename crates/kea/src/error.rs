@@ -326,3 +326,21 @@ pub(crate) fn check_inertia(arg: &'static str, m: Mat3) -> KeaResult<(Mat3, Mat3
     }
     Ok((symmetric, inverse))
 }
+
+/// Checks that the unit vector `v` (argument `arg`) is perpendicular, within 1e-3, to `w`;
+/// `expected` names `w` in the error.
+pub(crate) fn check_perpendicular(
+    arg: &'static str,
+    v: Vec3,
+    w: Vec3,
+    expected: &'static str,
+) -> KeaResult<()> {
+    if v.dot(w).abs() > 1.0e-3 {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: format!("{v}"),
+            expected,
+        });
+    }
+    Ok(())
+}

@@ -321,7 +321,7 @@ impl JointHandle<BallJoint> {
     ) -> KeaResult<()> {
         let primary = check_unit("primary", primary)?;
         let orthogonal = check_unit("orthogonal", orthogonal)?;
-        super::joint_spec::check_perpendicular(
+        crate::error::check_perpendicular(
             "orthogonal",
             orthogonal,
             primary,
@@ -375,7 +375,7 @@ impl JointHandle<BallJoint> {
         let ctx = world.constraint_context(self.raw)?;
         let local = ctx.bodies[1].orientation.inverse() * axis;
         let limits = self.limits_mut(world)?;
-        super::joint_spec::check_perpendicular(
+        crate::error::check_perpendicular(
             "axis",
             local,
             limits.primary2,

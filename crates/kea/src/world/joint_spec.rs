@@ -8,7 +8,9 @@ use crate::constraint::{
     BallJoint, CarWheel, FixedJoint, FixedPath, Hinge, Limit, Linear1, Linear2, Planar, Prismatic,
     RowContext, SingleLimit, UniversalJoint,
 };
-use crate::error::{check_coordinate, check_non_negative, check_positive, check_unit};
+use crate::error::{
+    check_coordinate, check_non_negative, check_perpendicular, check_positive, check_unit,
+};
 use crate::error::{KeaError, KeaResult};
 use crate::handle::BodyHandle;
 use crate::math::{Real, Vec3};
@@ -340,24 +342,6 @@ impl Shape {
             }
         })
     }
-}
-
-/// Checks that the unit vector `v` (argument `arg`) is perpendicular, within 1e-3, to `w`;
-/// `expected` names `w` in the error.
-pub(super) fn check_perpendicular(
-    arg: &'static str,
-    v: Vec3,
-    w: Vec3,
-    expected: &'static str,
-) -> KeaResult<()> {
-    if v.dot(w).abs() > 1.0e-3 {
-        return Err(KeaError::OutOfRange {
-            arg,
-            value: format!("{v}"),
-            expected,
-        });
-    }
-    Ok(())
 }
 
 impl World {

@@ -8,7 +8,7 @@
 //! elimination touches only its own blocks).
 
 use super::factor::factorise;
-use super::lcp_dense::Bound;
+use super::sets::Bound;
 use super::system::System;
 
 /// The kept factorisation (module docs).

@@ -22,16 +22,9 @@
 //! and the result is flagged. A state visited twice flags a cycle; the iteration cap is a
 //! parameter. None of these abort: the caller gets the best `x` found, clamped to its bounds.
 
+pub(crate) use super::sets::Bound;
 pub(crate) use super::sets::Unknowns;
 use super::sets::{settle_states, violations, PivotRule};
-
-/// Where an index currently sits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Bound {
-    Free,
-    Lower,
-    Upper,
-}
 
 /// What happened in one LCP solve.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -295,17 +288,6 @@ fn cholesky(
         }
     }
     true
-}
-
-/// FNV-1a hash of a set pattern, to notice a pattern pivoting has seen before.
-pub(crate) fn hash_state(state: &[Bound]) -> u64 {
-    // FNV-1a over the set pattern.
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for s in state {
-        h ^= *s as u64 + 1;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
 }
 
 #[cfg(test)]

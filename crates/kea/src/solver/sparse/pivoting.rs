@@ -35,7 +35,7 @@
 
 use super::factor::{multiply, solve as factor_solve};
 use super::held_factor::HeldFactor;
-pub(crate) use super::lcp_dense::Bound;
+pub(crate) use super::sets::Bound;
 pub(crate) use super::sets::Unknowns;
 use super::sets::{settle_states, violations, PivotRule};
 

@@ -9,7 +9,13 @@
 //! (Júdice and Pires) moves every violator at once while their count falls; single pivoting
 //! (Murty) moves one and cannot cycle.
 
-use super::lcp_dense::{hash_state, Bound};
+/// Where an index currently sits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Bound {
+    Free,
+    Lower,
+    Upper,
+}
 
 /// The unknowns and their sets: read as the starting guess, left at the solution.
 pub(crate) struct Unknowns<'a> {
@@ -119,4 +125,15 @@ impl PivotRule {
             1
         }
     }
+}
+
+/// FNV-1a hash of a set pattern, to notice a pattern pivoting has seen before.
+fn hash_state(state: &[Bound]) -> u64 {
+    // FNV-1a over the set pattern.
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for s in state {
+        h ^= *s as u64 + 1;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
 }
