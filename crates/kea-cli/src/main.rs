@@ -7,8 +7,10 @@
 //!   warnings, quarantined bodies.
 //! - `kea bench SCENE… [--steps N] [--dt H]` prints one machine-readable line per scene.
 //! - `kea render SCENE --out FILE.png|FILE.gif [--steps N] [--frames F --every K] [--width W]
-//!   [--height H]` draws the scene on the CPU (no GPU, no display): the frame after `--steps`,
-//!   or an animation of `--frames` frames, one every `--every` steps.
+//!   [--height H] [--throttle T] [--steer S] [--focus NAME]` draws the scene on the CPU (no
+//!   GPU, no display): the frame after `--steps`, or an animation of `--frames` frames, one
+//!   every `--every` steps; `--throttle`/`--steer` drive the scene's car as the Viewer's arrow
+//!   keys do, `--focus` frames the named bodies.
 //!
 //! - `kea plot SCENE --out FILE.png [--steps N] [--dt H]` plots energy, momentum and
 //!   constraint error against time.
@@ -26,7 +28,7 @@ mod record;
 mod render;
 mod summary;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use kea::Real;
 use kea3d::PhysicsWorld;
 use kea_scene::{build, Scene, SceneSnapshot};
@@ -75,33 +77,9 @@ enum Command {
         #[arg(long, conflicts_with = "scene")]
         restore: Option<PathBuf>,
     },
-    /// Step a scene and write its last frame as a PNG, drawn on the CPU.
-    Render {
-        /// The scene file (JSON).
-        scene: PathBuf,
-        /// The file to write: `.png` (the last frame) or `.gif` (an animation).
-        #[arg(long)]
-        out: PathBuf,
-        /// For a GIF: frames to draw, one every `--every` steps after the first `--steps`.
-        #[arg(long, default_value_t = 60)]
-        frames: u32,
-        /// For a GIF: steps between frames.
-        #[arg(long, default_value_t = 2)]
-        every: u32,
-        /// Steps to take before drawing: by default 600 for a PNG (the last frame of `kea run`'s
-        /// default run), 0 for a GIF (the animation starts at the start).
-        #[arg(long)]
-        steps: Option<u32>,
-        /// Step size, s.
-        #[arg(long, default_value_t = 1.0 / 60.0)]
-        dt: Real,
-        /// Image width, pixels.
-        #[arg(long, default_value_t = 800)]
-        width: u32,
-        /// Image height, pixels.
-        #[arg(long, default_value_t = 600)]
-        height: u32,
-    },
+    /// Step a scene and write its last frame as a PNG (or an animation as a GIF), drawn on
+    /// the CPU.
+    Render(RenderArgs),
     /// Step a scene and plot energy, momentum and constraint error against time (PNG).
     Plot {
         /// The scene file (JSON).
@@ -123,31 +101,7 @@ enum Command {
         height: u32,
     },
     /// Open the Viewer: a window to watch, poke and measure a scene (F1 lists the keys).
-    View {
-        /// The scene file (JSON); the embedded pyramid if absent.
-        scene: Option<PathBuf>,
-        /// Fixed step size, s.
-        #[arg(long, default_value_t = 1.0 / 60.0)]
-        dt: Real,
-        /// Window width, pixels.
-        #[arg(long, default_value_t = 1024)]
-        width: u32,
-        /// Window height, pixels.
-        #[arg(long, default_value_t = 720)]
-        height: u32,
-        /// Where the screenshot key (P) writes.
-        #[arg(long, default_value = "kea-screenshot.png")]
-        screenshot: PathBuf,
-        /// Where the record key (G) writes its GIF.
-        #[arg(long, default_value = "kea-recording.gif")]
-        recording: PathBuf,
-        /// Print a line on stdout for every action (`paused step=12`), for scripts and tests.
-        #[arg(long)]
-        report: bool,
-        /// Close after this many frames.
-        #[arg(long)]
-        frames: Option<u64>,
-    },
+    View(ViewArgs),
     /// Step scenes headless and print, one line per scene, the median ms per step over
     /// repeated runs, its spread, and the median per stage (collision included).
     Bench {
@@ -164,6 +118,117 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         repeats: u32,
     },
+}
+
+/// `kea render`'s options.
+#[derive(Args)]
+struct RenderArgs {
+    /// The scene file (JSON).
+    scene: PathBuf,
+    /// The file to write: `.png` (the last frame) or `.gif` (an animation).
+    #[arg(long)]
+    out: PathBuf,
+    /// For a GIF: frames to draw, one every `--every` steps after the first `--steps`.
+    #[arg(long, default_value_t = 60)]
+    frames: u32,
+    /// For a GIF: steps between frames.
+    #[arg(long, default_value_t = 2)]
+    every: u32,
+    /// Steps to take before drawing: by default 600 for a PNG (the last frame of `kea run`'s
+    /// default run), 0 for a GIF (the animation starts at the start).
+    #[arg(long)]
+    steps: Option<u32>,
+    /// Step size, s.
+    #[arg(long, default_value_t = 1.0 / 60.0)]
+    dt: Real,
+    /// Image width, pixels.
+    #[arg(long, default_value_t = 800)]
+    width: u32,
+    /// Image height, pixels.
+    #[arg(long, default_value_t = 600)]
+    height: u32,
+    /// Drive the scene's car: before each step every car-wheel joint's motor asks this
+    /// share of full speed, -1 to 1 (negative: reverse; 0: brake), as the Viewer's Up and
+    /// Down keys do. Without it (and `--steer`) the scene's own motors run.
+    #[arg(long, allow_negative_numbers = true, value_name = "T")]
+    throttle: Option<Real>,
+    /// Steer the scene's car: every steerable wheel turns to this share of its full
+    /// angle, -1 to 1 (positive: left), as the Left and Right keys do. Alone, it steers
+    /// with the throttle at 0 (braking).
+    #[arg(long, allow_negative_numbers = true, value_name = "S")]
+    steer: Option<Real>,
+    /// Frame the camera on this body, or on a group's bodies (`ragdoll1` frames every
+    /// `ragdoll1.*` body), and the static geometry near them, rather than on every body.
+    /// Give it again to frame several.
+    #[arg(long, value_name = "NAME")]
+    focus: Vec<String>,
+}
+
+impl RenderArgs {
+    fn run(&self) -> Result<(), String> {
+        render::render(&render::RenderOptions {
+            scene: &self.scene,
+            out: &self.out,
+            steps: self.steps,
+            dt: self.dt,
+            size: (self.width, self.height),
+            frames: (self.frames, self.every),
+            throttle: self.throttle,
+            steer: self.steer,
+            focus: &self.focus,
+        })
+    }
+}
+
+/// `kea view`'s options.
+#[derive(Args)]
+struct ViewArgs {
+    /// The scene file (JSON); the embedded pyramid if absent.
+    scene: Option<PathBuf>,
+    /// Fixed step size, s.
+    #[arg(long, default_value_t = 1.0 / 60.0)]
+    dt: Real,
+    /// Window width, pixels.
+    #[arg(long, default_value_t = 1024)]
+    width: u32,
+    /// Window height, pixels.
+    #[arg(long, default_value_t = 720)]
+    height: u32,
+    /// Where the screenshot key (P) writes.
+    #[arg(long, default_value = "kea-screenshot.png")]
+    screenshot: PathBuf,
+    /// Where the record key (G) writes its GIF.
+    #[arg(long, default_value = "kea-recording.gif")]
+    recording: PathBuf,
+    /// Print a line on stdout for every action (`paused step=12`), for scripts and tests.
+    #[arg(long)]
+    report: bool,
+    /// Close after this many frames.
+    #[arg(long)]
+    frames: Option<u64>,
+}
+
+impl ViewArgs {
+    fn run(self) -> Result<(), String> {
+        let title = format!(
+            "Kea Viewer: {}",
+            self.scene
+                .as_deref()
+                .map_or("pyramid".into(), |p| p.display().to_string())
+        );
+        let options = kea_viewer::ViewerOptions {
+            title,
+            width: self.width,
+            height: self.height,
+            dt: self.dt,
+            screenshot: self.screenshot,
+            recording: self.recording,
+            report: self.report,
+            frames: self.frames,
+            scene_file: self.scene.clone(),
+        };
+        view(self.scene.as_deref(), options)
+    }
 }
 
 /// Set by Ctrl-C: long loops stop at their next step and clean up (temporary files go).
@@ -219,44 +284,8 @@ fn main() -> ExitCode {
             width,
             height,
         } => plot_scene(&scene, &out, steps, dt, (width, height)),
-        Command::View {
-            scene,
-            dt,
-            width,
-            height,
-            screenshot,
-            recording,
-            report,
-            frames,
-        } => view(
-            scene.as_deref(),
-            kea_viewer::ViewerOptions {
-                title: format!(
-                    "Kea Viewer: {}",
-                    scene
-                        .as_deref()
-                        .map_or("pyramid".into(), |p| p.display().to_string())
-                ),
-                width,
-                height,
-                dt,
-                screenshot,
-                recording,
-                report,
-                frames,
-                scene_file: scene.clone(),
-            },
-        ),
-        Command::Render {
-            scene,
-            out,
-            steps,
-            dt,
-            width,
-            height,
-            frames,
-            every,
-        } => render::render(&scene, &out, steps, dt, (width, height), (frames, every)),
+        Command::View(args) => args.run(),
+        Command::Render(args) => args.run(),
     };
     logger::report_repeats();
     match result {

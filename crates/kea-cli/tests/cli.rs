@@ -194,6 +194,84 @@ fn render_writes_an_animated_gif() {
 }
 
 #[test]
+fn render_drives_the_car_with_throttle_and_steer_and_frames_what_focus_names() {
+    let dir = std::env::temp_dir().join(format!("kea-cli-drive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let car = scene("car.json");
+    let frame = |name: &str, extra: &[&str]| {
+        let png = dir.join(name);
+        let mut args = vec!["render", &car, "--out", png.to_str().unwrap()];
+        args.extend(["--steps", "60", "--width", "48", "--height", "36"]);
+        args.extend(extra);
+        let (code, out, err) = kea(&args);
+        assert_eq!(code, 0, "{extra:?}: {err}");
+        assert!(out.contains("48×36"), "{out}");
+        std::fs::read(png).unwrap()
+    };
+    // Forwards, backwards and the scene's own motors leave the car in three places.
+    let forwards = frame("forwards.png", &["--throttle", "1"]);
+    let backwards = frame("backwards.png", &["--throttle", "-1", "--steer", "-0.5"]);
+    let own = frame("own.png", &[]);
+    assert!(forwards != backwards && forwards != own && backwards != own);
+    // Bad values are refused before any work, naming the option and the value.
+    for (flag, value, words) in [
+        (
+            "--throttle",
+            "NaN",
+            "--throttle must be a number from -1 to 1, got NaN",
+        ),
+        (
+            "--throttle",
+            "1.5",
+            "--throttle must be a number from -1 to 1, got 1.5",
+        ),
+        (
+            "--steer",
+            "-2",
+            "--steer must be a number from -1 to 1, got -2",
+        ),
+        (
+            "--steer",
+            "inf",
+            "--steer must be a number from -1 to 1, got inf",
+        ),
+    ] {
+        let png = dir.join("refused.png");
+        let args = ["render", &car, "--out", png.to_str().unwrap(), flag, value];
+        let (code, _, err) = kea(&args);
+        assert_eq!(code, 1, "{flag} {value}");
+        assert!(err.contains(words), "{flag} {value}: {err}");
+        assert!(!png.exists());
+    }
+    // A scene without a car has nothing to drive; `--focus` names bodies that exist.
+    let png = dir.join("refused.png");
+    let out = png.to_str().unwrap();
+    let (code, _, err) = kea(&[
+        "render",
+        &scene("drop.json"),
+        "--out",
+        out,
+        "--throttle",
+        "1",
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("--throttle") && err.contains("no car-wheel joint"),
+        "{err}"
+    );
+    let (code, _, err) = kea(&["render", &car, "--out", out, "--focus", "chasis"]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("--focus chasis") && err.contains("no body named"),
+        "{err}"
+    );
+    // Framed on one wheel, the picture is not the one framed on the whole car.
+    let wheel = frame("wheel.png", &["--focus", "wheel_fl"]);
+    assert_ne!(wheel, own);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
 fn plot_draws_energy_momentum_gap_and_penetration_curves_with_the_legend_beside() {
     let dir = std::env::temp_dir().join(format!("kea-cli-plot-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

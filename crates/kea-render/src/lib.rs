@@ -2,14 +2,18 @@
 //! light, shadows of the bodies from a shadow map, two-sided faces) that draws every collider of
 //! a scene into an RGB image and writes PNG.
 //! It needs no GPU and no display, and the same input always gives the same pixels, so tests
-//! can check pixels at known places.
+//! can check pixels at known places. [`car`] drives a scene's car for pictures of it moving
+//! (the Viewer's arrow keys drive through it too).
 
 #![warn(missing_docs)]
 
+pub mod car;
+mod framing;
 mod look;
 mod raster;
 mod shadow;
 
+pub use framing::{subject_bounds, subject_points, Bounds, Camera};
 pub use look::{
     checker_contrast, joint_links, rod, tile_size, toned, Fog, Tiling, BODY_COLOURS, CHECKER_SHADE,
     GROUND_COLOUR, LINK_COLOUR, SKY, STATIC_COLOUR,
@@ -20,174 +24,6 @@ use shadow::ShadowMap;
 
 use kea::{Real, Vec3, World};
 use kea_collision::CollisionWorld;
-
-/// A pinhole camera.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    /// Where the eye is.
-    pub eye: Vec3,
-    /// The point it looks at.
-    pub target: Vec3,
-    /// Which way is up.
-    pub up: Vec3,
-    /// Vertical field of view, rad.
-    pub fov_y: Real,
-}
-
-impl Camera {
-    /// A camera that frames every body of `world` by its centre: it looks at the middle of
-    /// their positions from above and to the side, far enough to see them all. A quick guess
-    /// that knows nothing of shapes; [`Camera::framing_scene`] frames what is drawn.
-    #[must_use]
-    pub fn framing(world: &World) -> Self {
-        let mut bounds = Bounds::EMPTY;
-        for (_, b) in world.bodies() {
-            bounds.add(b.position());
-        }
-        if bounds.is_empty() {
-            bounds.add(Vec3::ZERO);
-        }
-        let centre = bounds.centre();
-        let radius = bounds.radius().max(2.0);
-        let direction = view_direction();
-        Self {
-            eye: centre + direction * radius * 2.6,
-            target: centre,
-            up: Vec3::Y,
-            fov_y: 0.8,
-        }
-    }
-
-    /// A camera that frames `bounds` (the scene's subject, see [`subject_bounds`]) in an
-    /// image of `aspect` = width / height: from above and to the side, the bounding sphere
-    /// filling the narrower field of view less a margin of `margin` (0.15 leaves 15%).
-    #[must_use]
-    pub fn framing_bounds(bounds: &Bounds, aspect: Real, margin: Real) -> Self {
-        let fov_y: Real = 0.8;
-        let (centre, radius) = if bounds.is_empty() {
-            (Vec3::ZERO, 1.0)
-        } else {
-            (bounds.centre(), bounds.radius().max(0.05))
-        };
-        let half_y = fov_y * 0.5;
-        let half_x = (half_y.tan() * aspect.max(0.05)).atan();
-        let half = half_y.min(half_x) * (1.0 - margin.clamp(0.0, 0.9));
-        let distance = radius / half.sin();
-        Self {
-            eye: centre + view_direction() * distance,
-            target: centre,
-            up: Vec3::Y,
-            fov_y,
-        }
-    }
-
-    /// [`Camera::framing_bounds`] of the scene's [`subject_bounds`] with a 15% margin.
-    #[must_use]
-    pub fn framing_scene(world: &World, collision: &CollisionWorld, aspect: Real) -> Self {
-        Self::framing_bounds(&subject_bounds(world, collision), aspect, 0.15)
-    }
-}
-
-/// Where cameras look from: above, to the right and in front of what they frame.
-fn view_direction() -> Vec3 {
-    Vec3::new(0.45, 0.8, 1.0).normalize()
-}
-
-/// An axis-aligned box that points are added to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Bounds {
-    /// Lowest corner.
-    pub lo: Vec3,
-    /// Highest corner.
-    pub hi: Vec3,
-}
-
-impl Bounds {
-    /// Holds nothing yet.
-    pub const EMPTY: Bounds = Bounds {
-        lo: Vec3::splat(Real::INFINITY),
-        hi: Vec3::splat(Real::NEG_INFINITY),
-    };
-
-    /// Grows to hold `p` (a point that is not finite is left out).
-    pub fn add(&mut self, p: Vec3) {
-        if p.is_finite() {
-            self.lo = self.lo.min(p);
-            self.hi = self.hi.max(p);
-        }
-    }
-
-    /// Grows to hold `other`.
-    pub fn union(&mut self, other: &Bounds) {
-        if !other.is_empty() {
-            self.add(other.lo);
-            self.add(other.hi);
-        }
-    }
-
-    /// Whether no point was added.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.lo.x > self.hi.x
-    }
-
-    /// The middle.
-    #[must_use]
-    pub fn centre(&self) -> Vec3 {
-        (self.lo + self.hi) * 0.5
-    }
-
-    /// Half the diagonal: the radius of a sphere about the centre that holds the box.
-    #[must_use]
-    pub fn radius(&self) -> Real {
-        (self.hi - self.lo).length() * 0.5
-    }
-}
-
-/// The box around what a picture of the scene is about: every collider on a body, and the
-/// static geometry near them (steps, walls, a ramp), but not a ground that runs to the
-/// horizon. A scene of static geometry only is framed whole.
-#[must_use]
-pub fn subject_bounds(world: &World, collision: &CollisionWorld) -> Bounds {
-    let (mut dynamic, mut statics) = (Bounds::EMPTY, Vec::new());
-    for (handle, def) in collision.colliders() {
-        let Ok((position, rotation)) = collision.collider_pose(world, handle) else {
-            continue;
-        };
-        let (vertices, _) = def.shape.triangles();
-        let mut b = Bounds::EMPTY;
-        for v in &vertices {
-            b.add(position + rotation * *v);
-        }
-        if def.body.is_some() {
-            dynamic.union(&b);
-        } else {
-            statics.push(b);
-        }
-    }
-    // Where joints hold bodies to the world (a cradle's frame) belongs to the subject.
-    if !dynamic.is_empty() {
-        for [a, b] in joint_links(world) {
-            dynamic.add(a);
-            dynamic.add(b);
-        }
-    }
-    if dynamic.is_empty() {
-        let mut all = Bounds::EMPTY;
-        statics.iter().for_each(|b| all.union(b));
-        return all;
-    }
-    // Static pieces no bigger than the subject and within its reach join it (a ground slab
-    // bigger than the pile on it does not).
-    let (centre, reach) = (dynamic.centre(), dynamic.radius().max(0.5));
-    let mut subject = dynamic;
-    for b in &statics {
-        if b.radius() <= reach && (b.centre() - centre).length() <= 1.5 * reach {
-            subject.union(b);
-        }
-    }
-    subject
-}
 
 /// An RGB image, rows top to bottom.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -32,6 +32,7 @@ fn every_demo_scene_loads_builds_and_saves_back_to_the_same_file() {
         "newtons_cradle",
         "pendulum",
         "pyramid",
+        "pyramid_struck",
         "ragdoll",
     ] {
         let file = format!("/{name}.json");

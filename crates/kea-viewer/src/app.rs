@@ -168,7 +168,7 @@ impl App {
     fn after_build(&mut self) {
         self.last_grabbed = None;
         self.snapshot();
-        self.wheels = crate::car_wheels::car_wheels(self.physics.dynamics());
+        self.wheels = kea_render::car::car_wheels(self.physics.dynamics());
         self.timings = Timings::default();
     }
 

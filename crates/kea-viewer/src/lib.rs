@@ -18,7 +18,6 @@
 
 pub mod app;
 pub mod car;
-mod car_wheels;
 mod convert;
 pub mod draw;
 pub mod gizmos;

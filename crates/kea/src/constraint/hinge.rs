@@ -12,7 +12,6 @@
 
 use super::ball::write_anchor_rows;
 use super::joint::{rate, spin_axle, wrap_angle, write_alignment_rows};
-use super::limit::limit_accessors;
 use super::{Jacobian, Limit, RowContext, RowWriter};
 use crate::math::{orthonormal_basis, Real, Vec3};
 
@@ -55,7 +54,11 @@ impl Hinge {
             limit: Limit::default(),
         }
     }
-    limit_accessors!("angle");
+    /// The limits and motor on the angle.
+    #[must_use]
+    pub fn limit(&self) -> &Limit {
+        &self.limit
+    }
     /// The hinge angle after the last step, rad (continuous: may exceed ±π).
     #[must_use]
     pub fn angle(&self) -> Real {

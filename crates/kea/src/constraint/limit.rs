@@ -514,20 +514,3 @@ impl Limit {
         }
     }
 }
-
-/// The `limit()` and `limit_mut()` accessors of a joint with one limited coordinate (its
-/// field `limit`), `$what` naming the coordinate in their docs.
-macro_rules! limit_accessors {
-    ($what:literal) => {
-        #[doc = concat!("The limits and motor on the ", $what, ".")]
-        #[must_use]
-        pub fn limit(&self) -> &Limit {
-            &self.limit
-        }
-        /// The limits and motor, to change.
-        pub fn limit_mut(&mut self) -> &mut Limit {
-            &mut self.limit
-        }
-    };
-}
-pub(crate) use limit_accessors;

@@ -9,7 +9,6 @@
 use super::joint::{
     perpendiculars, rate, relative_point_jacobian, write_orientation_rows, write_plane_rows,
 };
-use super::limit::limit_accessors;
 use super::{Limit, RowContext, RowWriter};
 use crate::math::{Quat, Real, Vec3};
 
@@ -42,7 +41,11 @@ impl Prismatic {
             limit: Limit::default(),
         }
     }
-    limit_accessors!("distance");
+    /// The limits and motor on the distance.
+    #[must_use]
+    pub fn limit(&self) -> &Limit {
+        &self.limit
+    }
     /// Distance along the axis after the last step, m.
     #[must_use]
     pub fn distance(&self) -> Real {

@@ -236,13 +236,13 @@ pub trait OneCoordinate: JointKind {
 
 impl OneCoordinate for Hinge {
     fn coordinate_limit(&mut self) -> &mut Limit {
-        self.limit_mut()
+        &mut self.limit
     }
 }
 
 impl OneCoordinate for Prismatic {
     fn coordinate_limit(&mut self) -> &mut Limit {
-        self.limit_mut()
+        &mut self.limit
     }
 }
 

@@ -257,8 +257,8 @@ impl<J: JointKind> JointSpec<J> {
 /// The one limit of a hinge or a slider.
 fn limit_of(kind: &mut ConstraintKind) -> Option<&mut Limit> {
     match kind {
-        ConstraintKind::Hinge(j) => Some(j.limit_mut()),
-        ConstraintKind::Prismatic(j) => Some(j.limit_mut()),
+        ConstraintKind::Hinge(j) => Some(&mut j.limit),
+        ConstraintKind::Prismatic(j) => Some(&mut j.limit),
         _ => None,
     }
 }
