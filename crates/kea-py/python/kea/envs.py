@@ -161,14 +161,17 @@ class CartPoleVecEnv(AutoresetVecEnv):
         return self._end_step(restart, obs, np.ones(self.num_envs), terminated, MAX_STEPS)
 
 
-class CartPoleEnv(gym.Env):
-    """One Kea cart-pole (a batch of one)."""
+class SingleEnv(gym.Env):
+    """One environment of a Kea vector environment (a batch of one): ``vector_class`` is the
+    vector environment; its spaces are the single environment's."""
 
     metadata = {"render_modes": []}
+    vector_class: type = AutoresetVecEnv
 
     def __init__(self):
-        self._vec = CartPoleVecEnv(1, threads=1)
-        self.observation_space, self.action_space = _spaces()
+        self._vec = self.vector_class(1, threads=1)
+        self.observation_space = self._vec.single_observation_space
+        self.action_space = self._vec.single_action_space
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
         super().reset(seed=seed)
@@ -176,12 +179,19 @@ class CartPoleEnv(gym.Env):
             self._vec._rng = self.np_random
             self._seeded = True
         self._vec._restart(np.ones(1, dtype=bool))
-        return observe(self._vec.batch.state())[0], {}
+        self._vec._done[:] = False
+        return self._vec._observe()[0], {}
 
     def step(self, action):
         self._vec._done[:] = False
-        obs, reward, terminated, truncated, info = self._vec.step(np.asarray(action).reshape(1, 1))
+        obs, reward, terminated, truncated, info = self._vec.step(np.asarray(action).reshape(1, -1))
         return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
+
+
+class CartPoleEnv(SingleEnv):
+    """One Kea cart-pole (a batch of one)."""
+
+    vector_class = CartPoleVecEnv
 
 
 gym.register(id="kea/CartPole-v0", entry_point="kea.envs:CartPoleEnv")

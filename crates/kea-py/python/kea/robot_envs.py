@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import importlib.util
 import os
-from typing import Any, Optional
+from typing import Optional
 
 import gymnasium as gym
 import numpy as np
 
 import kea
-from kea.envs import AutoresetVecEnv
+from kea.envs import AutoresetVecEnv, SingleEnv
 
 
 def _package_dir(name: str) -> str:
@@ -245,30 +245,10 @@ class KukaReachVecEnv(_RobotVecEnv):
         return -gap - 0.01 * np.square(actions).sum(axis=1), np.zeros(self.num_envs, dtype=bool)
 
 
-class _Single(gym.Env):
+class _Single(SingleEnv):
     """One task (a batch of one), for ``gymnasium.make``."""
 
-    metadata = {"render_modes": []}
     vector_class: type = _RobotVecEnv
-
-    def __init__(self):
-        self._vec = self.vector_class(1, threads=1)
-        self.observation_space = self._vec.single_observation_space
-        self.action_space = self._vec.single_action_space
-
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None):
-        super().reset(seed=seed)
-        if seed is not None or not hasattr(self, "_seeded"):
-            self._vec._rng = self.np_random
-            self._seeded = True
-        self._vec._restart(np.ones(1, dtype=bool))
-        self._vec._done[:] = False
-        return self._vec._observe()[0], {}
-
-    def step(self, action):
-        self._vec._done[:] = False
-        obs, reward, terminated, truncated, info = self._vec.step(np.asarray(action).reshape(1, -1))
-        return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), info
 
 
 class ReacherEnv(_Single):
