@@ -56,7 +56,7 @@ pub use error::{CollisionError, CollisionResult, MAX_ASPECT, SIZE_RANGE};
 pub use events::{ContactEvent, ContactEventKind};
 pub use material::{MaterialId, MaterialTable, PairContact, Surface};
 pub use narrow_phase::{CACHE_ANGLE, CACHE_DISTANCE};
-pub use query::{PointHit, QueryFilter, RayHit, ShapeCast, ShapeHit};
+pub use query::{PointHit, QueryFilter, RayCast, RayHit, ShapeCast, ShapeHit};
 pub use shape::{MassProperties, Shape};
 pub use tessellate::PLANE_HALF_SIZE;
 

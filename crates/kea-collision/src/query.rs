@@ -11,7 +11,7 @@ use crate::error::{
 };
 use crate::guard::guarded;
 use crate::parry::math::Pose;
-use crate::parry::query::{self, Ray, RayCast, ShapeCastOptions};
+use crate::parry::query::{self, Ray, RayCast as _, ShapeCastOptions};
 use crate::shape::Shape;
 use kea::{BodyHandle, Quat, Real, Vec3, World};
 
@@ -61,6 +61,36 @@ impl RayHit {
             point: ray.point_at(hit.time_of_impact),
             normal: hit.normal,
         }
+    }
+}
+
+/// A ray `origin + t·direction` for `0 ≤ t ≤ max_distance` (distances in units of the
+/// direction's length), as the ray queries take it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayCast {
+    /// Where the ray starts, world frame.
+    pub origin: Vec3,
+    /// Its direction (any length but zero), world frame.
+    pub direction: Vec3,
+    /// How far along it to look.
+    pub max_distance: Real,
+}
+
+impl RayCast {
+    /// The ray from `origin` along `direction`, up to `max_distance`.
+    #[must_use]
+    pub fn new(origin: Vec3, direction: Vec3, max_distance: Real) -> Self {
+        Self {
+            origin,
+            direction,
+            max_distance,
+        }
+    }
+
+    /// Checks the ray before anything reaches parry; parry's ray.
+    fn checked(&self) -> CollisionResult<Ray> {
+        check_path(RAY_ARGS, self.origin, self.direction, self.max_distance)?;
+        Ok(Ray::new(self.origin, self.direction))
     }
 }
 
@@ -130,12 +160,11 @@ impl CollisionWorld {
     pub fn cast_ray_all(
         &self,
         world: &World,
-        origin: Vec3,
-        direction: Vec3,
-        max_distance: Real,
+        cast: &RayCast,
         filter: QueryFilter,
     ) -> CollisionResult<Vec<RayHit>> {
-        check_path(RAY_ARGS, origin, direction, max_distance)?;
+        let ray = cast.checked()?;
+        let (direction, max_distance) = (cast.direction, cast.max_distance);
         if direction.length_squared() == 0.0 {
             return Err(kea::KeaError::NotUnit {
                 arg: "direction",
@@ -144,7 +173,6 @@ impl CollisionWorld {
             }
             .into());
         }
-        let ray = Ray::new(origin, direction);
         let mut hits = Vec::new();
         for (collider, def, pose) in self.visible(world, filter) {
             let shape = def.shape.shared.as_ref();
@@ -170,28 +198,21 @@ impl CollisionWorld {
     pub fn cast_ray(
         &self,
         world: &World,
-        origin: Vec3,
-        direction: Vec3,
-        max_distance: Real,
+        cast: &RayCast,
         filter: QueryFilter,
     ) -> CollisionResult<Option<RayHit>> {
-        Ok(self
-            .cast_ray_all(world, origin, direction, max_distance, filter)?
-            .into_iter()
-            .next())
+        Ok(self.cast_ray_all(world, cast, filter)?.into_iter().next())
     }
 
     /// Whether the ray hits anything (stops at the first collider found).
     pub fn cast_ray_any(
         &self,
         world: &World,
-        origin: Vec3,
-        direction: Vec3,
-        max_distance: Real,
+        cast: &RayCast,
         filter: QueryFilter,
     ) -> CollisionResult<bool> {
-        check_path(RAY_ARGS, origin, direction, max_distance)?;
-        let ray = Ray::new(origin, direction);
+        let ray = cast.checked()?;
+        let max_distance = cast.max_distance;
         for (collider, def, pose) in self.visible(world, filter) {
             let shape = def.shape.shared.as_ref();
             let hit = guarded(|| shape.cast_ray(&pose, &ray, max_distance, true))
@@ -209,15 +230,13 @@ impl CollisionWorld {
         &self,
         world: &World,
         collider: ColliderHandle,
-        origin: Vec3,
-        direction: Vec3,
-        max_distance: Real,
+        cast: &RayCast,
     ) -> CollisionResult<Option<RayHit>> {
-        check_path(RAY_ARGS, origin, direction, max_distance)?;
+        let ray = cast.checked()?;
+        let max_distance = cast.max_distance;
         let def = self.collider(collider)?;
         let (position, rotation) = self.collider_pose(world, collider)?;
         let pose = Pose::from_parts(position, rotation);
-        let ray = Ray::new(origin, direction);
         let shape = def.shape.shared.as_ref();
         let hit = guarded(|| shape.cast_ray_and_get_normal(&pose, &ray, max_distance, true))
             .map_err(|message| dependency("cast_ray_at", collider, message))?;

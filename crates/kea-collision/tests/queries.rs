@@ -49,7 +49,11 @@ fn rays_hit_what_they_should_in_order() {
     let down = -Vec3::Y;
     let origin = Vec3::new(0.1, 10.0, 0.2);
     let hits = collision
-        .cast_ray_all(&world, origin, down, 100.0, all)
+        .cast_ray_all(
+            &world,
+            &kea_collision::RayCast::new(origin, down, 100.0),
+            all,
+        )
         .unwrap();
     assert_eq!(hits.len(), 2);
     assert_eq!((hits[0].collider, hits[1].collider), (cube, ground));
@@ -57,7 +61,11 @@ fn rays_hit_what_they_should_in_order() {
     assert!((hits[1].distance - 10.0).abs() < 1e-4);
     assert!(hits[0].point.abs_diff_eq(Vec3::new(0.1, 1.0, 0.2), 1e-4));
     let closest = collision
-        .cast_ray(&world, origin, down, 100.0, all)
+        .cast_ray(
+            &world,
+            &kea_collision::RayCast::new(origin, down, 100.0),
+            all,
+        )
         .unwrap()
         .unwrap();
     assert_eq!(closest.collider, cube);
@@ -68,25 +76,37 @@ fn rays_hit_what_they_should_in_order() {
     };
     assert_eq!(
         collision
-            .cast_ray(&world, origin, down, 100.0, skip)
+            .cast_ray(
+                &world,
+                &kea_collision::RayCast::new(origin, down, 100.0),
+                skip
+            )
             .unwrap()
             .unwrap()
             .collider,
         ground
     );
     assert!(!collision
-        .cast_ray_any(&world, origin, down, 8.9, all)
+        .cast_ray_any(&world, &kea_collision::RayCast::new(origin, down, 8.9), all)
         .unwrap());
     assert!(collision
-        .cast_ray_any(&world, origin, down, 9.1, all)
+        .cast_ray_any(&world, &kea_collision::RayCast::new(origin, down, 9.1), all)
         .unwrap());
     // Upwards from below the box's top misses it when it starts outside... and hits at 0 inside.
     let inside = collision
-        .cast_ray(&world, Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 5.0, skip)
+        .cast_ray(
+            &world,
+            &kea_collision::RayCast::new(Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 5.0),
+            skip,
+        )
         .unwrap();
     assert!(inside.is_none(), "the ground is behind an upward ray");
     let inside = collision
-        .cast_ray(&world, Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 5.0, all)
+        .cast_ray(
+            &world,
+            &kea_collision::RayCast::new(Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 5.0),
+            all,
+        )
         .unwrap();
     assert_eq!(
         inside.unwrap().distance,
@@ -95,7 +115,11 @@ fn rays_hit_what_they_should_in_order() {
     );
     // Bad input is named.
     let e = collision
-        .cast_ray(&world, origin, Vec3::ZERO, 1.0, all)
+        .cast_ray(
+            &world,
+            &kea_collision::RayCast::new(origin, Vec3::ZERO, 1.0),
+            all,
+        )
         .unwrap_err();
     assert!(e.to_string().contains("direction"), "{e}");
 }
@@ -105,7 +129,11 @@ fn a_ray_at_one_collider_sees_only_that_collider() {
     let (world, collision, _, ground, cube) = ground_and_unit_box(0.0);
     let origin = Vec3::new(0.1, 10.0, 0.2);
     let on_ground = collision
-        .cast_ray_at(&world, ground, origin, -Vec3::Y, 100.0)
+        .cast_ray_at(
+            &world,
+            ground,
+            &kea_collision::RayCast::new(origin, -Vec3::Y, 100.0),
+        )
         .unwrap()
         .unwrap();
     // The box stands in the way, but this ray looks at the ground only.
@@ -113,16 +141,28 @@ fn a_ray_at_one_collider_sees_only_that_collider() {
     assert!((on_ground.distance - 10.0).abs() < 1e-4);
     assert!(on_ground.point.abs_diff_eq(Vec3::new(0.1, 0.0, 0.2), 1e-4));
     let on_box = collision
-        .cast_ray_at(&world, cube, origin, -Vec3::Y, 100.0)
+        .cast_ray_at(
+            &world,
+            cube,
+            &kea_collision::RayCast::new(origin, -Vec3::Y, 100.0),
+        )
         .unwrap()
         .unwrap();
     assert!((on_box.distance - 9.0).abs() < 1e-4);
     assert!(collision
-        .cast_ray_at(&world, cube, Vec3::new(3.0, 10.0, 0.0), -Vec3::Y, 100.0)
+        .cast_ray_at(
+            &world,
+            cube,
+            &kea_collision::RayCast::new(Vec3::new(3.0, 10.0, 0.0), -Vec3::Y, 100.0)
+        )
         .unwrap()
         .is_none());
     let e = collision
-        .cast_ray_at(&world, cube, origin, Vec3::new(Real::NAN, 0.0, 0.0), 1.0)
+        .cast_ray_at(
+            &world,
+            cube,
+            &kea_collision::RayCast::new(origin, Vec3::new(Real::NAN, 0.0, 0.0), 1.0),
+        )
         .unwrap_err();
     assert!(e.to_string().contains("direction"), "{e}");
 }
@@ -161,9 +201,7 @@ fn rays_pass_no_holes_in_a_mesh() {
                 let hit = collision
                     .cast_ray(
                         &world,
-                        Vec3::new(x, 3.0, z),
-                        -Vec3::Y,
-                        10.0,
+                        &kea_collision::RayCast::new(Vec3::new(x, 3.0, z), -Vec3::Y, 10.0),
                         QueryFilter::default(),
                     )
                     .unwrap();

@@ -364,18 +364,22 @@ impl Sandbox {
             0 => c
                 .cast_ray(
                     w,
-                    rng.vec3(-10.0, 10.0),
-                    rng.direction(),
-                    rng.real(0.0, 100.0),
+                    &kea_collision::RayCast::new(
+                        rng.vec3(-10.0, 10.0),
+                        rng.direction(),
+                        rng.real(0.0, 100.0),
+                    ),
                     filter,
                 )
                 .map(drop),
             1 => c
                 .cast_ray_any(
                     w,
-                    rng.vec3(-10.0, 10.0),
-                    rng.direction(),
-                    rng.real(0.0, 100.0),
+                    &kea_collision::RayCast::new(
+                        rng.vec3(-10.0, 10.0),
+                        rng.direction(),
+                        rng.real(0.0, 100.0),
+                    ),
                     filter,
                 )
                 .map(drop),

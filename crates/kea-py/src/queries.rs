@@ -34,9 +34,7 @@ pub fn cast_rays(
         let dir = Vec3::new(real(d[0]), real(d[1]), real(d[2])).normalize_or_zero();
         let hit = world.collision().cast_ray(
             world.dynamics(),
-            origin,
-            dir,
-            real(max_distance),
+            &kea3d::collision::RayCast::new(origin, dir, real(max_distance)),
             QueryFilter::default(),
         )?;
         *answer = match hit {

@@ -304,9 +304,7 @@ impl App {
         self.end_drag();
         let hit = self.physics.collision().cast_ray(
             self.physics.dynamics(),
-            origin,
-            direction,
-            1.0e4,
+            &kea_collision::RayCast::new(origin, direction, 1.0e4),
             QueryFilter::default(),
         );
         let Ok(Some(hit)) = hit else { return false };

@@ -88,7 +88,11 @@ impl Receivers {
                     if !ray_meets_box(p, down, bounds) {
                         continue;
                     }
-                    match collision.cast_ray_at(world, *collider, p, down, REACH) {
+                    match collision.cast_ray_at(
+                        world,
+                        *collider,
+                        &kea_collision::RayCast::new(p, down, REACH),
+                    ) {
                         Ok(Some(hit)) => Some((hit.distance, hit.normal)),
                         _ => None,
                     }

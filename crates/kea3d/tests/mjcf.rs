@@ -435,9 +435,7 @@ fn each_mjcf_geometry_becomes_the_collider_its_size_says() {
             .collision()
             .cast_ray(
                 world.dynamics(),
-                Vec3::new(x, y, 10.0),
-                down,
-                100.0,
+                &kea_collision::RayCast::new(Vec3::new(x, y, 10.0), down, 100.0),
                 kea3d::collision::QueryFilter::default(),
             )
             .unwrap()

@@ -384,7 +384,11 @@ fn each_geometry_becomes_a_collider_and_meshes_load_from_stl_and_obj() {
     let ray = |o: Vec3, d: Vec3| {
         world
             .collision()
-            .cast_ray(world.dynamics(), o, d, 100.0, QueryFilter::default())
+            .cast_ray(
+                world.dynamics(),
+                &kea_collision::RayCast::new(o, d, 100.0),
+                QueryFilter::default(),
+            )
             .unwrap()
     };
     let hit = ray(Vec3::new(0.0, 0.0, 10.0), Vec3::new(0.0, 0.0, -1.0)).unwrap();
