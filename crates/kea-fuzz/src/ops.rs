@@ -360,29 +360,14 @@ impl Sandbox {
     fn query(&mut self, rng: &mut Rng) -> Outcome {
         let (w, c) = (self.physics.dynamics(), self.physics.collision());
         let filter = QueryFilter::default();
+        let ray = |rng: &mut Rng| {
+            let origin = rng.vec3(-10.0, 10.0);
+            let direction = rng.direction();
+            kea_collision::RayCast::new(origin, direction, rng.real(0.0, 100.0))
+        };
         match rng.below(5) {
-            0 => c
-                .cast_ray(
-                    w,
-                    &kea_collision::RayCast::new(
-                        rng.vec3(-10.0, 10.0),
-                        rng.direction(),
-                        rng.real(0.0, 100.0),
-                    ),
-                    filter,
-                )
-                .map(drop),
-            1 => c
-                .cast_ray_any(
-                    w,
-                    &kea_collision::RayCast::new(
-                        rng.vec3(-10.0, 10.0),
-                        rng.direction(),
-                        rng.real(0.0, 100.0),
-                    ),
-                    filter,
-                )
-                .map(drop),
+            0 => c.cast_ray(w, &ray(rng), filter).map(drop),
+            1 => c.cast_ray_any(w, &ray(rng), filter).map(drop),
             2 => {
                 let cast = ShapeCast {
                     shape: Self::shape(rng)?,
