@@ -388,12 +388,11 @@ impl Limit {
                 || self.position <= self.lower.stop + tolerance)
     }
 
-    /// The joint dynamics' and the actuator's rows (see the module docs).
+    /// The joint dynamics' and the actuator's rows (see the module docs) for the coordinate
+    /// `(p, v, j)`: position, rate and Jacobian.
     fn write_drive_rows(
         &self,
-        p: Real,
-        v: Real,
-        j: [Jacobian; 2],
+        (p, v, j): (Real, Real, [Jacobian; 2]),
         dt: Real,
         out: &mut RowWriter<'_>,
     ) {
@@ -464,7 +463,7 @@ impl Limit {
         dt: Real,
         out: &mut RowWriter<'_>,
     ) {
-        self.write_drive_rows(p, v, j, dt, out);
+        self.write_drive_rows((p, v, j), dt, out);
         if let Some(m) = self.motor {
             let mut row = Row::new(j[0], j[1])
                 .with_target_velocity(m.desired_velocity)
