@@ -125,6 +125,37 @@ type Normals<'a> = (
     Option<&'a dyn NormalConstraints>,
 );
 
+/// Two convex shapes (or a plane and a convex shape): `b` placed at `pos12` in `a`'s frame,
+/// with each one's normal constraints.
+#[derive(Clone, Copy)]
+struct Convex<'a> {
+    a: &'a dyn ParryShape,
+    b: &'a dyn ParryShape,
+    pos12: Pose,
+    normals: Normals<'a>,
+}
+
+impl<'a> Convex<'a> {
+    fn new(a: &'a dyn ParryShape, b: &'a dyn ParryShape, pos12: &Pose) -> Self {
+        Self {
+            a,
+            b,
+            pos12: *pos12,
+            normals: (None, None),
+        }
+    }
+
+    /// The same pair as (`b`, `a`).
+    fn swapped(&self) -> Self {
+        Self {
+            a: self.b,
+            b: self.a,
+            pos12: self.pos12.inverse(),
+            normals: (self.normals.1, self.normals.0),
+        }
+    }
+}
+
 impl Generator {
     /// Generates the manifolds of shape `a` at `pose_a` against shape `b` at `pose_b`, for
     /// points closer than `prediction`, into [`Generator::out`]. Returns false for a pair of
@@ -170,7 +201,7 @@ impl Generator {
         if mesh_b {
             return self.swapped(a, b, pos12, prediction);
         }
-        match self.convex(a, b, pos12, prediction, (None, None)) {
+        match self.convex(Convex::new(a, b, pos12), prediction) {
             Some(m) => {
                 if m.count > 0 {
                     self.out.push(m);
@@ -231,14 +262,13 @@ impl Generator {
 
     /// Manifold of two convex shapes (or a plane and a convex shape), `pos12` placing `b` in
     /// `a`'s frame. `None` when unsupported.
-    fn convex(
-        &mut self,
-        a: &dyn ParryShape,
-        b: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-        normals: Normals<'_>,
-    ) -> Option<GenManifold> {
+    fn convex(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
+        let Convex {
+            a,
+            b,
+            ref pos12,
+            normals,
+        } = pair;
         let (ta, tb) = (a.shape_type(), b.shape_type());
         match (ta, tb) {
             (ShapeType::Ball, ShapeType::Ball) => {
@@ -255,12 +285,7 @@ impl Generator {
                     )
                 }))
             }
-            (ShapeType::Ball, _) => {
-                let mut m =
-                    self.convex(b, a, &pos12.inverse(), prediction, (normals.1, normals.0))?;
-                flip(&mut m, pos12);
-                Some(m)
-            }
+            (ShapeType::Ball, _) => self.convex_swapped(pair, prediction),
             (ShapeType::HalfSpace, _) => self.plane_convex(a, b, pos12, prediction),
             (_, ShapeType::HalfSpace) => {
                 let mut m = self.plane_convex(b, a, &pos12.inverse(), prediction)?;
@@ -295,14 +320,16 @@ impl Generator {
                     )
                 }))
             }
-            (ShapeType::Triangle, ShapeType::Cuboid) => {
-                let mut m =
-                    self.convex(b, a, &pos12.inverse(), prediction, (normals.1, normals.0))?;
-                flip(&mut m, pos12);
-                Some(m)
-            }
-            _ => self.pfm_pfm(a, b, pos12, prediction, normals),
+            (ShapeType::Triangle, ShapeType::Cuboid) => self.convex_swapped(pair, prediction),
+            _ => self.pfm_pfm(pair, prediction),
         }
+    }
+
+    /// [`Generator::convex`] computed as (`b`, `a`) and turned back to the pair's order.
+    fn convex_swapped(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
+        let mut m = self.convex(pair.swapped(), prediction)?;
+        flip(&mut m, &pair.pos12);
+        Some(m)
     }
 
     /// Runs one of parry's generators (`run`) on the cleared scratch manifold and takes its
@@ -345,7 +372,7 @@ impl Generator {
     ) -> Option<GenManifold> {
         let n = a.as_halfspace()?.normal;
         if b.shape_type() == ShapeType::Ball {
-            return self.convex(a, b, pos12, prediction, (None, None));
+            return self.convex(Convex::new(a, b, pos12), prediction);
         }
         let (pfm, radius) = b.as_polygonal_feature_map()?;
         // The plane's normal in b's frame, and b's deepest feature against it.
@@ -375,14 +402,13 @@ impl Generator {
 
     /// Two polyhedral shapes (capsules, cylinders, cones, hulls, triangles), by GJK and, when
     /// they overlap, EPA on the generator's own EPA, then parry's feature clipping.
-    fn pfm_pfm(
-        &mut self,
-        a: &dyn ParryShape,
-        b: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-        normals: Normals<'_>,
-    ) -> Option<GenManifold> {
+    fn pfm_pfm(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
+        let Convex {
+            a,
+            b,
+            ref pos12,
+            normals,
+        } = pair;
         let (pfm1, r1) = a.as_polygonal_feature_map()?;
         let (pfm2, r2) = b.as_polygonal_feature_map()?;
         let total = prediction + r1 + r2;
@@ -469,7 +495,11 @@ impl Generator {
                      id: u32,
                      tri: &Triangle,
                      normals: Option<&dyn NormalConstraints>| {
-            if let Some(mut m) = g.convex(tri, other, pos12, prediction, (normals, None)) {
+            let pair = Convex {
+                normals: (normals, None),
+                ..Convex::new(tri, other, pos12)
+            };
+            if let Some(mut m) = g.convex(pair, prediction) {
                 if m.count > 0 {
                     m.sub = (id, 0);
                     g.out.push(m);
