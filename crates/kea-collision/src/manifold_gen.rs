@@ -125,17 +125,17 @@ type Normals<'a> = (
     Option<&'a dyn NormalConstraints>,
 );
 
-/// Two convex shapes (or a plane and a convex shape): `b` placed at `pos12` in `a`'s frame,
-/// with each one's normal constraints.
+/// A pair of shapes: `b` placed at `pos12` in `a`'s frame, with each one's normal constraints
+/// (a mesh triangle's pseudo-normals).
 #[derive(Clone, Copy)]
-struct Convex<'a> {
+struct ShapePair<'a> {
     a: &'a dyn ParryShape,
     b: &'a dyn ParryShape,
     pos12: Pose,
     normals: Normals<'a>,
 }
 
-impl<'a> Convex<'a> {
+impl<'a> ShapePair<'a> {
     fn new(a: &'a dyn ParryShape, b: &'a dyn ParryShape, pos12: &Pose) -> Self {
         Self {
             a,
@@ -169,24 +169,19 @@ impl Generator {
         prediction: Real,
     ) -> bool {
         self.out.clear();
-        self.pair(a, b, &pose_a.inv_mul(pose_b), prediction)
+        self.pair(ShapePair::new(a, b, &pose_a.inv_mul(pose_b)), prediction)
     }
 
     /// Appends the manifolds of `a` against `b` (placed at `pos12` in `a`'s frame) to
     /// [`Generator::out`], in `a`'s frame. False for a pair of shapes it cannot collide.
-    fn pair(
-        &mut self,
-        a: &dyn ParryShape,
-        b: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-    ) -> bool {
+    fn pair(&mut self, pair: ShapePair<'_>, prediction: Real) -> bool {
+        let (a, b) = (pair.a, pair.b);
         let (ta, tb) = (a.shape_type(), b.shape_type());
         if ta == ShapeType::Compound {
-            return self.compound(a, b, pos12, prediction);
+            return self.compound(pair, prediction);
         }
         if tb == ShapeType::Compound {
-            return self.swapped(a, b, pos12, prediction);
+            return self.swapped(pair, prediction);
         }
         let mesh_a = is_mesh(ta);
         let mesh_b = is_mesh(tb);
@@ -196,12 +191,12 @@ impl Generator {
             return false;
         }
         if mesh_a {
-            return self.mesh(a, b, pos12, prediction);
+            return self.mesh(pair, prediction);
         }
         if mesh_b {
-            return self.swapped(a, b, pos12, prediction);
+            return self.swapped(pair, prediction);
         }
-        match self.convex(Convex::new(a, b, pos12), prediction) {
+        match self.convex(pair, prediction) {
             Some(m) => {
                 if m.count > 0 {
                     self.out.push(m);
@@ -213,17 +208,11 @@ impl Generator {
     }
 
     /// [`Generator::pair`] computed as (`b`, `a`) and turned back to the pair's order.
-    fn swapped(
-        &mut self,
-        a: &dyn ParryShape,
-        b: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-    ) -> bool {
+    fn swapped(&mut self, pair: ShapePair<'_>, prediction: Real) -> bool {
         let start = self.out.len();
-        let ok = self.pair(b, a, &pos12.inverse(), prediction);
+        let ok = self.pair(pair.swapped(), prediction);
         for m in &mut self.out[start..] {
-            flip(m, pos12);
+            flip(m, &pair.pos12);
         }
         ok
     }
@@ -231,13 +220,8 @@ impl Generator {
     /// Each part of compound `comp` under `other`'s box, against `other` placed at `pos12`:
     /// the parts' manifolds, brought into the compound's frame (the part's index as its
     /// sub-shape).
-    fn compound(
-        &mut self,
-        comp: &dyn ParryShape,
-        other: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-    ) -> bool {
+    fn compound(&mut self, pair: ShapePair<'_>, prediction: Real) -> bool {
+        let (comp, other, pos12) = (pair.a, pair.b, &pair.pos12);
         let Some(parts) = comp.as_composite_shape() else {
             return false;
         };
@@ -247,7 +231,7 @@ impl Generator {
             parts.map_part_at(id, &mut |part_pose, part, _| {
                 let start = self.out.len();
                 let at = part_pose.copied().unwrap_or(Pose::IDENTITY);
-                any |= self.pair(part, other, &at.inv_mul(pos12), prediction);
+                any |= self.pair(ShapePair::new(part, other, &at.inv_mul(pos12)), prediction);
                 for m in &mut self.out[start..] {
                     m.normal_a = at.rotation * m.normal_a;
                     for p in &mut m.points[..m.count] {
@@ -262,8 +246,8 @@ impl Generator {
 
     /// Manifold of two convex shapes (or a plane and a convex shape), `pos12` placing `b` in
     /// `a`'s frame. `None` when unsupported.
-    fn convex(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
-        let Convex {
+    fn convex(&mut self, pair: ShapePair<'_>, prediction: Real) -> Option<GenManifold> {
+        let ShapePair {
             a,
             b,
             ref pos12,
@@ -326,7 +310,7 @@ impl Generator {
     }
 
     /// [`Generator::convex`] computed as (`b`, `a`) and turned back to the pair's order.
-    fn convex_swapped(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
+    fn convex_swapped(&mut self, pair: ShapePair<'_>, prediction: Real) -> Option<GenManifold> {
         let mut m = self.convex(pair.swapped(), prediction)?;
         flip(&mut m, &pair.pos12);
         Some(m)
@@ -372,7 +356,7 @@ impl Generator {
     ) -> Option<GenManifold> {
         let n = a.as_halfspace()?.normal;
         if b.shape_type() == ShapeType::Ball {
-            return self.convex(Convex::new(a, b, pos12), prediction);
+            return self.convex(ShapePair::new(a, b, pos12), prediction);
         }
         let (pfm, radius) = b.as_polygonal_feature_map()?;
         // The plane's normal in b's frame, and b's deepest feature against it.
@@ -402,8 +386,8 @@ impl Generator {
 
     /// Two polyhedral shapes (capsules, cylinders, cones, hulls, triangles), by GJK and, when
     /// they overlap, EPA on the generator's own EPA, then parry's feature clipping.
-    fn pfm_pfm(&mut self, pair: Convex<'_>, prediction: Real) -> Option<GenManifold> {
-        let Convex {
+    fn pfm_pfm(&mut self, pair: ShapePair<'_>, prediction: Real) -> Option<GenManifold> {
+        let ShapePair {
             a,
             b,
             ref pos12,
@@ -483,21 +467,16 @@ impl Generator {
     /// A height field or mesh `mesh` against a convex shape `other` placed at `pos12` in the
     /// mesh's frame: one manifold per touching triangle (its index as the sub-shape), each
     /// with the triangle's pseudo-normals so that its internal edges make no contacts.
-    fn mesh(
-        &mut self,
-        mesh: &dyn ParryShape,
-        other: &dyn ParryShape,
-        pos12: &Pose,
-        prediction: Real,
-    ) -> bool {
+    fn mesh(&mut self, pair: ShapePair<'_>, prediction: Real) -> bool {
+        let (mesh, other, pos12) = (pair.a, pair.b, &pair.pos12);
         let local_box = other.compute_aabb(pos12).loosened(prediction);
         let visit = |g: &mut Generator,
                      id: u32,
                      tri: &Triangle,
                      normals: Option<&dyn NormalConstraints>| {
-            let pair = Convex {
+            let pair = ShapePair {
                 normals: (normals, None),
-                ..Convex::new(tri, other, pos12)
+                ..ShapePair::new(tri, other, pos12)
             };
             if let Some(mut m) = g.convex(pair, prediction) {
                 if m.count > 0 {
