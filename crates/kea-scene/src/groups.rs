@@ -4,7 +4,7 @@
 use crate::bodies::{add_body, v3, BuiltScene};
 use crate::error::SceneError;
 use crate::format::{BodySpec, ColliderSpec, ShapeSpec, V3};
-use crate::joint_format::{GroupSpec, JointKind, LimitSpec};
+use crate::joint_format::{GroupSpec, JointKind, LimitSpec, OneCoordinateSpec};
 use crate::joints::{create, name_joint};
 use kea::{BodyHandle, Quat, Real, Vec3};
 
@@ -347,12 +347,12 @@ fn add_ragdoll(
                 twist: Some(LimitSpec::Hard([-twist, twist])),
                 limit_axis: None,
             },
-            Bend::Hinge { lower, upper } => JointKind::Hinge {
+            Bend::Hinge { lower, upper } => JointKind::Hinge(OneCoordinateSpec {
                 anchor,
                 axis: Pose::to_v3(pose.rotation * Vec3::X),
                 limits: Some(LimitSpec::Hard([lower, upper])),
                 motor: None,
-            },
+            }),
         };
         let h = create(built, &kind, b1, Some(b2), place)?;
         name_joint(built, format!("{prefix}.{name}"), h, place)?;

@@ -29,6 +29,22 @@ pub struct JointSpec {
     pub break_torque: Option<Real>,
 }
 
+/// The fields of a joint with one coordinate, a hinge's angle or a slider's distance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OneCoordinateSpec {
+    /// Anchor, world frame.
+    pub anchor: V3,
+    /// Axis, world frame.
+    pub axis: V3,
+    /// Limits on the coordinate, rad or m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limits: Option<LimitSpec>,
+    /// Motor `[desired speed rad/s or m/s, maximum torque N·m or force N]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motor: Option<[Real; 2]>,
+}
+
 /// A joint's type with the fields of that type, tagged by `type`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -47,32 +63,10 @@ pub enum JointKind {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         limit_axis: Option<V3>,
     },
-    /// Hinge, with optional limits and motor on its angle.
-    Hinge {
-        /// Anchor, world frame.
-        anchor: V3,
-        /// Axis, world frame.
-        axis: V3,
-        /// Limits on the angle, rad.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        limits: Option<LimitSpec>,
-        /// Motor `[desired speed rad/s, maximum torque N·m]`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        motor: Option<[Real; 2]>,
-    },
-    /// Prismatic (slider), with optional limits and motor on its distance.
-    Prismatic {
-        /// Anchor, world frame.
-        anchor: V3,
-        /// Axis, world frame.
-        axis: V3,
-        /// Limits on the distance, m.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        limits: Option<LimitSpec>,
-        /// Motor `[desired speed m/s, maximum force N]`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        motor: Option<[Real; 2]>,
-    },
+    /// Hinge, with optional limits and motor on its angle (rad, rad/s, N·m).
+    Hinge(OneCoordinateSpec),
+    /// Prismatic (slider), with optional limits and motor on its distance (m, m/s, N).
+    Prismatic(OneCoordinateSpec),
     /// Weld.
     Fixed {
         /// Anchor, world frame.

@@ -4,7 +4,7 @@
 
 use crate::bodies::{unit, v3, BuiltScene};
 use crate::error::SceneError;
-use crate::joint_format::{JointKind, JointSpec, LimitSpec};
+use crate::joint_format::{JointKind, JointSpec, LimitSpec, OneCoordinateSpec};
 use crate::joint_limits::{placed, set_limits, set_motor};
 use crate::paths::{check_path, PathDriver};
 use kea::{BodyHandle, ConstraintHandle, KeaError, Limit, Real, SingleLimit, Vec3, World};
@@ -115,23 +115,13 @@ pub(crate) fn create(
             ball_limits(w, h, b1, kind, place)?;
             h.raw()
         }
-        JointKind::Hinge {
-            anchor,
-            axis,
-            limits,
-            motor,
-        } => {
-            let spec = kea::JointSpec::hinge(v3(*anchor), v3(*axis));
-            one_coordinate(w, b1, b2, spec, limits.as_ref(), *motor, place)?
+        JointKind::Hinge(c) => {
+            let spec = kea::JointSpec::hinge(v3(c.anchor), v3(c.axis));
+            one_coordinate(w, (b1, b2), spec, c, place)?
         }
-        JointKind::Prismatic {
-            anchor,
-            axis,
-            limits,
-            motor,
-        } => {
-            let spec = kea::JointSpec::prismatic(v3(*anchor), v3(*axis));
-            one_coordinate(w, b1, b2, spec, limits.as_ref(), *motor, place)?
+        JointKind::Prismatic(c) => {
+            let spec = kea::JointSpec::prismatic(v3(c.anchor), v3(c.axis));
+            one_coordinate(w, (b1, b2), spec, c, place)?
         }
         JointKind::Fixed { anchor } => {
             plain(w, (b1, b2), kea::JointSpec::fixed(v3(*anchor)), place)?
@@ -187,16 +177,14 @@ fn plain<J: kea::JointKind>(
 /// Creates a hinge or a slider and sets its limits and motor from the scene.
 fn one_coordinate<J: kea::OneCoordinate>(
     w: &mut World,
-    b1: BodyHandle,
-    b2: Option<BodyHandle>,
+    (b1, b2): (BodyHandle, Option<BodyHandle>),
     spec: kea::JointSpec<J>,
-    limits: Option<&LimitSpec>,
-    motor: Option<[Real; 2]>,
+    scene: &OneCoordinateSpec,
     place: &str,
 ) -> Result<ConstraintHandle, SceneError> {
     let h = w.create_joint(b1, b2, spec).map_err(|e| placed(place, e))?;
     let limit = h.limit_mut(w).map_err(|e| placed(place, e))?;
-    coordinate(limit, limits, motor, place)?;
+    coordinate(limit, scene.limits.as_ref(), scene.motor, place)?;
     Ok(h.raw())
 }
 

@@ -38,7 +38,7 @@ pub use format::{
     BodySpec, ColliderSpec, InertiaSpec, IterativeSpec, MaterialPairSpec, MaterialSpec,
     RoutingSpec, Scene, ShapeSpec, SleepSpec, SolverSpec, WorldSpec, V3, VERSION,
 };
-pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, StopsSpec};
+pub use joint_format::{GroupSpec, JointKind, JointSpec, LimitSpec, OneCoordinateSpec, StopsSpec};
 pub use paths::ScenePaths;
 pub use robots::RobotEntry;
 pub use snapshot::{SceneSnapshot, SNAPSHOT_VERSION};
