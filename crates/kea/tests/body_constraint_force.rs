@@ -2,24 +2,15 @@
 //! and contact on a body did to it in the last step, equal to m·a − (m·g + applied force), on
 //! every solver path.
 
-use kea::{
-    BodyDef, BodyHandle, Contact, ContactPoint, Mat3, Real, Routing, SolverMode, Vec3, World,
-};
+mod common;
+
+use kea::{BodyDef, BodyHandle, Contact, ContactPoint, Mat3, Real, SolverMode, Vec3, World};
 
 const G: Real = 9.81;
 
+/// A world of default gravity, (0, −G, 0), whose islands all take `mode`'s path.
 fn world(mode: SolverMode) -> World {
-    let mut w = World::with_capacity(8, 16).unwrap();
-    w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
-        .unwrap();
-    w.update_settings(|s| {
-        s.routing = Routing {
-            mode,
-            ..Routing::default()
-        }
-    })
-    .unwrap();
-    w
+    common::world_on(mode, 8, 16)
 }
 
 const MODES: [SolverMode; 4] = [

@@ -2,9 +2,10 @@
 //! speed, a sideways push accelerates it at F/m, and it still carries its weight — on every
 //! solver path.
 
+mod common;
+
 use kea::{
-    BodyDef, Contact, ContactParams, ContactPoint, ContactType, Mat3, Real, Routing, SolverMode,
-    Vec3, World,
+    BodyDef, Contact, ContactParams, ContactPoint, ContactType, Mat3, Real, SolverMode, Vec3,
 };
 
 const G: Real = 9.81;
@@ -17,16 +18,8 @@ fn a_box_on_a_frictionless_contact_slides_freely_and_is_held_up() {
         SolverMode::Iterative,
         SolverMode::Split,
     ] {
-        let mut w = World::with_capacity(4, 8).unwrap();
-        w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
-            .unwrap();
-        w.update_settings(|s| {
-            s.routing = Routing {
-                mode,
-                ..Routing::default()
-            }
-        })
-        .unwrap();
+        // Default gravity: (0, −G, 0).
+        let mut w = common::world_on(mode, 4, 8);
         let (m, half) = (2.0, 0.5);
         let b = w
             .create_body(&BodyDef {

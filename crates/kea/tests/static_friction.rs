@@ -2,9 +2,11 @@
 //! until the pull passes μs·N, then slides against μk·N, and once let go decelerates at μk·g
 //! until it stops — on every solver path.
 
+mod common;
+
 use kea::{
     BodyDef, BodyHandle, ConstraintHandle, Contact, ContactParams, ContactPoint, FrictionModel,
-    Mat3, Real, Routing, SolverMode, Vec3, World,
+    Mat3, Real, SolverMode, Vec3, World,
 };
 
 const G: Real = 9.81;
@@ -17,16 +19,8 @@ fn box_on_ground(
     m: Real,
     mu: (Real, Real),
 ) -> (World, BodyHandle, ConstraintHandle) {
-    let mut w = World::with_capacity(4, 8).unwrap();
-    w.update_settings(|s| s.gravity = Vec3::new(0.0, -G, 0.0))
-        .unwrap();
-    w.update_settings(|s| {
-        s.routing = Routing {
-            mode,
-            ..Routing::default()
-        }
-    })
-    .unwrap();
+    // Default gravity: (0, −G, 0).
+    let mut w = common::world_on(mode, 4, 8);
     let b = w
         .create_body(&BodyDef {
             mass: m,
