@@ -4,6 +4,7 @@
 //! it), when it fails.
 
 use std::path::PathBuf;
+use std::io::Write;
 use std::process::Command;
 
 /// Parsed JSON from the script.
@@ -32,9 +33,13 @@ pub fn run(args: &[&str]) -> Option<Json> {
         if std::env::var("KEA_REQUIRE_REFERENCES").is_ok_and(|v| v == "1") {
             panic!("KEA_REQUIRE_REFERENCES=1 but {} cannot import mujoco, pybullet_data and gymnasium: {why}", python());
         }
-        println!(
-            "SKIPPED: no reference (mujoco, pybullet_data, gymnasium) in {}: {why}",
-            python()
+        // Past the test harness's capture, so that a plain `cargo test` shows it.
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED (no reference engine): {} lacks mujoco, pybullet or gymnasium ({}); \
+             `pip install mujoco pybullet gymnasium` or set KEA_PYTHON to a Python that has them",
+            python(),
+            why.trim().lines().last().unwrap_or("")
         );
         return None;
     }
