@@ -140,6 +140,7 @@ fn settings_of(w: &WorldSpec, d: &kea::WorldSettings) -> Result<kea::WorldSettin
         }),
         projection_iterations: w.projection_iterations,
         world_substeps: w.world_substeps,
+        integrator: w.integrator.into(),
         speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
             linear: s.linear,
             angular: s.angular,

@@ -72,6 +72,10 @@ pub struct WorldSpec {
     pub gamma: Real,
     /// `"hybrid"`, `"exact"`, `"iterative"` or `"split"`.
     pub solver: SolverSpec,
+    /// How the reduced-coordinate path integrates its trees: `"rk4"` (the default),
+    /// `"euler"` or `"implicit"` (`kea::Integrator`).
+    #[serde(skip_serializing_if = "is_rk4")]
+    pub integrator: IntegratorSpec,
     /// Put resting islands to sleep (the guide's auto-disable).
     pub sleep: bool,
     /// Most bodies (0: as many as the scene needs).
@@ -235,6 +239,7 @@ impl Default for WorldSpec {
             epsilon: 0.01,
             gamma: 0.2,
             solver: SolverSpec::Hybrid,
+            integrator: IntegratorSpec::Rk4,
             sleep: false,
             max_bodies: 0,
             max_constraints: 0,
@@ -266,6 +271,33 @@ pub enum SolverSpec {
     Iterative,
     /// Every island with joints split (joints direct inside the substeps, contacts iterative).
     Split,
+}
+
+/// How the reduced-coordinate path integrates (`kea::Integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntegratorSpec {
+    /// Classic fourth-order Runge–Kutta.
+    #[default]
+    Rk4,
+    /// Semi-implicit Euler, damping and servos implicit.
+    Euler,
+    /// Euler with the Coriolis forces implicit too.
+    Implicit,
+}
+
+impl From<IntegratorSpec> for kea::Integrator {
+    fn from(spec: IntegratorSpec) -> Self {
+        match spec {
+            IntegratorSpec::Rk4 => Self::RungeKutta4,
+            IntegratorSpec::Euler => Self::Euler,
+            IntegratorSpec::Implicit => Self::Implicit,
+        }
+    }
+}
+
+fn is_rk4(spec: &IntegratorSpec) -> bool {
+    *spec == IntegratorSpec::Rk4
 }
 
 /// A named material.

@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod articulation;
+pub use articulation::Integrator;
 pub mod body;
 pub mod cache;
 pub mod constraint;

@@ -143,7 +143,7 @@ impl ArticulatedTree {
     }
 
     /// The bias forces `c(q, q̇)` into `out` by recursive Newton–Euler; `place` must have run.
-    fn bias(&mut self, qd: &[f64], out: &mut [f64]) {
+    pub(super) fn bias_into(&mut self, qd: &[f64], out: &mut [f64]) {
         self.newton_euler(qd, None);
         for (i, o) in out.iter_mut().enumerate().take(self.len()) {
             *o = dot(self.force[i], self.subspace(i));
@@ -187,7 +187,8 @@ impl ArticulatedTree {
         }
     }
 
-    /// `(H + diag(h d)) q̈ = τ − c − d q̇` into `qdd`.
+    /// `(H + diag(h d) + servo terms) q̈ = τ − c − d q̇ + servo` into `qdd` (`h = 0`: all
+    /// explicit), `H'` left factorised in `h`.
     pub(super) fn solve(
         &mut self,
         q: &[f64],
@@ -196,22 +197,31 @@ impl ArticulatedTree {
         h: f64,
         qdd: &mut [f64],
     ) -> KeaResult<()> {
+        self.assemble(q, qd, tau, h, qdd);
+        let n = self.len();
+        cholesky_factor(&mut self.h, n)?;
+        cholesky_back_solve(&self.h, n, qdd);
+        Ok(())
+    }
+
+    /// `H' = H + diag(h d) + servo terms` into `h` and the right side `τ − c − d q̇ + servo`
+    /// into `rhs`, at `q`, `qd`.
+    pub(super) fn assemble(&mut self, q: &[f64], qd: &[f64], tau: &[f64], h: f64, rhs: &mut [f64]) {
         let n = self.len();
         self.place(q);
         self.mass_matrix();
-        self.bias(qd, qdd);
+        self.bias_into(qd, rhs);
         for (i, l) in self.links.iter().enumerate() {
             let d = l.damping;
-            qdd[i] = tau[i] - qdd[i] - d * qd[i];
+            rhs[i] = tau[i] - rhs[i] - d * qd[i];
             self.h[i * n + i] += h * d;
             // A servo's force kp (q* − q − h q̇⁺) + kv (v* − q̇⁺), with q̇⁺ = q̇ + h q̈: its
             // q̈ terms join H', the rest the right side.
             if let Some((target, rate, kp, kv)) = l.servo {
-                qdd[i] += kp * (target - q[i]) - (kp * h + kv) * qd[i] + kv * rate;
+                rhs[i] += kp * (target - q[i]) - (kp * h + kv) * qd[i] + kv * rate;
                 self.h[i * n + i] += h * h * kp + h * kv;
             }
         }
-        cholesky_solve(&mut self.h, n, qdd)
     }
 }
 
@@ -233,9 +243,9 @@ pub(super) fn cholesky_back_solve(l: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// Solves `A x = b` for symmetric positive definite `A` (row-major, overwritten by its
-/// Cholesky factor), `b` overwritten by `x`.
-fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
+/// Factorises symmetric positive definite `A` (row-major) in place: its lower triangle
+/// becomes `L` with `A = L Lᵀ`.
+pub(super) fn cholesky_factor(a: &mut [f64], n: usize) -> KeaResult<()> {
     for j in 0..n {
         let mut d = a[j * n + j];
         for k in 0..j {
@@ -257,6 +267,44 @@ fn cholesky_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
             a[i * n + j] = s / d;
         }
     }
-    cholesky_back_solve(a, n, b);
+    Ok(())
+}
+
+/// Solves `A x = b` for a general `A` (row-major, overwritten by its LU factors) by Gaussian
+/// elimination with partial pivoting; `b` overwritten by `x`.
+pub(super) fn lu_solve(a: &mut [f64], n: usize, b: &mut [f64]) -> KeaResult<()> {
+    for j in 0..n {
+        let p = (j..n)
+            .max_by(|&x, &y| a[x * n + j].abs().total_cmp(&a[y * n + j].abs()))
+            .unwrap_or(j);
+        let pivot = a[p * n + j];
+        if pivot.is_nan() || pivot.abs() < 1e-300 {
+            return Err(KeaError::Inconsistent {
+                arg: "links",
+                reason: "the tree's implicit step matrix is singular".into(),
+            });
+        }
+        if p != j {
+            for k in 0..n {
+                a.swap(j * n + k, p * n + k);
+            }
+            b.swap(j, p);
+        }
+        for i in j + 1..n {
+            let f = a[i * n + j] / pivot;
+            a[i * n + j] = f;
+            for k in j + 1..n {
+                a[i * n + k] -= f * a[j * n + k];
+            }
+            b[i] -= f * b[j];
+        }
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= a[i * n + k] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 use super::dynamics::cholesky_back_solve;
 use super::ArticulatedTree;
+use crate::error::KeaResult;
 
 /// A fraction of a stop's overshoot taken back per step (the maximal path's `γ` for stops).
 const STOP_RECOVERY: f64 = 0.2;
@@ -23,22 +24,37 @@ impl ArticulatedTree {
     /// `q̇⁺ = q̇ + H'⁻¹ P`, each row's within its bounds, by projected Gauss–Seidel on `H'⁻¹`
     /// (the factor `solve` left). A stop's row aims the rate at what reaches the stop by the
     /// step's end, and only pushes away from it.
-    pub(super) fn constrain(&mut self, q: &[f64], qd: &mut [f64], h: f64) {
+    /// A stop acts on the step's mean rate, `q̇ + offset` (see `integrate`). The integrator's
+    /// own factor is used where it is `H'` at `q`, else `H'` is factorised here.
+    pub(super) fn constrain(
+        &mut self,
+        q: &[f64],
+        qd: &mut [f64],
+        tau: &[f64],
+        h: f64,
+    ) -> KeaResult<()> {
         self.rows.clear();
         for i in 0..self.len() {
-            self.coordinate_rows(i, q[i], qd[i], h);
+            self.coordinate_rows(i, q[i], qd[i], self.offset[i], h);
         }
         self.impulse.iter_mut().for_each(|p| *p = 0.0);
         if self.rows.is_empty() {
-            return;
+            return Ok(());
         }
+        let start = std::mem::take(&mut self.rate0);
+        let factored = self.factor_for_impulses(q, &start, tau, h);
+        self.rate0 = start;
+        factored?;
         self.inverse_columns();
         self.project(qd);
+        Ok(())
     }
 
     /// Coordinate `i`'s rows at position `qi` and free rate `rate`: its motor, its dry friction,
-    /// and each stop that the rate would pass by the step's end.
-    fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, h: f64) {
+    /// and each stop that the step's mean rate `rate + offset` would pass by the step's end.
+    /// Every row acts on the mean rate (its target given here on the end rate), so a stop is
+    /// not crossed and friction that holds keeps the coordinate where it is.
+    fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, offset: f64, h: f64) {
         let l = self.links[i];
         let row = |target: f64, lo: f64, hi: f64| CoordinateRow {
             coordinate: i,
@@ -48,10 +64,11 @@ impl ArticulatedTree {
             impulse: 0.0,
         };
         if let Some((v, f)) = l.motor {
-            self.rows.push(row(v, -h * f, h * f));
+            self.rows.push(row(v - offset, -h * f, h * f));
         }
         if l.friction > 0.0 {
-            self.rows.push(row(0.0, -h * l.friction, h * l.friction));
+            self.rows
+                .push(row(-offset, -h * l.friction, h * l.friction));
         }
         let Some((lo, hi)) = l.limits else {
             return;
@@ -63,12 +80,12 @@ impl ArticulatedTree {
             (lo - qi) / h
         } else {
             recover(lo - qi)
-        };
+        } - offset;
         let max = if qi <= hi {
             (hi - qi) / h
         } else {
             -recover(qi - hi)
-        };
+        } - offset;
         if rate < min + 1e-9 || qi < lo + 1e-9 {
             self.rows.push(row(min, 0.0, f64::INFINITY));
         }

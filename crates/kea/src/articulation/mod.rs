@@ -32,6 +32,9 @@ use impulses::CoordinateRow;
 
 mod dynamics;
 mod impulses;
+mod integrate;
+
+pub use integrate::Integrator;
 
 /// How a joint of the tree moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,6 +143,17 @@ pub struct ArticulatedTree {
     /// The coordinates `rot` and `pos` were placed at, while the links' geometry is unchanged.
     placed: Vec<f64>,
     placed_valid: bool,
+    /// How a step integrates (default [`Integrator::Euler`] for a tree made on its own).
+    integrator: Integrator,
+    // Scratch of the integrators: a stage's coordinates and rates, the weighted sums, each
+    // coordinate's mean rate less its end rate, the implicit step's matrix, the start.
+    stage_q: Vec<f64>,
+    stage_v: Vec<f64>,
+    sum_a: Vec<f64>,
+    sum_v: Vec<f64>,
+    offset: Vec<f64>,
+    lu: Vec<f64>,
+    q_start: Vec<f64>,
 }
 
 impl ArticulatedTree {
@@ -212,6 +226,14 @@ impl ArticulatedTree {
             frames: vec![(DVec3::ZERO, DQuat::IDENTITY); n],
             placed: Vec::with_capacity(n),
             placed_valid: false,
+            integrator: Integrator::Euler,
+            stage_q: vec![0.0; n],
+            stage_v: vec![0.0; n],
+            sum_a: vec![0.0; n],
+            sum_v: vec![0.0; n],
+            offset: vec![0.0; n],
+            lu: vec![0.0; n * n],
+            q_start: vec![0.0; n],
         })
     }
 
@@ -244,6 +266,28 @@ impl ArticulatedTree {
         self.external.resize(n, [DVec3::ZERO; 2]);
         self.rate0.resize(n, 0.0);
         self.frames.resize(n, (DVec3::ZERO, DQuat::IDENTITY));
+        for v in [
+            &mut self.stage_q,
+            &mut self.stage_v,
+            &mut self.sum_a,
+            &mut self.sum_v,
+            &mut self.offset,
+            &mut self.q_start,
+        ] {
+            v.resize(n, 0.0);
+        }
+        self.lu.resize(n * n, 0.0);
+    }
+
+    /// The integrator the steps use.
+    #[must_use]
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Sets the integrator the steps use.
+    pub fn set_integrator(&mut self, integrator: Integrator) {
+        self.integrator = integrator;
     }
 
     /// The links.
@@ -360,26 +404,34 @@ impl ArticulatedTree {
             });
         }
         self.rate0.copy_from_slice(qd);
+        self.q_start.copy_from_slice(q);
         let mut qdd = std::mem::take(&mut self.rhs);
         qdd.resize(self.len(), 0.0);
-        let solved = self.solve(q, qd, tau, h, &mut qdd);
-        if solved.is_ok() {
+        let solved = self.smooth_step(q, qd, tau, h, &mut qdd).and_then(|()| {
+            // The coordinates at the step's end before the stops: q + h q̇⁺ (Euler), or the
+            // stages' (Runge–Kutta); an impulse moves them by h times its change of rate.
             for i in 0..self.len() {
-                qd[i] += h * qdd[i];
+                self.stage_v[i] = qd[i];
+                self.stage_q[i] = q[i] + h * (qd[i] + self.offset[i]);
             }
-            self.constrain(q, qd, h);
+            self.constrain(q, qd, tau, h)
+        });
+        if solved.is_ok() {
             if reactions {
                 // The accelerations the step took, stops and motors included, through
-                // Newton–Euler at the step's start (`place` still holds q).
+                // Newton–Euler at the step's start.
                 for i in 0..self.len() {
                     qdd[i] = (qd[i] - self.rate0[i]) / h;
                 }
                 let rate0 = std::mem::take(&mut self.rate0);
+                let q_start = std::mem::take(&mut self.q_start);
+                self.place(&q_start);
                 self.newton_euler(&rate0, Some(&qdd));
                 self.rate0 = rate0;
+                self.q_start = q_start;
             }
             for i in 0..self.len() {
-                q[i] += h * qd[i];
+                q[i] = self.stage_q[i] + h * (qd[i] - self.stage_v[i]);
             }
         }
         self.rhs = qdd;

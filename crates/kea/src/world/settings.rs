@@ -4,6 +4,7 @@
 //! is checked whole first and changes nothing when it is refused.
 
 use super::{DemMode, DemSettings, SpeedLimits, World, DEFAULT_CONTACT_SPRING};
+use crate::articulation::Integrator;
 use crate::constraint::Spring;
 use crate::error::{check_vec3, KeaError, KeaResult};
 use crate::math::{Real, Vec3};
@@ -53,6 +54,11 @@ pub struct WorldSettings {
     /// chaotic double pendulum that parts from the exact path by 3 cm in 1 s at 1 ms keeps
     /// within 5 mm with 8 (`kea3d/tests/robots_vs_mujoco.rs`).
     pub world_substeps: u32,
+    /// How the reduced-coordinate path integrates its trees (default
+    /// [`Integrator::RungeKutta4`]: a double pendulum keeps its energy at 60 Hz; an MJCF file's
+    /// `<option integrator>` sets it). The maximal-coordinate paths step semi-implicit Euler,
+    /// as the guide's solver does.
+    pub integrator: Integrator,
     /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     /// Off, they read zero and no clock is read: worth it for small worlds stepped many times
     /// whose statistics nobody reads (see [`crate::timing`]). Results are the same bits
@@ -75,6 +81,7 @@ impl Default for WorldSettings {
             projection_iterations: 0,
             speed_limits: SpeedLimits::default(),
             world_substeps: 1,
+            integrator: Integrator::RungeKutta4,
             step_timing: true,
         }
     }

@@ -7,6 +7,7 @@
 
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::{QuarantineEvent, SpeedLimits, World, WorldDef, WorldSettings};
+use crate::articulation::Integrator;
 use crate::body::Body;
 use crate::constraint::Spring;
 use crate::error::{KeaError, KeaResult};
@@ -45,6 +46,9 @@ pub struct WorldSnapshot {
     speed_limits: SpeedLimits,
     #[serde(default = "one")]
     world_substeps: u32,
+    /// Absent from snapshots made before it existed, which stepped Euler.
+    #[serde(default = "euler")]
+    integrator: Integrator,
     quarantine: Vec<QuarantineEvent>,
     /// Last step's λ (joints' warm starts, through each constraint's `last_rows`).
     lambda: Vec<Real>,
@@ -98,6 +102,7 @@ impl World {
             projection_iterations: self.settings.projection_iterations,
             speed_limits: self.settings.speed_limits,
             world_substeps: self.settings.world_substeps,
+            integrator: self.settings.integrator,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -144,6 +149,7 @@ impl World {
                 projection_iterations: snapshot.projection_iterations,
                 speed_limits: snapshot.speed_limits,
                 world_substeps: snapshot.world_substeps,
+                integrator: snapshot.integrator,
                 step_timing: true,
             },
         })?;
@@ -275,4 +281,8 @@ pub(crate) mod serde_real {
 /// Snapshots from before substeps step once.
 fn one() -> u32 {
     1
+}
+
+fn euler() -> Integrator {
+    Integrator::Euler
 }

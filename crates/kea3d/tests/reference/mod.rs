@@ -3,8 +3,8 @@
 //! Without them a test prints SKIPPED and passes, unless `KEA_REQUIRE_REFERENCES=1` (CI sets
 //! it), when it fails.
 
-use std::path::PathBuf;
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::Command;
 
 /// Parsed JSON from the script.

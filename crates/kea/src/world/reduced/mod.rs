@@ -305,6 +305,7 @@ impl World {
         let t = &mut r.trees[index];
         let (bodies, constraints) = (&self.bodies, &self.constraints);
         t.tree.set_gravity(gravity);
+        t.tree.set_integrator(self.settings.integrator);
         r.tau.clear();
         for (k, p) in t.plan.iter().enumerate() {
             let entry = constraints
