@@ -40,7 +40,7 @@ pub use constraint::{
     Actuator, BallJoint, CarWheel, Contact, ContactParams, ContactPoint, ContactType,
     CustomConstraint, FixedJoint, FixedPath, FrictionModel, Hinge, Jacobian, JointDynamics, Limit,
     Linear1, Linear2, Motor, Planar, PointForce, Prismatic, Row, RowBody, RowContext, RowWriter,
-    SingleLimit, Softness, Spring, UniversalJoint, MAX_CONTACT_POINTS,
+    SingleLimit, SoftLimit, Softness, Spring, UniversalJoint, MAX_CONTACT_POINTS,
 };
 pub use error::{KeaError, KeaResult};
 pub use handle::{BodyHandle, ConstraintHandle};

@@ -36,11 +36,25 @@ fn swing_gap(
     v0: &[f64],
     steps: usize,
 ) -> Option<f64> {
-    let every = steps / 10;
+    swing_gap_at(world, robot, file, q0, v0, steps, Some(DT), usize::MAX)
+}
+
+/// [`swing_gap`] at steps of `dt`, or (`None`) at the file's own timestep in both engines.
+fn swing_gap_at(
+    world: &mut PhysicsWorld,
+    robot: &Robot,
+    file: &str,
+    q0: &[f64],
+    v0: &[f64],
+    steps: usize,
+    dt: Option<f64>,
+    compared: usize,
+) -> Option<f64> {
+    let every = (steps / 10).max(1);
     let mut args = vec![
         "swing".to_string(),
         file.to_string(),
-        DT.to_string(),
+        dt.map_or("file".to_string(), |dt| dt.to_string()),
         steps.to_string(),
         every.to_string(),
         csv(q0),
@@ -63,20 +77,21 @@ fn swing_gap(
     }
     let mut worst: f64 = 0.0;
     let mut reduced = 0;
+    let dt = dt.unwrap_or_else(|| wide(robot.timestep().expect("the file gives a timestep")));
     for k in 0..=steps {
         if k > 0 {
-            reduced += world.step(DT as Real).unwrap().reduced_trees.min(1);
+            reduced += world.step(dt as Real).unwrap().reduced_trees.min(1);
         }
         if k % every == 0 {
             let q = robot.joint_positions(world).unwrap();
             let expected = &q_ref[k / every];
-            for (i, (a, b)) in q.iter().zip(expected).enumerate() {
+            for (i, (a, b)) in q.iter().zip(expected).enumerate().take(compared) {
                 let gap = (wide(*a) - b).abs();
                 if gap > worst {
                     worst = gap;
                     println!(
                         "{file}: t = {:.3} s, joint {i}: Kea {a:.5}, MuJoCo {b:.5}",
-                        k as f64 * DT
+                        k as f64 * dt
                     );
                 }
             }
@@ -106,6 +121,11 @@ fn urdf_swing(relative: &str, q0: &[f64]) {
         ..UrdfOptions::default()
     };
     let robot = world.load_urdf(&file, &options).unwrap();
+    // A URDF names no integrator; MuJoCo compiles it with its default, Euler: so does Kea here.
+    world
+        .dynamics_mut()
+        .update_settings(|s| s.integrator = kea3d::dynamics::Integrator::Euler)
+        .unwrap();
     assert_eq!(robot.position_count(), q0.len());
     let gap = swing_gap(&mut world, &robot, file.to_str().unwrap(), q0, &[], 300).unwrap();
     assert!(gap < 0.01, "{relative}: {gap} rad from MuJoCo");
@@ -199,10 +219,63 @@ fn gymnasium_inverted_double_pendulum_swings_as_in_mujoco() {
         &[(-0.3, 0.3), (-0.3, 0.3), (-0.3, 0.3)],
         &[0.3, 0.5, 0.5],
         3,
-        // Chaotic: at 1 ms a first-order step parts from the file's RK4 by 1–3 cm in 1 s
-        // (MuJoCo's own Euler by 1.5–5 cm); 8 substeps of the 1 ms step keep within 5 mm.
-        8,
+        // Chaotic: at 1 ms a first-order step parted from the file's RK4 by 1–3 cm in 1 s;
+        // the file's RK4, which the world now takes from it, follows to 2e-6.
+        1,
     );
+}
+
+/// VALIDATION #39: a Gymnasium model loaded as it is and stepped at its file's own timestep
+/// with its file's integrator, passive from 5 random starts (q in ±0.3, q̇ in ±1), follows
+/// MuJoCo within 0.01 (rad, or m for a slide) for `seconds`.
+fn file_step_swing(name: &str, seconds: f64, compared: usize) -> f64 {
+    let Some((_, assets)) = dirs() else {
+        return 0.0;
+    };
+    let file = assets.join(name);
+    let mut worst: f64 = 0.0;
+    for s in 0..5 {
+        let mut seed = 0xf11e + s;
+        let mut world = PhysicsWorld::new();
+        let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
+        let n = robot.position_count();
+        let q0: Vec<f64> = (0..n).map(|_| uniform(&mut seed, -0.3, 0.3)).collect();
+        let v0: Vec<f64> = (0..n).map(|_| uniform(&mut seed, -1.0, 1.0)).collect();
+        let dt = wide(robot.timestep().unwrap());
+        let steps = (seconds / dt).round() as usize;
+        let file = file.to_str().unwrap();
+        let gap = swing_gap_at(&mut world, &robot, file, &q0, &v0, steps, None, compared).unwrap();
+        println!("{name} at its file's step ({dt} s), start {s}: {gap:.2e} from MuJoCo");
+        assert!(
+            gap < 0.01,
+            "{name} from {q0:?}, {v0:?}: {gap} from MuJoCo at the file's step"
+        );
+        worst = worst.max(gap);
+    }
+    worst
+}
+
+/// The reacher's arm (its two hinges: reduced coordinates, RK4, soft stops as MuJoCo's).
+#[test]
+fn gymnasium_reacher_arm_follows_mujoco_at_its_files_step() {
+    file_step_swing("reacher.xml", 1.0, 2);
+}
+
+#[test]
+#[ignore = "known gap (issue 35): the reacher's target is one body on two slides, which Kea makes one two-slide joint on the maximal-coordinate path, whose stops are hard; MuJoCo's are soft and the target rebounds from them (0.093 m apart after 1 s from one start). Needs two-slide bodies in reduced coordinates (issue 37's trees)"]
+fn gymnasium_reacher_with_its_target_follows_mujoco_at_its_files_step() {
+    file_step_swing("reacher.xml", 1.0, usize::MAX);
+}
+
+#[test]
+fn gymnasium_inverted_pendulum_follows_mujoco_at_its_files_step() {
+    file_step_swing("inverted_pendulum.xml", 1.0, usize::MAX);
+}
+
+#[test]
+fn gymnasium_inverted_double_pendulum_follows_mujoco_at_its_files_step() {
+    // Chaotic: held over the first half second.
+    file_step_swing("inverted_double_pendulum.xml", 0.5, usize::MAX);
 }
 
 fn drop_height(name: &str, seconds: f64) {

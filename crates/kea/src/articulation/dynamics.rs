@@ -201,6 +201,8 @@ impl ArticulatedTree {
         let n = self.len();
         cholesky_factor(&mut self.h, n)?;
         cholesky_back_solve(&self.h, n, qdd);
+        let step = self.step_length;
+        self.soft_stops(q, qd, qdd, step);
         Ok(())
     }
 

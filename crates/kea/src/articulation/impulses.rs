@@ -73,6 +73,9 @@ impl ArticulatedTree {
         let Some((lo, hi)) = l.limits else {
             return;
         };
+        if l.soft_limit.is_some() && self.integrator != super::Integrator::Implicit {
+            return; // inside the accelerations (`soft_limits`); the implicit step's are hard
+        }
         // The rate that reaches a stop by the step's end; beyond one, the rate that takes
         // back a fifth of the overshoot, no faster than the stop's recovery.
         let recover = |overshoot: f64| (STOP_RECOVERY * overshoot / h).min(l.stop_recovery_speed);

@@ -33,6 +33,7 @@ use impulses::CoordinateRow;
 mod dynamics;
 mod impulses;
 mod integrate;
+mod soft_limits;
 
 pub use integrate::Integrator;
 
@@ -74,6 +75,8 @@ pub struct TreeLink {
     pub motor: Option<(f64, f64)>,
     /// Dry friction: the coordinate holds until pushed harder than this (≥ 0).
     pub friction: f64,
+    /// MuJoCo's soft model for the stops in `limits` (`None`: hard stops, as impulses).
+    pub soft_limit: Option<crate::SoftLimit>,
     /// A servo: stiffness kp towards a position and gain kv towards a rate, implicit in the
     /// step (`(position, rate, kp, kv)`, gains ≥ 0).
     pub servo: Option<(f64, f64, f64, f64)>,
@@ -99,6 +102,7 @@ impl Default for TreeLink {
             limits: None,
             motor: None,
             friction: 0.0,
+            soft_limit: None,
             servo: None,
             stop_recovery_speed: f64::INFINITY,
         }
@@ -154,6 +158,9 @@ pub struct ArticulatedTree {
     offset: Vec<f64>,
     lu: Vec<f64>,
     q_start: Vec<f64>,
+    /// The soft stops engaged in the last evaluation, and the step's length they read.
+    soft_rows: Vec<soft_limits::SoftRow>,
+    step_length: f64,
 }
 
 impl ArticulatedTree {
@@ -234,6 +241,8 @@ impl ArticulatedTree {
             offset: vec![0.0; n],
             lu: vec![0.0; n * n],
             q_start: vec![0.0; n],
+            soft_rows: Vec::with_capacity(2 * n),
+            step_length: 0.0,
         })
     }
 
@@ -277,6 +286,7 @@ impl ArticulatedTree {
             v.resize(n, 0.0);
         }
         self.lu.resize(n * n, 0.0);
+        self.soft_rows.reserve(2 * n);
     }
 
     /// The integrator the steps use.
@@ -405,6 +415,7 @@ impl ArticulatedTree {
         }
         self.rate0.copy_from_slice(qd);
         self.q_start.copy_from_slice(q);
+        self.step_length = h;
         let mut qdd = std::mem::take(&mut self.rhs);
         qdd.resize(self.len(), 0.0);
         let solved = self.smooth_step(q, qd, tau, h, &mut qdd).and_then(|()| {

@@ -184,6 +184,81 @@ pub struct JointDynamics {
     pub rest: Real,
     /// Dry friction, N·m (or N): the coordinate holds until pushed harder than this.
     pub friction: Real,
+    /// MuJoCo's soft-constraint model for the coordinate's stops (an MJCF joint's
+    /// `solreflimit`, `solimplimit` and `margin`), which the reduced-coordinate path follows;
+    /// `None` (the default): hard stops. The maximal-coordinate paths keep hard stops.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub soft_limit: Option<SoftLimit>,
+}
+
+/// MuJoCo's soft constraint for a joint's stops: within `margin` of a stop a row pulls the
+/// coordinate's acceleration towards `−b v − k d(x) x` (`x` the distance past the margin,
+/// `v` the rate towards the stop), `b = 2 / (d_max τ)`, `k = 1 / (d_max² τ² ζ²)` with
+/// `solref = (τ, ζ)` and `τ` at least two steps; its impedance `d(x)` rises from `d_min`
+/// to `d_max` over `width` (`solimp = (d_min, d_max, width, midpoint, power)`) and sets how
+/// much of that the row achieves: regulariser `R = (1 − d)/d · [H⁻¹]ᵢᵢ`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SoftLimit {
+    /// Time constant τ (s) and damping ratio ζ. MuJoCo's default (0.02, 1).
+    pub solref: [Real; 2],
+    /// `d_min`, `d_max` (in (0, 1)), `width` (> 0), midpoint (in (0, 1)), power (≥ 1).
+    /// MuJoCo's default (0.9, 0.95, 0.001, 0.5, 2).
+    pub solimp: [Real; 5],
+    /// Distance from a stop at which its row engages (≥ 0).
+    pub margin: Real,
+}
+
+impl Default for SoftLimit {
+    fn default() -> Self {
+        Self {
+            solref: [0.02, 1.0],
+            solimp: [0.9, 0.95, 0.001, 0.5, 2.0],
+            margin: 0.0,
+        }
+    }
+}
+
+impl SoftLimit {
+    /// Checks every field, naming the first out of range.
+    pub fn validate(&self) -> KeaResult<()> {
+        let [tau, zeta] = self.solref;
+        let [dmin, dmax, width, mid, power] = self.solimp;
+        let bad = |arg: &'static str, v: Real, expected: &'static str| {
+            Err(KeaError::OutOfRange {
+                arg,
+                value: v.to_string(),
+                expected,
+            })
+        };
+        let unit = |x: Real| x > 0.0 && x < 1.0;
+        if !(tau.is_finite() && tau > 0.0) {
+            return bad("solref[0]", tau, "a time constant > 0");
+        }
+        if !(zeta.is_finite() && zeta > 0.0) {
+            return bad("solref[1]", zeta, "a damping ratio > 0");
+        }
+        if !unit(dmin) || !unit(dmax) {
+            return bad(
+                "solimp[0..2]",
+                if unit(dmin) { dmax } else { dmin },
+                "in (0, 1)",
+            );
+        }
+        if !(width.is_finite() && width > 0.0) {
+            return bad("solimp[2]", width, "a width > 0");
+        }
+        if !unit(mid) {
+            return bad("solimp[3]", mid, "a midpoint in (0, 1)");
+        }
+        if !(power.is_finite() && power >= 1.0) {
+            return bad("solimp[4]", power, "a power >= 1");
+        }
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return bad("margin", self.margin, "a distance >= 0");
+        }
+        Ok(())
+    }
 }
 
 impl JointDynamics {
@@ -194,7 +269,7 @@ impl JointDynamics {
         check_non_negative("stiffness", self.stiffness)?;
         check_finite("rest", self.rest)?;
         check_non_negative("friction", self.friction)?;
-        Ok(())
+        self.soft_limit.map_or(Ok(()), |s| s.validate())
     }
 
     fn is_zero(&self) -> bool {
@@ -402,6 +477,7 @@ impl Limit {
             stiffness: k,
             rest,
             friction,
+            ..
         } = self.dynamics;
         if !self.dynamics.is_zero() {
             let m = a + dt * d + dt * dt * k;

@@ -30,7 +30,7 @@ pub use contact::{
 pub use fixed::FixedJoint;
 pub use fixed_path::FixedPath;
 pub use hinge::Hinge;
-pub use limit::{Actuator, JointDynamics, Limit, Motor, SingleLimit};
+pub use limit::{Actuator, JointDynamics, Limit, Motor, SingleLimit, SoftLimit};
 pub use linear1::Linear1;
 pub use linear2::Linear2;
 pub use planar::Planar;

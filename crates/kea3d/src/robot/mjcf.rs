@@ -28,8 +28,7 @@ use std::path::{Path, PathBuf};
 /// A read MJCF file.
 pub(crate) struct MjcfModel {
     pub spec: RobotSpec,
-    pub gravity: Vec3,
-    pub timestep: Option<Real>,
+    pub option: super::mjcf_option::MjcfOption,
     pub actuators: Vec<ActuatorSpec>,
     pub equalities: Vec<super::mjcf_equality::EqualitySpec>,
 }
@@ -94,7 +93,8 @@ pub(crate) fn parse(
     }
     let compiler = Compiler::read(&src, root)?;
     let defaults = Defaults::read(&src, root)?;
-    let (gravity, timestep) = read_option(&src, root)?;
+    let mut skipped = Vec::new();
+    let option = super::mjcf_option::read(&src, root, &mut skipped)?;
     let mut reader = Reader {
         meshes: HashMap::new(),
         compiler,
@@ -104,6 +104,7 @@ pub(crate) fn parse(
         src,
         _doc: std::marker::PhantomData,
     };
+    reader.spec.skipped.append(&mut skipped);
     reader.read_assets(root)?;
     for world in children(root, "worldbody") {
         reader.read_body_contents(world, 0, MAIN)?;
@@ -125,8 +126,7 @@ pub(crate) fn parse(
     Ok(MjcfModel {
         equalities,
         spec: reader.spec,
-        gravity,
-        timestep,
+        option,
         actuators,
     })
 }
@@ -136,23 +136,6 @@ fn contacts_disabled(root: Node<'_, '_>) -> bool {
     children(root, "option")
         .flat_map(|o| children(o, "flag"))
         .any(|f| f.attribute("contact") == Some("disable"))
-}
-
-fn read_option(src: &Source<'_>, root: Node<'_, '_>) -> Result<(Vec3, Option<Real>), ImportError> {
-    let mut gravity = Vec3::new(0.0, 0.0, -9.81);
-    let mut timestep = None;
-    for o in children(root, "option") {
-        if let Some(g) = src.vec3(o, "gravity")? {
-            gravity = g;
-        }
-        if let Some(t) = src.number(o, "timestep")? {
-            if !above(t, 0.0) {
-                return Err(src.error(o, format!("`timestep` = {t}: must be > 0")));
-            }
-            timestep = Some(t);
-        }
-    }
-    Ok((gravity, timestep))
 }
 
 impl<'a, 'd> Reader<'a, 'd> {
@@ -534,9 +517,45 @@ impl<'a, 'd> Reader<'a, 'd> {
             // at the file's pose, where the file's coordinate is `ref`.
             rest: unit(el.number("springref")?.unwrap_or(0.0)) - c.reference,
             friction: el.non_negative("frictionloss")?,
+            soft_limit: soft_limit(&el)?,
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
+}
+
+/// A joint's stops as MuJoCo makes them: soft, by its `solreflimit`, `solimplimit` (3 or 5
+/// numbers) and `margin`, MuJoCo's defaults where absent.
+fn soft_limit(el: &Element<'_>) -> Result<Option<kea::SoftLimit>, ImportError> {
+    let mut s = kea::SoftLimit::default();
+    if let Some(r) = el.numbers::<2>("solreflimit")? {
+        if r[0] <= 0.0 {
+            return Err(el.error(format!(
+                "`solreflimit` = {} {}: Kea reads MuJoCo's positive (time constant, damping ratio) form",
+                r[0], r[1]
+            )));
+        }
+        s.solref = r;
+    }
+    let imp = match el.numbers::<5>("solimplimit") {
+        Ok(v) => v,
+        Err(five) => match el.numbers::<3>("solimplimit") {
+            Ok(v) => v.map(|[a, b, c]| [a, b, c, 0.5, 2.0]),
+            Err(_) => return Err(five),
+        },
+    };
+    if let Some(i) = imp {
+        // MuJoCo clamps the impedances into (0, 1).
+        s.solimp = [
+            i[0].clamp(1e-4, 0.9999),
+            i[1].clamp(1e-4, 0.9999),
+            i[2],
+            i[3],
+            i[4],
+        ];
+    }
+    s.margin = el.non_negative("margin")?;
+    s.validate().map_err(|e| el.error(e.to_string()))?;
+    Ok(Some(s))
 }
 
 /// Points on an ellipsoid of these radii, for its convex hull.

@@ -38,6 +38,7 @@ mod mjcf_defaults;
 mod mjcf_equality;
 mod mjcf_include;
 mod mjcf_joints;
+mod mjcf_option;
 mod model;
 mod spec;
 mod urdf;
@@ -137,8 +138,11 @@ impl PhysicsWorld {
     }
 
     /// Loads an MJCF model (MuJoCo's format): its `worldbody` tree, joints, geometry,
-    /// defaults and actuators. Gravity comes from its `option` (−9.81 along z by default). On
-    /// error, which names the file, line and element, nothing is added.
+    /// defaults and actuators. Its `option` sets the world's gravity (−9.81 along z by
+    /// default) and integrator (MuJoCo's default, Euler, when it names none), and its
+    /// `timestep` is the robot's [`Robot::timestep`]; options Kea does not model are named in
+    /// [`Robot::skipped`]. On error, which names the file, line and element, nothing is
+    /// added.
     pub fn load_mjcf(
         &mut self,
         path: impl AsRef<Path>,
@@ -160,18 +164,23 @@ impl PhysicsWorld {
         let path = name.as_ref();
         let model = mjcf::parse(text, path, options)?;
         let mut staged = self.clone();
+        let option = model.option;
         staged
-            .set_gravity(model.gravity)
+            .dynamics_mut()
+            .update_settings(|s| {
+                s.gravity = option.gravity;
+                s.integrator = option.integrator;
+            })
             .map_err(|source| ImportError::World {
                 file: path.to_path_buf(),
                 element: "option".into(),
-                source,
+                source: kea_collision::CollisionError::Kea(source),
             })?;
         let mut robot =
             staged.build_robot(&model.spec, path, Vec3::ZERO, options.self_collision)?;
         mjcf_equality::build(&mut staged, &robot, &model.equalities, path)?;
         robot.set_actuators(model.actuators);
-        robot.timestep = model.timestep;
+        robot.timestep = option.timestep;
         *self = staged;
         Ok(robot)
     }

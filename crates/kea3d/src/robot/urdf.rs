@@ -414,6 +414,7 @@ fn read_coordinate(
             rest: 0.0,
             damping: src.non_negative(d, "damping")?.unwrap_or(0.0),
             friction: src.non_negative(d, "friction")?.unwrap_or(0.0),
+            soft_limit: None,
         };
     }
     Ok(c)

@@ -6,7 +6,8 @@
     python mujoco_reference.py swing MODEL DT STEPS EVERY Q0 [V0]
         loads MODEL (URDF or MJCF) in MuJoCo, sets joint positions Q0 (and velocities V0,
         comma-separated, in MuJoCo's qpos/qvel order), turns contacts off, steps STEPS times
-        of DT and prints JSON {"t": [...], "q": [[...], ...]} every EVERY steps
+        of DT (`file`: the file's own timestep) and prints JSON {"t": [...], "q": [[...], ...]}
+        every EVERY steps
     python mujoco_reference.py pybullet_swing URDF DT STEPS EVERY Q0
         the same swing in PyBullet (fixed base, the file's inertias, its default link damping
         turned off, motors off), for reporting beside MuJoCo
@@ -71,7 +72,9 @@ def numbers(text):
 def swing(model_path, dt, steps, every, q0, v0):
     import mujoco
     m = load(model_path)
-    m.opt.timestep = dt
+    if dt != "file":
+        m.opt.timestep = float(dt)
+    dt = m.opt.timestep
     m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     if os.environ.get("KEA_REF_INTEGRATOR"):
         m.opt.integrator = getattr(mujoco.mjtIntegrator, "mjINT_" + os.environ["KEA_REF_INTEGRATOR"])
@@ -132,7 +135,7 @@ def main(argv):
     if argv[0] == "paths":
         out = paths()
     elif argv[0] == "swing":
-        out = swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]),
+        out = swing(argv[1], argv[2] if argv[2] == "file" else float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]),
                     numbers(argv[6]) if len(argv) > 6 else [])
     elif argv[0] == "pybullet_swing":
         out = pybullet_swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]))

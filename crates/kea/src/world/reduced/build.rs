@@ -281,6 +281,7 @@ pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
     link.armature = wide(d.armature);
     link.damping = wide(d.damping);
     link.friction = wide(d.friction);
+    link.soft_limit = d.soft_limit;
     // The joint's spring and a servo act as one spring (their stiffnesses add, towards the
     // stiffness-weighted target) and one damper towards the servo's rate.
     let (k, rest) = (wide(d.stiffness), tree(d.rest));

@@ -1,0 +1,107 @@
+//! MuJoCo's soft stops on a tree's coordinates (`crate::SoftLimit`): inside every evaluation
+//! of the accelerations, each stop within its margin is a row `J = ±e_i` whose force `f ≥ 0`
+//! solves `min ½ fᵀ (A + R) f + fᵀ (J q̈₀ − a_ref)` — `A = J H'⁻¹ Jᵀ`, `q̈₀` the free
+//! accelerations — by projected Gauss–Seidel to round-off, then `q̈ = q̈₀ + H'⁻¹ Jᵀ f`.
+//! The regulariser uses the current `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's
+//! reference pose (equal for a slider on a free body, close for an arm).
+
+use super::dynamics::cholesky_back_solve;
+use super::ArticulatedTree;
+use crate::SoftLimit;
+
+/// One engaged soft stop: its coordinate, direction (+1 lower, −1 upper), the acceleration it
+/// pulls towards, its regulariser, and its force.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct SoftRow {
+    coordinate: usize,
+    sign: f64,
+    reference: f64,
+    regulariser: f64,
+    force: f64,
+}
+
+/// MuJoCo's impedance at distance `x` past the margin.
+fn impedance(s: &SoftLimit, x: f64) -> f64 {
+    let [dmin, dmax, width, mid, power] = s.solimp.map(f64::from);
+    let x = (x.abs() / width).min(1.0);
+    let y = if x <= mid {
+        x.powf(power) / mid.powf(power - 1.0)
+    } else {
+        1.0 - (1.0 - x).powf(power) / (1.0 - mid).powf(power - 1.0)
+    };
+    dmin + y * (dmax - dmin)
+}
+
+impl ArticulatedTree {
+    /// Adds the soft stops' forces to the accelerations `qdd` at `q`, `qd`; the factor of
+    /// `H'` must be in `h`. `step` is the step's length (a time constant is at least two).
+    pub(super) fn soft_stops(&mut self, q: &[f64], qd: &[f64], qdd: &mut [f64], step: f64) {
+        let n = self.len();
+        self.soft_rows.clear();
+        for i in 0..n {
+            let l = &self.links[i];
+            let (Some(s), Some((lo, hi))) = (l.soft_limit, l.limits) else {
+                continue;
+            };
+            let margin = f64::from(s.margin);
+            let tau = f64::from(s.solref[0]).max(2.0 * step);
+            let (zeta, dmax) = (f64::from(s.solref[1]), f64::from(s.solimp[1]));
+            let (b, k) = (
+                2.0 / (dmax * tau),
+                1.0 / (dmax * dmax * tau * tau * zeta * zeta),
+            );
+            for (sign, distance) in [(1.0, q[i] - lo), (-1.0, hi - q[i])] {
+                if distance >= margin {
+                    continue;
+                }
+                let x = distance - margin;
+                let d = impedance(&s, x);
+                self.soft_rows.push(SoftRow {
+                    coordinate: i,
+                    sign,
+                    reference: -b * sign * qd[i] - k * d * x,
+                    regulariser: (1.0 - d) / d,
+                    force: 0.0,
+                });
+            }
+        }
+        if self.soft_rows.is_empty() {
+            return;
+        }
+        // The columns of H'⁻¹ the rows act through.
+        for r in 0..self.soft_rows.len() {
+            let j = self.soft_rows[r].coordinate;
+            self.column.iter_mut().for_each(|c| *c = 0.0);
+            self.column[j] = 1.0;
+            let mut col = std::mem::take(&mut self.column);
+            cholesky_back_solve(&self.h, n, &mut col);
+            for (i, &c) in col.iter().enumerate() {
+                self.inverse[i * n + j] = c;
+            }
+            self.column = col;
+            let row = &mut self.soft_rows[r];
+            row.regulariser *= self.inverse[j * n + j];
+        }
+        for _sweep in 0..100 {
+            let mut largest: f64 = 0.0;
+            for r in 0..self.soft_rows.len() {
+                let row = self.soft_rows[r];
+                let i = row.coordinate;
+                let a = self.inverse[i * n + i];
+                let residual = row.sign * qdd[i] - row.reference + row.regulariser * row.force;
+                let f = (row.force - residual / (a + row.regulariser)).max(0.0);
+                let delta = f - row.force;
+                if delta != 0.0 {
+                    self.soft_rows[r].force = f;
+                    for (k, acc) in qdd.iter_mut().enumerate() {
+                        *acc += self.inverse[k * n + i] * row.sign * delta;
+                    }
+                    largest = largest.max((delta * a).abs());
+                }
+            }
+            if largest < 1e-13 {
+                break;
+            }
+        }
+    }
+}
