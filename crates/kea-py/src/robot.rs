@@ -254,6 +254,37 @@ impl PyWorld {
             .update_settings(|s| s.world_substeps = substeps))
     }
 
+    /// How trees in reduced coordinates integrate: "rk4" (the default; an MJCF file's
+    /// `option integrator` sets it on load), "euler" or "implicit".
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        match self.inner.dynamics().settings().integrator {
+            kea3d::dynamics::Integrator::Euler => "euler",
+            kea3d::dynamics::Integrator::Implicit => "implicit",
+            kea3d::dynamics::Integrator::RungeKutta4 => "rk4",
+        }
+    }
+
+    #[setter]
+    fn set_integrator(&mut self, name: &str) -> PyResult<()> {
+        use kea3d::dynamics::Integrator;
+        let integrator = match name {
+            "euler" => Integrator::Euler,
+            "implicit" => Integrator::Implicit,
+            "rk4" => Integrator::RungeKutta4,
+            _ => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "argument `integrator`: {:?} is not one of \"euler\", \"implicit\", \"rk4\"",
+                    name.chars().take(40).collect::<String>()
+                )))
+            }
+        };
+        py(self
+            .inner
+            .dynamics_mut()
+            .update_settings(|s| s.integrator = integrator))
+    }
+
     /// Length of the joint position vector (MuJoCo's `nq`).
     #[getter]
     fn position_count(&self) -> PyResult<usize> {

@@ -316,10 +316,12 @@ impl PyWorld {
         Ok(self.joints.len() - 1)
     }
 
-    /// Steps the world `steps` times by `dt` seconds, with the GIL released.
-    #[pyo3(signature = (dt = 1.0 / 60.0, steps = 1))]
-    fn step(&mut self, py_: Python<'_>, dt: f64, steps: usize) -> PyResult<()> {
-        let dt = real(dt);
+    /// Steps the world `steps` times by `dt` seconds, with the GIL released. Without `dt`,
+    /// the step its robot's file asks for (MJCF's `option timestep`), else 1/60 s.
+    #[pyo3(signature = (dt = None, steps = 1))]
+    fn step(&mut self, py_: Python<'_>, dt: Option<f64>, steps: usize) -> PyResult<()> {
+        let file_step = self.robot.as_ref().and_then(|r| r.timestep());
+        let dt = dt.map_or_else(|| file_step.unwrap_or(1.0 / 60.0), real);
         let inner = &mut self.inner;
         py(py_.detach(|| (0..steps).try_for_each(|_| inner.step(dt).map(|_| ()))))
     }

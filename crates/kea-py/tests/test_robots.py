@@ -259,3 +259,33 @@ def test_motors_drive_the_arm_and_its_links_are_named():
     (pos, quat) = arm.link_pose("lbr_iiwa_link_7")
     assert len(pos) == 3 and len(quat) == 4
     assert "lbr_iiwa_link_7" in arm.link_names()
+
+
+@needs_gym_assets
+def test_an_mjcf_files_option_sets_the_step_and_integrator_and_follows_mujoco():
+    """The file's `timestep` and `integrator` are the world's: `step()` with no `dt` takes the
+    file's step, and the inverted double pendulum (RK4 in its file) follows MuJoCo from a random
+    start for 0.5 s at that step (VALIDATION #39)."""
+    path = os.path.join(GYM_ASSETS, "inverted_double_pendulum.xml")
+    w = kea.World.from_mjcf(path)
+    assert w.integrator == "rk4"
+    assert w.timestep == pytest.approx(0.01)
+    with pytest.raises(ValueError, match="integrator"):
+        w.integrator = "verlet"
+    assert w.integrator == "rk4"
+    mujoco = pytest.importorskip("mujoco")
+    m = mujoco.MjModel.from_xml_path(path)
+    d = mujoco.MjData(m)
+    rng = np.random.default_rng(7)
+    q0, v0 = rng.uniform(-0.3, 0.3, m.nq), rng.uniform(-1, 1, m.nv)
+    d.qpos[:], d.qvel[:] = q0, v0
+    w.set_joint_positions(q0)
+    w.set_joint_velocities(v0)
+    worst = 0.0
+    for _ in range(50):
+        mujoco.mj_step(m, d)
+        w.step()
+        worst = max(worst, float(np.max(np.abs(w.joint_positions() - d.qpos))))
+    assert worst < 0.01, worst
+    w.integrator = "euler"
+    assert w.integrator == "euler"

@@ -52,8 +52,9 @@ impl ArticulatedTree {
 
     /// Coordinate `i`'s rows at position `qi` and free rate `rate`: its motor, its dry friction,
     /// and each stop that the step's mean rate `rate + offset` would pass by the step's end.
-    /// Every row acts on the mean rate (its target given here on the end rate), so a stop is
-    /// not crossed and friction that holds keeps the coordinate where it is.
+    /// A stop and dry friction act on the mean rate (their targets given here on the end
+    /// rate), so a stop is not crossed and friction that holds keeps the coordinate where it
+    /// is; a motor holds the end rate, the one a user reads.
     fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, offset: f64, h: f64) {
         let l = self.links[i];
         let row = |target: f64, lo: f64, hi: f64| CoordinateRow {
@@ -64,7 +65,7 @@ impl ArticulatedTree {
             impulse: 0.0,
         };
         if let Some((v, f)) = l.motor {
-            self.rows.push(row(v - offset, -h * f, h * f));
+            self.rows.push(row(v, -h * f, h * f));
         }
         if l.friction > 0.0 {
             self.rows

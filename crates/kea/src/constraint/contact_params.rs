@@ -74,8 +74,12 @@ pub struct ContactParams {
     pub restitution: Real,
     /// Minimum approach speed (m/s) for a bounce; slower impacts do not bounce. Default 0.1.
     pub restitution_threshold: Real,
-    /// Contact softness ε (the guide's soft mode); `None` uses the world's ε. Around 1e-4 is
-    /// barely soft; 0.1–1 is visibly springy (units of inverse mass).
+    /// Contact softness ε (the guide's soft mode), units of inverse mass: around 1e-4 is
+    /// barely soft, 0.1–1 visibly springy. `None` (the default) does **not** use the world's
+    /// ε: the contact is the world's mass-independent contact spring
+    /// ([`crate::WorldSettings::contact_spring`], 240 Hz, damping ratio 10), so a 1 g and a
+    /// 10 t box sink alike. To make every contact harder (the guide's advice to lower ε),
+    /// raise that spring's frequency; to soften one contact, give it its own ε here.
     pub softness: Option<Real>,
     /// Maximum adhesive (pulling) force, N; 0 for none (the guide's adhesive mode).
     pub max_adhesive_force: Real,
@@ -86,7 +90,8 @@ pub struct ContactParams {
 }
 
 impl Default for ContactParams {
-    /// 2D Coulomb friction with μ = 0.5, no restitution, world softness, nothing else.
+    /// 2D Coulomb friction with μ = 0.5, no restitution, the world's contact spring, nothing
+    /// else.
     fn default() -> Self {
         Self {
             contact_type: ContactType::Friction2D,

@@ -6,9 +6,12 @@
 //! `contype`/`conaffinity`, and `motor`/`position`/`velocity` actuators on joints.
 //!
 //! A body with several joints is one Kea joint when they make one: two slides and a hinge
-//! about their common normal (a planar root, as in Hopper and Walker2d) or two slides. What
+//! about their common normal (a planar root, as in Hopper and Walker2d) or two slides. Joint
+//! springs (`stiffness`, `springref`) are read on hinges and slides and refused on ball and
+//! free joints; a joint's stops are MuJoCo's soft ones (`solreflimit`, `solimplimit`,
+//! `margin`) where it steps in reduced coordinates; `<option>` is `mjcf_option.rs`. What
 //! would change the physics and is not read — tendons, joint equalities, contact pairs and
-//! exclusions, joint springs, composites — is refused by name; what does not (lights,
+//! exclusions, composites — is refused by name; what does not (lights,
 //! cameras, sites, sensors, visual settings) is passed over.
 
 use super::mesh;
@@ -67,6 +70,7 @@ pub(crate) fn parse(
         .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
     let src = Source { file, doc: &doc };
     let root = doc.root_element();
+    check_nesting(&src, &doc)?;
     if root.tag_name().name() != "mujoco" {
         return Err(src.error(root, "an MJCF file's root element must be <mujoco>"));
     }
@@ -521,6 +525,26 @@ impl<'a, 'd> Reader<'a, 'd> {
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
+}
+
+/// Deepest element nesting read (the readers recurse once per level of bodies and default
+/// classes): a robot nests tens of levels, and 256 leave room on the smallest thread stack a
+/// user may step from (`tests/mjcf.rs`).
+const MAX_NESTING: usize = 256;
+
+/// Refuses a file nested deeper than [`MAX_NESTING`], naming the first element past it,
+/// without recursing (nodes come in document order, so no node is walked up further than
+/// the limit before the first too deep one).
+fn check_nesting(src: &Source<'_>, doc: &Document<'_>) -> Result<(), ImportError> {
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        if node.ancestors().take(MAX_NESTING + 2).count() > MAX_NESTING + 1 {
+            return Err(src.error(
+                node,
+                format!("elements nest more than {MAX_NESTING} deep: the model is refused"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A joint's stops as MuJoCo makes them: soft, by its `solreflimit`, `solimplimit` (3 or 5
