@@ -29,6 +29,7 @@ fn link(
         limits: None,
         motor: None,
         friction: 0.0,
+        soft_limit: None,
         servo: None,
         stop_recovery_speed: f64::INFINITY,
     }

@@ -521,7 +521,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             // at the file's pose, where the file's coordinate is `ref`.
             rest: unit(el.number("springref")?.unwrap_or(0.0)) - c.reference,
             friction: el.non_negative("frictionloss")?,
-            soft_limit: soft_limit(&el)?,
+            soft_limit: soft_limit(el)?,
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
