@@ -28,6 +28,7 @@ fn main() {
             limits: Some((-2.9, 2.9)),
             motor: None,
             friction: 0.0,
+            soft_limit: None,
             servo: None,
             stop_recovery_speed: f64::INFINITY,
         })
