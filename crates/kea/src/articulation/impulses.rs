@@ -102,21 +102,26 @@ impl ArticulatedTree {
     /// solve with the factor `solve` left): a coordinate's impulse moves every rate along its
     /// column.
     fn inverse_columns(&mut self) {
-        let n = self.len();
         for r in 0..self.rows.len() {
             let j = self.rows[r].coordinate;
             if self.rows[..r].iter().any(|x| x.coordinate == j) {
                 continue; // solved for an earlier row of the same coordinate
             }
-            self.column.iter_mut().for_each(|c| *c = 0.0);
-            self.column[j] = 1.0;
-            let mut col = std::mem::take(&mut self.column);
-            cholesky_back_solve(&self.h, n, &mut col);
-            for (i, &c) in col.iter().enumerate() {
-                self.inverse[i * n + j] = c;
-            }
-            self.column = col;
+            self.inverse_column(j);
         }
+    }
+
+    /// Column `j` of `H'⁻¹` into `inverse` (a solve with the factor in `h`).
+    pub(super) fn inverse_column(&mut self, j: usize) {
+        let n = self.len();
+        self.column.iter_mut().for_each(|c| *c = 0.0);
+        self.column[j] = 1.0;
+        let mut col = std::mem::take(&mut self.column);
+        cholesky_back_solve(&self.h, n, &mut col);
+        for (i, &c) in col.iter().enumerate() {
+            self.inverse[i * n + j] = c;
+        }
+        self.column = col;
     }
 
     /// Projected Gauss–Seidel over the rows until no impulse moves a rate by more than

@@ -5,7 +5,6 @@
 //! The regulariser uses the current `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's
 //! reference pose (equal for a slider on a free body, close for an arm).
 
-use super::dynamics::cholesky_back_solve;
 use super::ArticulatedTree;
 use crate::SoftLimit;
 
@@ -71,14 +70,7 @@ impl ArticulatedTree {
         // The columns of H'⁻¹ the rows act through.
         for r in 0..self.soft_rows.len() {
             let j = self.soft_rows[r].coordinate;
-            self.column.iter_mut().for_each(|c| *c = 0.0);
-            self.column[j] = 1.0;
-            let mut col = std::mem::take(&mut self.column);
-            cholesky_back_solve(&self.h, n, &mut col);
-            for (i, &c) in col.iter().enumerate() {
-                self.inverse[i * n + j] = c;
-            }
-            self.column = col;
+            self.inverse_column(j);
             let row = &mut self.soft_rows[r];
             row.regulariser *= self.inverse[j * n + j];
         }
