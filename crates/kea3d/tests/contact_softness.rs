@@ -25,7 +25,7 @@ fn sink(settings: impl FnOnce(&mut kea3d::dynamics::WorldSettings)) -> f64 {
         world.step(1.0 / 60.0).unwrap();
     }
     // The ground's top is at y = 0.5, the box's centre 0.5 above it when just touching.
-    1.0 - f64::from(world.position(b).unwrap().y)
+    1.0 - kea3d::dynamics::math::wide(world.position(b).unwrap().y)
 }
 
 #[test]

@@ -6,6 +6,7 @@
 //! reference pose (equal for a slider on a free body, close for an arm).
 
 use super::ArticulatedTree;
+use crate::math::wide;
 use crate::SoftLimit;
 
 /// One engaged soft stop: its coordinate, direction (+1 lower, −1 upper), the acceleration it
@@ -21,7 +22,7 @@ pub(super) struct SoftRow {
 
 /// MuJoCo's impedance at distance `x` past the margin.
 fn impedance(s: &SoftLimit, x: f64) -> f64 {
-    let [dmin, dmax, width, mid, power] = s.solimp.map(f64::from);
+    let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
     let x = (x.abs() / width).min(1.0);
     let y = if x <= mid {
         x.powf(power) / mid.powf(power - 1.0)
@@ -42,9 +43,9 @@ impl ArticulatedTree {
             let (Some(s), Some((lo, hi))) = (l.soft_limit, l.limits) else {
                 continue;
             };
-            let margin = f64::from(s.margin);
-            let tau = f64::from(s.solref[0]).max(2.0 * step);
-            let (zeta, dmax) = (f64::from(s.solref[1]), f64::from(s.solimp[1]));
+            let margin = wide(s.margin);
+            let tau = wide(s.solref[0]).max(2.0 * step);
+            let (zeta, dmax) = (wide(s.solref[1]), wide(s.solimp[1]));
             let (b, k) = (
                 2.0 / (dmax * tau),
                 1.0 / (dmax * dmax * tau * tau * zeta * zeta),
