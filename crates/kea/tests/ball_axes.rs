@@ -77,24 +77,96 @@ fn axes_read_back_and_bad_ones_are_refused_without_change() {
     let o = j.limit_axis(&w, 1, true).unwrap();
     assert!(o.dot(axis).abs() < 1e-6, "kept ⊥ the primary axis: {o}");
     let before = *j.get(&w).unwrap();
-    // Not perpendicular to body 2's primary axis, not unit, a third body, body 1's
-    // orthogonal axis (not kept): refused, nothing changed.
+    // Not perpendicular to that body's primary axis, not unit, a third body: refused,
+    // nothing changed.
     let e = j
-        .set_orthogonal_axis(&mut w, Vec3::X)
+        .set_orthogonal_axis(&mut w, 1, Vec3::X)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("perpendicular"), "{e}");
+    assert!(e.contains("perpendicular") && e.contains("body 2"), "{e}");
+    let e = j
+        .set_orthogonal_axis(&mut w, 0, -Vec3::Y)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("perpendicular") && e.contains("body 1"), "{e}");
     assert!(j
-        .set_orthogonal_axis(&mut w, Vec3::new(0.0, 0.0, 2.0))
+        .set_orthogonal_axis(&mut w, 1, Vec3::new(0.0, 0.0, 2.0))
         .is_err());
+    assert!(j.set_orthogonal_axis(&mut w, 2, Vec3::Z).is_err());
     let e = j
         .set_primary_axis(&mut w, 2, Vec3::X)
         .unwrap_err()
         .to_string();
     assert!(e.contains("body") && e.contains('2'), "{e}");
-    assert!(j.limit_axis(&w, 0, true).is_err());
     assert_eq!(*j.get(&w).unwrap(), before);
-    // A perpendicular one is kept.
-    j.set_orthogonal_axis(&mut w, Vec3::Z).unwrap();
+    // A perpendicular one is kept, for either body.
+    j.set_orthogonal_axis(&mut w, 1, Vec3::Z).unwrap();
     assert!((j.limit_axis(&w, 1, true).unwrap() - Vec3::Z).length() < 1e-6);
+    j.set_orthogonal_axis(&mut w, 0, Vec3::Z).unwrap();
+    assert!((j.limit_axis(&w, 0, true).unwrap() - Vec3::Z).length() < 1e-6);
+}
+
+/// Body 1's orthogonal axis is kept too (the guide's call with a body index) and sets where
+/// the twist is zero: a hanging rod whose twist is held at zero by stops turns about its own
+/// axis until its new orthogonal axis lies along body 2's, on every path.
+#[test]
+fn body_ones_orthogonal_axis_sets_the_twists_zero() {
+    const TURN: Real = 0.4;
+    for mode in [
+        SolverMode::Hybrid,
+        SolverMode::Exact,
+        SolverMode::Iterative,
+        SolverMode::Split,
+    ] {
+        let mut w = world_on(mode, 2, 2);
+        let rod = w
+            .create_body(&BodyDef {
+                position: Vec3::new(0.0, -0.5, 0.0),
+                inertia: Mat3::from_diagonal(Vec3::new(1.0 / 12.0, 0.01, 1.0 / 12.0)),
+                angular_damping: 2.0,
+                ..BodyDef::default()
+            })
+            .unwrap();
+        let j = w
+            .create_joint(rod, None, JointSpec::ball(Vec3::ZERO))
+            .unwrap();
+        j.set_limit_axes(&mut w, -Vec3::Y, Vec3::X).unwrap();
+        // Turned by TURN about the (downward) primary axis: the twist now reads TURN.
+        let turned = kea::Quat::from_axis_angle(-Vec3::Y, TURN) * Vec3::X;
+        assert!(turned.dot(-Vec3::Y).abs() < 1e-6);
+        j.set_orthogonal_axis(&mut w, 0, turned).unwrap();
+        let read = j.limit_axis(&w, 0, true).unwrap();
+        assert!((read - turned).length() < 1e-5, "{mode:?}: {read}");
+        assert!((j.limit_axis(&w, 1, true).unwrap() - Vec3::X).length() < 1e-5);
+        // Stops far off: one step at rest reads the twist as it stands.
+        let twist = &mut j.limits_mut(&mut w).unwrap().twist;
+        twist
+            .set_limits(SingleLimit::hard(-3.0, 0.0), SingleLimit::hard(3.0, 0.0))
+            .unwrap();
+        w.step(1.0 / 60.0).unwrap();
+        let first = j.limits_mut(&mut w).unwrap().twist.position();
+        assert!(
+            (first - TURN).abs() < 1e-3,
+            "{mode:?}: the twist read {first}, not {TURN}"
+        );
+        let twist = &mut j.limits_mut(&mut w).unwrap().twist;
+        twist
+            .set_limits(SingleLimit::hard(-0.01, 0.0), SingleLimit::hard(0.01, 0.0))
+            .unwrap();
+        for _ in 0..600 {
+            w.step(1.0 / 60.0).unwrap();
+        }
+        // The stops turned the rod about its axis by −TURN: body 1's orthogonal axis now
+        // lies along body 2's (the world's x), and the twist reads (about) zero.
+        let o1 = j.limit_axis(&w, 0, true).unwrap();
+        let gap = o1.angle_between(Vec3::X);
+        assert!(
+            gap < 0.02,
+            "{mode:?}: body 1's orthogonal axis {o1} is {gap} rad off"
+        );
+        let twist = j.limits_mut(&mut w).unwrap().twist.position();
+        assert!(twist.abs() < 0.02, "{mode:?}: twist {twist}");
+        let down = w.body(rod).unwrap().position().normalize();
+        assert!(down.angle_between(-Vec3::Y) < 0.01, "{mode:?}: {down}");
+    }
 }

@@ -43,6 +43,11 @@ pub struct BallLimits {
     pub primary1: Vec3,
     /// Primary axis, body 2's frame.
     pub primary2: Vec3,
+    /// Orthogonal axis (⊥ primary), body 1's frame: the twist is zero where it lies along
+    /// body 2's orthogonal axis as both were when the axes were set (zero in snapshots made
+    /// before it was kept: read through [`BallLimits::orthogonal1`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub orthogonal1: Vec3,
     /// Orthogonal axis (⊥ primary), body 2's frame: where the segment angle is zero.
     pub orthogonal2: Vec3,
     /// Relative orientation `q₂⁻¹ q₁` when the limits were set (zero twist).
@@ -64,12 +69,35 @@ impl BallLimits {
         Self {
             primary1: b1.orientation.inverse() * primary,
             primary2: b2.orientation.inverse() * primary,
+            orthogonal1: b1.orientation.inverse() * orthogonal,
             orthogonal2: b2.orientation.inverse() * orthogonal,
             reference: b2.orientation.inverse() * b1.orientation,
             twist: Limit::default(),
             cone: Limit::default(),
             segment: Limit::default(),
         }
+    }
+
+    /// Body 1's orthogonal axis in its frame (for limits from before it was kept: the one
+    /// that lay along body 2's when the axes were set).
+    #[must_use]
+    pub fn orthogonal1(&self) -> Vec3 {
+        if self.orthogonal1 == Vec3::ZERO {
+            self.reference.inverse() * self.orthogonal2
+        } else {
+            self.orthogonal1
+        }
+    }
+
+    /// Turns body 1's orthogonal axis to `axis` (body 1's frame, unit, ⊥ its primary axis):
+    /// the twist's zero turns with it, so that the twist reads zero where the new axis lies
+    /// along body 2's orthogonal axis as it was when the axes were set.
+    pub(crate) fn turn_orthogonal1(&mut self, axis: Vec3) {
+        let p = self.primary1;
+        let old = self.orthogonal1();
+        let turn = p.dot(old.cross(axis)).atan2(old.dot(axis));
+        self.reference = (self.reference * Quat::from_axis_angle(p, -turn)).normalize();
+        self.orthogonal1 = axis;
     }
 
     /// (coordinate, rate, Jacobian) for twist, cone and segment at a state.

@@ -355,6 +355,10 @@ impl JointHandle<BallJoint> {
             .get_or_insert_with(|| BallLimits::new(&ctx, axis, axis.any_orthonormal_vector()));
         let local = ctx.bodies[body].orientation.inverse() * axis;
         if body == 0 {
+            // Body 1's orthogonal axis follows, kept ⊥ its new primary axis.
+            let o = limits.orthogonal1();
+            let o = o - local * o.dot(local);
+            limits.orthogonal1 = o.try_normalize().unwrap_or(local.any_orthonormal_vector());
             limits.primary1 = local;
         } else {
             // Body 2's orthogonal axis follows, kept ⊥ its new primary axis.
@@ -365,30 +369,51 @@ impl JointHandle<BallJoint> {
         Ok(())
     }
 
-    /// Sets body 2's orthogonal axis, where the segment angle is zero (the guide's
-    /// `MdtBSJointSetOrthogonalAxis`): world unit `axis`, which must be perpendicular to body
-    /// 2's primary axis (within 1e-3); refused, changing nothing, otherwise or before the
-    /// joint has limit axes.
-    pub fn set_orthogonal_axis(self, world: &mut impl AsMut<World>, axis: Vec3) -> KeaResult<()> {
+    /// Sets body `body`'s orthogonal limit axis (the guide's `MdtBSJointSetOrthogonalAxis`, 0:
+    /// body 1, 1: body 2): world unit `axis` at the bodies' present poses, which must be
+    /// perpendicular to that body's primary axis (within 1e-3); refused, changing nothing,
+    /// otherwise or before the joint has limit axes. Body 2's is where the segment angle is
+    /// zero; body 1's is where the twist is zero (the twist reads zero where body 1's
+    /// orthogonal axis lies along body 2's as it was when the axes were set, so turning it
+    /// by δ about the primary axis moves the twist's reading by δ).
+    pub fn set_orthogonal_axis(
+        self,
+        world: &mut impl AsMut<World>,
+        body: usize,
+        axis: Vec3,
+    ) -> KeaResult<()> {
         let axis = check_unit("axis", axis)?;
+        check_body_index(body)?;
         let world = world.as_mut();
         let ctx = world.constraint_context(self.raw)?;
-        let local = ctx.bodies[1].orientation.inverse() * axis;
+        let local = ctx.bodies[body].orientation.inverse() * axis;
         let limits = self.limits_mut(world)?;
-        crate::error::check_perpendicular(
-            "axis",
-            local,
-            limits.primary2,
-            "must be perpendicular to body 2's primary axis",
-        )?;
-        limits.orthogonal2 = local;
+        let (primary, what) = if body == 0 {
+            (
+                limits.primary1,
+                "must be perpendicular to body 1's primary axis",
+            )
+        } else {
+            (
+                limits.primary2,
+                "must be perpendicular to body 2's primary axis",
+            )
+        };
+        crate::error::check_perpendicular("axis", local, primary, what)?;
+        // Exactly ⊥, and unit again.
+        let local = (local - primary * local.dot(primary)).normalize();
+        if body == 0 {
+            limits.turn_orthogonal1(local);
+        } else {
+            limits.orthogonal2 = local;
+        }
         Ok(())
     }
 
-    /// Body `body`'s primary limit axis (0: body 1, 1: body 2), or body 2's orthogonal axis
-    /// with `orthogonal`, in the world frame at the bodies' present poses (the guide's
+    /// Body `body`'s primary limit axis (0: body 1, 1: body 2), or its orthogonal axis with
+    /// `orthogonal`, in the world frame at the bodies' present poses (the guide's
     /// `MdtBSJointGetPrimaryAxis`, `GetOrthogonalAxis`). An error before the joint has limit
-    /// axes, or for body 1's orthogonal axis, which the joint does not keep.
+    /// axes.
     pub fn limit_axis(
         self,
         world: &impl AsRef<World>,
@@ -404,13 +429,8 @@ impl JointHandle<BallJoint> {
         let local = match (body, orthogonal) {
             (0, false) => limits.primary1,
             (_, false) => limits.primary2,
-            (1, true) => limits.orthogonal2,
-            _ => {
-                return Err(KeaError::InvalidState {
-                    operation: "limit_axis",
-                    reason: "only body 2 keeps an orthogonal axis",
-                })
-            }
+            (0, true) => limits.orthogonal1(),
+            _ => limits.orthogonal2,
         };
         let ctx = world.constraint_context(self.raw)?;
         Ok(ctx.bodies[body].orientation * local)
