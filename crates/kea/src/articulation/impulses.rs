@@ -98,6 +98,34 @@ impl ArticulatedTree {
         }
     }
 
+    /// After the coordinates moved (Runge–Kutta, whose stops act on the step's mean rate):
+    /// a coordinate that a stop held in the step ends it at rest on the stop, as under an
+    /// inelastic stop's steady force, instead of carrying the free step's difference between
+    /// its mean and end rates (`offset`, half a step of the free acceleration) from step to
+    /// step: a door pressed on its stop read 0.09 rad/s. Uses the columns of `H'⁻¹` the
+    /// step's rows left.
+    pub(super) fn settle_stops(&mut self, qd: &mut [f64]) {
+        let mut kept = 0;
+        for r in 0..self.rows.len() {
+            let row = self.rows[r];
+            let stop = row.lo.is_infinite() || row.hi.is_infinite();
+            if stop && row.impulse != 0.0 {
+                self.rows[kept] = CoordinateRow {
+                    target: 0.0,
+                    lo: f64::NEG_INFINITY,
+                    hi: f64::INFINITY,
+                    impulse: 0.0,
+                    ..row
+                };
+                kept += 1;
+            }
+        }
+        self.rows.truncate(kept);
+        if kept > 0 {
+            self.project(qd);
+        }
+    }
+
     /// The columns of `H'⁻¹` the rows act through (one per constrained coordinate, each a
     /// solve with the factor `solve` left): a coordinate's impulse moves every rate along its
     /// column.

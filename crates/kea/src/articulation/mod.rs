@@ -428,6 +428,12 @@ impl ArticulatedTree {
             self.constrain(q, qd, tau, h)
         });
         if solved.is_ok() {
+            for i in 0..self.len() {
+                q[i] = self.stage_q[i] + h * (qd[i] - self.stage_v[i]);
+            }
+            if self.integrator == Integrator::RungeKutta4 {
+                self.settle_stops(qd);
+            }
             if reactions {
                 // The accelerations the step took, stops and motors included, through
                 // Newton–Euler at the step's start.
@@ -440,9 +446,6 @@ impl ArticulatedTree {
                 self.newton_euler(&rate0, Some(&qdd));
                 self.rate0 = rate0;
                 self.q_start = q_start;
-            }
-            for i in 0..self.len() {
-                q[i] = self.stage_q[i] + h * (qd[i] - self.stage_v[i]);
             }
         }
         self.rhs = qdd;
