@@ -558,7 +558,48 @@ fn bodies_nested_thousands_deep_are_refused_by_line() {
     let err = result.unwrap_err();
     assert!(err.contains("deep.xml") && err.contains("nest"), "{err}");
     assert!(
-        err.contains("deep.xml:256"),
+        err.contains("deep.xml:257"),
         "the first element past 256 levels: {err}"
     );
+}
+
+/// MJCF text of `depth` bodies nested in one another, each with a hinge and a sphere.
+fn nested_bodies(depth: usize) -> String {
+    let mut xml = String::from("<mujoco>\n<worldbody>\n");
+    for _ in 0..depth {
+        xml.push_str("<body><joint type=\"hinge\"/><geom size=\"0.1\"/>\n");
+    }
+    for _ in 0..depth {
+        xml.push_str("</body>");
+    }
+    xml.push_str("\n</worldbody>\n</mujoco>\n");
+    xml
+}
+
+/// Loads `xml` on a thread with `kib` KiB of stack.
+fn load_on_stack(xml: String, kib: usize) -> Result<(), String> {
+    std::thread::Builder::new()
+        .stack_size(kib * 1024)
+        .spawn(move || {
+            let mut world = PhysicsWorld::new();
+            world
+                .load_mjcf_str(&xml, "deep.xml", &MjcfOptions::default())
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        })
+        .unwrap()
+        .join()
+        .expect("no overflow")
+}
+
+/// Too deep a file is refused before any reader recurses, so on a 64 KiB thread stack too
+/// (the least a PhysicsWorld fits on); a model nested as deep as allowed (250 bodies) loads
+/// on 512 KiB (the XML reader and the body reader take about 1 KiB a level each).
+#[test]
+fn deep_files_are_refused_on_small_thread_stacks_and_deep_models_load() {
+    for depth in [6000, 100_000] {
+        let err = load_on_stack(nested_bodies(depth), 64).unwrap_err();
+        assert!(err.contains("deep.xml:") && err.contains("nest"), "{err}");
+    }
+    load_on_stack(nested_bodies(250), 512).unwrap();
 }

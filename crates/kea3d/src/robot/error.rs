@@ -14,6 +14,15 @@ pub enum ImportError {
         /// Why.
         reason: String,
     },
+    /// Text that is not well-formed XML (or not UTF-8), at a line.
+    Syntax {
+        /// The file.
+        file: PathBuf,
+        /// Line of the fault, 1-based.
+        line: u32,
+        /// What is wrong.
+        reason: String,
+    },
     /// An element with a bad, missing or unsupported value.
     Element {
         /// The file.
@@ -49,6 +58,9 @@ impl fmt::Display for ImportError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::File { file, reason } => write!(f, "{}: {reason}", file.display()),
+            Self::Syntax { file, line, reason } => {
+                write!(f, "{}:{line}: {reason}", file.display())
+            }
             Self::Element {
                 file,
                 line,

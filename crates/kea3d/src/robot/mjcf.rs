@@ -24,7 +24,7 @@ use super::spec::{
 use super::xml::{above, children, Source};
 use super::{ImportError, MjcfOptions};
 use kea::{JointDynamics, Mat3, Quat, Real, Vec3};
-use roxmltree::{Document, Node};
+use roxmltree::Node;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -66,11 +66,9 @@ pub(crate) fn parse(
     options: &MjcfOptions,
 ) -> Result<MjcfModel, ImportError> {
     let text = super::mjcf_include::expand(&super::xml::tidy(text), file)?;
-    let doc = Document::parse(&text)
-        .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
+    let doc = super::xml::parse_document(&text, file)?;
     let src = Source { file, doc: &doc };
     let root = doc.root_element();
-    check_nesting(&src, &doc)?;
     if root.tag_name().name() != "mujoco" {
         return Err(src.error(root, "an MJCF file's root element must be <mujoco>"));
     }
@@ -525,26 +523,6 @@ impl<'a, 'd> Reader<'a, 'd> {
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
-}
-
-/// Deepest element nesting read (the readers recurse once per level of bodies and default
-/// classes): a robot nests tens of levels, and 256 leave room on the smallest thread stack a
-/// user may step from (`tests/mjcf.rs`).
-const MAX_NESTING: usize = 256;
-
-/// Refuses a file nested deeper than [`MAX_NESTING`], naming the first element past it,
-/// without recursing (nodes come in document order, so no node is walked up further than
-/// the limit before the first too deep one).
-fn check_nesting(src: &Source<'_>, doc: &Document<'_>) -> Result<(), ImportError> {
-    for node in doc.descendants().filter(|n| n.is_element()) {
-        if node.ancestors().take(MAX_NESTING + 2).count() > MAX_NESTING + 1 {
-            return Err(src.error(
-                node,
-                format!("elements nest more than {MAX_NESTING} deep: the model is refused"),
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// A joint's stops as MuJoCo makes them: soft, by its `solreflimit`, `solimplimit` (3 or 5

@@ -5,7 +5,6 @@
 //! the include. Includes nest up to [`MAX_DEPTH`] deep; a file including itself is refused.
 
 use super::ImportError;
-use roxmltree::Document;
 use std::path::{Path, PathBuf};
 
 /// How deep includes may nest.
@@ -20,8 +19,7 @@ fn expand_at(text: &str, file: &Path, chain: &mut Vec<PathBuf>) -> Result<String
     if !text.contains("<include") {
         return Ok(text.to_string());
     }
-    let doc = Document::parse(text)
-        .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
+    let doc = super::xml::parse_document(text, file)?;
     let mut out = String::with_capacity(text.len());
     let mut at = 0;
     for node in doc
@@ -64,7 +62,7 @@ fn expand_at(text: &str, file: &Path, chain: &mut Vec<PathBuf>) -> Result<String
 
 /// The text between an MJCF file's `<mujoco …>` and `</mujoco>`.
 fn children_of_root(text: &str) -> Option<String> {
-    let doc = Document::parse(text).ok()?;
+    let doc = super::xml::parse_document(text, Path::new("")).ok()?;
     let root = doc.root_element();
     if root.tag_name().name() != "mujoco" {
         return None;

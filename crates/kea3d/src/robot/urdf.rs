@@ -11,7 +11,7 @@ use super::spec::{
 use super::xml::{child, children, rpy, Source};
 use super::{ImportError, UrdfOptions};
 use kea::{JointDynamics, Mat3, Real, Vec3};
-use roxmltree::{Document, Node};
+use roxmltree::Node;
 use std::path::Path;
 
 /// Reads a URDF file into a robot spec.
@@ -27,8 +27,7 @@ pub(crate) fn parse(
     options: &UrdfOptions,
 ) -> Result<RobotSpec, ImportError> {
     let text = super::xml::tidy(text);
-    let doc = Document::parse(&text)
-        .map_err(|e| ImportError::file(file, format!("not well-formed XML: {e}")))?;
+    let doc = super::xml::parse_document(&text, file)?;
     let src = Source { file, doc: &doc };
     let robot = doc.root_element();
     if robot.tag_name().name() != "robot" {

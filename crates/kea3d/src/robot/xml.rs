@@ -119,6 +119,102 @@ impl<'a> Source<'a> {
     }
 }
 
+/// Deepest element nesting a robot file may have (MuJoCo refuses deep files too): the XML
+/// reader and the MJCF body and default-class readers recurse once per level; a robot nests
+/// tens of levels; 256 levels load on a 512 KiB thread stack, and deeper files are refused
+/// before any reader recurses, on any stack (`tests/mjcf.rs`).
+pub(crate) const MAX_NESTING: usize = 256;
+
+/// Parses robot-file text as XML, after checking without recursion that its elements nest
+/// at most [`MAX_NESTING`] deep. Errors name the file and the line.
+pub(crate) fn parse_document<'a>(text: &'a str, file: &Path) -> Result<Document<'a>, ImportError> {
+    check_depth(text, file)?;
+    Document::parse(text).map_err(|e| {
+        let line = match e {
+            // Where the text ended.
+            roxmltree::Error::UnexpectedEndOfStream => text.lines().count().max(1) as u32,
+            _ => e.pos().row,
+        };
+        ImportError::Syntax {
+            file: file.to_path_buf(),
+            line,
+            reason: format!("not well-formed XML: {e}"),
+        }
+    })
+}
+
+/// Refuses text whose elements nest deeper than [`MAX_NESTING`], at the first element past
+/// it, by one pass over the text (comments, CDATA, declarations and quoted attribute values
+/// skipped). Malformed text passes here and fails in the reader.
+fn check_depth(text: &str, file: &Path) -> Result<(), ImportError> {
+    let bytes = text.as_bytes();
+    let (mut at, mut depth, mut line) = (0, 0usize, 1u32);
+    // Moves `at` past the first `end` from it, counting lines; to the end if there is none.
+    let skip_to = |at: &mut usize, line: &mut u32, end: &[u8]| {
+        while *at < bytes.len() && !bytes[*at..].starts_with(end) {
+            *line += u32::from(bytes[*at] == b'\n');
+            *at += 1;
+        }
+        *at = (*at + end.len()).min(bytes.len());
+    };
+    while at < bytes.len() {
+        let b = bytes[at];
+        if b == b'\n' {
+            line += 1;
+        }
+        if b != b'<' {
+            at += 1;
+            continue;
+        }
+        let rest = &bytes[at..];
+        if rest.starts_with(b"<!--") {
+            skip_to(&mut at, &mut line, b"-->");
+        } else if rest.starts_with(b"<![CDATA[") {
+            skip_to(&mut at, &mut line, b"]]>");
+        } else if rest.starts_with(b"<?") {
+            skip_to(&mut at, &mut line, b"?>");
+        } else if rest.starts_with(b"<!") {
+            skip_to(&mut at, &mut line, b">");
+        } else if rest.starts_with(b"</") {
+            depth = depth.saturating_sub(1);
+            skip_to(&mut at, &mut line, b">");
+        } else {
+            let start = line;
+            at += 1;
+            let mut quote = None;
+            let mut closed = false;
+            while at < bytes.len() {
+                let c = bytes[at];
+                line += u32::from(c == b'\n');
+                at += 1;
+                match (quote, c) {
+                    (Some(q), _) if c == q => quote = None,
+                    (Some(_), _) => {}
+                    (None, b'"' | b'\'') => quote = Some(c),
+                    (None, b'>') => {
+                        closed = bytes[at - 2] == b'/';
+                        break;
+                    }
+                    _ => {}
+                }
+            }
+            if !closed {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(ImportError::Syntax {
+                        file: file.to_path_buf(),
+                        line: start,
+                        reason: format!(
+                            "elements nest more than {MAX_NESTING} deep: the file is refused"
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Text as XML readers take it from files written by hand and by tools: an XML declaration
 /// that does not open the file (blank lines or a comment before it) blanked out, trailing NUL
 /// bytes dropped. Every line keeps its number.
