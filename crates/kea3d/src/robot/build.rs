@@ -60,6 +60,7 @@ fn settle_massless_roots(spec: &RobotSpec, file: &Path) -> Result<RobotSpec, Imp
         }
         let mass = welded_mass(spec, j.child).map_err(|source| ImportError::World {
             file: file.to_path_buf(),
+            line: spec.links[j.child].line,
             element: format!("link \"{}\"", spec.links[j.child].name),
             source,
         })?;
@@ -136,10 +137,11 @@ struct Builder<'a> {
 }
 
 impl Builder<'_> {
-    /// The world's error on `element`, placed in the file.
-    fn world_error(&self, element: String) -> impl Fn(crate::Error) -> ImportError + '_ {
+    /// The world's error on `element`, at `line` of the file.
+    fn world_error(&self, element: String, line: u32) -> impl Fn(crate::Error) -> ImportError + '_ {
         move |source| ImportError::World {
             file: self.file.to_path_buf(),
+            line,
             element: element.clone(),
             source,
         }
@@ -156,8 +158,10 @@ impl Builder<'_> {
         for &link in &l.order {
             let h = l.head[link];
             let in_head = l.pose[h].inverse().then(&l.pose[link]);
-            let own = link_inertial(spec, link)
-                .map_err(self.world_error(format!("link \"{}\"", spec.links[link].name)))?;
+            let own = link_inertial(spec, link).map_err(self.world_error(
+                format!("link \"{}\"", spec.links[link].name),
+                spec.links[link].line,
+            ))?;
             inertial[h] = inertial[h].merged(&own, &in_head);
             for g in &spec.links[link].geoms {
                 let mut g = g.clone();
@@ -192,6 +196,7 @@ impl Builder<'_> {
         if !above(m.mass, 0.0) {
             return Err(ImportError::World {
                 file: self.file.to_path_buf(),
+                line: self.spec.links[link].line,
                 element: format!("link \"{name}\""),
                 source: kea::KeaError::OutOfRange {
                     arg: "mass",
@@ -227,9 +232,10 @@ impl Builder<'_> {
             let h = self
                 .world
                 .insert_body(body)
-                .map_err(self.world_error(name))?;
+                .map_err(self.world_error(name, self.spec.links[link].line))?;
             body_of[link] = Some(h);
             for (g, (owner, geom)) in geoms[link].iter().enumerate() {
+                let line = self.spec.links[*owner].line;
                 let owner = &self.spec.links[*owner].name;
                 let (collider, note) = collider(geom, filters[link][g]);
                 if let Some(note) = note {
@@ -241,7 +247,7 @@ impl Builder<'_> {
                 let element = format!("collision of link \"{owner}\"");
                 self.world
                     .insert_collider(collider, Some(h))
-                    .map_err(self.world_error(element))?;
+                    .map_err(self.world_error(element, line))?;
             }
         }
         Ok(body_of)
@@ -262,7 +268,7 @@ impl Builder<'_> {
                 let child = body_of[head[j.child]].expect("a moving link heads its body");
                 let pose = self.layout.pose[j.child];
                 make_joint(self.world, j, &pose, child, body_of[head[j.parent]])
-                    .map_err(self.world_error(format!("joint \"{}\"", j.name)))?
+                    .map_err(self.world_error(format!("joint \"{}\"", j.name), j.line))?
             };
             joints.push(RobotJoint {
                 name: j.name.clone(),

@@ -38,6 +38,8 @@ pub enum ImportError {
     World {
         /// The file.
         file: PathBuf,
+        /// Line of the element, 1-based (0 for what the reader made itself: a base joint).
+        line: u32,
         /// The element that was being built.
         element: String,
         /// The world's error.
@@ -57,21 +59,38 @@ impl ImportError {
 impl fmt::Display for ImportError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::File { file, reason } => write!(f, "{}: {reason}", file.display()),
+            Self::File { file, reason } => {
+                write!(f, "{}: {}", file.display(), shorten_quotes(reason))
+            }
             Self::Syntax { file, line, reason } => {
-                write!(f, "{}:{line}: {reason}", file.display())
+                write!(f, "{}:{line}: {}", file.display(), shorten_quotes(reason))
             }
             Self::Element {
                 file,
                 line,
                 element,
                 reason,
-            } => write!(f, "{}:{line}: <{element}>: {reason}", file.display()),
+            } => write!(
+                f,
+                "{}:{line}: <{}>: {}",
+                file.display(),
+                shorten_quotes(element),
+                shorten_quotes(reason)
+            ),
             Self::World {
                 file,
+                line,
                 element,
                 source,
-            } => write!(f, "{}: <{element}>: {source}", file.display()),
+            } => {
+                // The world's message names its arguments; in a file they are values.
+                let message = source.to_string().replacen("argument `", "`", 1);
+                let element = shorten_quotes(element);
+                match line {
+                    0 => write!(f, "{}: <{element}>: {message}", file.display()),
+                    _ => write!(f, "{}:{line}: <{element}>: {message}", file.display()),
+                }
+            }
         }
     }
 }
@@ -83,4 +102,43 @@ impl std::error::Error for ImportError {
             _ => None,
         }
     }
+}
+
+/// Longest quoted value a message shows whole, in characters.
+const LONGEST_QUOTE: usize = 48;
+
+/// `text` with every double-quoted run longer than [`LONGEST_QUOTE`] characters cut to its
+/// start and its length: a file's 2 MB attribute is named, not repeated.
+pub(crate) fn shorten_quotes(text: &str) -> std::borrow::Cow<'_, str> {
+    let quoted_runs_are_short = text
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .all(|run| run.chars().count() <= LONGEST_QUOTE);
+    if quoted_runs_are_short {
+        return text.into();
+    }
+    let mut out = String::with_capacity(LONGEST_QUOTE * 4);
+    let mut rest = text;
+    while let Some(open) = rest.find('"') {
+        out.push_str(&rest[..=open]);
+        let after = &rest[open + 1..];
+        let Some(close) = after.find('"') else {
+            rest = after;
+            break;
+        };
+        let run = &after[..close];
+        if run.chars().count() > LONGEST_QUOTE {
+            out.extend(run.chars().take(LONGEST_QUOTE - 8));
+            out.push_str(&format!("…\" ({} bytes)", run.len()));
+            // The closing quote is written above.
+            rest = &after[close + 1..];
+        } else {
+            out.push_str(run);
+            out.push('"');
+            rest = &after[close + 1..];
+        }
+    }
+    out.push_str(rest);
+    out.into()
 }

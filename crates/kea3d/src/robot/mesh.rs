@@ -72,9 +72,16 @@ pub(crate) fn load(path: &Path, scale: Vec3) -> Result<MeshData, ImportError> {
 }
 
 fn load_stl(path: &Path) -> Result<MeshData, ImportError> {
-    let mut f = std::fs::File::open(path).map_err(|e| ImportError::file(path, e.to_string()))?;
-    let mesh = stl_io::read_stl(&mut f)
-        .map_err(|e| ImportError::file(path, format!("not a readable STL file: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| ImportError::file(path, e.to_string()))?;
+    check_stl_size(&bytes).map_err(|reason| ImportError::file(path, reason))?;
+    let mesh = stl_io::read_stl(&mut std::io::Cursor::new(&bytes)).map_err(|e| {
+        let form = if is_ascii_stl(&bytes) {
+            "ASCII"
+        } else {
+            "binary"
+        };
+        ImportError::file(path, format!("not a readable {form} STL file: {e}"))
+    })?;
     let vertices = mesh
         .vertices
         .iter()
@@ -89,6 +96,39 @@ fn load_stl(path: &Path) -> Result<MeshData, ImportError> {
         vertices,
         triangles,
     })
+}
+
+/// Whether `bytes` start as an ASCII STL file does (`solid`, then a facet).
+fn is_ascii_stl(bytes: &[u8]) -> bool {
+    let head = &bytes[..bytes.len().min(512)];
+    bytes.trim_ascii_start().starts_with(b"solid")
+        && head.windows(5).any(|w| w == b"facet" || w == b"endso")
+}
+
+/// Why a file cannot be an STL file by its size alone: a binary STL file is an 80-byte
+/// header, a triangle count, and 50 bytes per triangle.
+fn check_stl_size(bytes: &[u8]) -> Result<(), String> {
+    if is_ascii_stl(bytes) {
+        return Ok(());
+    }
+    if bytes.len() < 84 {
+        return Err(format!(
+            "{} bytes: too short for a binary STL file (an 80-byte header and a triangle count), and not ASCII STL (`solid …`)",
+            bytes.len()
+        ));
+    }
+    let count = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+    if count == 0 {
+        return Err("a binary STL file with no triangles".into());
+    }
+    let needed = 84 + 50 * count;
+    if bytes.len() < needed {
+        return Err(format!(
+            "a binary STL file declaring {count} triangles needs {needed} bytes, this one has {} (cut short, or not STL)",
+            bytes.len()
+        ));
+    }
+    Ok(())
 }
 
 fn load_obj(path: &Path) -> Result<MeshData, ImportError> {

@@ -244,6 +244,7 @@ impl<'a, 'd> Reader<'a, 'd> {
         let inertial = self.read_inertial(body, &childclass)?;
         self.spec.links.push(LinkSpec {
             name: name.clone(),
+            line: self.src.line(body),
             inertial,
             geoms: Vec::new(),
         });
@@ -264,6 +265,9 @@ impl<'a, 'd> Reader<'a, 'd> {
             (_, Some(n)) => n,
         };
         let el = self.element(use_file, class)?;
+        if el.text("mass").is_none() {
+            return Err(el.error("the attribute `mass` is missing (MuJoCo requires it)"));
+        }
         let mass = el.non_negative("mass")?;
         let frame = el.orientation(&self.compiler)?;
         let tensor = if let Some(d) = el.vec3("diaginertia")? {
@@ -277,6 +281,11 @@ impl<'a, 'd> Reader<'a, 'd> {
         } else {
             return Err(el.error("an <inertial> needs diaginertia or fullinertia"));
         };
+        // MuJoCo refuses what no mass distribution has; so does Kea.
+        match super::inertia_check::check(tensor) {
+            Err(reason) | Ok(Some(reason)) => return Err(el.error(reason)),
+            Ok(None) => {}
+        }
         let r = Mat3::from_quat(frame);
         Ok(Some(Inertial {
             mass,
@@ -437,6 +446,18 @@ impl<'a, 'd> Reader<'a, 'd> {
                 .attribute("name")
                 .map(str::to_string)
                 .unwrap_or_else(|| format!("{}_joint{}", self.spec.links[link].name, parts.len()));
+            // MuJoCo refuses a repeated name: actuators and sensors name joints.
+            let taken = |n: &str| {
+                parts.iter().any(|p| p.0 == n)
+                    || self
+                        .spec
+                        .joints
+                        .iter()
+                        .any(|o| o.parts.iter().any(|p| p == n))
+            };
+            if j.attribute("name").is_some() && taken(&name) {
+                return Err(el.error(format!("a second joint named \"{name}\"")));
+            }
             let (coord, anchor) = self.read_coordinate(&el, kind)?;
             parts.push((name, kind, coord, anchor, j));
         }
@@ -456,6 +477,9 @@ impl<'a, 'd> Reader<'a, 'd> {
         }
         let names: Vec<String> = parts.iter().map(|p| p.0.clone()).collect();
         Ok(JointSpec {
+            line: parts
+                .first()
+                .map_or(self.src.line(body), |p| self.src.line(p.4)),
             name: names
                 .first()
                 .cloned()

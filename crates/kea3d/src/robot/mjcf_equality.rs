@@ -114,6 +114,7 @@ pub(crate) fn build(
         }
         let wrap = |source: crate::Error| ImportError::World {
             file: file.to_path_buf(),
+            line: e.line,
             element: element(),
             source,
         };

@@ -42,8 +42,10 @@ fn expand_at(text: &str, file: &Path, chain: &mut Vec<PathBuf>) -> Result<String
                 "\"{name}\" includes itself, or includes nest past {MAX_DEPTH}"
             )));
         }
-        let included = std::fs::read_to_string(&path)
-            .map_err(|e| fail(format!("\"{name}\" cannot be read: {e}")))?;
+        if let Err(e) = std::fs::metadata(&path) {
+            return Err(fail(format!("\"{name}\" cannot be read: {e}")));
+        }
+        let included = super::xml::read_text(&path)?;
         chain.push(path.clone());
         let included = expand_at(&included, &path, chain)?;
         chain.pop();

@@ -31,6 +31,7 @@ mod actuator;
 mod build;
 mod colliders;
 mod error;
+mod inertia_check;
 mod mesh;
 mod mjcf;
 mod mjcf_actuators;
@@ -149,8 +150,7 @@ impl PhysicsWorld {
         options: &MjcfOptions,
     ) -> Result<Robot, ImportError> {
         let path = path.as_ref();
-        let text =
-            std::fs::read_to_string(path).map_err(|e| ImportError::file(path, e.to_string()))?;
+        let text = xml::read_text(path)?;
         self.load_mjcf_str(&text, path, options)
     }
 
@@ -173,6 +173,7 @@ impl PhysicsWorld {
             })
             .map_err(|source| ImportError::World {
                 file: path.to_path_buf(),
+                line: 0,
                 element: "option".into(),
                 source: kea_collision::CollisionError::Kea(source),
             })?;

@@ -157,6 +157,8 @@ pub(crate) struct GeomSpec {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct LinkSpec {
     pub name: String,
+    /// Its element's line in the file, for errors (0: none, the world).
+    pub line: u32,
     /// Given mass properties; `None`: from the geometry's density (MJCF without `inertial`).
     pub inertial: Option<Inertial>,
     pub geoms: Vec<GeomSpec>,
@@ -242,6 +244,8 @@ impl Coordinate {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct JointSpec {
     pub name: String,
+    /// Its element's line in the file, for errors (0: made by the reader, a base joint).
+    pub line: u32,
     /// Names of the file's joints this one stands for (MJCF: several in one body).
     pub parts: Vec<String>,
     pub kind: JointType,
@@ -277,6 +281,7 @@ impl RobotSpec {
             name: name.to_string(),
             links: vec![LinkSpec {
                 name: WORLD.to_string(),
+                line: 0,
                 inertial: Some(Inertial::NONE),
                 geoms: Vec::new(),
             }],

@@ -16,7 +16,7 @@ use std::path::Path;
 
 /// Reads a URDF file into a robot spec.
 pub(crate) fn read(file: &Path, options: &UrdfOptions) -> Result<RobotSpec, ImportError> {
-    let text = std::fs::read_to_string(file).map_err(|e| ImportError::file(file, e.to_string()))?;
+    let text = super::xml::read_text(file)?;
     parse(&text, file, options)
 }
 
@@ -41,19 +41,23 @@ pub(crate) fn parse(
             // ROS's convention: a link named "world" is the world, and a joint to it fixes
             // the robot's base. Its geometry is static.
             world_link = true;
-            spec.links[0].geoms = read_link(&src, link, options)?.geoms;
+            spec.links[0].geoms = read_link(&src, link, options, &mut spec.skipped)?.geoms;
             continue;
         }
         if spec.links.iter().skip(1).any(|l| l.name == name) || name == WORLD {
             return Err(src.error(link, format!("a second link named \"{name}\"")));
         }
-        spec.links.push(read_link(&src, link, options)?);
+        let read = read_link(&src, link, options, &mut spec.skipped)?;
+        spec.links.push(read);
     }
     if spec.links.len() == 1 {
         return Err(src.error(robot, "the robot has no <link>"));
     }
     for joint in children(robot, "joint") {
         let j = read_joint(&src, joint, &spec)?;
+        if let Some(note) = empty_limits(&src, joint, &j)? {
+            spec.skipped.push(note);
+        }
         if spec.joints.iter().any(|o| o.name == j.name) {
             return Err(src.error(joint, format!("a second joint named \"{}\"", j.name)));
         }
@@ -145,6 +149,7 @@ fn attach_root(
         0,
         JointSpec {
             name: name.clone(),
+            line: 0,
             parts: vec![name],
             kind: if options.fixed_base {
                 JointType::Fixed
@@ -171,15 +176,17 @@ fn origin(src: &Source<'_>, node: Node<'_, '_>) -> Result<Pose, ImportError> {
     Ok(Pose::new(xyz, rpy(r, p, y)))
 }
 
+/// A link; what the report should say about it goes to `notes`.
 fn read_link(
     src: &Source<'_>,
     link: Node<'_, '_>,
     options: &UrdfOptions,
+    notes: &mut Vec<String>,
 ) -> Result<LinkSpec, ImportError> {
     let name = src.required(link, "name")?.to_string();
     let inertial = match child(link, "inertial") {
         None => Inertial::NONE,
-        Some(node) => read_inertial(src, node)?,
+        Some(node) => read_inertial(src, node, notes)?,
     };
     let mut geoms = Vec::new();
     for c in children(link, "collision") {
@@ -203,15 +210,24 @@ fn read_link(
     }
     Ok(LinkSpec {
         name,
+        line: src.line(link),
         inertial: Some(inertial),
         geoms,
     })
 }
 
-fn read_inertial(src: &Source<'_>, node: Node<'_, '_>) -> Result<Inertial, ImportError> {
+/// A link's `<inertial>`. A tensor no body can have is refused; one breaking only the
+/// triangle inequality is kept, as PyBullet does, and named in `notes` (the load report).
+fn read_inertial(
+    src: &Source<'_>,
+    node: Node<'_, '_>,
+    notes: &mut Vec<String>,
+) -> Result<Inertial, ImportError> {
     let frame = origin(src, node)?;
     let mass = match child(node, "mass") {
-        Some(m) => src.non_negative(m, "value")?.unwrap_or(0.0),
+        Some(m) => src
+            .non_negative(m, "value")?
+            .ok_or_else(|| src.error(m, "the attribute `value` is missing (the mass, kg)"))?,
         None => 0.0,
     };
     let inertia = match child(node, "inertia") {
@@ -237,6 +253,15 @@ fn read_inertial(src: &Source<'_>, node: Node<'_, '_>) -> Result<Inertial, Impor
                 Vec3::new(xy, yy, yz),
                 Vec3::new(xz, yz, zz),
             );
+            match super::inertia_check::check(tensor) {
+                Err(reason) => return Err(src.error(i, reason)),
+                Ok(Some(note)) => notes.push(format!(
+                    "{}:{}: <inertia>: {note}: kept as given (PyBullet reads it; MuJoCo refuses it)",
+                    src.file.display(),
+                    src.line(i)
+                )),
+                Ok(None) => {}
+            }
             let r = Mat3::from_quat(frame.rotation);
             r * tensor * r.transpose()
         }
@@ -376,6 +401,7 @@ fn read_joint(
     Ok(JointSpec {
         parts: vec![name.clone()],
         name,
+        line: src.line(joint),
         kind,
         parent,
         child: child_link,
@@ -383,6 +409,34 @@ fn read_joint(
         anchor: Vec3::ZERO,
         coords,
     })
+}
+
+/// A revolute or prismatic joint's `<limit>` whose `lower` is not below its `upper` (but for
+/// both left at 0): the joint is left unlimited, as PyBullet reads it, and the report says so.
+fn empty_limits(
+    src: &Source<'_>,
+    joint: Node<'_, '_>,
+    j: &JointSpec,
+) -> Result<Option<String>, ImportError> {
+    let Some(limit) = child(joint, "limit") else {
+        return Ok(None);
+    };
+    if !matches!(j.kind, JointType::Revolute | JointType::Prismatic) {
+        return Ok(None);
+    }
+    let (lower, upper) = (src.number(limit, "lower")?, src.number(limit, "upper")?);
+    if lower.is_none() && upper.is_none() {
+        return Ok(None);
+    }
+    let (lower, upper) = (lower.unwrap_or(0.0), upper.unwrap_or(0.0));
+    Ok((lower >= upper).then(|| {
+        format!(
+            "{}:{}: <limit> of joint \"{}\": lower {lower} is not below upper {upper}: the joint is unlimited (PyBullet's reading)",
+            src.file.display(),
+            src.line(limit),
+            j.name
+        )
+    }))
 }
 
 /// A joint's axis (in its frame: the child's), limits, effort and speed, and dynamics.

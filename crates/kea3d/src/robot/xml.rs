@@ -119,6 +119,24 @@ impl<'a> Source<'a> {
     }
 }
 
+/// A robot file's text; text that is not UTF-8 is refused at the line of its first bad byte.
+pub(crate) fn read_text(file: &Path) -> Result<String, ImportError> {
+    let bytes = std::fs::read(file).map_err(|e| ImportError::file(file, e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = 1 + good.iter().filter(|&&b| b == b'\n').count();
+        let column = 1 + good.iter().rev().take_while(|&&b| b != b'\n').count();
+        let bad = e.as_bytes()[good.len()];
+        ImportError::Syntax {
+            file: file.to_path_buf(),
+            line: line as u32,
+            reason: format!(
+                "not UTF-8 text: byte 0x{bad:02x} at column {column} (XML files are read as UTF-8)"
+            ),
+        }
+    })
+}
+
 /// Deepest element nesting a robot file may have (MuJoCo refuses deep files too): the XML
 /// reader and the MJCF body and default-class readers recurse once per level; a robot nests
 /// tens of levels; 256 levels load on a 512 KiB thread stack, and deeper files are refused
@@ -130,15 +148,18 @@ pub(crate) const MAX_NESTING: usize = 256;
 pub(crate) fn parse_document<'a>(text: &'a str, file: &Path) -> Result<Document<'a>, ImportError> {
     check_depth(text, file)?;
     Document::parse(text).map_err(|e| {
-        let line = match e {
+        let (line, why) = match e {
             // Where the text ended.
-            roxmltree::Error::UnexpectedEndOfStream => text.lines().count().max(1) as u32,
-            _ => e.pos().row,
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => (
+                text.lines().count().max(1) as u32,
+                " (the text ends inside an element: cut short?)",
+            ),
+            _ => (e.pos().row, ""),
         };
         ImportError::Syntax {
             file: file.to_path_buf(),
             line,
-            reason: format!("not well-formed XML: {e}"),
+            reason: format!("not well-formed XML: {e}{why}"),
         }
     })
 }
