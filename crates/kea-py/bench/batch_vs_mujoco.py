@@ -58,7 +58,10 @@ def median_rate(run, runs: int) -> float:
 
 
 def kea_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
-    batch = kea.Batch(cart_pole_world(), worlds, threads)
+    world = cart_pole_world()
+    # MuJoCo's implicitfast is Kea's Euler (one evaluation a step); Kea's default is RK4.
+    world.integrator = "euler"
+    batch = kea.Batch(world, worlds, threads)
     motors = np.zeros((worlds, 2))
     rng = np.random.default_rng(0)
 
@@ -152,6 +155,7 @@ def load_arm_file(text: str, load):
 def kea_arm_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
     arm = load_arm_file(arm_text(), lambda path: kea.World.from_urdf(path, fixed_base=True))
     arm.set_joint_positions(ARM_Q)
+    arm.integrator = "euler"  # as MuJoCo's implicitfast, which the arm's MJCF names
     batch = kea.Batch(arm, worlds, threads)
 
     def closed():
