@@ -155,7 +155,7 @@ def load_arm_file(text: str, load):
 def kea_arm_rates(worlds: int, threads: int | None, env_steps: int, runs: int):
     arm = load_arm_file(arm_text(), lambda path: kea.World.from_urdf(path, fixed_base=True))
     arm.set_joint_positions(ARM_Q)
-    arm.integrator = "euler"  # as MuJoCo's implicitfast, which the arm's MJCF names
+    arm.integrator = "euler"  # MuJoCo steps the URDF it compiles with Euler
     batch = kea.Batch(arm, worlds, threads)
 
     def closed():
