@@ -8,11 +8,20 @@ use crate::error::KeaResult;
 /// A fraction of a stop's overshoot taken back per step (the maximal path's `γ` for stops).
 const STOP_RECOVERY: f64 = 0.2;
 
+/// What a coordinate's row is: a motor (its rate), dry friction or a stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum RowKind {
+    Motor(f64),
+    Friction,
+    Stop,
+}
+
 /// One constraint on one coordinate's rate after the step: the rate aimed at, and the
 /// impulse's bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct CoordinateRow {
     coordinate: usize,
+    kind: RowKind,
     target: f64,
     lo: f64,
     hi: f64,
@@ -52,24 +61,31 @@ impl ArticulatedTree {
 
     /// Coordinate `i`'s rows at position `qi` and free rate `rate`: its motor, its dry friction,
     /// and each stop that the step's mean rate `rate + offset` would pass by the step's end.
-    /// A stop and dry friction act on the mean rate (their targets given here on the end
-    /// rate), so a stop is not crossed and friction that holds keeps the coordinate where it
-    /// is; a motor holds the end rate, the one a user reads.
+    /// All act on the mean rate (their targets given here on the end rate), so the
+    /// coordinate moves as they say: a stop is not crossed, friction that holds keeps it
+    /// where it is, a motor moves it at its speed; `settle_rows` then brings the end rate,
+    /// the one a user reads, to the same.
     fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, offset: f64, h: f64) {
         let l = self.links[i];
-        let row = |target: f64, lo: f64, hi: f64| CoordinateRow {
+        let row = |kind: RowKind, target: f64, lo: f64, hi: f64| CoordinateRow {
             coordinate: i,
+            kind,
             target,
             lo,
             hi,
             impulse: 0.0,
         };
         if let Some((v, f)) = l.motor {
-            self.rows.push(row(v, -h * f, h * f));
+            self.rows
+                .push(row(RowKind::Motor(v), v - offset, -h * f, h * f));
         }
         if l.friction > 0.0 {
-            self.rows
-                .push(row(-offset, -h * l.friction, h * l.friction));
+            self.rows.push(row(
+                RowKind::Friction,
+                -offset,
+                -h * l.friction,
+                h * l.friction,
+            ));
         }
         let Some((lo, hi)) = l.limits else {
             return;
@@ -91,29 +107,38 @@ impl ArticulatedTree {
             -recover(qi - hi)
         } - offset;
         if rate < min + 1e-9 || qi < lo + 1e-9 {
-            self.rows.push(row(min, 0.0, f64::INFINITY));
+            self.rows.push(row(RowKind::Stop, min, 0.0, f64::INFINITY));
         }
         if rate > max - 1e-9 || qi > hi - 1e-9 {
-            self.rows.push(row(max, f64::NEG_INFINITY, 0.0));
+            self.rows
+                .push(row(RowKind::Stop, max, f64::NEG_INFINITY, 0.0));
         }
     }
 
-    /// After the coordinates moved (Runge–Kutta, whose stops act on the step's mean rate):
-    /// a coordinate that a stop held in the step ends it at rest on the stop, as under an
-    /// inelastic stop's steady force, instead of carrying the free step's difference between
-    /// its mean and end rates (`offset`, half a step of the free acceleration) from step to
-    /// step: a door pressed on its stop read 0.09 rad/s. Uses the columns of `H'⁻¹` the
-    /// step's rows left.
-    pub(super) fn settle_stops(&mut self, qd: &mut [f64]) {
+    /// After the coordinates moved (Runge–Kutta, whose rows act on the step's mean rate):
+    /// the end rates, the ones a user reads and the next step starts from, brought to what
+    /// the rows hold, instead of carrying the free step's difference between mean and end
+    /// rates (`offset`, half a step of the free acceleration) from step to step: a motor's
+    /// coordinate ends at the motor's speed, one held by friction or by a stop at rest (a
+    /// door pressed on its stop read 0.09 rad/s). Uses the columns of `H'⁻¹` the step's rows
+    /// left.
+    pub(super) fn settle_rows(&mut self, qd: &mut [f64]) {
         let mut kept = 0;
         for r in 0..self.rows.len() {
             let row = self.rows[r];
-            let stop = row.lo.is_infinite() || row.hi.is_infinite();
-            if stop && row.impulse != 0.0 {
+            let settled = match row.kind {
+                RowKind::Motor(v) => Some((v, row.lo, row.hi)),
+                RowKind::Friction => Some((0.0, row.lo, row.hi)),
+                RowKind::Stop if row.impulse != 0.0 => {
+                    Some((0.0, f64::NEG_INFINITY, f64::INFINITY))
+                }
+                RowKind::Stop => None,
+            };
+            if let Some((target, lo, hi)) = settled {
                 self.rows[kept] = CoordinateRow {
-                    target: 0.0,
-                    lo: f64::NEG_INFINITY,
-                    hi: f64::INFINITY,
+                    target,
+                    lo,
+                    hi,
                     impulse: 0.0,
                     ..row
                 };

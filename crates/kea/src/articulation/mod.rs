@@ -432,7 +432,7 @@ impl ArticulatedTree {
                 q[i] = self.stage_q[i] + h * (qd[i] - self.stage_v[i]);
             }
             if self.integrator == Integrator::RungeKutta4 {
-                self.settle_stops(qd);
+                self.settle_rows(qd);
             }
             if reactions {
                 // The accelerations the step took, stops and motors included, through
