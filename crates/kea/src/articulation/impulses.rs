@@ -126,9 +126,11 @@ impl ArticulatedTree {
         let mut kept = 0;
         for r in 0..self.rows.len() {
             let row = self.rows[r];
+            // A motor and friction have what their force left after the step's own pass.
+            let (lo, hi) = (row.lo - row.impulse, row.hi - row.impulse);
             let settled = match row.kind {
-                RowKind::Motor(v) => Some((v, row.lo, row.hi)),
-                RowKind::Friction => Some((0.0, row.lo, row.hi)),
+                RowKind::Motor(v) => Some((v, lo, hi)),
+                RowKind::Friction => Some((0.0, lo, hi)),
                 RowKind::Stop if row.impulse != 0.0 => {
                     Some((0.0, f64::NEG_INFINITY, f64::INFINITY))
                 }
