@@ -54,6 +54,10 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
 
     // Retained mode, without the world's extra position projection (the raw solver is compared).
     let mut world = World::with_capacity(2, 2).unwrap();
+    // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+    world
+        .update_settings(|s| s.routing.max_reduced_links = 0)
+        .unwrap();
     world
         .update_settings(|s| s.projection_iterations = 0)
         .unwrap();
@@ -116,6 +120,10 @@ fn kea_only_pendulum_matches_the_world_bit_for_bit() {
 #[test]
 fn islands_are_independent_and_static_bodies_do_not_join_them() {
     let mut world = World::with_capacity(8, 8).unwrap();
+    // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+    world
+        .update_settings(|s| s.routing.max_reduced_links = 0)
+        .unwrap();
     let mk = |w: &mut World, x: Real| {
         w.create_body(&BodyDef {
             position: Vec3::new(x, -1.0, 0.0),
@@ -173,6 +181,10 @@ fn same_inputs_give_bit_identical_results() {
 fn chain_run(mode: SolverMode) -> Vec<(Vec3, Quat, Vec3)> {
     {
         let mut world = World::with_capacity(8, 8).unwrap();
+        // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+        world
+            .update_settings(|s| s.routing.max_reduced_links = 0)
+            .unwrap();
         world
             .update_settings(|s| {
                 s.routing = Routing {
@@ -344,6 +356,10 @@ fn memory_required_covers_what_a_step_uses() {
 fn the_memory_pool_size_is_the_most_any_step_needed_not_what_was_reserved() {
     // Reserved for 64 bodies up front, nothing used yet: the pool is empty.
     let mut world = World::with_capacity(64, 256).unwrap();
+    // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+    world
+        .update_settings(|s| s.routing.max_reduced_links = 0)
+        .unwrap();
     assert!(world.reserved_bytes() > 0);
     assert_eq!(world.memory_pool_size(), 0);
     let chain = |world: &mut World, n: usize| {

@@ -35,6 +35,10 @@ fn chain(
 #[test]
 fn hybrid_sends_small_islands_exact_and_big_ones_split() {
     let mut world = World::with_capacity(64, 64).unwrap();
+    // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+    world
+        .update_settings(|s| s.routing.max_reduced_links = 0)
+        .unwrap();
     chain(&mut world, 3, 0.0); // 9 rows
     chain(&mut world, 30, 5.0); // 90 rows
     let stats = world.step(1.0 / 60.0).unwrap();

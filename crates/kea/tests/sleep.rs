@@ -136,6 +136,10 @@ fn a_push_or_a_touch_wakes_the_island() {
 fn no_partition_gives_the_same_answer_in_one_island() {
     let run = |mode: DemMode| {
         let mut world = World::with_capacity(8, 8).unwrap();
+        // The maximal paths (a tree of ball joints on the world would step in reduced coordinates).
+        world
+            .update_settings(|s| s.routing.max_reduced_links = 0)
+            .unwrap();
         world
             .update_settings(|s| {
                 s.dem = DemSettings {

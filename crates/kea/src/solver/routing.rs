@@ -89,8 +89,9 @@ pub struct Routing {
     /// sags 7 mm there at about 0.2 ms a step; the iterative path's sags 44 cm, and columns of
     /// 60 fall). At least 1; default 6; `u32::MAX` never.
     pub stack_bodies: u32,
-    /// Largest tree, in links, that the hybrid mode steps in reduced coordinates: a tree of
-    /// hinges and prismatic joints hanging from the static world (or a disabled body) by one
+    /// Largest tree, in coordinates (a ball joint counts three), that the hybrid mode steps in
+    /// reduced coordinates: a tree of hinges, prismatic joints and ball joints without
+    /// limits hanging from the static world (or a disabled body) by one
     /// joint, touched by nothing else, stepped in its joint coordinates (exact for the tree,
     /// no joint error at all; `kea::articulation`) instead of as bodies held by rows. Its
     /// stops must be hard without restitution, its servos uncapped, its joints unbreakable

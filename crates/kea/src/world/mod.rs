@@ -417,6 +417,8 @@ impl World {
     /// use kea::{BodyDef, Vec3, World};
     ///
     /// let mut world = World::with_capacity(64, 64)?; // reserved, not used
+    /// // The solver's path (the default routing steps a lone pendulum in reduced coordinates).
+    /// world.update_settings(|s| s.routing.mode = kea::SolverMode::Exact)?;
     /// assert_eq!(world.memory_pool_size(), 0);
     /// let bob = world.create_body(&BodyDef { position: Vec3::X, ..BodyDef::default() })?;
     /// world.create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))?;

@@ -17,28 +17,42 @@ use glam::{DMat3, DQuat, DVec3};
 impl World {
     /// Builds `cache` for the tree of set `root`, at the bodies' present state: coordinates
     /// measured from here (so `q = 0`), rates from the bodies. False if a joint cannot be
-    /// measured (the set then goes to the solver).
+    /// measured, or the tree has more than `max_reduced_links` coordinates (the set then goes
+    /// to the solver).
+    ///
+    /// A ball joint becomes three hinges about the child's x, y and z axes through its point,
+    /// the first two on massless links, their chart centred on the present turn (angles 0,
+    /// where the axes are orthogonal) and their rates the child's spin relative to its
+    /// parent in its own axes: a step turns the child by far less than the chart's
+    /// singularity (a quarter turn about y), and the next step is built again from the
+    /// bodies, centred again. Such a tree is not kept from step to step.
     pub(super) fn build_tree(&self, root: u32, cache: &mut CachedTree) -> bool {
         if !self.plan_tree(root, &mut cache.plan) {
             return false;
         }
         let (bodies, constraints) = (&self.bodies, &self.constraints);
         let plan = &cache.plan;
-        let links = plan.iter().map(|p| {
+        cache.building.clear();
+        cache.link_of.clear();
+        cache.qd.clear();
+        cache.kick.clear();
+        cache.has_ball = false;
+        for p in plan {
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             // The parent's frame: its body's, or the world's for the root.
-            let parent = p.parent.map(|k| {
-                let pb = bodies
+            let parent_body = p.parent.map(|k| {
+                bodies
                     .at(plan[k as usize].body as usize)
-                    .expect("planned bodies are live");
-                (d3(pb.position), dq(pb.orientation))
+                    .expect("planned bodies are live")
             });
+            let parent = parent_body.map(|pb| (d3(pb.position), dq(pb.orientation)));
             let entry = constraints
                 .at(p.joint as usize)
                 .expect("planned joints are live");
             let joint = joint_frame(entry, p.sign, b, parent, bodies);
-            TreeLink {
-                parent: p.parent.map(|k| k as usize),
+            let parent_link = p.parent.map(|k| cache.link_of[k as usize]);
+            let body_link = TreeLink {
+                parent: parent_link,
                 kind: joint.kind,
                 origin: joint.origin,
                 axis: joint.axis,
@@ -47,14 +61,50 @@ impl World {
                 com: DVec3::ZERO,
                 inertia: dm(b.inertia),
                 ..TreeLink::default()
+            };
+            if p.ball {
+                cache.has_ball = true;
+                let (spin, kick) = ball_spin(b, parent_body, joint.anchor);
+                cache.kick.push(kick);
+                let first = cache.building.len();
+                let massless = TreeLink {
+                    mass: 0.0,
+                    inertia: DMat3::ZERO,
+                    ..body_link
+                };
+                cache.building.push(TreeLink {
+                    axis: DVec3::X,
+                    ..massless
+                });
+                cache.building.push(TreeLink {
+                    parent: Some(first),
+                    origin: (DVec3::ZERO, DQuat::IDENTITY),
+                    axis: DVec3::Y,
+                    ..massless
+                });
+                cache.building.push(TreeLink {
+                    parent: Some(first + 1),
+                    origin: (DVec3::ZERO, DQuat::IDENTITY),
+                    axis: DVec3::Z,
+                    ..body_link
+                });
+                cache.qd.extend([spin.x, spin.y, spin.z]);
+            } else {
+                cache.building.push(body_link);
+                cache.qd.push(p.sign * p.rate);
+                cache.kick.push((DVec3::ZERO, DVec3::ZERO));
             }
-        });
-        cache.tree.refill(links, d3(self.settings.gravity));
-        let n = plan.len();
+            cache.link_of.push(cache.building.len() - 1);
+        }
+        let n = cache.building.len();
+        if n > self.settings.routing.max_reduced_links as usize {
+            return false;
+        }
+        cache
+            .tree
+            .refill(cache.building.iter().copied(), d3(self.settings.gravity));
         cache.q.clear();
         cache.q.resize(n, 0.0);
-        cache.qd.clear();
-        cache.qd.extend(plan.iter().map(|p| p.sign * p.rate));
         cache.base_joint = self.scratch.reduced.base_joint[root as usize];
         cache.revision = self.joint_revision;
         true
@@ -113,9 +163,16 @@ impl World {
             gamma: self.settings.gamma,
             contact_spring: self.settings.contact_spring,
         };
-        let (at, rate) = match &entry.kind {
-            ConstraintKind::Hinge(j) => j.angle_and_rate(&ctx),
-            ConstraintKind::Prismatic(j) => j.distance_and_rate(&ctx),
+        let (at, rate, ball) = match &entry.kind {
+            ConstraintKind::Hinge(j) => {
+                let (at, rate) = j.angle_and_rate(&ctx);
+                (at, rate, false)
+            }
+            ConstraintKind::Prismatic(j) => {
+                let (at, rate) = j.distance_and_rate(&ctx);
+                (at, rate, false)
+            }
+            ConstraintKind::Ball(_) => (0.0, 0.0, true),
             _ => return None,
         };
         (at.is_finite() && rate.is_finite()).then_some(LinkPlan {
@@ -125,20 +182,61 @@ impl World {
             sign,
             at: wide(at),
             rate: wide(rate),
+            ball,
         })
     }
 }
 
-/// The joint's tracked coordinate: a hinge's angle, a slider's travel.
+/// The joint's tracked coordinate: a hinge's angle, a slider's travel (a ball joint has none).
 pub(super) fn coordinate_of(entry: &ConstraintEntry) -> Real {
     match &entry.kind {
         ConstraintKind::Hinge(j) => j.angle(),
         ConstraintKind::Prismatic(j) => j.limit().position(),
-        _ => unreachable!("planned joints are hinges or sliders"),
+        _ => 0.0,
     }
 }
 
-/// The joint's limit (a planned joint is a hinge or a slider).
+/// A ball joint's child's spin relative to its parent (`None`: the world or a disabled base,
+/// at rest), in the child's axes, after the impulse at the joint's point that brings the two
+/// bodies' velocities there together (the child's velocity as the joint allows it: a bob
+/// given a speed and no spin swings with the speed). `anchor` is the point in the child's
+/// frame. Also returns the impulse (world frame) and its point from the child's centre.
+fn ball_spin(child: &Body, parent: Option<&Body>, anchor: DVec3) -> (DVec3, (DVec3, DVec3)) {
+    let turn = dq(child.orientation);
+    let r = turn * anchor;
+    let (v, w) = (d3(child.linear_velocity), d3(child.angular_velocity));
+    let (parent_point, parent_spin) = parent.map_or((DVec3::ZERO, DVec3::ZERO), |pb| {
+        let wp = d3(pb.angular_velocity);
+        let lever = d3(child.position) + r - d3(pb.position);
+        (d3(pb.linear_velocity) + wp.cross(lever), wp)
+    });
+    let gap = v + w.cross(r) - parent_point;
+    let inv_inertia = {
+        let rot = DMat3::from_quat(turn);
+        (rot * dm(child.inertia) * rot.transpose()).inverse()
+    };
+    let skew = |a: DVec3| {
+        DMat3::from_cols(
+            DVec3::new(0.0, a.z, -a.y),
+            DVec3::new(-a.z, 0.0, a.x),
+            DVec3::new(a.y, -a.x, 0.0),
+        )
+    };
+    // gap + K P = 0 with K = I/m − [r]× I⁻¹ [r]×.
+    let k = DMat3::from_diagonal(DVec3::splat(1.0 / wide(child.mass)))
+        - skew(r) * inv_inertia * skew(r);
+    let impulse = -(k.inverse() * gap);
+    let w = w + inv_inertia * r.cross(impulse);
+    let spin = turn.inverse() * (w - parent_spin);
+    if spin.is_finite() && impulse.is_finite() {
+        (spin, (impulse, r))
+    } else {
+        let spin = turn.inverse() * (d3(child.angular_velocity) - parent_spin);
+        (spin, (DVec3::ZERO, DVec3::ZERO))
+    }
+}
+
+/// The joint's limit (a planned joint with a coordinate is a hinge or a slider).
 pub(super) fn limit_of(entry: &ConstraintEntry) -> &Limit {
     match &entry.kind {
         ConstraintKind::Hinge(j) => j.limit(),
@@ -182,7 +280,26 @@ fn joint_frame(
     match &entry.kind {
         ConstraintKind::Hinge(j) => hinge_frame(j, first, &seen),
         ConstraintKind::Prismatic(j) => slider_frame(j, first, &seen),
-        _ => unreachable!("planned joints are hinges or sliders"),
+        ConstraintKind::Ball(j) => ball_frame(j, first, &seen),
+        _ => unreachable!("planned joints are hinges, sliders or balls"),
+    }
+}
+
+/// A ball joint in the tree's terms: the link turned as it is now, its anchor put on the
+/// parent's. The kind and axis are its first hinge's (`build_tree` makes the three).
+fn ball_frame(j: &crate::constraint::BallJoint, first: bool, seen: &Seen) -> TreeJoint {
+    let (anchor, parent_anchor) = if first {
+        (j.local_anchor1, j.local_anchor2)
+    } else {
+        (j.local_anchor2, j.local_anchor1)
+    };
+    let anchor = d3(anchor);
+    let parent_anchor = seen.point(d3(parent_anchor));
+    TreeJoint {
+        kind: TreeJointKind::Hinge,
+        axis: DVec3::X,
+        anchor,
+        origin: (parent_anchor - seen.rotation * anchor, seen.rotation),
     }
 }
 

@@ -1,11 +1,13 @@
-//! The reduced-coordinate path of a step: trees of hinges and sliders hanging from the static
-//! world, stepped in their joint coordinates ([`crate::articulation`]) instead of as bodies held
-//! together by constraint rows.
+//! The reduced-coordinate path of a step: trees of hinges, sliders and ball joints hanging from
+//! the static world, stepped in their joint coordinates ([`crate::articulation`]) instead of as
+//! bodies held together by constraint rows.
 //!
 //! A tree qualifies, step by step, when (hybrid routing, [`crate::Routing::max_reduced_links`]):
 //! its bodies are awake, dynamic, undamped and plain (no fast-spin axis); they are joined by
 //! enabled hinges and prismatic joints with hard stops (no restitution), motors, joint
-//! dynamics and actuators (servos without a force cap), none breakable; exactly one of those
+//! dynamics and actuators (servos without a force cap), or ball joints without limits, none
+//! breakable and none with its own γ; at most `max_reduced_links` coordinates (a ball joint
+//! counts three); exactly one of those
 //! joints holds the tree to the static world or a disabled body, and the joints make no loop;
 //! and nothing else touches its bodies — no contact, no other joint (`qualify.rs`). A tree that
 //! stops qualifying (a link touches something) goes to the maximal path in the same step.
@@ -34,12 +36,13 @@ mod saved;
 pub(crate) use saved::SavedTree;
 
 use super::World;
-use crate::articulation::ArticulatedTree;
+use crate::articulation::{ArticulatedTree, TreeLink};
 use crate::body::Motion;
 use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
 use build::{coordinate_of, d3, dq, drive, limit_of, rq, v3};
+use glam::DVec3;
 use qualify::Role;
 
 /// One link of a tree: its body and joint slots and how the joint's coordinate maps to the
@@ -55,6 +58,9 @@ struct LinkPlan {
     /// The joint's coordinate where the tree was built, and its rate then.
     at: f64,
     rate: f64,
+    /// A ball joint: three hinges in the tree (its coordinate and rate unused).
+    #[cfg_attr(feature = "serde", serde(default))]
+    ball: bool,
 }
 
 /// What a step left in a link's body and joint: a kept tree is stepped again only while its
@@ -90,6 +96,18 @@ struct CachedTree {
     /// The joint revision it was built at; 0: stale (built again before use).
     revision: u64,
     plan: Vec<LinkPlan>,
+    /// Per plan entry, the tree link that carries its body (a ball joint's third hinge).
+    link_of: Vec<usize>,
+    /// Holds a ball joint: built again every step (see `build.rs`), never kept.
+    has_ball: bool,
+    /// Per plan entry, the impulse (world frame) a ball joint gave its body at the joint's
+    /// point when the tree was built (its velocity as the joint allows it), and that point
+    /// from the body's centre: part of the joint's reaction in the step that follows.
+    kick: Vec<(DVec3, DVec3)>,
+    /// Per plan entry, its subtree's net force in the step in flight (scratch).
+    subtree: Vec<DVec3>,
+    /// The tree's links while it is built.
+    building: Vec<TreeLink>,
     tree: ArticulatedTree,
     /// Its coordinates and rates now, and after the step in flight.
     q: Vec<f64>,
@@ -191,7 +209,13 @@ impl World {
         self.forget_unstepped_trees();
         // When the trees' joints are all the world's constraints, the next step may skip
         // the search while nothing changes.
-        self.scratch.reduced.alone = (stepped > 0 && links == self.constraints.len())
+        let kept = self
+            .scratch
+            .reduced
+            .trees
+            .iter()
+            .all(|t| !(t.stepped && t.has_ball));
+        self.scratch.reduced.alone = (kept && stepped > 0 && links == self.constraints.len())
             .then_some((self.joint_revision, links));
         stepped
     }
@@ -226,7 +250,7 @@ impl World {
                             _ => true,
                         };
                         b.is_some_and(|b| b.enabled && !b.sleeping && qualify::plain(b))
-                            && e.is_some_and(|e| e.enabled && qualify::reducible(e).is_some())
+                            && e.is_some_and(|e| e.enabled && qualify::tree_joint(e))
                             && base
                     })
             })
@@ -307,15 +331,19 @@ impl World {
         t.tree.set_gravity(gravity);
         t.tree.set_integrator(self.settings.integrator);
         r.tau.clear();
+        r.tau.resize(t.tree.len(), 0.0);
         for (k, p) in t.plan.iter().enumerate() {
-            let entry = constraints
-                .at(p.joint as usize)
-                .expect("planned joints are live");
-            r.tau.push(drive(limit_of(entry), p, t.tree.link_mut(k)));
+            let link = t.link_of[k];
+            if !p.ball {
+                let entry = constraints
+                    .at(p.joint as usize)
+                    .expect("planned joints are live");
+                r.tau[link] = drive(limit_of(entry), p, t.tree.link_mut(link));
+            }
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             let turn = dq(b.orientation).inverse();
             if t.tree
-                .set_external(k, turn * d3(b.torque), turn * d3(b.force))
+                .set_external(link, turn * d3(b.torque), turn * d3(b.force))
                 .is_err()
             {
                 return false;
@@ -333,9 +361,10 @@ impl World {
         t.tree.forward(&t.q_next, &t.qd_next);
         t.first = r.results.len();
         for (k, p) in t.plan.iter().enumerate() {
+            let link = t.link_of[k];
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
-            let (position, rotation) = t.tree.frame(k);
-            let [w, v] = t.tree.velocity(k);
+            let (position, rotation) = t.tree.frame(link);
+            let [w, v] = t.tree.velocity(link);
             let (linear_velocity, angular_velocity) = (v3(rotation * v), v3(rotation * w));
             let parent = p
                 .parent
@@ -351,10 +380,33 @@ impl World {
                     linear_acceleration: (linear_velocity - b.linear_velocity) / h,
                     angular_acceleration: (angular_velocity - b.angular_velocity) / h,
                 },
-                coordinate: (p.at + p.sign * t.q_next[k]) as Real,
-                rate: (p.sign * t.qd_next[k]) as Real,
-                reaction: reactions(t.tree.reaction(k), b, parent, p.sign),
+                coordinate: (p.at + p.sign * t.q_next[link]) as Real,
+                rate: (p.sign * t.qd_next[link]) as Real,
+                reaction: reactions(with_kick(t, k, b, h64), b, parent, p.sign),
             });
+        }
+        // Each joint's force on its link, exactly: what its subtree's bodies' momenta took
+        // in the step less their weights and applied forces (Newton on the subtree), so that
+        // a body's joints account for m a − m g − f to round-off; the torques are Newton–
+        // Euler's at the step's start.
+        t.subtree.clear();
+        t.subtree.resize(t.plan.len(), DVec3::ZERO);
+        for k in (0..t.plan.len()).rev() {
+            let p = &t.plan[k];
+            let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            let a = r.results[t.first + k].motion.linear_acceleration;
+            let own = d3(a * b.mass - self.settings.gravity * b.mass - b.force);
+            let sum = t.subtree[k] + own;
+            t.subtree[k] = sum;
+            if let Some(parent) = p.parent {
+                t.subtree[parent as usize] += sum;
+            }
+            let [n, _] = with_kick(t, k, b, h64);
+            let f = dq(b.orientation).inverse() * sum;
+            let parent = p
+                .parent
+                .and_then(|k| bodies.at(t.plan[k as usize].body as usize));
+            r.results[t.first + k].reaction = reactions([n, f], b, parent, p.sign);
         }
         let finite = r.results[t.first..].iter().all(|x| {
             let m = &x.motion;
@@ -397,6 +449,10 @@ impl World {
         for t in r.trees.iter_mut().filter(|t| t.stepped) {
             std::mem::swap(&mut t.q, &mut t.q_next);
             std::mem::swap(&mut t.qd, &mut t.qd_next);
+            if t.has_ball {
+                // Built again, centred again, from the bodies next step.
+                t.revision = 0;
+            }
             t.marks.clear();
             for x in &r.results[t.first..t.first + t.plan.len()] {
                 if let Some(b) = self.bodies.at_mut(x.body as usize) {
@@ -442,6 +498,18 @@ fn mark(b: &crate::body::Body, coordinate: Real) -> Mark {
         inertia: b.inertia,
         coordinate,
     }
+}
+
+/// The wrench plan entry `k`'s joint passed to its link in the step (link coordinates), with
+/// the build's impulse at a ball joint's point spread over the step `h`.
+fn with_kick(t: &CachedTree, k: usize, b: &crate::body::Body, h: f64) -> [DVec3; 2] {
+    let [mut n, mut f] = t.tree.reaction(t.link_of[k]);
+    if let Some(&(impulse, lever)) = t.kick.get(k) {
+        let to_link = dq(b.orientation).inverse();
+        f += to_link * (impulse / h);
+        n += to_link * (lever.cross(impulse) / h);
+    }
+    [n, f]
 }
 
 /// The joint's reactions on its two bodies from the wrench it passed to the link (link

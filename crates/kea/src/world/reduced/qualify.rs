@@ -84,11 +84,8 @@ impl World {
                 continue;
             }
             // Only a hinge or a slider can be a tree's: a contact's entry is not read.
-            let reducible = self.tree_joint_slots[slot]
-                && self
-                    .constraints
-                    .at(slot)
-                    .is_some_and(|e| reducible(e).is_some());
+            let reducible =
+                self.tree_joint_slots[slot] && self.constraints.at(slot).is_some_and(tree_joint);
             let roles = [a, b].map(|x| r.role_of(x));
             match roles {
                 [Role::Link, Role::Link] if reducible => r.sets.union(a, b),
@@ -202,6 +199,20 @@ pub(super) fn plain(b: &Body) -> bool {
         && b.linear_damping == 0.0
         && b.angular_damping == 0.0
         && b.fast_spin_axis.is_none()
+}
+
+/// Whether a tree can hold the joint: a hinge or slider [`reducible`], or a ball joint without
+/// limits (its three turns as three hinges, see `build.rs`), none breakable, none with its
+/// own γ (which asks for the maximal path's error reduction).
+pub(super) fn tree_joint(e: &ConstraintEntry) -> bool {
+    (reducible(e).is_some() || free_ball(e)) && e.gamma.is_none()
+}
+
+/// A ball joint without limits and unbreakable.
+pub(super) fn free_ball(e: &ConstraintEntry) -> bool {
+    matches!(&e.kind, ConstraintKind::Ball(j) if j.limits.is_none())
+        && e.break_force.is_none()
+        && e.break_torque.is_none()
 }
 
 /// A joint's limit if a tree can hold it (see the module docs).

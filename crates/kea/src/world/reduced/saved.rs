@@ -89,6 +89,9 @@ impl World {
             let mut tree = CachedTree::default();
             tree.tree.refill(links, DVec3::ZERO);
             tree.plan = s.links.iter().map(|l| l.plan).collect();
+            // Kept trees hold no ball joint: one tree link per plan entry.
+            tree.link_of = (0..s.links.len()).collect();
+            tree.kick = vec![(DVec3::ZERO, DVec3::ZERO); s.links.len()];
             tree.base_joint = s.base_joint;
             tree.revision = self.joint_revision;
             tree.q = s.q;
@@ -120,6 +123,7 @@ impl World {
                     && l.inertia.is_finite()
                     && l.plan.at.is_finite()
                     && l.plan.rate.is_finite()
+                    && !l.plan.ball
             });
         if !finite {
             return Err("a number is not finite or out of range");
