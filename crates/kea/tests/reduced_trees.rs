@@ -342,3 +342,68 @@ fn a_reduced_world_is_the_same_bits_after_a_clone() {
         assert_eq!(a.1.linear_velocity(), b.1.linear_velocity());
     }
 }
+
+/// A body on a planar joint (two slides, and a turn) falls in its plane onto the stop of its
+/// second travel and rests there, keeps its first travel's speed, and turns freely — on every
+/// path, and on the default routing in reduced coordinates (two sliders and a hinge).
+#[test]
+fn a_body_on_a_planar_joint_falls_in_its_plane_onto_its_stop_on_every_path() {
+    for mode in [
+        SolverMode::Hybrid,
+        SolverMode::Exact,
+        SolverMode::Iterative,
+        SolverMode::Split,
+    ] {
+        for rotates in [false, true] {
+            let mut w = World::with_capacity(2, 2).unwrap();
+            w.update_settings(|s| {
+                s.routing = Routing {
+                    mode,
+                    ..Routing::default()
+                }
+            })
+            .unwrap();
+            let b = w
+                .create_body(&BodyDef {
+                    linear_velocity: Vec3::new(0.3, 0.0, 0.0),
+                    angular_velocity: Vec3::new(0.0, 0.0, if rotates { 0.5 } else { 0.0 }),
+                    ..BodyDef::default()
+                })
+                .unwrap();
+            let j = w
+                .create_joint(
+                    b,
+                    None,
+                    kea::JointSpec::planar(Vec3::ZERO, Vec3::Z, Vec3::X, rotates),
+                )
+                .unwrap();
+            j.limit_mut(&mut w, 1)
+                .unwrap()
+                .set_limits(SingleLimit::hard(-0.5, 0.0), SingleLimit::hard(1.0, 0.0))
+                .unwrap();
+            let mut reduced = 0;
+            for _ in 0..60 {
+                reduced += w.step(1.0 / 60.0).unwrap().reduced_trees;
+            }
+            let body = w.body(b).unwrap();
+            let (p, spin) = (body.position(), body.angular_velocity());
+            let what = format!("{mode:?}, turning {rotates}");
+            assert!((p.x - 0.3).abs() < 0.01, "{what}: x {}", p.x);
+            assert!((p.y + 0.5).abs() < 0.01, "{what}: rests on the stop: {p}");
+            assert!(p.z.abs() < 1e-3, "{what}: in its plane: {p}");
+            let turn = if rotates { 0.5 } else { 0.0 };
+            assert!(
+                (spin.z - turn).abs() < 1e-3 && spin.x.abs() + spin.y.abs() < 1e-3,
+                "{what}: {spin}"
+            );
+            let travel = j.get(&w).unwrap().limit(1).unwrap().position();
+            assert!(
+                (travel + 0.5).abs() < 0.01,
+                "{what}: the joint reads {travel}"
+            );
+            if mode == SolverMode::Hybrid {
+                assert_eq!(reduced, 60, "{what}: in reduced coordinates");
+            }
+        }
+    }
+}

@@ -12,8 +12,12 @@ use std::sync::atomic::Ordering;
 #[global_allocator]
 static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
 
+/// The count is the process's: one test counts at a time.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn a_warm_arm_in_reduced_coordinates_steps_without_allocating() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     // A fixed-base arm with a branch (two fingers on sliders): hinges with stops, armature,
     // damping, springs and friction, a motor, a force and an uncapped servo — all stepped in
     // reduced coordinates.
@@ -68,6 +72,7 @@ fn a_warm_arm_in_reduced_coordinates_steps_without_allocating() {
 
 #[test]
 fn a_warm_chain_of_ball_joints_in_reduced_coordinates_steps_without_allocating() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     // Three bobs on ball joints and one on a hinge, hanging from the world: built again every
     // step (a ball joint's chart is centred each step) from buffers kept warm.
     let mut world = PhysicsWorld::new();

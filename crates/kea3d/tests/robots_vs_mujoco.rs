@@ -264,7 +264,6 @@ fn gymnasium_reacher_arm_follows_mujoco_at_its_files_step() {
 }
 
 #[test]
-#[ignore = "known gap (issue 35): the reacher's target is one body on two slides, which Kea makes one two-slide joint on the maximal-coordinate path, whose stops are hard; MuJoCo's are soft and the target rebounds from them (0.093 m apart after 1 s from one start). Needs two-slide bodies in reduced coordinates (issue 37's trees)"]
 fn gymnasium_reacher_with_its_target_follows_mujoco_at_its_files_step() {
     file_step_swing("reacher.xml", 1.0, usize::MAX);
 }

@@ -86,6 +86,12 @@ impl Planar {
         ]
     }
 
+    /// Each coordinate's value and rate at the given state (the turn unwrapped against the
+    /// last step's).
+    pub(crate) fn coordinates_and_rates(&self, ctx: &RowContext) -> [(Real, Real); 3] {
+        self.coordinates_at(ctx).map(|(p, v, _)| (p, v))
+    }
+
     /// Each coordinate's value, rate and Jacobian at the given state.
     fn coordinates_at(&self, ctx: &RowContext) -> [(Real, Real, [Jacobian; 2]); 3] {
         let [b1, b2] = &ctx.bodies;
@@ -129,6 +135,14 @@ impl Planar {
         let coords = self.coordinates_at(ctx);
         self.angle = coords[2].0;
         for (limit, (p, v, _)) in self.limits.iter_mut().zip(coords) {
+            limit.record(p, v);
+        }
+    }
+
+    /// Records coordinates (value, rate) reached by a step taken elsewhere (the reduced path).
+    pub(crate) fn record(&mut self, coordinates: [(Real, Real); 3]) {
+        self.angle = coordinates[2].0;
+        for (limit, (p, v)) in self.limits.iter_mut().zip(coordinates) {
             limit.record(p, v);
         }
     }

@@ -42,7 +42,10 @@ impl World {
         self.tree_joint_slots[slot] = self.constraints.at(slot).is_some_and(|e| {
             matches!(
                 e.kind,
-                ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_) | ConstraintKind::Ball(_)
+                ConstraintKind::Hinge(_)
+                    | ConstraintKind::Prismatic(_)
+                    | ConstraintKind::Ball(_)
+                    | ConstraintKind::Planar(_)
             )
         });
         if joint_changed {

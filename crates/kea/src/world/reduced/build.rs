@@ -34,6 +34,7 @@ impl World {
         let plan = &cache.plan;
         cache.building.clear();
         cache.link_of.clear();
+        cache.first_link.clear();
         cache.qd.clear();
         cache.kick.clear();
         cache.has_ball = false;
@@ -51,6 +52,7 @@ impl World {
                 .expect("planned joints are live");
             let joint = joint_frame(entry, p.sign, b, parent, bodies);
             let parent_link = p.parent.map(|k| cache.link_of[k as usize]);
+            cache.first_link.push(cache.building.len());
             let body_link = TreeLink {
                 parent: parent_link,
                 kind: joint.kind,
@@ -62,7 +64,39 @@ impl World {
                 inertia: dm(b.inertia),
                 ..TreeLink::default()
             };
-            if p.ball {
+            if let (Some(more), ConstraintKind::Planar(j)) = (p.planar, &entry.kind) {
+                cache.has_ball = true;
+                let seen = seen_from(entry, true, b, parent, bodies);
+                let f = planar_frame(j, &seen);
+                let first = cache.building.len();
+                let massless = TreeLink {
+                    mass: 0.0,
+                    inertia: DMat3::ZERO,
+                    ..body_link
+                };
+                let second = TreeLink {
+                    parent: Some(first),
+                    origin: (DVec3::ZERO, DQuat::IDENTITY),
+                    kind: TreeJointKind::Slider,
+                    axis: f.axes[1],
+                    ..if j.rotates { massless } else { body_link }
+                };
+                cache.building.push(massless);
+                cache.building.push(second);
+                cache.qd.extend([p.rate, more[1]]);
+                cache.kick.push((DVec3::ZERO, DVec3::ZERO));
+                if j.rotates {
+                    cache.building.push(TreeLink {
+                        parent: Some(first + 1),
+                        origin: (DVec3::ZERO, DQuat::IDENTITY),
+                        kind: TreeJointKind::Hinge,
+                        axis: f.axes[2],
+                        anchor: f.anchor,
+                        ..body_link
+                    });
+                    cache.qd.push(more[3]);
+                }
+            } else if p.ball {
                 cache.has_ball = true;
                 let (spin, kick) = ball_spin(b, parent_body, joint.anchor);
                 cache.kick.push(kick);
@@ -163,6 +197,7 @@ impl World {
             gamma: self.settings.gamma,
             contact_spring: self.settings.contact_spring,
         };
+        let mut planar = None;
         let (at, rate, ball) = match &entry.kind {
             ConstraintKind::Hinge(j) => {
                 let (at, rate) = j.angle_and_rate(&ctx);
@@ -173,6 +208,16 @@ impl World {
                 (at, rate, false)
             }
             ConstraintKind::Ball(_) => (0.0, 0.0, true),
+            // The tree holds a planar joint's moving side as the link (the importers' way).
+            ConstraintKind::Planar(j) if sign > 0.0 => {
+                let [(x, vx), (y, vy), (t, vt)] = j.coordinates_and_rates(&ctx);
+                let more = [y, vy, t, vt].map(wide);
+                if !more.iter().all(|v| v.is_finite()) {
+                    return None;
+                }
+                planar = Some(more);
+                (x, vx, false)
+            }
             _ => return None,
         };
         (at.is_finite() && rate.is_finite()).then_some(LinkPlan {
@@ -183,6 +228,7 @@ impl World {
             at: wide(at),
             rate: wide(rate),
             ball,
+            planar,
         })
     }
 }
@@ -264,24 +310,22 @@ fn joint_frame(
     bodies: &Arena<Body, BodyHandle>,
 ) -> TreeJoint {
     let first = sign > 0.0;
-    let (parent_position, parent_rotation) = parent.unwrap_or((DVec3::ZERO, DQuat::IDENTITY));
-    let to_parent = parent_rotation.inverse();
-    // The root's other body is the static world or a disabled base, whose frame its joint
-    // holds vectors and points in: seen from the world's.
-    let other = entry.bodies[usize::from(first)].and_then(|h| bodies.get(h).ok());
-    let seen = Seen {
-        rotation: (to_parent * dq(link.orientation)).normalize(),
-        position: to_parent * (d3(link.position) - parent_position),
-        base: match (parent, other) {
-            (None, Some(b)) => Some((dq(b.orientation), d3(b.position))),
-            _ => None,
-        },
-    };
+    let seen = seen_from(entry, first, link, parent, bodies);
     match &entry.kind {
         ConstraintKind::Hinge(j) => hinge_frame(j, first, &seen),
         ConstraintKind::Prismatic(j) => slider_frame(j, first, &seen),
         ConstraintKind::Ball(j) => ball_frame(j, first, &seen),
-        _ => unreachable!("planned joints are hinges, sliders or balls"),
+        // Its first slider's (`build_tree` makes the rest).
+        ConstraintKind::Planar(j) => {
+            let f = planar_frame(j, &seen);
+            TreeJoint {
+                kind: TreeJointKind::Slider,
+                axis: f.axes[0],
+                anchor: DVec3::ZERO,
+                origin: f.origin,
+            }
+        }
+        _ => unreachable!("planned joints are hinges, sliders, balls or planar"),
     }
 }
 
@@ -300,6 +344,63 @@ fn ball_frame(j: &crate::constraint::BallJoint, first: bool, seen: &Seen) -> Tre
         axis: DVec3::X,
         anchor,
         origin: (parent_anchor - seen.rotation * anchor, seen.rotation),
+    }
+}
+
+/// How the parent's frame sees `link` and the joint's other side.
+fn seen_from(
+    entry: &ConstraintEntry,
+    first: bool,
+    link: &Body,
+    parent: Option<(DVec3, DQuat)>,
+    bodies: &Arena<Body, BodyHandle>,
+) -> Seen {
+    let (parent_position, parent_rotation) = parent.unwrap_or((DVec3::ZERO, DQuat::IDENTITY));
+    let to_parent = parent_rotation.inverse();
+    // The root's other body is the static world or a disabled base, whose frame its joint
+    // holds vectors and points in: seen from the world's.
+    let other = entry.bodies[usize::from(first)].and_then(|h| bodies.get(h).ok());
+    Seen {
+        rotation: (to_parent * dq(link.orientation)).normalize(),
+        position: to_parent * (d3(link.position) - parent_position),
+        base: match (parent, other) {
+            (None, Some(b)) => Some((dq(b.orientation), d3(b.position))),
+            _ => None,
+        },
+    }
+}
+
+/// A planar joint in the tree's terms, its moving side the link: the link's frame where the
+/// joint holds it now (turned as it is about the normal, or as the joint holds it if it does
+/// not turn; its point put back in the plane), the two travels' directions and the normal in
+/// the link's frame, and its point.
+struct PlanarFrame {
+    origin: (DVec3, DQuat),
+    axes: [DVec3; 3],
+    anchor: DVec3,
+}
+
+fn planar_frame(j: &crate::constraint::Planar, seen: &Seen) -> PlanarFrame {
+    let normal = seen.vector(d3(j.local_normal2)).normalize();
+    let e1 = seen.vector(d3(j.local_axis2)).normalize();
+    let e2 = normal.cross(e1);
+    let rotation = if j.rotates {
+        let align =
+            DQuat::from_rotation_arc(seen.rotation * d3(j.local_normal1).normalize(), normal);
+        (align * seen.rotation).normalize()
+    } else {
+        let held = dq(j.relative_orientation);
+        seen.base.map_or(held, |(r, _)| (r * held).normalize())
+    };
+    let anchor = d3(j.local_anchor1);
+    let point = seen.position + rotation * anchor;
+    let plane = seen.point(d3(j.local_anchor2));
+    let point = point - normal * (point - plane).dot(normal);
+    let to_link = rotation.inverse();
+    PlanarFrame {
+        origin: (point - rotation * anchor, rotation),
+        axes: [to_link * e1, to_link * e2, to_link * normal],
+        anchor,
     }
 }
 

@@ -5,7 +5,8 @@
 //! A tree qualifies, step by step, when (hybrid routing, [`crate::Routing::max_reduced_links`]):
 //! its bodies are awake, dynamic, undamped and plain (no fast-spin axis); they are joined by
 //! enabled hinges and prismatic joints with hard stops (no restitution), motors, joint
-//! dynamics and actuators (servos without a force cap), or ball joints without limits, none
+//! dynamics and actuators (servos without a force cap), planar joints whose coordinates'
+//! limits are such (the moving side the link), or ball joints without limits, none
 //! breakable and none with its own γ; at most `max_reduced_links` coordinates (a ball joint
 //! counts three); exactly one of those
 //! joints holds the tree to the static world or a disabled body, and the joints make no loop;
@@ -41,6 +42,7 @@ use crate::body::Motion;
 use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
+use crate::world::constraint_entry::ConstraintKind;
 use build::{coordinate_of, d3, dq, drive, limit_of, rq, v3};
 use glam::DVec3;
 use qualify::Role;
@@ -61,6 +63,10 @@ struct LinkPlan {
     /// A ball joint: three hinges in the tree (its coordinate and rate unused).
     #[cfg_attr(feature = "serde", serde(default))]
     ball: bool,
+    /// A planar joint: two sliders and, if it turns, a hinge in the tree; `at` and `rate` are
+    /// its first travel's, these its second travel's and its turn's (value, rate, value, rate).
+    #[cfg_attr(feature = "serde", serde(default))]
+    planar: Option<[f64; 4]>,
 }
 
 /// What a step left in a link's body and joint: a kept tree is stepped again only while its
@@ -85,6 +91,8 @@ struct LinkResult {
     motion: Motion,
     coordinate: Real,
     rate: Real,
+    /// A planar joint's second travel and its turn (value, rate).
+    more: [(Real, Real); 2],
     reaction: [Reaction; 2],
 }
 
@@ -96,9 +104,11 @@ struct CachedTree {
     /// The joint revision it was built at; 0: stale (built again before use).
     revision: u64,
     plan: Vec<LinkPlan>,
-    /// Per plan entry, the tree link that carries its body (a ball joint's third hinge).
+    /// Per plan entry, the tree link that carries its body (a ball joint's third hinge), and
+    /// the first of its joint's links (a planar joint's first slider).
     link_of: Vec<usize>,
-    /// Holds a ball joint: built again every step (see `build.rs`), never kept.
+    first_link: Vec<usize>,
+    /// Holds a ball or planar joint: built again every step (see `build.rs`), never kept.
     has_ball: bool,
     /// Per plan entry, the impulse (world frame) a ball joint gave its body at the joint's
     /// point when the tree was built (its velocity as the joint allows it), and that point
@@ -334,10 +344,23 @@ impl World {
         r.tau.resize(t.tree.len(), 0.0);
         for (k, p) in t.plan.iter().enumerate() {
             let link = t.link_of[k];
-            if !p.ball {
-                let entry = constraints
-                    .at(p.joint as usize)
-                    .expect("planned joints are live");
+            let entry = constraints
+                .at(p.joint as usize)
+                .expect("planned joints are live");
+            if let (Some(more), ConstraintKind::Planar(j)) = (p.planar, &entry.kind) {
+                // Its coordinates each on its own tree link, from the first.
+                let first = t.first_link[k];
+                for c in 0..=link - first {
+                    let at = if c == 0 { p.at } else { more[2 * c - 2] };
+                    let coordinate = LinkPlan {
+                        at,
+                        sign: 1.0,
+                        ..*p
+                    };
+                    let limit = j.limit(c).expect("three coordinates");
+                    r.tau[first + c] = drive(limit, &coordinate, t.tree.link_mut(first + c));
+                }
+            } else if !p.ball {
                 r.tau[link] = drive(limit_of(entry), p, t.tree.link_mut(link));
             }
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
@@ -380,8 +403,18 @@ impl World {
                     linear_acceleration: (linear_velocity - b.linear_velocity) / h,
                     angular_acceleration: (angular_velocity - b.angular_velocity) / h,
                 },
-                coordinate: (p.at + p.sign * t.q_next[link]) as Real,
-                rate: (p.sign * t.qd_next[link]) as Real,
+                coordinate: (p.at + p.sign * t.q_next[t.first_link[k]]) as Real,
+                rate: (p.sign * t.qd_next[t.first_link[k]]) as Real,
+                more: p.planar.map_or([(0.0, 0.0); 2], |m| {
+                    let (first, q, qd) = (t.first_link[k], &t.q_next, &t.qd_next);
+                    let value = |c: usize, at: f64| (at + q[first + c]) as Real;
+                    let turn = if first + 2 <= link {
+                        (value(2, m[2]), qd[first + 2] as Real)
+                    } else {
+                        (m[2] as Real, 0.0)
+                    };
+                    [(value(1, m[0]), qd[first + 1] as Real), turn]
+                }),
                 reaction: reactions(with_kick(t, k, b, h64), b, parent, p.sign),
             });
         }
@@ -461,12 +494,15 @@ impl World {
                 }
                 if let Some(e) = self.constraints.at_mut(x.joint as usize) {
                     match &mut e.kind {
-                        super::constraint_entry::ConstraintKind::Hinge(j) => {
+                        ConstraintKind::Hinge(j) => {
                             j.angle = x.coordinate;
                             j.limit.record(x.coordinate, x.rate);
                         }
-                        super::constraint_entry::ConstraintKind::Prismatic(j) => {
+                        ConstraintKind::Prismatic(j) => {
                             j.limit.record(x.coordinate, x.rate);
+                        }
+                        ConstraintKind::Planar(j) => {
+                            j.record([(x.coordinate, x.rate), x.more[0], x.more[1]]);
                         }
                         _ => {}
                     }

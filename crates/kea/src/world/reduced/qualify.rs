@@ -205,7 +205,19 @@ pub(super) fn plain(b: &Body) -> bool {
 /// limits (its three turns as three hinges, see `build.rs`), none breakable, none with its
 /// own γ (which asks for the maximal path's error reduction).
 pub(super) fn tree_joint(e: &ConstraintEntry) -> bool {
-    (reducible(e).is_some() || free_ball(e)) && e.gamma.is_none()
+    (reducible(e).is_some() || free_ball(e) || planar(e)) && e.gamma.is_none()
+}
+
+/// A planar joint whose used coordinates' limits a tree can hold, unbreakable (its travels and
+/// turn as two sliders and a hinge, see `build.rs`).
+pub(super) fn planar(e: &ConstraintEntry) -> bool {
+    let ConstraintKind::Planar(j) = &e.kind else {
+        return false;
+    };
+    let used = if j.rotates { 3 } else { 2 };
+    e.break_force.is_none()
+        && e.break_torque.is_none()
+        && (0..used).all(|k| j.limit(k).is_some_and(holdable))
 }
 
 /// A ball joint without limits and unbreakable.
@@ -225,14 +237,14 @@ pub(super) fn reducible(e: &ConstraintEntry) -> Option<&Limit> {
         ConstraintKind::Prismatic(j) => j.limit(),
         _ => return None,
     };
+    holdable(limit).then_some(limit)
+}
+
+/// Whether a tree holds a coordinate's limit: stops hard without restitution, servos uncapped.
+fn holdable(limit: &Limit) -> bool {
     let hard = |s: &crate::constraint::SingleLimit| s.is_hard() && s.restitution == 0.0;
     if limit.is_limited() && !(hard(limit.lower()) && hard(limit.upper())) {
-        return None;
+        return false;
     }
-    if let Some(Actuator::Servo { max_force, .. }) = limit.actuator() {
-        if max_force.is_finite() {
-            return None;
-        }
-    }
-    Some(limit)
+    !matches!(limit.actuator(), Some(Actuator::Servo { max_force, .. }) if max_force.is_finite())
 }

@@ -91,6 +91,7 @@ impl World {
             tree.plan = s.links.iter().map(|l| l.plan).collect();
             // Kept trees hold no ball joint: one tree link per plan entry.
             tree.link_of = (0..s.links.len()).collect();
+            tree.first_link = (0..s.links.len()).collect();
             tree.kick = vec![(DVec3::ZERO, DVec3::ZERO); s.links.len()];
             tree.base_joint = s.base_joint;
             tree.revision = self.joint_revision;
@@ -124,6 +125,7 @@ impl World {
                     && l.plan.at.is_finite()
                     && l.plan.rate.is_finite()
                     && !l.plan.ball
+                    && l.plan.planar.is_none()
             });
         if !finite {
             return Err("a number is not finite or out of range");
