@@ -123,7 +123,7 @@ fn the_hinge_tutorials_door_turns_at_its_motors_speed_and_stops_at_its_limits() 
                 let l = hinge.get(&w).unwrap().limit();
                 let (angle, rate) = (l.position(), l.velocity());
                 assert!(
-                    angle <= 1.2 + 0.02 && angle >= -0.75 - 0.02,
+                    (-0.75 - 0.02..=1.2 + 0.02).contains(&angle),
                     "{mode:?}: past a stop at {angle}"
                 );
                 if at_stop.is_none() && (angle - stop).abs() < 0.02 {
