@@ -126,6 +126,11 @@ impl ArticulatedTree {
         let mut kept = 0;
         for r in 0..self.rows.len() {
             let row = self.rows[r];
+            if !row.impulse.is_finite() {
+                // A step gone wrong (it is refused as not finite): nothing to settle.
+                self.rows.clear();
+                return;
+            }
             // A motor and friction have what their force left after the step's own pass.
             let (lo, hi) = (row.lo - row.impulse, row.hi - row.impulse);
             let settled = match row.kind {
