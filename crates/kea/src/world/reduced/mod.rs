@@ -29,6 +29,7 @@
 //! was.
 
 mod build;
+mod frames;
 mod qualify;
 #[cfg(feature = "serde")]
 mod saved;
