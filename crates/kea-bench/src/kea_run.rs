@@ -120,6 +120,17 @@ impl KeaScene {
         wide(self.physics.dynamics().kinetic_energy())
     }
 
+    /// Every body's orientation, `[x, y, z, w]`, in the scene's order.
+    pub fn orientations(&self) -> Vec<[f64; 4]> {
+        self.bodies
+            .iter()
+            .map(|&(h, _)| {
+                let q = self.physics.dynamics().body(h).expect("body").orientation();
+                [wide(q.x), wide(q.y), wide(q.z), wide(q.w)]
+            })
+            .collect()
+    }
+
     /// The last step's stage times: solver, broad phase, narrow phase.
     pub fn stages(&self) -> [Duration; 3] {
         [
@@ -187,6 +198,9 @@ pub fn run(scene: &Scene) -> Outcome {
         }
     }
     let mut gap: f64 = 0.0;
+    let hinges = crate::scenes::has_hinges(scene);
+    let start = s.orientations();
+    let mut overrun: f64 = 0.0;
     let mut stages = [Duration::ZERO; 3];
     let mut total = Duration::ZERO;
     let mut steps = 0;
@@ -201,6 +215,13 @@ pub fn run(scene: &Scene) -> Outcome {
         steps += 1;
         if scene.quality == Quality::JointGap {
             gap = gap.max(s.joint_gap());
+        }
+        if hinges {
+            overrun = overrun.max(crate::scenes::hinge_overrun(
+                scene,
+                &start,
+                &s.orientations(),
+            ));
         }
         for (t, d) in stages.iter_mut().zip(s.stages()) {
             *t += d;
@@ -219,6 +240,7 @@ pub fn run(scene: &Scene) -> Outcome {
         hash: s.state_hash(),
         stages_ms: stages.map(|d| d.as_secs_f64() * 1e3 / steps),
         failed,
+        overrun,
     }
 }
 

@@ -41,6 +41,8 @@ pub struct Outcome {
     pub failed: Option<String>,
     /// A hash of the final state (Kea's; 0 for Rapier).
     pub hash: u64,
+    /// The largest hinge limit overrun at any step, rad ([`scenes::hinge_overrun`]).
+    pub overrun: f64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -76,6 +78,7 @@ fn scenes(quick: bool) -> Vec<Scene> {
         scenes::hanging_chain(333, s(300)),
         scenes::ragdolls(8, s(300)),
         scenes::ragdolls(32, s(300)),
+        scenes::ball_net(30, s(300)),
     ]
 }
 
@@ -200,8 +203,8 @@ fn main() {
         println!("Rapier with `simd8`: {path}; Rapier / Kea is taken against the faster Rapier");
     }
     println!();
-    println!("| scene | Rapier ms/step | Rapier simd8 ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| scene | Rapier ms/step | Rapier simd8 ms/step | Kea ms/step | Rapier / Kea | Kea quality | Rapier quality | Kea solve / broad / narrow ms | µs per joint per substep, Kea / Rapier |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     let mut per_scene: Vec<(String, usize, f64)> = Vec::new();
     for mut scene in scenes(quick)
         .into_iter()
@@ -279,9 +282,35 @@ fn print_row(scene: &Scene, m: &Measured) {
         None => quality(scene.quality, kq),
     };
     let rq = m.rapier.last().map_or(0.0, |o| o.quality);
+    let (kea_quality, rapier_quality) = if scenes::has_hinges(scene) {
+        let worst = |o: &[Outcome]| o.iter().map(|o| o.overrun).fold(0.0, f64::max);
+        (
+            format!("{kea_quality}, limits overrun {:.2} rad", worst(&m.kea)),
+            format!(
+                "{}, limits overrun {:.2} rad",
+                quality(scene.quality, rq),
+                worst(&m.rapier)
+            ),
+        )
+    } else {
+        (kea_quality, quality(scene.quality, rq))
+    };
     let stage = |i: usize| median(m.kea.iter().map(|o| o.stages_ms[i]).collect());
+    // Both take 4 substeps a step on these scenes (Kea's split and iterative paths, Rapier's
+    // default solver iterations); Kea's exact path, forced, takes one.
+    let per_joint = if scene.joints.is_empty() {
+        "—".to_string()
+    } else {
+        let kea_substeps = if scene.kea_exact { 1.0 } else { 4.0 };
+        let joints = scene.joints.len() as f64;
+        format!(
+            "{:.3} / {:.3}",
+            1000.0 * k / (joints * kea_substeps),
+            1000.0 * r / (joints * 4.0)
+        )
+    };
     println!(
-        "| {} | {:.3} (±{:.3}) | {} | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} |",
+        "| {} | {:.3} (±{:.3}) | {} | {:.3} (±{:.3}) | {:.2} | {} | {} | {:.3} / {:.3} / {:.3} | {} |",
         scene.name,
         plain,
         0.5 * spread(&rapier_ms),
@@ -290,10 +319,11 @@ fn print_row(scene: &Scene, m: &Measured) {
         0.5 * spread(&m.kea_ms()),
         r / k,
         kea_quality,
-        quality(scene.quality, rq),
+        rapier_quality,
         stage(0),
         stage(1),
         stage(2),
+        per_joint,
     );
 }
 

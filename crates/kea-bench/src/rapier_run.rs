@@ -131,6 +131,17 @@ impl RapierScene {
             .fold(0.0, f64::max)
     }
 
+    /// Every body's orientation, `[x, y, z, w]`, in the scene's order.
+    pub fn orientations(&self) -> Vec<[f64; 4]> {
+        self.handles
+            .iter()
+            .map(|&(h, _)| {
+                let q = self.bodies[h].rotation();
+                [q.x as f64, q.y as f64, q.z as f64, q.w as f64]
+            })
+            .collect()
+    }
+
     pub fn energy(&self) -> f64 {
         self.handles
             .iter()
@@ -146,6 +157,9 @@ pub fn run(scene: &Scene) -> Outcome {
         s.step();
     }
     let mut gap: f64 = 0.0;
+    let hinges = crate::scenes::has_hinges(scene);
+    let start = s.orientations();
+    let mut overrun: f64 = 0.0;
     let mut total = Duration::ZERO;
     for _ in 0..scene.steps {
         let t = Instant::now();
@@ -153,6 +167,13 @@ pub fn run(scene: &Scene) -> Outcome {
         total += t.elapsed();
         if scene.quality == Quality::JointGap {
             gap = gap.max(s.joint_gap());
+        }
+        if hinges {
+            overrun = overrun.max(crate::scenes::hinge_overrun(
+                scene,
+                &start,
+                &s.orientations(),
+            ));
         }
     }
     let quality = match scene.quality {
@@ -166,6 +187,7 @@ pub fn run(scene: &Scene) -> Outcome {
         quality,
         stages_ms: [0.0; 3],
         failed: None,
+        overrun,
     }
 }
 

@@ -364,3 +364,117 @@ pub fn ragdolls(count: usize, steps: usize) -> Scene {
         steps,
     )
 }
+
+/// A `side` × `side` net of balls joined to their right and lower neighbours by ball joints,
+/// hanging from the world by its two top corners, released flat (horizontal): joints that
+/// close loops (a grid), Rapier's time beside Kea's (reported, not a target).
+pub fn ball_net(side: usize, steps: usize) -> Scene {
+    let spacing = 0.25;
+    let radius = 0.08;
+    let height = 3.0;
+    let volume = 4.0 / 3.0 * std::f32::consts::PI * radius * radius * radius;
+    let at = |i: usize, j: usize| [i as f32 * spacing, height, j as f32 * spacing];
+    let bodies: Vec<Body> = (0..side * side)
+        .map(|k| Body {
+            shape: Shape::Ball(radius),
+            position: at(k % side, k / side),
+            density: 1.0 / volume,
+        })
+        .collect();
+    let mut joints = Vec::new();
+    let mid = |p: [f32; 3], q: [f32; 3]| [0.5 * (p[0] + q[0]), p[1], 0.5 * (p[2] + q[2])];
+    for j in 0..side {
+        for i in 0..side {
+            let k = j * side + i;
+            if i + 1 < side {
+                joints.push(Joint {
+                    a: Some(k),
+                    b: k + 1,
+                    anchor: mid(at(i, j), at(i + 1, j)),
+                    kind: JointKind::Ball,
+                });
+            }
+            if j + 1 < side {
+                joints.push(Joint {
+                    a: Some(k),
+                    b: k + side,
+                    anchor: mid(at(i, j), at(i, j + 1)),
+                    kind: JointKind::Ball,
+                });
+            }
+        }
+    }
+    for corner in [0, side - 1] {
+        joints.push(Joint {
+            a: None,
+            b: corner,
+            anchor: at(corner, 0),
+            kind: JointKind::Ball,
+        });
+    }
+    Scene::jointed(
+        format!("{side}x{side} ball-joint net (loops), hanging by two corners"),
+        (bodies, joints),
+        Vec::new(),
+        steps,
+    )
+}
+
+/// The largest amount by which any hinge of `scene` is past a stop, rad, from each body's
+/// orientation at the start and now (unit quaternions `[x, y, z, w]`): the turn of body `b`
+/// relative to body `a` since the start, about the hinge's axis (fixed in `a`), against the
+/// hinge's `[lower, upper]`. The same measure for both engines.
+pub fn hinge_overrun(scene: &Scene, start: &[[f64; 4]], now: &[[f64; 4]]) -> f64 {
+    let world = [0.0, 0.0, 0.0, 1.0];
+    let pick = |q: &[[f64; 4]], i: Option<usize>| i.map_or(world, |i| q[i]);
+    let mut worst: f64 = 0.0;
+    for j in &scene.joints {
+        let JointKind::Hinge { axis, lower, upper } = j.kind else {
+            continue;
+        };
+        let (a0, b0) = (pick(start, j.a), start[j.b]);
+        let (a, b) = (pick(now, j.a), now[j.b]);
+        // The turn since the start in a's frame: a⁻¹ b b0⁻¹ a0.
+        let d = mul(mul(mul(conj(a), b), conj(b0)), a0);
+        let n = rotate(conj(a0), axis.map(f64::from));
+        let along = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        let mut angle = 2.0 * along.atan2(d[3]);
+        if angle > std::f64::consts::PI {
+            angle -= 2.0 * std::f64::consts::PI;
+        } else if angle < -std::f64::consts::PI {
+            angle += 2.0 * std::f64::consts::PI;
+        }
+        worst = worst
+            .max(f64::from(lower) - angle)
+            .max(angle - f64::from(upper));
+    }
+    worst
+}
+
+fn mul(p: [f64; 4], q: [f64; 4]) -> [f64; 4] {
+    let [px, py, pz, pw] = p;
+    let [qx, qy, qz, qw] = q;
+    [
+        pw * qx + px * qw + py * qz - pz * qy,
+        pw * qy - px * qz + py * qw + pz * qx,
+        pw * qz + px * qy - py * qx + pz * qw,
+        pw * qw - px * qx - py * qy - pz * qz,
+    ]
+}
+
+fn conj(q: [f64; 4]) -> [f64; 4] {
+    [-q[0], -q[1], -q[2], q[3]]
+}
+
+fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+    let r = mul(mul(q, [v[0], v[1], v[2], 0.0]), conj(q));
+    [r[0], r[1], r[2]]
+}
+
+/// Whether the scene has hinges (its limits' overrun is reported).
+pub fn has_hinges(scene: &Scene) -> bool {
+    scene
+        .joints
+        .iter()
+        .any(|j| matches!(j.kind, JointKind::Hinge { .. }))
+}
