@@ -103,11 +103,28 @@ impl Default for Generator {
         scratch.points.reserve(2 * MAX_GEN_POINTS);
         Self {
             scratch,
-            epa: EPA::new(),
+            epa: warmed_epa(),
             feature: [PolygonalFeature::new(), PolygonalFeature::new()],
             out: Vec::with_capacity(16),
         }
     }
+}
+
+/// An EPA whose buffers have grown as far as any query takes them: two balls deep in each
+/// other, whose round supports never let the expansion converge, run it to parry's cap of 100
+/// iterations. Without it a warm world allocated the first time a deeper overlap needed more
+/// faces than any before (a car's wheel on a heightfield, seconds in).
+fn warmed_epa() -> EPA {
+    let mut epa = EPA::new();
+    let ball = crate::parry::shape::Ball::new(1.0);
+    let pos12 = Pose::from_translation(Vector::new(0.31, 0.17, 0.05));
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(&pos12, &ball, &ball, Vector::X));
+    if gjk::closest_points(&pos12, &ball, &ball, 0.0, true, &mut simplex) == GJKResult::Intersection
+    {
+        let _ = epa.closest_points(&pos12, &ball, &ball, &simplex);
+    }
+    epa
 }
 
 /// Packs parry's two feature ids into one (a point keeps it while the same features touch).
