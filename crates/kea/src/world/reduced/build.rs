@@ -2,13 +2,14 @@
 //! its base, each joint measured and put in the tree's terms (kind, axis, anchor, the link's
 //! frame in its parent's), and each step the joints' stops, motors and drives.
 
+use super::convert::{d3, dm, dq};
 use super::frames::{joint_frame, planar_frame, seen_from};
 use super::qualify::Role;
 use super::{CachedTree, LinkPlan};
 use crate::articulation::{TreeJointKind, TreeLink};
 use crate::body::Body;
 use crate::constraint::{Actuator, Limit, RowBody, RowContext};
-use crate::math::{wide, Mat3, Quat, Real, Vec3};
+use crate::math::{wide, Real};
 use crate::world::constraint_entry::{ConstraintEntry, ConstraintKind};
 use crate::world::constraint_index::NO_BODY;
 use crate::world::World;
@@ -343,28 +344,4 @@ pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
         (position, rate, stiffness, kv)
     });
     force
-}
-
-#[allow(clippy::unnecessary_cast)]
-pub(super) fn d3(v: Vec3) -> DVec3 {
-    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
-}
-
-#[allow(clippy::unnecessary_cast)]
-pub(super) fn v3(v: DVec3) -> Vec3 {
-    Vec3::new(v.x as Real, v.y as Real, v.z as Real)
-}
-
-#[allow(clippy::unnecessary_cast)]
-pub(super) fn dq(q: Quat) -> DQuat {
-    DQuat::from_xyzw(q.x as f64, q.y as f64, q.z as f64, q.w as f64).normalize()
-}
-
-#[allow(clippy::unnecessary_cast)]
-pub(super) fn rq(q: DQuat) -> Quat {
-    Quat::from_xyzw(q.x as Real, q.y as Real, q.z as Real, q.w as Real).normalize()
-}
-
-fn dm(m: Mat3) -> DMat3 {
-    DMat3::from_cols(d3(m.x_axis), d3(m.y_axis), d3(m.z_axis))
 }

@@ -2,7 +2,7 @@
 //! joint holds it now (drift off the joint taken out), and the joint's kind, axis and point
 //! (hinges, sliders, ball joints, planar joints).
 
-use super::build::{d3, dq};
+use super::convert::{d3, dq};
 use crate::articulation::TreeJointKind;
 use crate::body::Body;
 use crate::handle::{Arena, BodyHandle};

@@ -29,6 +29,7 @@
 //! was.
 
 mod build;
+mod convert;
 mod frames;
 mod qualify;
 #[cfg(feature = "serde")]
@@ -44,7 +45,8 @@ use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
 use crate::world::constraint_entry::ConstraintKind;
-use build::{coordinate_of, d3, dq, drive, limit_of, rq, v3};
+use build::{coordinate_of, drive, limit_of};
+use convert::{d3, dq, rq, v3};
 use glam::DVec3;
 use qualify::Role;
 
