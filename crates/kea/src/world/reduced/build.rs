@@ -38,7 +38,7 @@ impl World {
         cache.first_link.clear();
         cache.qd.clear();
         cache.kick.clear();
-        cache.has_ball = false;
+        cache.rebuilt_each_step = false;
         for p in plan {
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             // The parent's frame: its body's, or the world's for the root.
@@ -66,7 +66,7 @@ impl World {
                 ..TreeLink::default()
             };
             if let (Some(more), ConstraintKind::Planar(j)) = (p.planar, &entry.kind) {
-                cache.has_ball = true;
+                cache.rebuilt_each_step = true;
                 let seen = seen_from(entry, true, b, parent, bodies);
                 let f = planar_frame(j, &seen);
                 let first = cache.building.len();
@@ -98,7 +98,7 @@ impl World {
                     cache.qd.push(more[3]);
                 }
             } else if p.ball {
-                cache.has_ball = true;
+                cache.rebuilt_each_step = true;
                 let (spin, kick) = ball_spin(b, parent_body, joint.anchor);
                 cache.kick.push(kick);
                 let first = cache.building.len();

@@ -112,7 +112,7 @@ struct CachedTree {
     link_of: Vec<usize>,
     first_link: Vec<usize>,
     /// Holds a ball or planar joint: built again every step (see `build.rs`), never kept.
-    has_ball: bool,
+    rebuilt_each_step: bool,
     /// Per plan entry, the impulse (world frame) a ball joint gave its body at the joint's
     /// point when the tree was built (its velocity as the joint allows it), and that point
     /// from the body's centre: part of the joint's reaction in the step that follows.
@@ -227,7 +227,7 @@ impl World {
             .reduced
             .trees
             .iter()
-            .all(|t| !(t.stepped && t.has_ball));
+            .all(|t| !(t.stepped && t.rebuilt_each_step));
         self.scratch.reduced.alone = (kept && stepped > 0 && links == self.constraints.len())
             .then_some((self.joint_revision, links));
         stepped
@@ -485,7 +485,7 @@ impl World {
         for t in r.trees.iter_mut().filter(|t| t.stepped) {
             std::mem::swap(&mut t.q, &mut t.q_next);
             std::mem::swap(&mut t.qd, &mut t.qd_next);
-            if t.has_ball {
+            if t.rebuilt_each_step {
                 // Built again, centred again, from the bodies next step.
                 t.revision = 0;
             }
