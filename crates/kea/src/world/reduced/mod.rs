@@ -392,9 +392,6 @@ impl World {
             let (position, rotation) = t.tree.frame(link);
             let [w, v] = t.tree.velocity(link);
             let (linear_velocity, angular_velocity) = (v3(rotation * v), v3(rotation * w));
-            let parent = p
-                .parent
-                .and_then(|k| bodies.at(t.plan[k as usize].body as usize));
             r.results.push(LinkResult {
                 body: p.body,
                 joint: p.joint,
@@ -418,7 +415,8 @@ impl World {
                     };
                     [(value(1, m[0]), qd[first + 1] as Real), turn]
                 }),
-                reaction: reactions(with_kick(t, k, b, h64), b, parent, p.sign),
+                // Filled below, once every link's acceleration is known.
+                reaction: [Reaction::default(); 2],
             });
         }
         // Each joint's force on its link, exactly: what its subtree's bodies' momenta took
