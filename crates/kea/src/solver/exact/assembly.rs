@@ -13,11 +13,23 @@ use crate::solver::SolverParams;
 
 impl ExactWorkspace {
     /// Analyses (or recalls) the island's block graph, lays the system out and fills
-    /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows.
+    /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows. Blocks that
+    /// join their bodies without a loop take the tree solve; the others the general pattern.
     pub(super) fn assemble_matrix(&mut self) {
         self.dense_now = false;
         self.size_vectors(self.rows.len());
         let island_bodies = self.island_bodies.len();
+        self.tree_now = self.tree.order.analyse(
+            &self.block_key,
+            &self.block_first,
+            &self.block_size,
+            island_bodies,
+        );
+        if self.tree_now {
+            let rows = &self.rows;
+            self.tree.fill(|i| (rows[i].jac, rows[i].mj));
+            return;
+        }
         let pattern = self
             .patterns
             .get(&self.block_key, &self.block_size, island_bodies);
@@ -119,6 +131,9 @@ impl ExactWorkspace {
         if self.dense_now {
             return self.dense.diagonal(i);
         }
+        if self.tree_now {
+            return self.tree.diagonal(i);
+        }
         let (at, stride, r) = self.diagonal_index(i);
         self.sys.a[at + r * stride + r]
     }
@@ -133,10 +148,29 @@ impl ExactWorkspace {
         (self.layout.offset(k), size, i - first)
     }
 
+    /// `out = A x` on the block-sparse system as filled (tree or general).
+    pub(super) fn multiply(&mut self, x: &[f64], out: &mut [f64]) {
+        use crate::solver::sparse::pivoting::HeldSystem;
+        if self.tree_now {
+            self.tree.multiply(x, out);
+        } else {
+            crate::solver::sparse::factor::multiply(
+                self.patterns.current(),
+                &self.layout,
+                &self.sys.a,
+                x,
+                out,
+            );
+        }
+    }
+
     /// Adds `v` to island row `i`'s diagonal.
     pub(super) fn add_diagonal(&mut self, i: usize, v: f64) {
         if self.dense_now {
             return self.dense.add_diagonal(i, v);
+        }
+        if self.tree_now {
+            return self.tree.add_diagonal(i, v);
         }
         let (at, stride, r) = self.diagonal_index(i);
         self.sys.a[at + r * stride + r] += v;

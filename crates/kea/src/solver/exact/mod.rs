@@ -41,6 +41,7 @@ use crate::math::{to_f64, wide, DVec3, Real};
 use crate::solver::sparse::factor::Layout;
 use crate::solver::sparse::pattern::{BlockBodies, PatternCache};
 use crate::solver::sparse::pivoting::{self, FrictionLink, LcpWorkspace, System, Unknowns};
+use crate::solver::sparse::tree::TreeSystem;
 pub(crate) use crate::solver::sparse::{LcpReport, Limits};
 pub(crate) use substep::{SubstepRow, SubstepSystem};
 
@@ -90,6 +91,10 @@ pub(crate) struct ExactWorkspace {
     with_contacts: bool,
     /// The system last filled is the dense one ([`ExactWorkspace::fill_system`]).
     dense_now: bool,
+    /// The tree solve, and whether the block-sparse system last filled is on it (its blocks
+    /// join the bodies without a loop) rather than on the general pattern.
+    tree: TreeSystem,
+    tree_now: bool,
     /// Union-find scratch of [`ExactWorkspace::blocks_form_forest`].
     forest: Vec<u32>,
     /// The first row of the island's contacts (in the rows the island was gathered from):
@@ -147,6 +152,7 @@ impl ExactWorkspace {
             + self.sys.bytes()
             + self.lcp.bytes()
             + self.dense.bytes()
+            + self.tree.bytes()
     }
 
     /// An estimate of the bytes islands of up to `largest_island` rows need (a tree's system
@@ -384,6 +390,18 @@ impl ExactWorkspace {
     /// Principal pivoting on the block-sparse system as filled, from the bounds, guesses and
     /// bound states in `sys`; the solution is left in `sys.x`.
     pub(super) fn pivot(&mut self, limits: Limits) -> LcpReport {
+        if self.tree_now {
+            let mut unknowns = Unknowns {
+                lo: &mut self.sys.lo,
+                hi: &mut self.sys.hi,
+                x: &mut self.sys.x,
+                w: &mut self.sys.w,
+                state: &mut self.sys.state,
+            };
+            return self
+                .tree
+                .pivot((&self.sys.b, &self.sys.links), &mut unknowns, limits);
+        }
         let (system, mut unknowns, lcp) = self.split();
         pivoting::solve(&system, &mut unknowns, lcp, limits)
     }

@@ -120,15 +120,9 @@ impl SubstepSystem {
             return;
         }
         ws.assemble_matrix();
-        // Each position's diagonal block holds its rows' diagonals.
-        let pattern = ws.patterns.current();
-        for k in 0..pattern.len() {
-            let (first, size) = ws.layout.rows(k);
-            let at = ws.layout.offset(k);
-            for r in 0..size {
-                let d = &mut ws.sys.a[at + r * size + r];
-                *d += self.extra[first + r] + REGULARISATION * *d;
-            }
+        for (i, &extra) in self.extra.iter().enumerate() {
+            let d = ws.diagonal(i);
+            ws.add_diagonal(i, extra + REGULARISATION * d);
         }
     }
 
@@ -167,15 +161,18 @@ impl SubstepSystem {
             };
         }
         ws.size_vectors(n);
-        let pattern = ws.patterns.current();
         let equalities = ws.sys.links.iter().all(Option::is_none)
             && lo.iter().all(|&l| l == f64::NEG_INFINITY)
             && hi.iter().all(|&h| h == f64::INFINITY);
         if equalities {
             // Equalities first: `A (y − y₀) = r` straight through the factor, no pivoting.
             ws.sys.x[..n].copy_from_slice(&r[..n]);
-            let (system, unknowns, lcp) = ws.split();
-            let report = pivoting::solve_equalities(&system, unknowns.state, unknowns.x, lcp);
+            let report = if ws.tree_now {
+                pivoting::solve_equalities_on(&mut ws.tree, &mut ws.sys.state, &mut ws.sys.x)
+            } else {
+                let (system, unknowns, lcp) = ws.split();
+                pivoting::solve_equalities(&system, unknowns.state, unknowns.x, lcp)
+            };
             for (yi, dx) in y[..n].iter_mut().zip(&ws.sys.x[..n]) {
                 *yi += dx;
             }
@@ -183,13 +180,7 @@ impl SubstepSystem {
         }
         self.product.clear();
         self.product.resize(n, 0.0);
-        crate::solver::sparse::factor::multiply(
-            pattern,
-            &ws.layout,
-            &ws.sys.a,
-            y,
-            &mut self.product,
-        );
+        ws.multiply(y, &mut self.product);
         for i in 0..n {
             ws.sys.b[i] = r[i] + self.product[i];
             (ws.sys.lo[i], ws.sys.hi[i]) = match ws.sys.links[i] {

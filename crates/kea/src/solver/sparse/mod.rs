@@ -17,6 +17,11 @@
 //! * [`lcp_dense`]: the same BLCP on a dense `A` (islands of redundant contacts);
 //! * [`sets`]: the complementarity sets both pivotings keep, what violates them and the
 //!   pivot rule (block pivoting while it gains, single pivoting once it cycles);
+//! * [`tree`] (with `tree_order`, its analysis): the tree solve, for systems whose blocks
+//!   join their bodies without a loop (chains, ragdolls, vehicles, stacks): the blocks in an
+//!   elimination order with no fill, filled in place, factorised leaf to root, a change of
+//!   held rows refactorising only the branch it is on; a [`pivoting::HeldSystem`] like the
+//!   general system, so the same pivoting runs on both;
 //! * [`system`]: the borrowed view (`A` over its pattern and layout, `b`, friction links)
 //!   that pivoting solves and the held factor factorises.
 //!
@@ -31,5 +36,7 @@ pub(crate) mod pattern;
 pub(crate) mod pivoting;
 mod sets;
 pub(crate) mod system;
+pub(crate) mod tree;
+mod tree_order;
 
 pub(crate) use pivoting::{LcpReport, Limits};

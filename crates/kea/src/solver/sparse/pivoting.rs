@@ -96,20 +96,97 @@ pub(crate) fn state_from_guess(lo: f64, hi: f64, guess: f64) -> Bound {
     }
 }
 
-/// Solves the BLCP (see the module docs).
+/// A symmetric positive definite system pivoting can work on: products with `A`, and a
+/// factorisation of `A` with some rows held (each an identity row keeping its diagonal, its
+/// couplings cleared) that solves in place. The general block-sparse system
+/// ([`System`] with its [`HeldFactor`]) and the tree solve (`super::tree`) are both one.
+pub(crate) trait HeldSystem {
+    /// Rows.
+    fn len(&self) -> usize;
+    /// The largest diagonal entry of `A`.
+    fn diagonal_max(&self) -> f64;
+    /// `out = A x`.
+    fn multiply(&mut self, x: &[f64], out: &mut [f64]);
+    /// `x[i] = A_ii · held[i]` for every row `i` held (`state[i]` not free).
+    fn held_diagonal(&self, state: &[Bound], held: &[f64], x: &mut [f64]);
+    /// Factorises `A` with the rows of `state` held; pivots not above `tiny` become `floor`.
+    /// Returns whether one did.
+    fn factor(&mut self, state: &[Bound], tiny: f64, floor: f64) -> bool;
+    /// `x ← Â⁻¹ x` by the last factorisation.
+    fn solve(&mut self, x: &mut [f64]);
+}
+
+/// The block-sparse system with its kept factorisation, as a [`HeldSystem`].
+struct BlockSparse<'s, 'a> {
+    sys: &'s System<'a>,
+    factor: &'s mut HeldFactor,
+}
+
+impl HeldSystem for BlockSparse<'_, '_> {
+    fn len(&self) -> usize {
+        self.sys.b.len()
+    }
+
+    fn diagonal_max(&self) -> f64 {
+        diagonal_max(self.sys)
+    }
+
+    fn multiply(&mut self, x: &[f64], out: &mut [f64]) {
+        multiply(self.sys.pattern, self.sys.layout, self.sys.a, x, out);
+    }
+
+    fn held_diagonal(&self, state: &[Bound], held: &[f64], x: &mut [f64]) {
+        let sys = self.sys;
+        for k in 0..sys.pattern.len() {
+            let (fk, sk) = sys.layout.rows(k);
+            let d = sys.layout.offset(k);
+            for r in 0..sk {
+                if state[fk + r] != Bound::Free {
+                    x[fk + r] = sys.a[d + r * sk + r] * held[fk + r];
+                }
+            }
+        }
+    }
+
+    fn factor(&mut self, state: &[Bound], tiny: f64, floor: f64) -> bool {
+        self.factor.update(self.sys, state, tiny, floor)
+    }
+
+    fn solve(&mut self, x: &mut [f64]) {
+        factor_solve(self.sys.pattern, self.sys.layout, &self.factor.factor, x);
+    }
+}
+
+/// Solves the BLCP (see the module docs) on the block-sparse system.
 pub(crate) fn solve(
     sys: &System<'_>,
     u: &mut Unknowns<'_>,
     ws: &mut LcpWorkspace,
     limits: Limits,
 ) -> LcpReport {
-    let n = sys.b.len();
+    let mut matrix = BlockSparse {
+        sys,
+        factor: &mut ws.factor,
+    };
+    solve_on(&mut matrix, (sys.b, sys.links), u, &mut ws.held, limits)
+}
+
+/// Solves the BLCP (see the module docs) with right-hand side `b` and friction links `links`
+/// on any [`HeldSystem`]; `held` is scratch.
+pub(crate) fn solve_on<S: HeldSystem>(
+    sys: &mut S,
+    (b, links): (&[f64], &[FrictionLink]),
+    u: &mut Unknowns<'_>,
+    held: &mut Vec<f64>,
+    limits: Limits,
+) -> LcpReport {
+    let n = sys.len();
     let mut report = LcpReport::default();
-    let diag_max = diagonal_max(sys).max(1.0e-300);
+    let diag_max = sys.diagonal_max().max(1.0e-300);
     let (tiny, floor) = (1.0e-13 * diag_max, 1.0e-9 * diag_max);
-    let tol_w = 1.0e-11 * sys.b.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-    ws.held.resize(n, 0.0);
-    let unbounded = sys.links.iter().all(Option::is_none)
+    let tol_w = 1.0e-11 * b.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+    held.resize(n, 0.0);
+    let unbounded = links.iter().all(Option::is_none)
         && u.lo
             .iter()
             .zip(u.hi.iter())
@@ -128,26 +205,26 @@ pub(crate) fn solve(
             break;
         }
         settle_states(u);
-        report.singular |= solve_free(sys, u, ws, tiny, floor);
+        report.singular |= solve_free(sys, b, u, held, (tiny, floor));
         if unbounded {
             // Equalities only: the solve is the answer.
             u.w.fill(0.0);
             report.converged = true;
             break;
         }
-        let tol = slack_and_tolerances(sys, u, tol_w);
+        let tol = slack_and_tolerances(sys, b, u, tol_w);
         let (count, last) = violations(n, u, tol);
         if count == 0 {
             // Solved for these bounds: re-set the Coulomb bounds from the normal forces and
             // solve again from the same sets while they move.
-            if report.bound_updates < limits.bound_updates && update_bounds(sys.links, u) {
+            if report.bound_updates < limits.bound_updates && update_bounds(links, u) {
                 report.bound_updates += 1;
                 settle_states(u);
                 rule = PivotRule::default();
                 pass_start = iteration + 1;
                 continue;
             }
-            finish_converged(n, sys.links, u, &mut report);
+            finish_converged(n, links, u, &mut report);
             break;
         }
         report.pivots += rule.pivot(iteration, (n, count, last), u, tol);
@@ -157,9 +234,9 @@ pub(crate) fn solve(
     }
     if !report.converged {
         report.cycled = rule.fallback && !report.bounds_moving;
-        report.bounds_moving |= bounds_disagree(sys.links, u);
+        report.bounds_moving |= bounds_disagree(links, u);
         // The best answer found, within the final bounds (the Coulomb cone included).
-        update_bounds(sys.links, u);
+        update_bounds(links, u);
         for i in 0..n {
             u.x[i] = u.x[i].clamp(u.lo[i], u.hi[i]);
         }
@@ -169,9 +246,14 @@ pub(crate) fn solve(
 
 /// `w = A x − b` for the present `x`, and the tolerances a violation is judged by
 /// (`x` past a bound, `w` of the wrong sign at one).
-fn slack_and_tolerances(sys: &System<'_>, u: &mut Unknowns<'_>, tol_w: f64) -> (f64, f64) {
-    multiply(sys.pattern, sys.layout, sys.a, u.x, u.w);
-    for (w, b) in u.w.iter_mut().zip(sys.b) {
+fn slack_and_tolerances<S: HeldSystem>(
+    sys: &mut S,
+    b: &[f64],
+    u: &mut Unknowns<'_>,
+    tol_w: f64,
+) -> (f64, f64) {
+    sys.multiply(u.x, u.w);
+    for (w, b) in u.w.iter_mut().zip(b) {
         *w -= b;
     }
     let tol_x = 1.0e-11 * u.x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
@@ -207,12 +289,25 @@ pub(crate) fn solve_equalities(
     x: &mut [f64],
     ws: &mut LcpWorkspace,
 ) -> LcpReport {
-    let diag_max = diagonal_max(sys);
+    let mut matrix = BlockSparse {
+        sys,
+        factor: &mut ws.factor,
+    };
+    solve_equalities_on(&mut matrix, state, x)
+}
+
+/// [`solve_equalities`] on any [`HeldSystem`].
+pub(crate) fn solve_equalities_on<S: HeldSystem>(
+    sys: &mut S,
+    state: &mut [Bound],
+    x: &mut [f64],
+) -> LcpReport {
+    let diag_max = sys.diagonal_max();
     let tiny = 1.0e-13 * diag_max.max(1.0e-300);
     let floor = 1.0e-9 * diag_max.max(1.0e-300);
     state.fill(Bound::Free);
-    let singular = ws.factor.update(sys, state, tiny, floor);
-    factor_solve(sys.pattern, sys.layout, &ws.factor.factor, x);
+    let singular = sys.factor(state, tiny, floor);
+    sys.solve(x);
     for v in x.iter_mut() {
         if !v.is_finite() {
             *v = 0.0; // no force rather than a wild one
@@ -279,45 +374,36 @@ fn update_bounds(links: &[FrictionLink], u: &mut Unknowns<'_>) -> bool {
 
 /// Puts bound indices at their bound and solves for the free ones, with the bound ones as
 /// identity rows of the factorised system. Returns whether a pivot was regularised.
-fn solve_free(
-    sys: &System<'_>,
+fn solve_free<S: HeldSystem>(
+    sys: &mut S,
+    b: &[f64],
     u: &mut Unknowns<'_>,
-    ws: &mut LcpWorkspace,
-    tiny: f64,
-    floor: f64,
+    held: &mut [f64],
+    (tiny, floor): (f64, f64),
 ) -> bool {
     let n = u.x.len();
     for i in 0..n {
-        ws.held[i] = match u.state[i] {
+        held[i] = match u.state[i] {
             Bound::Free => 0.0,
             Bound::Lower => u.lo[i],
             Bound::Upper => u.hi[i],
         };
     }
     // Right-hand side: b − A x_held for the free rows, A_ii·bound for the held ones.
-    if ws.held[..n].iter().any(|&h| h != 0.0) {
-        multiply(sys.pattern, sys.layout, sys.a, &ws.held, u.x);
+    if held[..n].iter().any(|&h| h != 0.0) {
+        sys.multiply(&held[..n], u.x);
         for i in 0..n {
-            u.x[i] = sys.b[i] - u.x[i];
+            u.x[i] = b[i] - u.x[i];
         }
     } else {
-        u.x[..n].copy_from_slice(&sys.b[..n]);
+        u.x[..n].copy_from_slice(&b[..n]);
     }
-    let is_held = |i: usize| u.state[i] != Bound::Free;
-    for k in 0..sys.pattern.len() {
-        let (fk, sk) = sys.layout.rows(k);
-        let d = sys.layout.offset(k);
-        for r in 0..sk {
-            if is_held(fk + r) {
-                u.x[fk + r] = sys.a[d + r * sk + r] * ws.held[fk + r];
-            }
-        }
-    }
-    let singular = ws.factor.update(sys, &u.state[..n], tiny, floor);
-    factor_solve(sys.pattern, sys.layout, &ws.factor.factor, u.x);
+    sys.held_diagonal(u.state, &held[..n], u.x);
+    let singular = sys.factor(&u.state[..n], tiny, floor);
+    sys.solve(u.x);
     for i in 0..n {
-        if is_held(i) {
-            u.x[i] = ws.held[i];
+        if u.state[i] != Bound::Free {
+            u.x[i] = held[i];
         } else if !u.x[i].is_finite() {
             // No force rather than a wild one.
             u.x[i] = 0.0;

@@ -1,0 +1,576 @@
+//! The tree solve: `A = J M⁻¹ Jᵀ + E` of an island whose blocks join its bodies without a
+//! loop, factorised `A = L Lᵀ` with no fill over the order of [`TreeOrder`], and solved leaf
+//! to root and back in time linear in the rows (a body's nodes form a clique: quadratic in the
+//! nodes on one body, which the order caps).
+//!
+//! * Fill: each diagonal block is `Σ_b J_b (M⁻¹Jᵀ)_b` over the node's bodies, each
+//!   off-diagonal block `J_t,b (M⁻¹Jᵀ)_k,b` over the body `b` two nodes share, written
+//!   straight into the blocks in elimination order (values of one position, then its
+//!   off-diagonal blocks, next to each other).
+//! * Factor, left-looking: position `k`'s diagonal loses `L_kc L_kcᵀ` for each earlier block
+//!   `L_kc` aimed at it and is factorised by a dense Cholesky; each of its blocks `L_tk` loses
+//!   `L_tc L_kcᵀ` for each earlier pair and is solved against `L_kkᵀ`.
+//! * Held rows (pivoting's bound rows): identity rows keeping their diagonal, couplings
+//!   cleared. A change of held rows refactorises the positions whose rows changed, the
+//!   positions whose blocks aim at them, and their ancestors in the elimination tree only
+//!   (the branch to the root); the rest of the factor stands.
+//!
+//! It is a [`HeldSystem`], so the pivoting of the general system runs on it unchanged.
+
+// Small dense blocks read best with indices.
+#![allow(clippy::needless_range_loop)]
+
+use super::pivoting::{self, HeldSystem, LcpReport, Limits};
+use super::sets::{Bound, Unknowns};
+use super::system::FrictionLink;
+pub(crate) use super::tree_order::TreeOrder;
+use super::tree_order::NONE;
+use crate::math::DVec3;
+
+/// The tree solve's system and factor (module docs).
+#[derive(Debug, Default, Clone)]
+pub(crate) struct TreeSystem {
+    pub(crate) order: TreeOrder,
+    /// `A`'s blocks, and `L`'s, in the order's layout.
+    a: Vec<f64>,
+    l: Vec<f64>,
+    /// Which rows (position order) the factor holds, and whether it is of the present values.
+    held: Vec<bool>,
+    factored: bool,
+    /// Per position: refactorise now, and whether its pivots were regularised.
+    dirty: Vec<bool>,
+    singular: Vec<bool>,
+    /// Vectors in position order; scratch for a dense block.
+    z: Vec<f64>,
+    w: Vec<f64>,
+    block: Vec<f64>,
+    /// The pivoting's held values.
+    bound: Vec<f64>,
+    /// Each row's Jacobian and `M⁻¹Jᵀ` by node slot, in position order, while filling.
+    jm: Vec<([DVec3; 4], [DVec3; 4])>,
+}
+
+impl TreeSystem {
+    /// Bytes held.
+    pub(crate) fn bytes(&self) -> usize {
+        self.order.bytes()
+            + 8 * (self.a.capacity()
+                + self.l.capacity()
+                + self.z.capacity()
+                + self.w.capacity()
+                + self.block.capacity()
+                + self.bound.capacity())
+            + self.jm.capacity() * std::mem::size_of::<([DVec3; 4], [DVec3; 4])>()
+            + self.held.capacity()
+            + self.dirty.capacity()
+            + self.singular.capacity()
+    }
+
+    /// Rows.
+    pub(crate) fn rows(&self) -> usize {
+        self.order.row_of.len()
+    }
+
+    /// Fills `A = J M⁻¹ Jᵀ` (no diagonal terms) from each caller row's Jacobian and `M⁻¹Jᵀ`
+    /// (linear then angular, per block slot), after [`TreeOrder::analyse`] took the blocks.
+    pub(crate) fn fill(&mut self, row: impl Fn(usize) -> ([DVec3; 4], [DVec3; 4])) {
+        let o = &self.order;
+        self.a.clear();
+        self.a.resize(o.values, 0.0);
+        self.factored = false;
+        // Each row's Jacobian and M⁻¹Jᵀ by node slot (a swapped block's slots exchanged).
+        self.jm.clear();
+        self.jm.extend(o.row_of.iter().zip(&o.row_swapped).map(|(&r, &swapped)| {
+            let (jac, mj) = row(r as usize);
+            if swapped {
+                ([jac[2], jac[3], jac[0], jac[1]], [mj[2], mj[3], mj[0], mj[1]])
+            } else {
+                (jac, mj)
+            }
+        }));
+        let jm = &self.jm;
+        let dot = |j: &[DVec3; 4], m: &[DVec3; 4], s: usize, t: usize| {
+            j[2 * s].dot(m[2 * t]) + j[2 * s + 1].dot(m[2 * t + 1])
+        };
+        for k in 0..o.positions() {
+            let (first, size) = o.rows(k);
+            let bodies = o.position_bodies[k];
+            let at = o.value_start[k] as usize;
+            for r in 0..size {
+                let jr = &jm[first + r].0;
+                for c in 0..=r {
+                    let mc = &jm[first + c].1;
+                    let mut v = 0.0;
+                    for s in 0..2 {
+                        if bodies[s] != NONE {
+                            v += dot(jr, mc, s, s);
+                        }
+                    }
+                    // Mirrored, so that the matrix multiplied by is the one factorised.
+                    self.a[at + r * size + c] = v;
+                    self.a[at + c * size + r] = v;
+                }
+            }
+            for q in o.blocks(k) {
+                let t = o.off_target[q] as usize;
+                let [sk, st] = o.off_slots[q].map(usize::from);
+                let (tf, ts) = o.rows(t);
+                let at = o.off_value[q] as usize;
+                for r in 0..ts {
+                    let jr = &jm[tf + r].0;
+                    for c in 0..size {
+                        self.a[at + r * size + c] = dot(jr, &jm[first + c].1, st, sk);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The index in `a` of caller row `i`'s diagonal.
+    fn diagonal_index(&self, i: usize) -> usize {
+        let o = &self.order;
+        let p = o.position_of_row[i] as usize;
+        let k = o.row_position[p] as usize;
+        let (first, size) = o.rows(k);
+        o.value_start[k] as usize + (p - first) * (size + 1)
+    }
+
+    /// Caller row `i`'s diagonal in `A`.
+    pub(crate) fn diagonal(&self, i: usize) -> f64 {
+        self.a[self.diagonal_index(i)]
+    }
+
+    /// Adds `v` to caller row `i`'s diagonal.
+    pub(crate) fn add_diagonal(&mut self, i: usize, v: f64) {
+        let at = self.diagonal_index(i);
+        self.a[at] += v;
+        self.factored = false;
+    }
+
+    /// Block principal pivoting (see [`pivoting`]) on this system.
+    pub(crate) fn pivot(
+        &mut self,
+        (b, links): (&[f64], &[FrictionLink]),
+        u: &mut Unknowns<'_>,
+        limits: Limits,
+    ) -> LcpReport {
+        let mut bound = std::mem::take(&mut self.bound);
+        let report = pivoting::solve_on(self, (b, links), u, &mut bound, limits);
+        self.bound = bound;
+        report
+    }
+
+    /// Refactorises position `k` (module docs); returns whether a pivot was regularised.
+    fn factor_position(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
+        let o = &self.order;
+        let (first, size) = o.rows(k);
+        let at = o.value_start[k] as usize;
+        let held = &self.held;
+        // The diagonal, held rows as identity rows.
+        for r in 0..size {
+            for c in 0..=r {
+                let keep = r == c || !(held[first + r] || held[first + c]);
+                self.l[at + r * size + c] = if keep { self.a[at + r * size + c] } else { 0.0 };
+            }
+        }
+        for &q in &o.diag_update[o.diag_update_start[k] as usize..o.diag_update_start[k + 1] as usize]
+        {
+            let q = q as usize;
+            let cs = o.rows(o.off_source[q] as usize).1;
+            let lq = o.off_value[q] as usize;
+            for r in 0..size {
+                for c in 0..=r {
+                    let mut v = 0.0;
+                    for e in 0..cs {
+                        v += self.l[lq + r * cs + e] * self.l[lq + c * cs + e];
+                    }
+                    self.l[at + r * size + c] -= v;
+                }
+            }
+        }
+        let singular = cholesky(&mut self.l[at..at + size * size], size, tiny, floor);
+        // Each off-diagonal block: A_tk − Σ L_tc L_kcᵀ, then solved against L_kkᵀ.
+        for q in o.blocks(k) {
+            let t = o.off_target[q] as usize;
+            let (tf, ts) = o.rows(t);
+            let lq = o.off_value[q] as usize;
+            for r in 0..ts {
+                for c in 0..size {
+                    let keep = !(held[tf + r] || held[first + c]);
+                    self.l[lq + r * size + c] = if keep { self.a[lq + r * size + c] } else { 0.0 };
+                }
+            }
+            let pairs = o.pair_update_start[q] as usize..o.pair_update_start[q + 1] as usize;
+            for &[q_t, q_k] in &o.pair_update[pairs] {
+                let (q_t, q_k) = (q_t as usize, q_k as usize);
+                let cs = o.rows(o.off_source[q_t] as usize).1;
+                let (lt, lk) = (o.off_value[q_t] as usize, o.off_value[q_k] as usize);
+                for r in 0..ts {
+                    for c in 0..size {
+                        let mut v = 0.0;
+                        for e in 0..cs {
+                            v += self.l[lt + r * cs + e] * self.l[lk + c * cs + e];
+                        }
+                        self.l[lq + r * size + c] -= v;
+                    }
+                }
+            }
+            // Row r of L_tk solves L_kk x = (row r)ᵀ.
+            for r in 0..ts {
+                for c in 0..size {
+                    let mut v = self.l[lq + r * size + c];
+                    for e in 0..c {
+                        v -= self.l[at + c * size + e] * self.l[lq + r * size + e];
+                    }
+                    self.l[lq + r * size + c] = v / self.l[at + c * size + c];
+                }
+            }
+        }
+        singular
+    }
+
+    /// Permutes caller-ordered `x` into `z` (position order).
+    fn gather(order: &TreeOrder, x: &[f64], z: &mut Vec<f64>) {
+        z.clear();
+        z.extend(order.row_of.iter().map(|&r| x[r as usize]));
+    }
+}
+
+impl HeldSystem for TreeSystem {
+    fn len(&self) -> usize {
+        self.rows()
+    }
+
+    fn diagonal_max(&self) -> f64 {
+        let o = &self.order;
+        let mut m = 0.0f64;
+        for k in 0..o.positions() {
+            let (_, size) = o.rows(k);
+            let at = o.value_start[k] as usize;
+            for r in 0..size {
+                m = m.max(self.a[at + r * (size + 1)].abs());
+            }
+        }
+        m
+    }
+
+    fn multiply(&mut self, x: &[f64], out: &mut [f64]) {
+        let o = &self.order;
+        Self::gather(o, x, &mut self.z);
+        let (z, w) = (&self.z, &mut self.w);
+        w.clear();
+        w.resize(z.len(), 0.0);
+        for k in 0..o.positions() {
+            let (first, size) = o.rows(k);
+            let at = o.value_start[k] as usize;
+            for r in 0..size {
+                let mut v = 0.0;
+                for c in 0..size {
+                    v += self.a[at + r * size + c] * z[first + c];
+                }
+                w[first + r] += v;
+            }
+            for q in o.blocks(k) {
+                let (tf, ts) = o.rows(o.off_target[q] as usize);
+                let aq = o.off_value[q] as usize;
+                for r in 0..ts {
+                    let mut v = 0.0;
+                    for c in 0..size {
+                        let e = self.a[aq + r * size + c];
+                        v += e * z[first + c];
+                        w[first + c] += e * z[tf + r];
+                    }
+                    w[tf + r] += v;
+                }
+            }
+        }
+        for (p, &r) in o.row_of.iter().enumerate() {
+            out[r as usize] = w[p];
+        }
+    }
+
+    fn held_diagonal(&self, state: &[Bound], held: &[f64], x: &mut [f64]) {
+        for i in 0..self.rows() {
+            if state[i] != Bound::Free {
+                x[i] = self.diagonal(i) * held[i];
+            }
+        }
+    }
+
+    fn factor(&mut self, state: &[Bound], tiny: f64, floor: f64) -> bool {
+        let positions = self.order.positions();
+        let rows = self.rows();
+        let fresh = !self.factored;
+        if fresh {
+            self.l.clear();
+            self.l.resize(self.order.values, 0.0);
+            self.held.clear();
+            self.held.resize(rows, false);
+            self.singular.clear();
+            self.singular.resize(positions, false);
+        }
+        self.dirty.clear();
+        self.dirty.resize(positions, fresh);
+        for p in 0..rows {
+            let h = state[self.order.row_of[p] as usize] != Bound::Free;
+            if h != self.held[p] {
+                self.held[p] = h;
+                let k = self.order.row_position[p] as usize;
+                self.dirty[k] = true;
+                // The blocks aimed at k clear the held row: their sources change too.
+                let o = &self.order;
+                for &q in &o.diag_update
+                    [o.diag_update_start[k] as usize..o.diag_update_start[k + 1] as usize]
+                {
+                    self.dirty[o.off_source[q as usize] as usize] = true;
+                }
+            }
+        }
+        for k in 0..positions {
+            if !self.dirty[k] {
+                continue;
+            }
+            self.singular[k] = self.factor_position(k, tiny, floor);
+            let parent = self.order.parent[k];
+            if parent != NONE {
+                self.dirty[parent as usize] = true;
+            }
+        }
+        self.factored = true;
+        self.singular.iter().any(|&s| s)
+    }
+
+    fn solve(&mut self, x: &mut [f64]) {
+        let o = &self.order;
+        Self::gather(o, x, &mut self.z);
+        let z = &mut self.z;
+        let l = &self.l;
+        for k in 0..o.positions() {
+            let (first, size) = o.rows(k);
+            let at = o.value_start[k] as usize;
+            for r in 0..size {
+                let mut v = z[first + r];
+                for c in 0..r {
+                    v -= l[at + r * size + c] * z[first + c];
+                }
+                z[first + r] = v / l[at + r * size + r];
+            }
+            for q in o.blocks(k) {
+                let (tf, ts) = o.rows(o.off_target[q] as usize);
+                let lq = o.off_value[q] as usize;
+                for r in 0..ts {
+                    let mut v = 0.0;
+                    for c in 0..size {
+                        v += l[lq + r * size + c] * z[first + c];
+                    }
+                    z[tf + r] -= v;
+                }
+            }
+        }
+        for k in (0..o.positions()).rev() {
+            let (first, size) = o.rows(k);
+            let at = o.value_start[k] as usize;
+            for q in o.blocks(k) {
+                let (tf, ts) = o.rows(o.off_target[q] as usize);
+                let lq = o.off_value[q] as usize;
+                for r in 0..ts {
+                    let zt = z[tf + r];
+                    for c in 0..size {
+                        z[first + c] -= l[lq + r * size + c] * zt;
+                    }
+                }
+            }
+            for r in (0..size).rev() {
+                let mut v = z[first + r];
+                for c in r + 1..size {
+                    v -= l[at + c * size + r] * z[first + c];
+                }
+                z[first + r] = v / l[at + r * size + r];
+            }
+        }
+        for (p, &r) in o.row_of.iter().enumerate() {
+            x[r as usize] = z[p];
+        }
+    }
+}
+
+/// Dense Cholesky of the `n × n` lower triangle of `m` (row-major) in place; pivots not above
+/// `tiny` become `floor`. Returns whether one did.
+fn cholesky(m: &mut [f64], n: usize, tiny: f64, floor: f64) -> bool {
+    let mut singular = false;
+    for j in 0..n {
+        let mut d = m[j * n + j];
+        for e in 0..j {
+            d -= m[j * n + e] * m[j * n + e];
+        }
+        if !(d > tiny) {
+            d = floor;
+            singular = true;
+        }
+        let d = d.sqrt();
+        m[j * n + j] = d;
+        for i in j + 1..n {
+            let mut v = m[i * n + j];
+            for e in 0..j {
+                v -= m[i * n + e] * m[j * n + e];
+            }
+            m[i * n + j] = v / d;
+        }
+    }
+    singular
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::sparse::factor::tests::rnd;
+
+    /// A random forest (or a loop when asked) of blocks over `bodies` bodies: each block joins
+    /// a body to an earlier one, to none, or repeats a pair.
+    fn random_blocks(seed: &mut u64, bodies: usize, blocks: usize) -> (Vec<[u32; 2]>, Vec<u32>) {
+        let pick = |seed: &mut u64, n: usize| (((rnd(seed) + 1.0) * 0.5 * n as f64) as usize).min(n - 1);
+        let mut key = Vec::new();
+        let mut size = Vec::new();
+        // A spanning forest first, so every body is used.
+        for b in 1..bodies {
+            if rnd(seed) > -0.7 {
+                let a = pick(seed, b) as u32;
+                key.push(if rnd(seed) > 0.0 { [a, b as u32] } else { [b as u32, a] });
+                size.push(1 + pick(seed, 6) as u32);
+            }
+        }
+        while key.len() < blocks {
+            let b = pick(seed, bodies) as u32;
+            let k = match pick(seed, 3) {
+                0 => [b, NONE],
+                1 => [NONE, b],
+                _ => match key.iter().find(|k| k.contains(&b) && !k.contains(&NONE)) {
+                    Some(&k) => [k[1], k[0]],
+                    None => [b, NONE],
+                },
+            };
+            key.push(k);
+            size.push(1 + pick(seed, 4) as u32);
+        }
+        (key, size)
+    }
+
+    /// Jacobians and inverse masses for every row of the blocks.
+    fn random_rows(seed: &mut u64, rows: usize) -> Vec<([DVec3; 4], [DVec3; 4])> {
+        (0..rows)
+            .map(|_| {
+                let mut v = || DVec3::new(rnd(seed), rnd(seed), rnd(seed));
+                let jac = [v(), v(), v(), v()];
+                (jac, jac.map(|j| j * 0.7)) // M⁻¹ = 0.7 I: positive definite
+            })
+            .collect()
+    }
+
+    /// The dense `A` of the same rows, for comparison.
+    fn dense(key: &[[u32; 2]], first: &[u32], size: &[u32], rows: &[([DVec3; 4], [DVec3; 4])]) -> Vec<f64> {
+        let n = rows.len();
+        let mut a = vec![0.0; n * n];
+        let block_of = |i: u32| first.partition_point(|&f| f <= i) - 1;
+        for i in 0..n {
+            for j in 0..n {
+                let (bi, bj) = (block_of(i as u32), block_of(j as u32));
+                let mut v = 0.0;
+                for s in 0..2 {
+                    for t in 0..2 {
+                        if key[bi][s] != NONE && key[bi][s] == key[bj][t] {
+                            v += rows[i].0[2 * s].dot(rows[j].1[2 * t])
+                                + rows[i].0[2 * s + 1].dot(rows[j].1[2 * t + 1]);
+                        }
+                    }
+                }
+                a[i * n + j] = v;
+            }
+        }
+        let _ = size;
+        a
+    }
+
+    /// The tree solve's `A x`, factor and solve agree with the dense system on random forests,
+    /// with and without held rows, and a partial refactorisation gives a fresh one's bits.
+    #[test]
+    fn tree_solve_matches_the_dense_system() {
+        let mut seed = 99u64;
+        let mut trees = 0;
+        for case in 0..200 {
+            let bodies = 1 + case % 11;
+            let (key, size) = random_blocks(&mut seed, bodies, bodies + case % 5);
+            let mut first = Vec::new();
+            let mut n = 0u32;
+            for &s in &size {
+                first.push(n);
+                n += s;
+            }
+            let n = n as usize;
+            let rows = random_rows(&mut seed, n);
+            let mut sys = TreeSystem::default();
+            if !sys.order.analyse(&key, &first, &size, bodies) {
+                continue;
+            }
+            trees += 1;
+            sys.fill(|i| rows[i]);
+            for i in 0..n {
+                sys.add_diagonal(i, 0.1);
+            }
+            let mut a = dense(&key, &first, &size, &rows);
+            for i in 0..n {
+                a[i * n + i] += 0.1;
+            }
+            let x: Vec<f64> = (0..n).map(|_| rnd(&mut seed)).collect();
+            let mut ax = vec![0.0; n];
+            sys.multiply(&x, &mut ax);
+            for i in 0..n {
+                let d: f64 = (0..n).map(|j| a[i * n + j] * x[j]).sum();
+                assert!((d - ax[i]).abs() < 1e-9 * (1.0 + d.abs()), "case {case}: A x row {i}");
+            }
+            // Held rows: identity rows with their diagonal.
+            let state: Vec<Bound> = (0..n)
+                .map(|_| if rnd(&mut seed) > 0.4 { Bound::Lower } else { Bound::Free })
+                .collect();
+            let mut held_a = a.clone();
+            for i in 0..n {
+                for j in 0..n {
+                    if i != j && (state[i] != Bound::Free || state[j] != Bound::Free) {
+                        held_a[i * n + j] = 0.0;
+                    }
+                }
+            }
+            for (st, m) in [(vec![Bound::Free; n], &a), (state.clone(), &held_a)] {
+                let mut fresh = TreeSystem::default();
+                fresh.order.analyse(&key, &first, &size, bodies);
+                fresh.fill(|i| rows[i]);
+                for i in 0..n {
+                    fresh.add_diagonal(i, 0.1);
+                }
+                assert!(!fresh.factor(&st, 1e-13, 1e-9));
+                // The kept factor, moved from all-free to this set, agrees to the bit.
+                sys.factor(&st, 1e-13, 1e-9);
+                assert_eq!(sys.l, fresh.l, "case {case}: partial refactorisation");
+                let mut y = x.clone();
+                sys.solve(&mut y);
+                for i in 0..n {
+                    let d: f64 = (0..n).map(|j| m[i * n + j] * y[j]).sum();
+                    assert!((d - x[i]).abs() < 1e-8 * (1.0 + x[i].abs()), "case {case}: solve row {i}");
+                }
+            }
+        }
+        assert!(trees > 100, "{trees} forests");
+    }
+
+    /// A loop (three bodies joined in a ring) is refused; the same blocks without the ring's
+    /// last one are taken; blocks repeating a pair join one node.
+    #[test]
+    fn loops_are_refused_and_pairs_merged() {
+        let mut order = TreeOrder::default();
+        let ring = [[0, 1], [1, 2], [2, 0]];
+        assert!(!order.analyse(&ring, &[0, 3, 6], &[3, 3, 3], 3));
+        assert!(order.analyse(&ring[..2], &[0, 3], &[3, 3], 3));
+        let twice = [[0, 1], [1, 0], [0, NONE], [NONE, 0]];
+        assert!(order.analyse(&twice, &[0, 3, 5, 6], &[3, 2, 1, 1], 2));
+        assert_eq!(order.positions(), 2);
+    }
+}
