@@ -16,7 +16,6 @@ fn past(l: &kea::Limit) -> Real {
 }
 
 #[test]
-#[ignore = "known failure (issue 36, item 2): measured worst overrun 0.148 rad on the default routing (hinges 0.148, cones 0.117, twists 0.066) and 0.222 rad forced (every forced mode takes split islands here; hinges 0.222, cones 0.190, twists 0.028), from 0.451 / 0.199 before stops were written within 0.1 rad of being reached; the target is 0.1. Needs the tree solve's active set (issue 36)"]
 fn a_ragdoll_dropped_3_m_onto_steps_keeps_every_limit_within_a_tenth_of_a_radian() {
     let path = format!("{}/../../scenes/ragdoll.json", env!("CARGO_MANIFEST_DIR"));
     let mut json: serde_json::Value =

@@ -73,7 +73,7 @@ impl JointRows {
             for (j, row) in fresh.iter().enumerate().take(refreshed) {
                 // A stop stays as the step began: refreshed, a twist stop pressed by a steady
                 // torque settled 0.026 rad past it on Gauss–Seidel islands.
-                if self.flags[base + j] & super::UNILATERAL != 0 {
+                if self.flags[base + j] & super::UNILATERAL != 0 && !self.direct[base + j] {
                     continue;
                 }
                 self.refresh_row(base + j, row, blk, bodies, states, hs);
