@@ -46,7 +46,7 @@ fn run_at(w: &mut World, swing: Real, h: Real) -> (Real, Real) {
     let mut rise: Real = 0.0;
     for _ in 0..(10.0 / h).round() as usize {
         let stats = w.step(h).unwrap();
-        
+
         rise = rise.max(energy(w) - e0);
     }
     (rise / swing, (energy(w) - e0) / swing)
@@ -89,14 +89,18 @@ fn pendulums(mode: SolverMode) -> [(Real, Real); 2] {
 /// [`pendulums`] at steps of `h`.
 fn pendulums_at(mode: SolverMode, h: Real) -> [(Real, Real); 2] {
     let th: Real = 30.0_f64.to_radians() as Real;
-    let mut w = world_on(mode, 2, 2); w.update_settings(|s| s.iterative.substeps = subs()).unwrap();
+    let mut w = world_on(mode, 2, 2);
+    w.update_settings(|s| s.iterative.substeps = subs())
+        .unwrap();
     bob(&mut w, Vec3::new(th.sin(), -th.cos(), 0.0), Vec3::ZERO);
     let simple = run_at(&mut w, G * (1.0 - th.cos()), h);
     // v² = g·r·tan θ. Its energy all moves.
     let th: Real = 0.5;
     let r = th.sin();
     let v = (G * r * th.tan()).sqrt();
-    let mut w = world_on(mode, 2, 2); w.update_settings(|s| s.iterative.substeps = subs()).unwrap();
+    let mut w = world_on(mode, 2, 2);
+    w.update_settings(|s| s.iterative.substeps = subs())
+        .unwrap();
     bob(&mut w, Vec3::new(r, -th.cos(), 0.0), Vec3::new(0.0, 0.0, v));
     let conical = run_at(&mut w, 0.5 * v * v + G * (1.0 - th.cos()), h);
     [simple, conical]
@@ -109,7 +113,9 @@ fn double_pendulum(mode: SolverMode) -> (Real, Real) {
 
 /// `n` hinged 1 m, 1 kg rods about z in a chain from the origin, horizontal along +x.
 fn hinged_rods(mode: SolverMode, n: usize) -> World {
-    let mut w = world_on(mode, n, n); w.update_settings(|s| s.iterative.substeps = subs()).unwrap();
+    let mut w = world_on(mode, n, n);
+    w.update_settings(|s| s.iterative.substeps = subs())
+        .unwrap();
     let rod = |x: Real| BodyDef {
         position: Vec3::new(x, 0.0, 0.0),
         inertia: inertia::solid_box(1.0, Vec3::new(0.5, 0.02, 0.02)).unwrap(),
@@ -126,12 +132,21 @@ fn hinged_rods(mode: SolverMode, n: usize) -> World {
     w
 }
 
-
-fn subs() -> u32 { std::env::var("SUBS").map(|s| s.parse().unwrap()).unwrap_or(4) }
+fn subs() -> u32 {
+    std::env::var("SUBS")
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(4)
+}
 #[test]
 fn probe() {
     for mode in [SolverMode::Split, SolverMode::Iterative] {
         let [simple, conical] = pendulums(mode);
-        eprintln!("{mode:?} subs {} simple {:?} conical {:?} double {:?}", subs(), simple, conical, double_pendulum(mode));
+        eprintln!(
+            "{mode:?} subs {} simple {:?} conical {:?} double {:?}",
+            subs(),
+            simple,
+            conical,
+            double_pendulum(mode)
+        );
     }
 }

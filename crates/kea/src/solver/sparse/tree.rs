@@ -34,6 +34,8 @@ pub(crate) struct TreeSystem {
     /// `A`'s blocks, and `L`'s, in the order's layout.
     a: Vec<f64>,
     l: Vec<f64>,
+    /// `1 / L_ii` per row (position order): substitutions multiply, not divide.
+    inv: Vec<f64>,
     /// Which rows (position order) the factor holds, and whether it is of the present values.
     held: Vec<bool>,
     factored: bool,
@@ -56,6 +58,7 @@ impl TreeSystem {
         self.order.bytes()
             + 8 * (self.a.capacity()
                 + self.l.capacity()
+                + self.inv.capacity()
                 + self.z.capacity()
                 + self.w.capacity()
                 + self.block.capacity()
@@ -80,30 +83,32 @@ impl TreeSystem {
         self.factored = false;
         // Each row's Jacobian and M⁻¹Jᵀ by node slot (a swapped block's slots exchanged).
         self.jm.clear();
-        self.jm.extend(o.row_of.iter().zip(&o.row_swapped).map(|(&r, &swapped)| {
-            let (jac, mj) = row(r as usize);
-            if swapped {
-                ([jac[2], jac[3], jac[0], jac[1]], [mj[2], mj[3], mj[0], mj[1]])
-            } else {
-                (jac, mj)
-            }
-        }));
+        self.jm
+            .extend(o.row_of.iter().zip(&o.row_swapped).map(|(&r, &swapped)| {
+                let (jac, mj) = row(r as usize);
+                if swapped {
+                    (
+                        [jac[2], jac[3], jac[0], jac[1]],
+                        [mj[2], mj[3], mj[0], mj[1]],
+                    )
+                } else {
+                    (jac, mj)
+                }
+            }));
         let jm = &self.jm;
         let dot = |j: &[DVec3; 4], m: &[DVec3; 4], s: usize, t: usize| {
             j[2 * s].dot(m[2 * t]) + j[2 * s + 1].dot(m[2 * t + 1])
         };
-        for k in 0..o.positions() {
-            let (first, size) = o.rows(k);
+        for (k, p) in o.position.iter().enumerate() {
+            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
             let bodies = o.position_bodies[k];
-            let at = o.value_start[k] as usize;
+            let rows = &jm[first..first + size];
             for r in 0..size {
-                let jr = &jm[first + r].0;
                 for c in 0..=r {
-                    let mc = &jm[first + c].1;
                     let mut v = 0.0;
                     for s in 0..2 {
                         if bodies[s] != NONE {
-                            v += dot(jr, mc, s, s);
+                            v += dot(&rows[r].0, &rows[c].1, s, s);
                         }
                     }
                     // Mirrored, so that the matrix multiplied by is the one factorised.
@@ -111,15 +116,17 @@ impl TreeSystem {
                     self.a[at + c * size + r] = v;
                 }
             }
-            for q in o.blocks(k) {
-                let t = o.off_target[q] as usize;
-                let [sk, st] = o.off_slots[q].map(usize::from);
-                let (tf, ts) = o.rows(t);
-                let at = o.off_value[q] as usize;
-                for r in 0..ts {
-                    let jr = &jm[tf + r].0;
-                    for c in 0..size {
-                        self.a[at + r * size + c] = dot(jr, &jm[first + c].1, st, sk);
+            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+                let [sk, st] = b.slots.map(usize::from);
+                let (tf, ts, at) = (
+                    b.target_row as usize,
+                    b.target_size as usize,
+                    b.value as usize,
+                );
+                let out = &mut self.a[at..at + ts * size];
+                for (r, target) in jm[tf..tf + ts].iter().enumerate() {
+                    for (c, source) in rows.iter().enumerate() {
+                        out[r * size + c] = dot(&target.0, &source.1, st, sk);
                     }
                 }
             }
@@ -129,10 +136,9 @@ impl TreeSystem {
     /// The index in `a` of caller row `i`'s diagonal.
     fn diagonal_index(&self, i: usize) -> usize {
         let o = &self.order;
-        let p = o.position_of_row[i] as usize;
-        let k = o.row_position[p] as usize;
-        let (first, size) = o.rows(k);
-        o.value_start[k] as usize + (p - first) * (size + 1)
+        let pr = o.position_of_row[i] as usize;
+        let p = &o.position[o.row_position[pr] as usize];
+        p.value as usize + (pr - p.row as usize) * (p.size as usize + 1)
     }
 
     /// Caller row `i`'s diagonal in `A`.
@@ -163,66 +169,74 @@ impl TreeSystem {
     /// Refactorises position `k` (module docs); returns whether a pivot was regularised.
     fn factor_position(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
         let o = &self.order;
-        let (first, size) = o.rows(k);
-        let at = o.value_start[k] as usize;
-        let held = &self.held;
-        // The diagonal, held rows as identity rows.
+        let p = o.position[k];
+        let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+        let held = &self.held[..];
+        let own_held = held[first..first + size].iter().any(|&h| h);
+        // Everything of earlier positions lies before this position's values.
+        let (done, rest) = self.l.split_at_mut(at);
+        let a = &self.a[at..];
+        // The diagonal (lower triangle), held rows as identity rows.
+        let diag = &mut rest[..size * size];
         for r in 0..size {
             for c in 0..=r {
-                let keep = r == c || !(held[first + r] || held[first + c]);
-                self.l[at + r * size + c] = if keep { self.a[at + r * size + c] } else { 0.0 };
+                let keep = !own_held || r == c || !(held[first + r] || held[first + c]);
+                diag[r * size + c] = if keep { a[r * size + c] } else { 0.0 };
             }
         }
-        for &q in &o.diag_update[o.diag_update_start[k] as usize..o.diag_update_start[k + 1] as usize]
-        {
-            let q = q as usize;
-            let cs = o.rows(o.off_source[q] as usize).1;
-            let lq = o.off_value[q] as usize;
+        let [u0, u1] = p.diag_updates.map(|x| x as usize);
+        for u in &o.diag_update[u0..u1] {
+            let (cs, lq) = (u.columns as usize, u.value as usize);
+            let block = &done[lq..lq + size * cs];
             for r in 0..size {
+                let lr = &block[r * cs..r * cs + cs];
                 for c in 0..=r {
-                    let mut v = 0.0;
-                    for e in 0..cs {
-                        v += self.l[lq + r * cs + e] * self.l[lq + c * cs + e];
-                    }
-                    self.l[at + r * size + c] -= v;
+                    diag[r * size + c] -= dot(lr, &block[c * cs..c * cs + cs]);
                 }
             }
         }
-        let singular = cholesky(&mut self.l[at..at + size * size], size, tiny, floor);
+        let singular = cholesky(diag, size, tiny, floor);
+        let (diag, blocks) = rest.split_at_mut(size * size);
+        let inv = &mut self.inv[first..first + size];
+        for r in 0..size {
+            inv[r] = 1.0 / diag[r * size + r];
+        }
+        let inv = &self.inv[first..first + size];
         // Each off-diagonal block: A_tk − Σ L_tc L_kcᵀ, then solved against L_kkᵀ.
-        for q in o.blocks(k) {
-            let t = o.off_target[q] as usize;
-            let (tf, ts) = o.rows(t);
-            let lq = o.off_value[q] as usize;
-            for r in 0..ts {
-                for c in 0..size {
-                    let keep = !(held[tf + r] || held[first + c]);
-                    self.l[lq + r * size + c] = if keep { self.a[lq + r * size + c] } else { 0.0 };
-                }
-            }
-            let pairs = o.pair_update_start[q] as usize..o.pair_update_start[q + 1] as usize;
-            for &[q_t, q_k] in &o.pair_update[pairs] {
-                let (q_t, q_k) = (q_t as usize, q_k as usize);
-                let cs = o.rows(o.off_source[q_t] as usize).1;
-                let (lt, lk) = (o.off_value[q_t] as usize, o.off_value[q_k] as usize);
+        for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            let (tf, ts) = (b.target_row as usize, b.target_size as usize);
+            let off = b.value as usize - at;
+            let out = &mut blocks[off - size * size..off - size * size + ts * size];
+            let a = &self.a[b.value as usize..b.value as usize + ts * size];
+            let target_held = held[tf..tf + ts].iter().any(|&h| h);
+            if own_held || target_held {
                 for r in 0..ts {
                     for c in 0..size {
-                        let mut v = 0.0;
-                        for e in 0..cs {
-                            v += self.l[lt + r * cs + e] * self.l[lk + c * cs + e];
-                        }
-                        self.l[lq + r * size + c] -= v;
+                        let keep = !(held[tf + r] || held[first + c]);
+                        out[r * size + c] = if keep { a[r * size + c] } else { 0.0 };
+                    }
+                }
+            } else {
+                out.copy_from_slice(a);
+            }
+            let [q0, q1] = b.pairs.map(|x| x as usize);
+            for pu in &o.pair_update[q0..q1] {
+                let cs = pu.columns as usize;
+                let lt = &done[pu.target_side as usize..pu.target_side as usize + ts * cs];
+                let lk = &done[pu.source_side as usize..pu.source_side as usize + size * cs];
+                for r in 0..ts {
+                    let lr = &lt[r * cs..r * cs + cs];
+                    for c in 0..size {
+                        out[r * size + c] -= dot(lr, &lk[c * cs..c * cs + cs]);
                     }
                 }
             }
             // Row r of L_tk solves L_kk x = (row r)ᵀ.
             for r in 0..ts {
+                let row = &mut out[r * size..r * size + size];
                 for c in 0..size {
-                    let mut v = self.l[lq + r * size + c];
-                    for e in 0..c {
-                        v -= self.l[at + c * size + e] * self.l[lq + r * size + e];
-                    }
-                    self.l[lq + r * size + c] = v / self.l[at + c * size + c];
+                    let v = row[c] - dot(&diag[c * size..c * size + c], &row[..c]);
+                    row[c] = v * inv[c];
                 }
             }
         }
@@ -236,17 +250,21 @@ impl TreeSystem {
     }
 }
 
+/// `a · b` over the shorter of the two.
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 impl HeldSystem for TreeSystem {
     fn len(&self) -> usize {
         self.rows()
     }
 
     fn diagonal_max(&self) -> f64 {
-        let o = &self.order;
         let mut m = 0.0f64;
-        for k in 0..o.positions() {
-            let (_, size) = o.rows(k);
-            let at = o.value_start[k] as usize;
+        for p in &self.order.position {
+            let (size, at) = (p.size as usize, p.value as usize);
             for r in 0..size {
                 m = m.max(self.a[at + r * (size + 1)].abs());
             }
@@ -260,27 +278,25 @@ impl HeldSystem for TreeSystem {
         let (z, w) = (&self.z, &mut self.w);
         w.clear();
         w.resize(z.len(), 0.0);
-        for k in 0..o.positions() {
-            let (first, size) = o.rows(k);
-            let at = o.value_start[k] as usize;
+        for p in &o.position {
+            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+            let zk = &z[first..first + size];
             for r in 0..size {
-                let mut v = 0.0;
-                for c in 0..size {
-                    v += self.a[at + r * size + c] * z[first + c];
-                }
-                w[first + r] += v;
+                w[first + r] += dot(&self.a[at + r * size..at + r * size + size], zk);
             }
-            for q in o.blocks(k) {
-                let (tf, ts) = o.rows(o.off_target[q] as usize);
-                let aq = o.off_value[q] as usize;
+            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+                let (tf, ts, aq) = (
+                    b.target_row as usize,
+                    b.target_size as usize,
+                    b.value as usize,
+                );
                 for r in 0..ts {
-                    let mut v = 0.0;
-                    for c in 0..size {
-                        let e = self.a[aq + r * size + c];
-                        v += e * z[first + c];
-                        w[first + c] += e * z[tf + r];
+                    let row = &self.a[aq + r * size..aq + r * size + size];
+                    w[tf + r] += dot(row, zk);
+                    let zt = z[tf + r];
+                    for (wc, e) in w[first..first + size].iter_mut().zip(row) {
+                        *wc += e * zt;
                     }
-                    w[tf + r] += v;
                 }
             }
         }
@@ -304,6 +320,8 @@ impl HeldSystem for TreeSystem {
         if fresh {
             self.l.clear();
             self.l.resize(self.order.values, 0.0);
+            self.inv.clear();
+            self.inv.resize(rows, 0.0);
             self.held.clear();
             self.held.resize(rows, false);
             self.singular.clear();
@@ -315,14 +333,13 @@ impl HeldSystem for TreeSystem {
             let h = state[self.order.row_of[p] as usize] != Bound::Free;
             if h != self.held[p] {
                 self.held[p] = h;
-                let k = self.order.row_position[p] as usize;
+                let o = &self.order;
+                let k = o.row_position[p] as usize;
                 self.dirty[k] = true;
                 // The blocks aimed at k clear the held row: their sources change too.
-                let o = &self.order;
-                for &q in &o.diag_update
-                    [o.diag_update_start[k] as usize..o.diag_update_start[k + 1] as usize]
-                {
-                    self.dirty[o.off_source[q as usize] as usize] = true;
+                let [u0, u1] = o.position[k].diag_updates.map(|x| x as usize);
+                for u in &o.diag_update[u0..u1] {
+                    self.dirty[u.source as usize] = true;
                 }
             }
         }
@@ -331,7 +348,7 @@ impl HeldSystem for TreeSystem {
                 continue;
             }
             self.singular[k] = self.factor_position(k, tiny, floor);
-            let parent = self.order.parent[k];
+            let parent = self.order.position[k].parent;
             if parent != NONE {
                 self.dirty[parent as usize] = true;
             }
@@ -344,39 +361,42 @@ impl HeldSystem for TreeSystem {
         let o = &self.order;
         Self::gather(o, x, &mut self.z);
         let z = &mut self.z;
-        let l = &self.l;
-        for k in 0..o.positions() {
-            let (first, size) = o.rows(k);
-            let at = o.value_start[k] as usize;
+        let (l, inv) = (&self.l, &self.inv);
+        for p in &o.position {
+            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
             for r in 0..size {
-                let mut v = z[first + r];
-                for c in 0..r {
-                    v -= l[at + r * size + c] * z[first + c];
-                }
-                z[first + r] = v / l[at + r * size + r];
+                let v =
+                    z[first + r] - dot(&l[at + r * size..at + r * size + r], &z[first..first + r]);
+                z[first + r] = v * inv[first + r];
             }
-            for q in o.blocks(k) {
-                let (tf, ts) = o.rows(o.off_target[q] as usize);
-                let lq = o.off_value[q] as usize;
+            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+                let (tf, ts, lq) = (
+                    b.target_row as usize,
+                    b.target_size as usize,
+                    b.value as usize,
+                );
                 for r in 0..ts {
-                    let mut v = 0.0;
-                    for c in 0..size {
-                        v += l[lq + r * size + c] * z[first + c];
-                    }
+                    let v = dot(
+                        &l[lq + r * size..lq + r * size + size],
+                        &z[first..first + size],
+                    );
                     z[tf + r] -= v;
                 }
             }
         }
-        for k in (0..o.positions()).rev() {
-            let (first, size) = o.rows(k);
-            let at = o.value_start[k] as usize;
-            for q in o.blocks(k) {
-                let (tf, ts) = o.rows(o.off_target[q] as usize);
-                let lq = o.off_value[q] as usize;
+        for p in o.position.iter().rev() {
+            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+                let (tf, ts, lq) = (
+                    b.target_row as usize,
+                    b.target_size as usize,
+                    b.value as usize,
+                );
                 for r in 0..ts {
                     let zt = z[tf + r];
-                    for c in 0..size {
-                        z[first + c] -= l[lq + r * size + c] * zt;
+                    let row = &l[lq + r * size..lq + r * size + size];
+                    for (zc, e) in z[first..first + size].iter_mut().zip(row) {
+                        *zc -= e * zt;
                     }
                 }
             }
@@ -385,7 +405,7 @@ impl HeldSystem for TreeSystem {
                 for c in r + 1..size {
                     v -= l[at + c * size + r] * z[first + c];
                 }
-                z[first + r] = v / l[at + r * size + r];
+                z[first + r] = v * inv[first + r];
             }
         }
         for (p, &r) in o.row_of.iter().enumerate() {
@@ -428,14 +448,19 @@ mod tests {
     /// A random forest (or a loop when asked) of blocks over `bodies` bodies: each block joins
     /// a body to an earlier one, to none, or repeats a pair.
     fn random_blocks(seed: &mut u64, bodies: usize, blocks: usize) -> (Vec<[u32; 2]>, Vec<u32>) {
-        let pick = |seed: &mut u64, n: usize| (((rnd(seed) + 1.0) * 0.5 * n as f64) as usize).min(n - 1);
+        let pick =
+            |seed: &mut u64, n: usize| (((rnd(seed) + 1.0) * 0.5 * n as f64) as usize).min(n - 1);
         let mut key = Vec::new();
         let mut size = Vec::new();
         // A spanning forest first, so every body is used.
         for b in 1..bodies {
             if rnd(seed) > -0.7 {
                 let a = pick(seed, b) as u32;
-                key.push(if rnd(seed) > 0.0 { [a, b as u32] } else { [b as u32, a] });
+                key.push(if rnd(seed) > 0.0 {
+                    [a, b as u32]
+                } else {
+                    [b as u32, a]
+                });
                 size.push(1 + pick(seed, 6) as u32);
             }
         }
@@ -467,7 +492,12 @@ mod tests {
     }
 
     /// The dense `A` of the same rows, for comparison.
-    fn dense(key: &[[u32; 2]], first: &[u32], size: &[u32], rows: &[([DVec3; 4], [DVec3; 4])]) -> Vec<f64> {
+    fn dense(
+        key: &[[u32; 2]],
+        first: &[u32],
+        size: &[u32],
+        rows: &[([DVec3; 4], [DVec3; 4])],
+    ) -> Vec<f64> {
         let n = rows.len();
         let mut a = vec![0.0; n * n];
         let block_of = |i: u32| first.partition_point(|&f| f <= i) - 1;
@@ -525,11 +555,20 @@ mod tests {
             sys.multiply(&x, &mut ax);
             for i in 0..n {
                 let d: f64 = (0..n).map(|j| a[i * n + j] * x[j]).sum();
-                assert!((d - ax[i]).abs() < 1e-9 * (1.0 + d.abs()), "case {case}: A x row {i}");
+                assert!(
+                    (d - ax[i]).abs() < 1e-9 * (1.0 + d.abs()),
+                    "case {case}: A x row {i}"
+                );
             }
             // Held rows: identity rows with their diagonal.
             let state: Vec<Bound> = (0..n)
-                .map(|_| if rnd(&mut seed) > 0.4 { Bound::Lower } else { Bound::Free })
+                .map(|_| {
+                    if rnd(&mut seed) > 0.4 {
+                        Bound::Lower
+                    } else {
+                        Bound::Free
+                    }
+                })
                 .collect();
             let mut held_a = a.clone();
             for i in 0..n {
@@ -554,7 +593,10 @@ mod tests {
                 sys.solve(&mut y);
                 for i in 0..n {
                     let d: f64 = (0..n).map(|j| m[i * n + j] * y[j]).sum();
-                    assert!((d - x[i]).abs() < 1e-8 * (1.0 + x[i].abs()), "case {case}: solve row {i}");
+                    assert!(
+                        (d - x[i]).abs() < 1e-8 * (1.0 + x[i].abs()),
+                        "case {case}: solve row {i}"
+                    );
                 }
             }
         }

@@ -40,26 +40,14 @@ pub(crate) struct TreeOrder {
     bodies: usize,
     /// Whether the blocks form a forest the tree solve takes.
     pub(crate) ok: bool,
-    /// Per position: its first row (in position order; `positions + 1` entries), its first
-    /// value (the diagonal block, then the off-diagonal blocks), its first off-diagonal block
-    /// and first diagonal update (both `positions + 1` entries), and its elimination parent.
-    pub(crate) row_start: Vec<u32>,
-    pub(crate) value_start: Vec<u32>,
-    pub(crate) off_start: Vec<u32>,
-    pub(crate) diag_update_start: Vec<u32>,
-    pub(crate) parent: Vec<u32>,
-    /// Per off-diagonal block `L_tk`: its target position `t`, source position `k`, first
-    /// value, the shared body's slot in the source's node and in the target's, and its first
-    /// pair update (`blocks + 1` entries).
-    pub(crate) off_target: Vec<u32>,
-    pub(crate) off_source: Vec<u32>,
-    pub(crate) off_value: Vec<u32>,
-    pub(crate) off_slots: Vec<[u8; 2]>,
-    pub(crate) pair_update_start: Vec<u32>,
+    /// Per position, in elimination order (module docs).
+    pub(crate) position: Vec<Position>,
+    /// The off-diagonal blocks `L_tk`, position by position.
+    pub(crate) off: Vec<OffBlock>,
     /// Updates: the blocks `L_kc` whose `L_kc L_kcᵀ` a diagonal loses, and the pairs
     /// `(L_tc, L_kc)` whose `L_tc L_kcᵀ` an off-diagonal block `L_tk` loses.
-    pub(crate) diag_update: Vec<u32>,
-    pub(crate) pair_update: Vec<[u32; 2]>,
+    pub(crate) diag_update: Vec<Update>,
+    pub(crate) pair_update: Vec<PairUpdate>,
     /// Per position: its node's bodies (island-local; [`NONE`] for none).
     pub(crate) position_bodies: Vec<[u32; 2]>,
     /// Per row in position order: the caller's row, its position, and whether its block names
@@ -72,6 +60,56 @@ pub(crate) struct TreeOrder {
     /// Values the factor holds.
     pub(crate) values: usize,
     scratch: Scratch,
+}
+
+/// A position of the elimination order.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Position {
+    /// First row (in position order) and rows.
+    pub(crate) row: u32,
+    pub(crate) size: u32,
+    /// First value: the diagonal block, then the off-diagonal blocks.
+    pub(crate) value: u32,
+    /// Its off-diagonal blocks (`off`), and the updates of its diagonal (`diag_update`).
+    pub(crate) blocks: [u32; 2],
+    pub(crate) diag_updates: [u32; 2],
+    /// Its parent in the elimination tree ([`NONE`]: a root).
+    pub(crate) parent: u32,
+}
+
+/// An off-diagonal block `L_tk` of source position `k`, `size(t) × size(k)`.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct OffBlock {
+    /// The target position `t`, its first row and rows.
+    pub(crate) target: u32,
+    pub(crate) target_row: u32,
+    pub(crate) target_size: u32,
+    /// The source position `k`.
+    pub(crate) source: u32,
+    /// First value.
+    pub(crate) value: u32,
+    /// The shared body's slot in the source's node and in the target's.
+    pub(crate) slots: [u8; 2],
+    /// Its pair updates (`pair_update`).
+    pub(crate) pairs: [u32; 2],
+}
+
+/// A block whose product with itself a diagonal loses: its first value, columns and source
+/// position.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Update {
+    pub(crate) value: u32,
+    pub(crate) columns: u32,
+    pub(crate) source: u32,
+}
+
+/// Two blocks of one source, `L_tc` and `L_kc`, whose product `L_tc L_kcᵀ` a block `L_tk`
+/// loses: their first values and their (shared) columns.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct PairUpdate {
+    pub(crate) target_side: u32,
+    pub(crate) source_side: u32,
+    pub(crate) columns: u32,
 }
 
 /// The analysis's working memory, kept so that a repeated analysis allocates nothing.
@@ -101,17 +139,6 @@ impl TreeOrder {
         let s = &self.scratch;
         4 * (self.key.capacity() * 2
             + self.sizes.capacity()
-            + self.row_start.capacity()
-            + self.value_start.capacity()
-            + self.off_start.capacity()
-            + self.diag_update_start.capacity()
-            + self.parent.capacity()
-            + self.off_target.capacity()
-            + self.off_source.capacity()
-            + self.off_value.capacity()
-            + self.pair_update_start.capacity()
-            + self.diag_update.capacity()
-            + self.pair_update.capacity() * 2
             + self.position_bodies.capacity() * 2
             + self.row_of.capacity()
             + self.row_position.capacity()
@@ -130,7 +157,10 @@ impl TreeOrder {
             + s.order.capacity()
             + s.position_of_node.capacity()
             + s.count.capacity())
-            + self.off_slots.capacity() * 2
+            + std::mem::size_of::<Position>() * self.position.capacity()
+            + std::mem::size_of::<OffBlock>() * self.off.capacity()
+            + std::mem::size_of::<Update>() * self.diag_update.capacity()
+            + std::mem::size_of::<PairUpdate>() * self.pair_update.capacity()
             + self.row_swapped.capacity()
             + s.block_swapped.capacity()
             + s.visited.capacity()
@@ -154,10 +184,8 @@ impl TreeOrder {
         self.sizes.clear();
         self.sizes.extend_from_slice(size);
         self.bodies = bodies;
-        self.ok = self.make_nodes(key, first, size, bodies)
-            && self.walk(bodies)
-            && self.lay_out()
-            && {
+        self.ok =
+            self.make_nodes(key, first, size, bodies) && self.walk(bodies) && self.lay_out() && {
                 self.list_updates();
                 true
             };
@@ -328,30 +356,32 @@ impl TreeOrder {
         for (k, &n) in s.order.iter().enumerate() {
             s.position_of_node[n as usize] = k as u32;
         }
-        for v in [
-            &mut self.row_start,
-            &mut self.value_start,
-            &mut self.off_start,
-            &mut self.parent,
-            &mut self.off_target,
-            &mut self.off_source,
-            &mut self.off_value,
-            &mut self.row_of,
-            &mut self.row_position,
-            &mut self.position_of_row,
-        ] {
-            v.clear();
-        }
+        self.position.clear();
+        self.off.clear();
+        self.row_of.clear();
+        self.row_position.clear();
         self.position_bodies.clear();
-        self.off_slots.clear();
         self.row_swapped.clear();
         let rows = s.node_row_start[positions] as usize;
+        self.position_of_row.clear();
         self.position_of_row.resize(rows, 0);
-        let size_of = |s: &Scratch, n: u32| s.node_row_start[n as usize + 1] - s.node_row_start[n as usize];
+        // Each node's first row in position order, for the blocks aimed at it.
+        s.count.clear();
+        s.count.resize(positions, 0);
+        let mut row = 0u32;
+        for &n in &s.order {
+            s.count[n as usize] = row;
+            row += s.node_row_start[n as usize + 1] - s.node_row_start[n as usize];
+        }
+        let size_of =
+            |s: &Scratch, n: u32| s.node_row_start[n as usize + 1] - s.node_row_start[n as usize];
         let mut value = 0u32;
         for (k, &n) in s.order.iter().enumerate() {
-            let (r0, r1) = (s.node_row_start[n as usize], s.node_row_start[n as usize + 1]);
-            self.row_start.push(self.row_of.len() as u32);
+            let (r0, r1) = (
+                s.node_row_start[n as usize],
+                s.node_row_start[n as usize + 1],
+            );
+            let first_row = self.row_of.len() as u32;
             for &r in &s.node_rows[r0 as usize..r1 as usize] {
                 let caller = r & !(1 << 31);
                 self.position_of_row[caller as usize] = self.row_of.len() as u32;
@@ -361,126 +391,129 @@ impl TreeOrder {
             }
             let rk = r1 - r0;
             self.position_bodies.push(s.node_bodies[n as usize]);
-            self.value_start.push(value);
+            let first_block = self.off.len() as u32;
+            let diagonal = value;
             value += rk * rk;
-            self.off_start.push(self.off_target.len() as u32);
             let home = s.home[n as usize];
-            if home == NONE {
-                self.parent.push(NONE);
-                continue;
+            if home != NONE {
+                // Later siblings at the home body, then the body's parent node.
+                let slot_at = |pair: [u32; 2]| u8::from(pair[0] != home);
+                let (b0, b1) = (s.body_start[home as usize], s.body_start[home as usize + 1]);
+                let siblings = &s.body_nodes[b0 as usize..b1 as usize];
+                let after = siblings.iter().position(|&m| m == n).map_or(0, |p| p + 1);
+                let parent_node = s.parent_node[home as usize];
+                for &t in siblings[after..]
+                    .iter()
+                    .filter(|&&m| m != parent_node)
+                    .chain((parent_node != NONE).then_some(&parent_node))
+                {
+                    let ts = size_of(s, t);
+                    self.off.push(OffBlock {
+                        target: s.position_of_node[t as usize],
+                        target_row: s.count[t as usize],
+                        target_size: ts,
+                        source: k as u32,
+                        value,
+                        slots: [
+                            slot_at(s.node_bodies[n as usize]),
+                            slot_at(s.node_bodies[t as usize]),
+                        ],
+                        pairs: [0, 0],
+                    });
+                    value += ts * rk;
+                }
             }
-            // Later siblings at the home body, then the body's parent node.
-            let slot_at = |pair: [u32; 2]| u8::from(pair[0] != home);
-            let (b0, b1) = (s.body_start[home as usize], s.body_start[home as usize + 1]);
-            let siblings = &s.body_nodes[b0 as usize..b1 as usize];
-            let after = siblings.iter().position(|&m| m == n).map_or(0, |p| p + 1);
-            let parent_node = s.parent_node[home as usize];
-            for &t in siblings[after..]
-                .iter()
-                .filter(|&&m| m != parent_node)
-                .chain((parent_node != NONE).then_some(&parent_node))
-            {
-                let tk = s.position_of_node[t as usize];
-                self.off_target.push(tk);
-                self.off_source.push(k as u32);
-                self.off_value.push(value);
-                self.off_slots.push([
-                    slot_at(s.node_bodies[n as usize]),
-                    slot_at(s.node_bodies[t as usize]),
-                ]);
-                value += size_of(s, t) * rk;
-            }
-            let first = self.off_start[k] as usize;
-            self.parent.push(self.off_target.get(first).copied().unwrap_or(NONE));
-            if self.off_target[first..].windows(2).any(|w| w[0] >= w[1])
-                || self.off_target[first..].iter().any(|&t| t as usize <= k)
+            let blocks = &self.off[first_block as usize..];
+            if blocks.windows(2).any(|w| w[0].target >= w[1].target)
+                || blocks.iter().any(|b| b.target as usize <= k)
             {
                 debug_assert!(false, "off-diagonal targets out of order");
                 return false;
             }
+            self.position.push(Position {
+                row: first_row,
+                size: rk,
+                value: diagonal,
+                blocks: [first_block, self.off.len() as u32],
+                diag_updates: [0, 0],
+                parent: blocks.first().map_or(NONE, |b| b.target),
+            });
         }
-        self.row_start.push(rows as u32);
-        self.off_start.push(self.off_target.len() as u32);
         self.values = value as usize;
         true
     }
 
     /// The left-looking factorisation's update lists (module docs).
     fn list_updates(&mut self) {
-        let positions = self.parent.len();
-        let blocks = self.off_target.len();
-        let count = &mut self.scratch.count;
-        // Diagonal updates, by destination position.
+        let positions = self.position.len();
+        // Diagonal updates, by destination position, in source order.
+        let mut count = std::mem::take(&mut self.scratch.count);
         count.clear();
         count.resize(positions + 1, 0);
-        for &t in &self.off_target {
-            count[t as usize + 1] += 1;
+        for b in &self.off {
+            count[b.target as usize + 1] += 1;
         }
         for k in 0..positions {
             count[k + 1] += count[k];
+            self.position[k].diag_updates = [count[k], count[k + 1]];
         }
-        self.diag_update_start.clear();
-        self.diag_update_start.extend_from_slice(count);
         self.diag_update.clear();
-        self.diag_update.resize(blocks, 0);
-        for (q, &t) in self.off_target.iter().enumerate() {
-            let at = &mut count[t as usize];
-            self.diag_update[*at as usize] = q as u32;
+        self.diag_update.resize(self.off.len(), Update::default());
+        for b in &self.off {
+            let at = &mut count[b.target as usize];
+            self.diag_update[*at as usize] = Update {
+                value: b.value,
+                columns: self.position[b.source as usize].size,
+                source: b.source,
+            };
             *at += 1;
         }
         // Pair updates, by destination block: source c's blocks to s < t update block (s → t).
-        let find = |me: &Self, s: u32, t: u32| -> u32 {
-            let (a, b) = (me.off_start[s as usize], me.off_start[s as usize + 1]);
-            (a..b)
-                .find(|&q| me.off_target[q as usize] == t)
+        let find = |me: &Self, s: u32, t: u32| -> usize {
+            let [a, b] = me.position[s as usize].blocks;
+            (a as usize..b as usize)
+                .find(|&q| me.off[q].target == t)
                 .expect("siblings and the parent node couple")
         };
+        let blocks = self.off.len();
         count.clear();
         count.resize(blocks + 1, 0);
         for c in 0..positions {
-            let (a, b) = (self.off_start[c], self.off_start[c + 1]);
+            let [a, b] = self.position[c].blocks.map(|x| x as usize);
             for i in a..b {
                 for j in i + 1..b {
-                    let dest = find(self, self.off_target[i as usize], self.off_target[j as usize]);
-                    self.scratch.count[dest as usize + 1] += 1;
+                    count[find(self, self.off[i].target, self.off[j].target) + 1] += 1;
                 }
             }
         }
-        let count = &mut self.scratch.count;
         for q in 0..blocks {
             count[q + 1] += count[q];
+            self.off[q].pairs = [count[q], count[q + 1]];
         }
-        self.pair_update_start.clear();
-        self.pair_update_start.extend_from_slice(count);
         self.pair_update.clear();
         self.pair_update
-            .resize(self.pair_update_start[blocks] as usize, [0, 0]);
+            .resize(count[blocks] as usize, PairUpdate::default());
         for c in 0..positions {
-            let (a, b) = (self.off_start[c], self.off_start[c + 1]);
+            let [a, b] = self.position[c].blocks.map(|x| x as usize);
+            let columns = self.position[c].size;
             for i in a..b {
                 for j in i + 1..b {
-                    let dest = find(self, self.off_target[i as usize], self.off_target[j as usize]);
-                    let at = &mut self.scratch.count[dest as usize];
-                    self.pair_update[*at as usize] = [j, i];
+                    let dest = find(self, self.off[i].target, self.off[j].target);
+                    let at = &mut count[dest];
+                    self.pair_update[*at as usize] = PairUpdate {
+                        target_side: self.off[j].value,
+                        source_side: self.off[i].value,
+                        columns,
+                    };
                     *at += 1;
                 }
             }
         }
+        self.scratch.count = count;
     }
 
     /// Positions (nodes) in the analysis.
     pub(crate) fn positions(&self) -> usize {
-        self.parent.len()
-    }
-
-    /// Rows of position `k`: first (in position order) and count.
-    pub(crate) fn rows(&self, k: usize) -> (usize, usize) {
-        let a = self.row_start[k] as usize;
-        (a, self.row_start[k + 1] as usize - a)
-    }
-
-    /// Off-diagonal blocks of position `k`.
-    pub(crate) fn blocks(&self, k: usize) -> std::ops::Range<usize> {
-        self.off_start[k] as usize..self.off_start[k + 1] as usize
+        self.position.len()
     }
 }
