@@ -15,7 +15,7 @@ use crate::solver::sparse::pivoting::{self, FrictionLink, LcpReport, Limits};
 
 /// A relative compliance added to every row's diagonal: redundant joints (two hinges on one
 /// axis) keep a solvable system, at a stiffness no step can tell from rigid.
-const REGULARISATION: f64 = 1.0e-9;
+const REGULARISATION: f64 = 1.0e-6;
 
 /// One row handed to the system: its Jacobian and `M⁻¹Jᵀ`, linear then angular, per slot.
 #[derive(Debug, Clone, Copy, Default)]
