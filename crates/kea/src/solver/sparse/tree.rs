@@ -36,6 +36,8 @@ pub(crate) struct TreeSystem {
     l: Vec<f64>,
     /// `1 / L_ii` per row (position order): substitutions multiply, not divide.
     inv: Vec<f64>,
+    /// Per position: its rows up to its last free one (the rest are held).
+    active: Vec<u32>,
     /// Which rows (position order) the factor holds, and whether it is of the present values.
     held: Vec<bool>,
     factored: bool,
@@ -65,6 +67,7 @@ impl TreeSystem {
                 + self.bound.capacity())
             + self.jm.capacity() * std::mem::size_of::<([DVec3; 4], [DVec3; 4])>()
             + self.held.capacity()
+            + self.active.capacity() * 4
             + self.dirty.capacity()
             + self.singular.capacity()
     }
@@ -167,35 +170,46 @@ impl TreeSystem {
     }
 
     /// Refactorises position `k` (module docs); returns whether a pivot was regularised.
+    /// Rows past a position's last free row (a joint's open stops, written after its
+    /// equalities) are identity rows: the products skip them.
     fn factor_position(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
         let o = &self.order;
         let p = o.position[k];
         let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
-        let held = &self.held[..];
-        let own_held = held[first..first + size].iter().any(|&h| h);
+        let (held, act) = (&self.held[..], &self.active[..]);
+        let m = act[k] as usize;
+        let own_held = held[first..first + m].iter().any(|&h| h);
         // Everything of earlier positions lies before this position's values.
         let (done, rest) = self.l.split_at_mut(at);
         let a = &self.a[at..];
         // The diagonal (lower triangle), held rows as identity rows.
         let diag = &mut rest[..size * size];
+        diag.fill(0.0);
         for r in 0..size {
+            if r >= m {
+                diag[r * size + r] = a[r * size + r];
+                continue;
+            }
             for c in 0..=r {
                 let keep = !own_held || r == c || !(held[first + r] || held[first + c]);
-                diag[r * size + c] = if keep { a[r * size + c] } else { 0.0 };
+                if keep {
+                    diag[r * size + c] = a[r * size + c];
+                }
             }
         }
         let [u0, u1] = p.diag_updates.map(|x| x as usize);
         for u in &o.diag_update[u0..u1] {
             let (cs, lq) = (u.columns as usize, u.value as usize);
+            let mc = act[u.source as usize] as usize;
             let block = &done[lq..lq + size * cs];
-            for r in 0..size {
-                let lr = &block[r * cs..r * cs + cs];
+            for r in 0..m {
+                let lr = &block[r * cs..r * cs + mc];
                 for c in 0..=r {
-                    diag[r * size + c] -= dot(lr, &block[c * cs..c * cs + cs]);
+                    diag[r * size + c] -= dot(lr, &block[c * cs..c * cs + mc]);
                 }
             }
         }
-        let singular = cholesky(diag, size, tiny, floor);
+        let singular = cholesky(diag, size, m, (tiny, floor));
         let (diag, blocks) = rest.split_at_mut(size * size);
         let inv = &mut self.inv[first..first + size];
         for r in 0..size {
@@ -205,36 +219,41 @@ impl TreeSystem {
         // Each off-diagonal block: A_tk − Σ L_tc L_kcᵀ, then solved against L_kkᵀ.
         for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
             let (tf, ts) = (b.target_row as usize, b.target_size as usize);
+            let mt = act[b.target as usize] as usize;
             let off = b.value as usize - at;
             let out = &mut blocks[off - size * size..off - size * size + ts * size];
             let a = &self.a[b.value as usize..b.value as usize + ts * size];
-            let target_held = held[tf..tf + ts].iter().any(|&h| h);
-            if own_held || target_held {
-                for r in 0..ts {
-                    for c in 0..size {
-                        let keep = !(held[tf + r] || held[first + c]);
-                        out[r * size + c] = if keep { a[r * size + c] } else { 0.0 };
+            out.fill(0.0);
+            let target_held = held[tf..tf + mt].iter().any(|&h| h);
+            for r in 0..mt {
+                let (o_row, a_row) = (&mut out[r * size..r * size + m], &a[r * size..r * size + m]);
+                if own_held || target_held {
+                    for c in 0..m {
+                        if !(held[tf + r] || held[first + c]) {
+                            o_row[c] = a_row[c];
+                        }
                     }
+                } else {
+                    o_row.copy_from_slice(a_row);
                 }
-            } else {
-                out.copy_from_slice(a);
             }
             let [q0, q1] = b.pairs.map(|x| x as usize);
             for pu in &o.pair_update[q0..q1] {
                 let cs = pu.columns as usize;
+                let mc = act[pu.source as usize] as usize;
                 let lt = &done[pu.target_side as usize..pu.target_side as usize + ts * cs];
                 let lk = &done[pu.source_side as usize..pu.source_side as usize + size * cs];
-                for r in 0..ts {
-                    let lr = &lt[r * cs..r * cs + cs];
-                    for c in 0..size {
-                        out[r * size + c] -= dot(lr, &lk[c * cs..c * cs + cs]);
+                for r in 0..mt {
+                    let lr = &lt[r * cs..r * cs + mc];
+                    for c in 0..m {
+                        out[r * size + c] -= dot(lr, &lk[c * cs..c * cs + mc]);
                     }
                 }
             }
             // Row r of L_tk solves L_kk x = (row r)ᵀ.
-            for r in 0..ts {
-                let row = &mut out[r * size..r * size + size];
-                for c in 0..size {
+            for r in 0..mt {
+                let row = &mut out[r * size..r * size + m];
+                for c in 0..m {
                     let v = row[c] - dot(&diag[c * size..c * size + c], &row[..c]);
                     row[c] = v * inv[c];
                 }
@@ -343,6 +362,11 @@ impl HeldSystem for TreeSystem {
                 }
             }
         }
+        self.active.clear();
+        self.active.extend(self.order.position.iter().map(|p| {
+            let rows = &self.held[p.row as usize..(p.row + p.size) as usize];
+            rows.iter().rposition(|&h| !h).map_or(0, |r| r as u32 + 1)
+        }));
         for k in 0..positions {
             if !self.dirty[k] {
                 continue;
@@ -361,48 +385,42 @@ impl HeldSystem for TreeSystem {
         let o = &self.order;
         Self::gather(o, x, &mut self.z);
         let z = &mut self.z;
-        let (l, inv) = (&self.l, &self.inv);
-        for p in &o.position {
+        let (l, inv, act) = (&self.l, &self.inv, &self.active);
+        for (k, p) in o.position.iter().enumerate() {
             let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+            let m = act[k] as usize;
             for r in 0..size {
-                let v =
-                    z[first + r] - dot(&l[at + r * size..at + r * size + r], &z[first..first + r]);
+                let v = if r < m {
+                    z[first + r] - dot(&l[at + r * size..at + r * size + r], &z[first..first + r])
+                } else {
+                    z[first + r]
+                };
                 z[first + r] = v * inv[first + r];
             }
             for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
-                let (tf, ts, lq) = (
-                    b.target_row as usize,
-                    b.target_size as usize,
-                    b.value as usize,
-                );
-                for r in 0..ts {
-                    let v = dot(
-                        &l[lq + r * size..lq + r * size + size],
-                        &z[first..first + size],
-                    );
+                let (tf, lq) = (b.target_row as usize, b.value as usize);
+                for r in 0..act[b.target as usize] as usize {
+                    let v = dot(&l[lq + r * size..lq + r * size + m], &z[first..first + m]);
                     z[tf + r] -= v;
                 }
             }
         }
-        for p in o.position.iter().rev() {
+        for (k, p) in o.position.iter().enumerate().rev() {
             let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+            let m = act[k] as usize;
             for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
-                let (tf, ts, lq) = (
-                    b.target_row as usize,
-                    b.target_size as usize,
-                    b.value as usize,
-                );
-                for r in 0..ts {
+                let (tf, lq) = (b.target_row as usize, b.value as usize);
+                for r in 0..act[b.target as usize] as usize {
                     let zt = z[tf + r];
-                    let row = &l[lq + r * size..lq + r * size + size];
-                    for (zc, e) in z[first..first + size].iter_mut().zip(row) {
+                    let row = &l[lq + r * size..lq + r * size + m];
+                    for (zc, e) in z[first..first + m].iter_mut().zip(row) {
                         *zc -= e * zt;
                     }
                 }
             }
             for r in (0..size).rev() {
                 let mut v = z[first + r];
-                for c in r + 1..size {
+                for c in r + 1..m {
                     v -= l[at + c * size + r] * z[first + c];
                 }
                 z[first + r] = v * inv[first + r];
@@ -414,14 +432,15 @@ impl HeldSystem for TreeSystem {
     }
 }
 
-/// Dense Cholesky of the `n × n` lower triangle of `m` (row-major) in place; pivots not above
-/// `tiny` become `floor`. Returns whether one did.
-fn cholesky(m: &mut [f64], n: usize, tiny: f64, floor: f64) -> bool {
+/// Dense Cholesky of the `n × n` lower triangle of `m` (row-major) in place, of which the
+/// rows from `active` on are identity rows (their diagonal only); pivots not above `tiny`
+/// become `floor`. Returns whether one did.
+fn cholesky(m: &mut [f64], n: usize, active: usize, (tiny, floor): (f64, f64)) -> bool {
     let mut singular = false;
     for j in 0..n {
         let mut d = m[j * n + j];
-        for e in 0..j {
-            d -= m[j * n + e] * m[j * n + e];
+        if j < active {
+            d -= dot(&m[j * n..j * n + j], &m[j * n..j * n + j]);
         }
         if !(d > tiny) {
             d = floor;
@@ -429,12 +448,10 @@ fn cholesky(m: &mut [f64], n: usize, tiny: f64, floor: f64) -> bool {
         }
         let d = d.sqrt();
         m[j * n + j] = d;
-        for i in j + 1..n {
-            let mut v = m[i * n + j];
-            for e in 0..j {
-                v -= m[i * n + e] * m[j * n + e];
-            }
-            m[i * n + j] = v / d;
+        let inv = 1.0 / d;
+        for i in j + 1..active {
+            let v = m[i * n + j] - dot(&m[i * n..i * n + j], &m[j * n..j * n + j]);
+            m[i * n + j] = v * inv;
         }
     }
     singular

@@ -104,12 +104,13 @@ pub(crate) struct Update {
 }
 
 /// Two blocks of one source, `L_tc` and `L_kc`, whose product `L_tc L_kcᵀ` a block `L_tk`
-/// loses: their first values and their (shared) columns.
+/// loses: their first values, their (shared) columns and the source position.
 #[derive(Debug, Default, Clone, Copy)]
 pub(crate) struct PairUpdate {
     pub(crate) target_side: u32,
     pub(crate) source_side: u32,
     pub(crate) columns: u32,
+    pub(crate) source: u32,
 }
 
 /// The analysis's working memory, kept so that a repeated analysis allocates nothing.
@@ -504,6 +505,7 @@ impl TreeOrder {
                         target_side: self.off[j].value,
                         source_side: self.off[i].value,
                         columns,
+                        source: c as u32,
                     };
                     *at += 1;
                 }
