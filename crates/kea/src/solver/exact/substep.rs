@@ -180,6 +180,21 @@ impl SubstepSystem {
             }
             return report;
         }
+        if ws.sys.links.iter().all(Option::is_none) {
+            // No Coulomb row: solved for the change `Δ = y − y₀`, `A Δ = r` within
+            // `[lo − y₀, hi − y₀]`, which needs no product with `A`.
+            for i in 0..n {
+                ws.sys.b[i] = r[i];
+                (ws.sys.lo[i], ws.sys.hi[i]) = (lo[i] - y[i], hi[i] - y[i]);
+                ws.sys.x[i] = 0.0;
+                ws.sys.state[i] = pivoting::state_from_guess(ws.sys.lo[i], ws.sys.hi[i], 0.0);
+            }
+            let report = ws.pivot(limits);
+            for (yi, dx) in y[..n].iter_mut().zip(&ws.sys.x[..n]) {
+                *yi += dx;
+            }
+            return report;
+        }
         self.product.clear();
         self.product.resize(n, 0.0);
         ws.multiply(y, &mut self.product);

@@ -107,6 +107,15 @@ pub(crate) trait HeldSystem {
     fn diagonal_max(&self) -> f64;
     /// `out = A x`.
     fn multiply(&mut self, x: &[f64], out: &mut [f64]);
+    /// `w = A x − b`, of which the pivoting reads only the rows not free (`state`): a system
+    /// may leave the free ones at 0, which they are at a solution of the free set.
+    fn slack(&mut self, x: &[f64], b: &[f64], state: &[Bound], w: &mut [f64]) {
+        let _ = state;
+        self.multiply(x, w);
+        for (w, b) in w.iter_mut().zip(b) {
+            *w -= b;
+        }
+    }
     /// `x[i] = A_ii · held[i]` for every row `i` held (`state[i]` not free).
     fn held_diagonal(&self, state: &[Bound], held: &[f64], x: &mut [f64]);
     /// Factorises `A` with the rows of `state` held; pivots not above `tiny` become `floor`.
@@ -252,10 +261,7 @@ fn slack_and_tolerances<S: HeldSystem>(
     u: &mut Unknowns<'_>,
     tol_w: f64,
 ) -> (f64, f64) {
-    sys.multiply(u.x, u.w);
-    for (w, b) in u.w.iter_mut().zip(b) {
-        *w -= b;
-    }
+    sys.slack(u.x, b, u.state, u.w);
     let tol_x = 1.0e-11 * u.x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
     (tol_x, tol_w)
 }

@@ -324,6 +324,60 @@ impl HeldSystem for TreeSystem {
         }
     }
 
+    fn slack(&mut self, x: &[f64], b: &[f64], state: &[Bound], w: &mut [f64]) {
+        // Only the positions with a row not free: each row of them from its own blocks, the
+        // blocks it sends and the blocks aimed at it.
+        let o = &self.order;
+        Self::gather(o, x, &mut self.z);
+        let z = &self.z;
+        w.fill(0.0);
+        for p in &o.position {
+            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+            let rows = &o.row_of[first..first + size];
+            if rows.iter().all(|&r| state[r as usize] == Bound::Free) {
+                continue;
+            }
+            let mut wk = [0.0f64; 32];
+            let wk = &mut wk[..size];
+            for r in 0..size {
+                wk[r] = dot(
+                    &self.a[at + r * size..at + r * size + size],
+                    &z[first..first + size],
+                );
+            }
+            for bq in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+                let (tf, ts, aq) = (
+                    bq.target_row as usize,
+                    bq.target_size as usize,
+                    bq.value as usize,
+                );
+                for r in 0..ts {
+                    let zt = z[tf + r];
+                    for (wc, e) in wk
+                        .iter_mut()
+                        .zip(&self.a[aq + r * size..aq + r * size + size])
+                    {
+                        *wc += e * zt;
+                    }
+                }
+            }
+            let [u0, u1] = p.diag_updates.map(|x| x as usize);
+            for u in &o.diag_update[u0..u1] {
+                let (cs, aq) = (u.columns as usize, u.value as usize);
+                let sf = o.position[u.source as usize].row as usize;
+                for r in 0..size {
+                    wk[r] += dot(&self.a[aq + r * cs..aq + r * cs + cs], &z[sf..sf + cs]);
+                }
+            }
+            for (r, &caller) in rows.iter().enumerate() {
+                let i = caller as usize;
+                if state[i] != Bound::Free {
+                    w[i] = wk[r] - b[i];
+                }
+            }
+        }
+    }
+
     fn held_diagonal(&self, state: &[Bound], held: &[f64], x: &mut [f64]) {
         for i in 0..self.rows() {
             if state[i] != Bound::Free {
@@ -577,7 +631,29 @@ mod tests {
                     "case {case}: A x row {i}"
                 );
             }
-            // Held rows: identity rows with their diagonal.
+            // Held rows: identity rows with their diagonal; the slack of the rows held.
+            let mut w = vec![0.0; n];
+            let state0: Vec<Bound> = (0..n)
+                .map(|_| {
+                    if rnd(&mut seed) > 0.0 {
+                        Bound::Upper
+                    } else {
+                        Bound::Free
+                    }
+                })
+                .collect();
+            sys.slack(&x, &x, &state0, &mut w);
+            for i in 0..n {
+                let expect = if state0[i] == Bound::Free {
+                    0.0
+                } else {
+                    ax[i] - x[i]
+                };
+                assert!(
+                    (w[i] - expect).abs() < 1e-9 * (1.0 + ax[i].abs()),
+                    "case {case}: slack {i}"
+                );
+            }
             let state: Vec<Bound> = (0..n)
                 .map(|_| {
                     if rnd(&mut seed) > 0.4 {
