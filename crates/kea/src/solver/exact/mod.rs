@@ -362,6 +362,11 @@ impl ExactWorkspace {
 /// stall the step (with five sets of bounds, about 20 ms at most).
 const STACK_WORK: usize = 20_000;
 
+/// The rows on one body [`STACK_WORK`] is measured for: a box in a column, its contacts above
+/// and below (a body with more rows on it costs the square of their number per solve, and
+/// affords that much fewer solves).
+const STACK_WIDTH: u32 = 24;
+
 /// Sets of Coulomb bounds a stack's pivoting may try (see [`STACK_WORK`]).
 const STACK_BOUND_UPDATES: u32 = 4;
 
@@ -407,7 +412,7 @@ impl ExactWorkspace {
     }
 
     /// The pivoting's caps: the solver's, or for a stack the smaller ones its fallback allows.
-    fn limits(&self, params: &SolverParams) -> Limits {
+    fn limits(&mut self, params: &SolverParams) -> Limits {
         let general = Limits {
             iterations: params.max_lcp_iterations,
             bound_updates: params.max_friction_passes,
@@ -415,7 +420,19 @@ impl ExactWorkspace {
         if !self.with_contacts {
             return general;
         }
-        let affordable = (STACK_WORK / self.rows.len().max(1)).max(8) as u32;
+        // A solve costs its rows times the square of the widest body's rows: a body with
+        // many contacts is one dense block.
+        let widest = &mut self.forest;
+        widest.clear();
+        widest.resize(self.island_bodies.len(), 0);
+        for (key, &size) in self.block_key.iter().zip(&self.block_size) {
+            for &b in key.iter().filter(|&&b| b != u32::MAX) {
+                widest[b as usize] += size;
+            }
+        }
+        let widest = widest.iter().copied().max().unwrap_or(0).max(STACK_WIDTH) as usize;
+        let scale = (STACK_WIDTH as usize * STACK_WIDTH as usize) as f64 / (widest * widest) as f64;
+        let affordable = ((STACK_WORK / self.rows.len().max(1)) as f64 * scale).max(2.0) as u32;
         Limits {
             iterations: general.iterations.min(affordable),
             bound_updates: general.bound_updates.min(STACK_BOUND_UPDATES),
