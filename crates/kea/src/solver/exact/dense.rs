@@ -10,6 +10,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::IslandRow;
+use crate::solver::reserve;
 use crate::solver::sparse::lcp_dense::{self as lcp, Bound, LcpWorkspace, Unknowns};
 use crate::solver::sparse::pivoting::FrictionLink;
 use crate::solver::{SolverParams, SolverStats};
@@ -56,6 +57,19 @@ impl DenseIsland {
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
         self.sys.bytes() + self.lcp.bytes()
+    }
+
+    /// Makes room for islands of `n` rows, so that a step allocates nothing when one first
+    /// reaches that size.
+    pub(crate) fn reserve(&mut self, n: usize) {
+        let s = &mut self.sys;
+        reserve(&mut s.a, n * n);
+        for v in [&mut s.b, &mut s.lo, &mut s.hi, &mut s.x, &mut s.w] {
+            reserve(v, n);
+        }
+        reserve(&mut s.links, n);
+        reserve(&mut s.state, n);
+        self.lcp.reserve(n);
     }
 
     /// Fills `A = J M⁻¹ Jᵀ` for the rows (no softness on the diagonal yet).

@@ -134,6 +134,9 @@ impl ExactWorkspace {
         reserve(&mut self.sys.links, n);
         reserve(&mut self.sys.state, n);
         reserve(&mut self.forest, n);
+        self.dense
+            .reserve(n.min(crate::solver::DENSE_EXACT_MAX_ROWS as usize));
+        self.tree.reserve(n);
     }
 
     pub(crate) fn bytes(&self) -> usize {

@@ -26,6 +26,11 @@ use super::system::FrictionLink;
 pub(crate) use super::tree_order::TreeOrder;
 use super::tree_order::NONE;
 use crate::math::DVec3;
+use crate::solver::reserve;
+
+/// Values a row of a tree's system is budgeted for when reserving: its node's diagonal block
+/// (up to 12 wide in a stack) and a few off-diagonal blocks.
+const VALUES_PER_ROW: usize = 48;
 
 /// The tree solve's system and factor (module docs).
 #[derive(Debug, Default, Clone)]
@@ -70,6 +75,23 @@ impl TreeSystem {
             + self.active.capacity() * 4
             + self.dirty.capacity()
             + self.singular.capacity()
+    }
+
+    /// Makes room for systems of `rows` rows (a tree's values are budgeted at
+    /// [`VALUES_PER_ROW`] a row), so that a step allocates nothing when one first reaches it.
+    pub(crate) fn reserve(&mut self, rows: usize) {
+        self.order.reserve(rows);
+        for v in [&mut self.a, &mut self.l] {
+            reserve(v, rows * VALUES_PER_ROW);
+        }
+        for v in [&mut self.inv, &mut self.z, &mut self.w, &mut self.bound] {
+            reserve(v, rows);
+        }
+        reserve(&mut self.active, rows);
+        reserve(&mut self.held, rows);
+        reserve(&mut self.dirty, rows);
+        reserve(&mut self.singular, rows);
+        reserve(&mut self.jm, rows);
     }
 
     /// Rows.

@@ -167,6 +167,48 @@ impl TreeOrder {
             + s.visited.capacity()
     }
 
+    /// Makes room for the analysis of systems of up to `rows` rows (as many blocks, nodes
+    /// and positions at most, twice as many bodies, a few off-diagonal blocks a node).
+    pub(crate) fn reserve(&mut self, rows: usize) {
+        use crate::solver::reserve;
+        let (n, s) = (rows, &mut self.scratch);
+        for v in [
+            &mut self.sizes,
+            &mut self.row_of,
+            &mut self.row_position,
+            &mut self.position_of_row,
+            &mut s.node_of_block,
+            &mut s.node_rows,
+            &mut s.node_row_start,
+            &mut s.order,
+            &mut s.position_of_node,
+            &mut s.home,
+        ] {
+            reserve(v, n + 1);
+        }
+        for v in [
+            &mut s.body_start,
+            &mut s.body_nodes,
+            &mut s.body_fill,
+            &mut s.parent_node,
+            &mut s.node_fill,
+        ] {
+            reserve(v, 2 * n + 1);
+        }
+        reserve(&mut s.count, 8 * n + 1);
+        reserve(&mut self.key, n);
+        reserve(&mut self.position_bodies, n);
+        reserve(&mut self.row_swapped, n);
+        reserve(&mut s.block_swapped, n);
+        reserve(&mut s.node_bodies, n);
+        reserve(&mut s.visited, 2 * n);
+        reserve(&mut s.stack, 2 * n);
+        reserve(&mut self.position, n);
+        reserve(&mut self.off, 4 * n);
+        reserve(&mut self.diag_update, 4 * n);
+        reserve(&mut self.pair_update, 8 * n);
+    }
+
     /// Analyses the blocks (`key`: each block's island-local bodies, [`NONE`] for none; rows
     /// `first..first + size`), or keeps the last analysis if they are the same. Returns
     /// whether the tree solve takes them.
