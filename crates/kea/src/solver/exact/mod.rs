@@ -92,8 +92,9 @@ pub(crate) struct ExactWorkspace {
     /// The system last filled is the dense one ([`ExactWorkspace::fill_system`]).
     dense_now: bool,
     /// The tree solve, and whether the block-sparse system last filled is on it (its blocks
-    /// join the bodies without a loop) rather than on the general pattern.
-    tree: TreeSystem,
+    /// join the bodies without a loop) rather than on the general pattern. Boxed: a world
+    /// must still fit on a 64 KiB thread stack while it is made.
+    tree: Box<TreeSystem>,
     tree_now: bool,
     /// Union-find scratch of [`ExactWorkspace::blocks_form_forest`].
     forest: Vec<u32>,

@@ -170,7 +170,7 @@ impl SubstepSystem {
             // Equalities first: `A (y − y₀) = r` straight through the factor, no pivoting.
             ws.sys.x[..n].copy_from_slice(&r[..n]);
             let report = if ws.tree_now {
-                pivoting::solve_equalities_on(&mut ws.tree, &mut ws.sys.state, &mut ws.sys.x)
+                pivoting::solve_equalities_on(&mut *ws.tree, &mut ws.sys.state, &mut ws.sys.x)
             } else {
                 let (system, unknowns, lcp) = ws.split();
                 pivoting::solve_equalities(&system, unknowns.state, unknowns.x, lcp)
