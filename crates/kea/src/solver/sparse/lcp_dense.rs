@@ -99,12 +99,12 @@ pub(crate) fn initial_state(lo: &[f64], hi: &[f64], state: &mut [Bound]) {
 /// Most `iterations × n³` the dense solves of one island (all friction passes) may spend: each
 /// iteration factorises the free block (n³/3 multiply-adds, about 1.5 ms for 256 rows here).
 /// Islands with contacts reach this path only up to [`crate::DENSE_EXACT_MAX_ROWS`] rows
-/// (bigger ones are routed off it), which afford 6 iterations; islands of up to 46 rows never
+/// (bigger ones are routed off it), which afford 15 iterations; islands of up to 63 rows never
 /// reach it. Past it the solve stops as if capped, and says so: an island's solve stays under
-/// about 10 ms, so that no step of a demo-sized world takes a frame (at 5·10⁸ a 154-row pile
-/// forced exact took 19 ms; at 3·10¹⁰, 100 iterations × 16 friction passes of a 500-row
-/// island took a minute).
-const DENSE_WORK_BUDGET: f64 = 1.0e8;
+/// about a frame (at 5·10⁸ a 154-row pile forced exact took 19 ms, now 11 ms; at 10⁸ the
+/// demo car's island, 4 wheels with their stops and contacts, was cut short and the car
+/// reared; at 3·10¹⁰, 100 iterations × 16 friction passes of a 500-row island took a minute).
+const DENSE_WORK_BUDGET: f64 = 2.5e8;
 
 /// Pivoting iterations an island of `n` rows can afford in all (see [`DENSE_WORK_BUDGET`]).
 pub(crate) fn affordable_iterations(n: usize) -> u32 {
