@@ -14,10 +14,11 @@ use crate::solver::sparse::pattern::BlockBodies;
 use crate::solver::sparse::pivoting::{self, FrictionLink, LcpReport, Limits};
 
 /// A relative compliance added to every row's diagonal: redundant joints (two hinges on one
-/// axis) keep a solvable system, at a stiffness no step can tell from rigid. (At 1e-9 a flat
-/// net of ball joints, loops in a singular configuration, was regularised at every solve and
-/// fell apart; at 1e-6 it holds together.)
-const REGULARISATION: f64 = 1.0e-6;
+/// axis) keep a solvable system, at a stiffness no step can tell from rigid. (A flat 10×10
+/// net of ball joints, loops in a singular configuration, is regularised at every solve and
+/// falls apart at this value; 1e-6 holds it to 3 mm but blows up kea-bench's 30×30 net: loops
+/// need their own treatment, issue 36 item 3.)
+const REGULARISATION: f64 = 1.0e-9;
 
 /// One row handed to the system: its Jacobian and `M⁻¹Jᵀ`, linear then angular, per slot.
 #[derive(Debug, Clone, Copy, Default)]
