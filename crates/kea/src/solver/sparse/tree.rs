@@ -141,7 +141,7 @@ impl TreeSystem {
                     self.a[at + c * size + r] = v;
                 }
             }
-            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            for b in o.blocks_of(p) {
                 let [sk, st] = b.slots.map(usize::from);
                 let (tf, ts, at) = (
                     b.target_row as usize,
@@ -239,7 +239,7 @@ impl TreeSystem {
         }
         let inv = &self.inv[first..first + size];
         // Each off-diagonal block: A_tk − Σ L_tc L_kcᵀ, then solved against L_kkᵀ.
-        for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+        for b in o.blocks_of(&p) {
             let (tf, ts) = (b.target_row as usize, b.target_size as usize);
             let mt = act[b.target as usize] as usize;
             let off = b.value as usize - at;
@@ -325,7 +325,7 @@ impl HeldSystem for TreeSystem {
             for r in 0..size {
                 w[first + r] += dot(&self.a[at + r * size..at + r * size + size], zk);
             }
-            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            for b in o.blocks_of(p) {
                 let (tf, ts, aq) = (
                     b.target_row as usize,
                     b.target_size as usize,
@@ -367,7 +367,7 @@ impl HeldSystem for TreeSystem {
                     &z[first..first + size],
                 );
             }
-            for bq in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            for bq in o.blocks_of(p) {
                 let (tf, ts, aq) = (
                     bq.target_row as usize,
                     bq.target_size as usize,
@@ -473,7 +473,7 @@ impl HeldSystem for TreeSystem {
                 };
                 z[first + r] = v * inv[first + r];
             }
-            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            for b in o.blocks_of(p) {
                 let (tf, lq) = (b.target_row as usize, b.value as usize);
                 for r in 0..act[b.target as usize] as usize {
                     let v = dot(&l[lq + r * size..lq + r * size + m], &z[first..first + m]);
@@ -484,7 +484,7 @@ impl HeldSystem for TreeSystem {
         for (k, p) in o.position.iter().enumerate().rev() {
             let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
             let m = act[k] as usize;
-            for b in &o.off[p.blocks[0] as usize..p.blocks[1] as usize] {
+            for b in o.blocks_of(p) {
                 let (tf, lq) = (b.target_row as usize, b.value as usize);
                 for r in 0..act[b.target as usize] as usize {
                     let zt = z[tf + r];

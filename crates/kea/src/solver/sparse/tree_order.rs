@@ -556,6 +556,11 @@ impl TreeOrder {
         self.scratch.count = count;
     }
 
+    /// The off-diagonal blocks of position `p`.
+    pub(crate) fn blocks_of(&self, p: &Position) -> &[OffBlock] {
+        &self.off[p.blocks[0] as usize..p.blocks[1] as usize]
+    }
+
     /// Positions (nodes) in the analysis.
     pub(crate) fn positions(&self) -> usize {
         self.position.len()
