@@ -6,8 +6,9 @@
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::constraint_index::EMPTY;
 use super::World;
+use crate::body::Body;
 use crate::constraint::{Row, RowBody, RowContext, RowWriter};
-use crate::handle::{Arena, ConstraintHandle};
+use crate::handle::{Arena, BodyHandle, ConstraintHandle};
 use crate::math::Real;
 use crate::solver::{ConstraintBlock, RowSource, SolverContact, SolverParams};
 
@@ -191,6 +192,11 @@ impl World {
 pub(super) struct JointSource<'a> {
     pub(super) constraints: &'a Arena<ConstraintEntry, ConstraintHandle>,
     pub(super) block_constraint: &'a [u32],
+    /// The world's bodies and their solver indices: a joint's body the solver does not hold
+    /// (disabled, asleep beside an awake one) is no body to the solver, which gives its slot
+    /// the static world's frame; the joint is rewritten with that body's own pose instead.
+    pub(super) bodies: &'a Arena<Body, BodyHandle>,
+    pub(super) slot_to_solver: &'a [u32],
 }
 
 impl RowSource for JointSource<'_> {
@@ -202,7 +208,19 @@ impl RowSource for JointSource<'_> {
         else {
             return;
         };
-        entry.kind.write_rows(ctx, out);
+        let mut ctx = *ctx;
+        for (rb, handle) in ctx.bodies.iter_mut().zip(entry.bodies) {
+            let Some(slot) = handle.map(|h| h.index() as usize) else {
+                continue;
+            };
+            if self.slot_to_solver.get(slot) == Some(&u32::MAX) {
+                if let Some(b) = self.bodies.at(slot) {
+                    // Outside the solver, it stays where the step found it.
+                    *rb = RowBody::fixed(b.position, b.orientation);
+                }
+            }
+        }
+        entry.kind.write_rows(&ctx, out);
         if let Some(g) = entry.gamma {
             out.set_default_gamma(g);
         }

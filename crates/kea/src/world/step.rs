@@ -199,6 +199,8 @@ impl World {
         let source = JointSource {
             constraints: &self.constraints,
             block_constraint: &s.block_constraint,
+            bodies: &self.bodies,
+            slot_to_solver: &s.slot_to_solver,
         };
         let solved = self.solver.step_arrays(StepArrays {
             bodies: &mut s.solver_bodies,
