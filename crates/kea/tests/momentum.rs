@@ -5,10 +5,12 @@
 //! kept as well as the joint stays closed: a joint softened by ε opens by a gap g, and its
 //! damping force (along the anchors' relative velocity, not along g) then has a moment g × F.
 //! The ball joint pushes both bodies at one point (the anchors' midpoint), so the pair feels no
-//! net moment whatever the gap: the exact path keeps L to round-off. The iterative path keeps
-//! that point fixed in the world through its substeps (levers shift with the bodies), but its
-//! Jacobians' directions stay those of the step's start: a small drift, bounded here at
-//! 0.5%/s and reported.
+//! net moment whatever the gap: the exact path keeps L to round-off. The substepped paths
+//! (iterative, and split islands' direct solves) turn a jointed body at its angular velocity
+//! with its gyroscopic torque taken implicitly, through the world inertia it has at each
+//! substep: a drift of first order in the substep, 0.12%/s at 60 Hz with 4 substeps (0.5%/s
+//! while that inertia was held at the step's start, whatever the substeps), bounded here at
+//! 0.2%/s and reported.
 
 mod common;
 use common::{world_on, F64, PATHS};
@@ -27,7 +29,7 @@ fn momenta(world: &World, bodies: &[BodyHandle]) -> (Vec3, Vec3) {
 
 #[test]
 fn jointed_pair_conserves_momentum() {
-    for mode in PATHS {
+    for mode in [PATHS[0], PATHS[1], kea::SolverMode::Split] {
         let mut world = world_on(mode, 4, 4);
         world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
         let a = world
@@ -73,7 +75,7 @@ fn jointed_pair_conserves_momentum() {
                     1e-5
                 }
             }
-            _ => 5e-3,
+            _ => 2e-3,
         };
         assert!(dl < bound, "{mode:?}: angular momentum drift {dl}/s");
     }

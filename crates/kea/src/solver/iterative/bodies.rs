@@ -88,8 +88,9 @@ struct Damping {
     linear: Real,
     /// `(I_w + hs·d_ω)⁻¹ I_w`, when the body has angular damping.
     angular: Option<Mat3>,
-    /// World inertia (at the step's start) of a body whose inertia is not isotropic: its
-    /// gyroscopic torque is taken implicitly every substep (see `local`).
+    /// World inertia (at the step's start, or now for a body in `following`) of a body whose
+    /// inertia is not isotropic: its gyroscopic torque is taken implicitly every substep (see
+    /// `local`).
     gyroscopic: Option<Mat3>,
 }
 
@@ -103,8 +104,18 @@ pub(crate) struct BodyStates {
     /// Local index of each global body, `NONE` if it has none.
     pub(crate) local_of: Vec<u32>,
     pub(crate) inv_mass: Vec<Real>,
-    /// World inverse inertia at the step's start.
+    /// World inverse inertia: at the step's start, or where the body has turned to for the
+    /// bodies that follow their rotation (`following`) and fast spinners.
     pub(crate) inv_inertia: Vec<Mat3>,
+    /// The bodies held by joint rows (local slots, each once): their world inertia, inverse
+    /// and gyroscopic, follows their rotation from substep to substep. Held at the step's
+    /// start, impulses `Δω = I⁻¹ (r × P)` of the later substeps and the implicit gyroscopic
+    /// torque act through an inertia the body no longer has, and a tumbling jointed pair's
+    /// angular momentum drifted 0.5%/s at 60 Hz whatever the substeps (0.12%/s following, and
+    /// halving with each doubling of the substeps). Contacts' bodies keep the step's start
+    /// (a pile's cost).
+    following: Vec<u32>,
+    follows: Vec<bool>,
     /// The body can be pushed (not fixed or kinematic, and not the static world).
     pub(crate) writable: Vec<bool>,
     /// Accumulated rotation vector `Σ hs·ω` since the step began (the joint rows' linearised
@@ -135,6 +146,8 @@ impl BodyStates {
         reserve(&mut self.inv_mass, n);
         reserve(&mut self.inv_inertia, n);
         reserve(&mut self.writable, n);
+        reserve(&mut self.following, n);
+        reserve(&mut self.follows, n);
         reserve(&mut self.dtheta, n);
         reserve(&mut self.dtheta_sub, n);
         reserve(&mut self.dx_sub, n);
@@ -150,7 +163,8 @@ impl BodyStates {
         use std::mem::size_of;
         self.vel.capacity() * size_of::<BodyVel>()
             + self.delta.capacity() * size_of::<BodyDelta>()
-            + (self.global.capacity() + self.local_of.capacity()) * 4
+            + (self.global.capacity() + self.local_of.capacity() + self.following.capacity()) * 4
+            + self.follows.capacity()
             + self.inv_mass.capacity() * size_of::<Real>()
             + self.inv_inertia.capacity() * size_of::<Mat3>()
             + self.writable.capacity()
@@ -170,7 +184,7 @@ impl BodyStates {
         (n + 1)
             * (size_of::<BodyVel>()
                 + size_of::<BodyDelta>()
-                + 9
+                + 14
                 + size_of::<Real>()
                 + size_of::<Mat3>()
                 + 4 * size_of::<Vec3>()
@@ -199,6 +213,8 @@ impl BodyStates {
         self.orientation.clear();
         self.rotation.clear();
         self.fast_spin = false;
+        self.following.clear();
+        self.follows.clear();
         self.forcing.clear();
         self.damping.clear();
         self.push_slot(
@@ -236,6 +252,7 @@ impl BodyStates {
         self.orientation0.push(q);
         self.orientation.push(q);
         self.fast_spin |= matches!(rotation, Rotation::FastSpin);
+        self.follows.push(false);
         self.rotation.push(rotation);
         self.forcing.push(BodyVel::ZERO);
         self.damping.push(Damping {
@@ -410,6 +427,30 @@ impl BodyStates {
             inv_inertia: &mut self.inv_inertia[1..],
         };
         moving.advance(bodies, hs);
+        self.turn_inertia(bodies);
+    }
+
+    /// Local body `l` is held by a joint row: its inertia follows its rotation (`following`).
+    pub(crate) fn follow_rotation(&mut self, l: u32) {
+        let i = l as usize;
+        if l != NONE && i != 0 && self.writable[i] && !self.follows[i] {
+            self.follows[i] = true;
+            self.following.push(l);
+        }
+    }
+
+    /// The world inertia of the bodies in `following`, inverse and gyroscopic, at their
+    /// present orientation.
+    fn turn_inertia(&mut self, bodies: &[SolverBody]) {
+        for &l in &self.following {
+            let l = l as usize;
+            let b = &bodies[self.global[l] as usize];
+            let r = Mat3::from_quat(self.orientation[l]);
+            self.inv_inertia[l] = r * b.inv_inertia * r.transpose();
+            if let Some(iw) = &mut self.damping[l].gyroscopic {
+                *iw = r * b.inertia * r.transpose();
+            }
+        }
     }
 
     /// Writes the new state of every body that can be pushed back to the solver's array and

@@ -36,6 +36,7 @@ impl JointRows {
                     match blk.bodies[s] {
                         Some(b) if !bodies[b as usize].is_fixed() => {
                             local[s] = states.local(Some(b), bodies, scratch, params, hs);
+                            states.follow_rotation(local[s]);
                         }
                         _ => {}
                     }
