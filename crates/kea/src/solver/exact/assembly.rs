@@ -104,7 +104,16 @@ impl ExactWorkspace {
         }
     }
 
-    /// Sizes `b`, the bounds, `x`, `w` and the sets for `n` rows.
+    /// Sizes the row vectors for `n` rows without clearing them, for a caller that writes
+    /// every entry it reads (the split islands' direct solves, several a substep).
+    pub(super) fn fit_vectors(&mut self, n: usize) {
+        for v in self.row_vectors() {
+            v.resize(n, 0.0);
+        }
+        self.sys.state.resize(n, Bound::Free);
+    }
+
+    /// Sizes `b`, the bounds, `x`, `w` and the sets for `n` rows, cleared.
     pub(super) fn size_vectors(&mut self, n: usize) {
         for v in self.row_vectors() {
             v.clear();

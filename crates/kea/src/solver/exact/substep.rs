@@ -163,7 +163,7 @@ impl SubstepSystem {
                 ..LcpReport::default()
             };
         }
-        ws.size_vectors(n);
+        ws.fit_vectors(n);
         let equalities = ws.sys.links.iter().all(Option::is_none)
             && lo.iter().all(|&l| l == f64::NEG_INFINITY)
             && hi.iter().all(|&h| h == f64::INFINITY);

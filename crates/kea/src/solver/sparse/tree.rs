@@ -103,7 +103,7 @@ impl TreeSystem {
     /// (linear then angular, per block slot), after [`TreeOrder::analyse`] took the blocks.
     pub(crate) fn fill(&mut self, row: impl Fn(usize) -> ([DVec3; 4], [DVec3; 4])) {
         let o = &self.order;
-        self.a.clear();
+        // Every value is written below: no clearing.
         self.a.resize(o.values, 0.0);
         self.factored = false;
         // Each row's Jacobian and M⁻¹Jᵀ by node slot (a swapped block's slots exchanged).
@@ -413,13 +413,12 @@ impl HeldSystem for TreeSystem {
         let rows = self.rows();
         let fresh = !self.factored;
         if fresh {
-            self.l.clear();
+            // Every position is factorised (each writes all its values, reciprocals and
+            // flag), and a held flag left over is rewritten below where it differs: sized,
+            // not cleared.
             self.l.resize(self.order.values, 0.0);
-            self.inv.clear();
             self.inv.resize(rows, 0.0);
-            self.held.clear();
             self.held.resize(rows, false);
-            self.singular.clear();
             self.singular.resize(positions, false);
         }
         self.dirty.clear();

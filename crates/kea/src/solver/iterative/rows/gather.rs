@@ -122,8 +122,12 @@ impl JointRows {
     fn close_block(&mut self, k: u32, blk: &ConstraintBlock, base: u32, rows: &[Row]) {
         self.share_lever(base as usize..self.lever.len());
         let blocks_before = self.eq_start.len();
-        self.make_block(base as usize, rows, blk);
-        self.make_pairs(base as usize, rows);
+        // Rows solved directly need no block or pair inverse (the sweeps pass them by).
+        let swept = self.direct.get(base as usize).is_none_or(|&d| !d);
+        if swept {
+            self.make_block(base as usize, rows, blk);
+            self.make_pairs(base as usize, rows);
+        }
         self.blk_global.push(k);
         self.blk_base.push(base);
         self.blk_count.push(blk.row_count);
