@@ -225,9 +225,9 @@ impl TreeSystem {
             let mc = act[u.source as usize] as usize;
             let block = &done[lq..lq + size * cs];
             for r in 0..m {
-                let lr = &block[r * cs..r * cs + mc];
+                let lr = &block[r * cs..];
                 for c in 0..=r {
-                    diag[r * size + c] -= dot(lr, &block[c * cs..c * cs + mc]);
+                    diag[r * size + c] -= dot_n(lr, &block[c * cs..], mc);
                 }
             }
         }
@@ -266,9 +266,9 @@ impl TreeSystem {
                 let lt = &done[pu.target_side as usize..pu.target_side as usize + ts * cs];
                 let lk = &done[pu.source_side as usize..pu.source_side as usize + size * cs];
                 for r in 0..mt {
-                    let lr = &lt[r * cs..r * cs + mc];
+                    let lr = &lt[r * cs..];
                     for c in 0..m {
-                        out[r * size + c] -= dot(lr, &lk[c * cs..c * cs + mc]);
+                        out[r * size + c] -= dot_n(lr, &lk[c * cs..], mc);
                     }
                 }
             }
@@ -276,7 +276,7 @@ impl TreeSystem {
             for r in 0..mt {
                 let row = &mut out[r * size..r * size + m];
                 for c in 0..m {
-                    let v = row[c] - dot(&diag[c * size..c * size + c], &row[..c]);
+                    let v = row[c] - dot_n(&diag[c * size..], row, c);
                     row[c] = v * inv[c];
                 }
             }
@@ -295,6 +295,33 @@ impl TreeSystem {
 #[inline]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// `a · b` over their first `n` entries, summed as [`dot`] sums (from −0.0, in order, so the
+/// bits are the same), unrolled for the sizes joints' blocks have: the products of a tree's
+/// 3×3 and 6×6 blocks are dots of 0 to 6 terms, where a general loop's set-up and bounds
+/// checks cost more than the arithmetic.
+#[inline(always)]
+fn dot_n(a: &[f64], b: &[f64], n: usize) -> f64 {
+    #[inline(always)]
+    fn fixed<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
+        let (a, b) = (&a[..N], &b[..N]);
+        let mut s = -0.0;
+        for i in 0..N {
+            s += a[i] * b[i];
+        }
+        s
+    }
+    match n {
+        0 => -0.0,
+        1 => fixed::<1>(a, b),
+        2 => fixed::<2>(a, b),
+        3 => fixed::<3>(a, b),
+        4 => fixed::<4>(a, b),
+        5 => fixed::<5>(a, b),
+        6 => fixed::<6>(a, b),
+        _ => dot(&a[..n], &b[..n]),
+    }
 }
 
 impl HeldSystem for TreeSystem {
@@ -323,7 +350,7 @@ impl HeldSystem for TreeSystem {
             let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
             let zk = &z[first..first + size];
             for r in 0..size {
-                w[first + r] += dot(&self.a[at + r * size..at + r * size + size], zk);
+                w[first + r] += dot_n(&self.a[at + r * size..], zk, size);
             }
             for b in o.blocks_of(p) {
                 let (tf, ts, aq) = (
@@ -362,10 +389,7 @@ impl HeldSystem for TreeSystem {
             let mut wk = [0.0f64; 32];
             let wk = &mut wk[..size];
             for r in 0..size {
-                wk[r] = dot(
-                    &self.a[at + r * size..at + r * size + size],
-                    &z[first..first + size],
-                );
+                wk[r] = dot_n(&self.a[at + r * size..], &z[first..], size);
             }
             for bq in o.blocks_of(p) {
                 let (tf, ts, aq) = (
@@ -388,7 +412,7 @@ impl HeldSystem for TreeSystem {
                 let (cs, aq) = (u.columns as usize, u.value as usize);
                 let sf = o.position[u.source as usize].row as usize;
                 for r in 0..size {
-                    wk[r] += dot(&self.a[aq + r * cs..aq + r * cs + cs], &z[sf..sf + cs]);
+                    wk[r] += dot_n(&self.a[aq + r * cs..], &z[sf..], cs);
                 }
             }
             for (r, &caller) in rows.iter().enumerate() {
@@ -466,7 +490,7 @@ impl HeldSystem for TreeSystem {
             let m = act[k] as usize;
             for r in 0..size {
                 let v = if r < m {
-                    z[first + r] - dot(&l[at + r * size..at + r * size + r], &z[first..first + r])
+                    z[first + r] - dot_n(&l[at + r * size..], &z[first..], r)
                 } else {
                     z[first + r]
                 };
@@ -475,7 +499,7 @@ impl HeldSystem for TreeSystem {
             for b in o.blocks_of(p) {
                 let (tf, lq) = (b.target_row as usize, b.value as usize);
                 for r in 0..act[b.target as usize] as usize {
-                    let v = dot(&l[lq + r * size..lq + r * size + m], &z[first..first + m]);
+                    let v = dot_n(&l[lq + r * size..], &z[first..], m);
                     z[tf + r] -= v;
                 }
             }
@@ -515,7 +539,7 @@ fn cholesky(m: &mut [f64], n: usize, active: usize, (tiny, floor): (f64, f64)) -
     for j in 0..n {
         let mut d = m[j * n + j];
         if j < active {
-            d -= dot(&m[j * n..j * n + j], &m[j * n..j * n + j]);
+            d -= dot_n(&m[j * n..], &m[j * n..], j);
         }
         if d.is_nan() || d <= tiny {
             d = floor;
@@ -525,7 +549,7 @@ fn cholesky(m: &mut [f64], n: usize, active: usize, (tiny, floor): (f64, f64)) -
         m[j * n + j] = d;
         let inv = 1.0 / d;
         for i in j + 1..active {
-            let v = m[i * n + j] - dot(&m[i * n..i * n + j], &m[j * n..j * n + j]);
+            let v = m[i * n + j] - dot_n(&m[i * n..], &m[j * n..], j);
             m[i * n + j] = v * inv;
         }
     }
