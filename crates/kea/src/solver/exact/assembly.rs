@@ -13,11 +13,11 @@ use crate::solver::SolverParams;
 
 impl ExactWorkspace {
     /// Analyses (or recalls) the island's block graph, lays the system out and fills
-    /// `A = J M⁻¹ Jᵀ` (no diagonal terms); sizes the vectors for the gathered rows. Blocks that
-    /// join their bodies without a loop take the tree solve; the others the general pattern.
+    /// `A = J M⁻¹ Jᵀ` (no diagonal terms) for the gathered rows (the caller sizes the vectors).
+    /// Blocks that join their bodies without a loop take the tree solve; the others the
+    /// general pattern.
     pub(super) fn assemble_matrix(&mut self) {
         self.dense_now = false;
-        self.size_vectors(self.rows.len());
         let island_bodies = self.island_bodies.len();
         self.tree_now = self.tree.order.analyse(
             &self.block_key,
@@ -132,6 +132,7 @@ impl ExactWorkspace {
             self.size_vectors(self.rows.len());
         } else {
             self.assemble_matrix();
+            self.size_vectors(self.rows.len());
         }
     }
 
