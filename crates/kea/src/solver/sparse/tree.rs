@@ -374,8 +374,9 @@ impl HeldSystem for TreeSystem {
     }
 
     fn slack(&mut self, x: &[f64], b: &[f64], state: &[Bound], w: &mut [f64]) {
-        // Only the positions with a row not free: each row of them from its own blocks, the
-        // blocks it sends and the blocks aimed at it.
+        // Only the rows not free (a joint's stops, most of them open and held at zero): each
+        // from its own block, the blocks its position sends and the blocks aimed at it, in
+        // that order (the order of a full product's sums, so the bits are the same).
         let o = &self.order;
         Self::gather(o, x, &mut self.z);
         let z = &self.z;
@@ -383,12 +384,21 @@ impl HeldSystem for TreeSystem {
         for p in &o.position {
             let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
             let rows = &o.row_of[first..first + size];
-            if rows.iter().all(|&r| state[r as usize] == Bound::Free) {
+            let mut held = [0u8; 32];
+            let mut count = 0;
+            for (r, &caller) in rows.iter().enumerate() {
+                if state[caller as usize] != Bound::Free {
+                    held[count] = r as u8;
+                    count += 1;
+                }
+            }
+            if count == 0 {
                 continue;
             }
+            let held = &held[..count];
             let mut wk = [0.0f64; 32];
-            let wk = &mut wk[..size];
-            for r in 0..size {
+            for &r in held {
+                let r = usize::from(r);
                 wk[r] = dot_n(&self.a[at + r * size..], &z[first..], size);
             }
             for bq in o.blocks_of(p) {
@@ -397,13 +407,12 @@ impl HeldSystem for TreeSystem {
                     bq.target_size as usize,
                     bq.value as usize,
                 );
-                for r in 0..ts {
-                    let zt = z[tf + r];
-                    for (wc, e) in wk
-                        .iter_mut()
-                        .zip(&self.a[aq + r * size..aq + r * size + size])
-                    {
-                        *wc += e * zt;
+                for t in 0..ts {
+                    let zt = z[tf + t];
+                    let row = &self.a[aq + t * size..aq + t * size + size];
+                    for &r in held {
+                        let r = usize::from(r);
+                        wk[r] += row[r] * zt;
                     }
                 }
             }
@@ -411,15 +420,15 @@ impl HeldSystem for TreeSystem {
             for u in &o.diag_update[u0..u1] {
                 let (cs, aq) = (u.columns as usize, u.value as usize);
                 let sf = o.position[u.source as usize].row as usize;
-                for r in 0..size {
+                for &r in held {
+                    let r = usize::from(r);
                     wk[r] += dot_n(&self.a[aq + r * cs..], &z[sf..], cs);
                 }
             }
-            for (r, &caller) in rows.iter().enumerate() {
-                let i = caller as usize;
-                if state[i] != Bound::Free {
-                    w[i] = wk[r] - b[i];
-                }
+            for &r in held {
+                let r = usize::from(r);
+                let i = rows[r] as usize;
+                w[i] = wk[r] - b[i];
             }
         }
     }
