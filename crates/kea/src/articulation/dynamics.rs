@@ -5,6 +5,7 @@
 use super::ArticulatedTree;
 use super::TreeJointKind;
 use crate::error::{KeaError, KeaResult};
+use crate::solver::sparse::joint_space;
 use glam::{DMat3, DQuat, DVec3};
 
 /// A rigid-body inertia `(m, c, I_c)` applied to a motion `[ω; v]`: `[I_c ω + c × p; p]`,
@@ -198,9 +199,8 @@ impl ArticulatedTree {
         qdd: &mut [f64],
     ) -> KeaResult<()> {
         self.assemble(q, qd, tau, h, qdd);
-        let n = self.len();
-        cholesky_factor(&mut self.h, n)?;
-        cholesky_back_solve(&self.h, n, qdd);
+        self.factor_h()?;
+        self.solve_h(qdd);
         let step = self.step_length;
         self.soft_stops(q, qd, qdd, step);
         Ok(())
@@ -227,49 +227,26 @@ impl ArticulatedTree {
     }
 }
 
-/// Solves `L Lᵀ x = b` with the factor `cholesky_solve` left in `l`, `b` overwritten by `x`.
-pub(super) fn cholesky_back_solve(l: &[f64], n: usize, b: &mut [f64]) {
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= l[i * n + k] * b[k];
-        }
-        b[i] = s / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * b[k];
-        }
-        b[i] = s / l[i * n + i];
-    }
-}
-
-/// Factorises symmetric positive definite `A` (row-major) in place: its lower triangle
-/// becomes `L` with `A = L Lᵀ`.
-pub(super) fn cholesky_factor(a: &mut [f64], n: usize) -> KeaResult<()> {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return Err(KeaError::Inconsistent {
+impl ArticulatedTree {
+    /// Factorises `H'` (left in `h` by `assemble`) in place, leaf to root with no fill
+    /// (`solver::sparse::joint_space`).
+    pub(super) fn factor_h(&mut self) -> KeaResult<()> {
+        let (n, links) = (self.len(), &self.links);
+        joint_space::factor(&mut self.h, n, |k| links[k].parent).map_err(|k| {
+            KeaError::Inconsistent {
                 arg: "links",
-                reason: "the tree's joint-space inertia is not positive definite".into(),
-            });
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
+                reason: format!(
+                    "the tree's joint-space inertia is not positive definite (coordinate {k})"
+                ),
             }
-            a[i * n + j] = s / d;
-        }
+        })
     }
-    Ok(())
+
+    /// Solves `H' x = b` with the factor [`Self::factor_h`] left in `h`; `b` becomes `x`.
+    pub(super) fn solve_h(&self, b: &mut [f64]) {
+        let links = &self.links;
+        joint_space::solve(&self.h, self.len(), |k| links[k].parent, b);
+    }
 }
 
 /// Solves `A x = b` for a general `A` (row-major, overwritten by its LU factors) by Gaussian

@@ -1,7 +1,6 @@
 //! The coordinates' stops, motors and dry friction: bounded impulses on the rates after the
 //! free step, found by projected Gauss–Seidel on the columns of `H'⁻¹` they act through.
 
-use super::dynamics::cholesky_back_solve;
 use super::ArticulatedTree;
 use crate::error::KeaResult;
 
@@ -177,7 +176,7 @@ impl ArticulatedTree {
         self.column.iter_mut().for_each(|c| *c = 0.0);
         self.column[j] = 1.0;
         let mut col = std::mem::take(&mut self.column);
-        cholesky_back_solve(&self.h, n, &mut col);
+        self.solve_h(&mut col);
         for (i, &c) in col.iter().enumerate() {
             self.inverse[i * n + j] = c;
         }

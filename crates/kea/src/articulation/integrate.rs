@@ -13,7 +13,7 @@
 //!   step's mean rate `(q⁺ − q)/h`, so it is not crossed by the step's end). Energy error
 //!   `O(h⁴)`: a double pendulum keeps its energy to 0.01% over 10 s at 60 Hz.
 
-use super::dynamics::{cholesky_factor, lu_solve};
+use super::dynamics::lu_solve;
 use super::ArticulatedTree;
 use crate::error::KeaResult;
 
@@ -195,7 +195,6 @@ impl ArticulatedTree {
         let mut scratch = std::mem::take(&mut self.column);
         self.assemble(q, qd, tau, damped, &mut scratch);
         self.column = scratch;
-        let n = self.len();
-        cholesky_factor(&mut self.h, n)
+        self.factor_h()
     }
 }

@@ -60,7 +60,7 @@ mod island;
 mod iterative;
 mod params;
 mod routing;
-mod sparse;
+pub(crate) mod sparse;
 mod stats;
 mod validate;
 mod wide;

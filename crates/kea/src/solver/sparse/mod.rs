@@ -22,6 +22,8 @@
 //!   elimination order with no fill, filled in place, factorised leaf to root, a change of
 //!   held rows refactorising only the branch it is on; a [`pivoting::HeldSystem`] like the
 //!   general system, so the same pivoting runs on both;
+//! * [`joint_space`]: the reduced-coordinate path's joint-space inertia of a kinematic tree,
+//!   `H = Lᵀ L` with no fill, leaf to root (the scalar counterpart of the tree solve);
 //! * [`system`]: the borrowed view (`A` over its pattern and layout, `b`, friction links)
 //!   that pivoting solves and the held factor factorises.
 //!
@@ -31,6 +33,7 @@
 
 pub(crate) mod factor;
 pub(crate) mod held_factor;
+pub(crate) mod joint_space;
 pub(crate) mod lcp_dense;
 pub(crate) mod pattern;
 pub(crate) mod pivoting;

@@ -1,0 +1,155 @@
+//! The joint-space factorisation of a kinematic tree (the reduced-coordinate path's `H q̈ = τ`):
+//! `H = Lᵀ L` with no fill, the scalar counterpart of the tree solve's block factorisation.
+//!
+//! Coordinates are numbered so that every coordinate's parent comes before it. `H_ij` is then
+//! non-zero only where `i` and `j` lie on one path to the root (a link's inertia couples only
+//! the coordinates that move it), and eliminating from the highest number down — leaf to root
+//! — touches only those entries: each coordinate `k` divides the entries of its ancestors in
+//! row `k` by its pivot, then subtracts their products from the ancestors' rows, so the factor
+//! has the sparsity of `H` (Featherstone's `LᵀL` factorisation, RBDA §6.5). Cost: the sum over
+//! coordinates of their depth squared, against `n³/3` for a dense Cholesky — a legged robot's
+//! 30 coordinates on branches 6 deep cost ~1,000 multiplications rather than 9,000.
+//!
+//! Storage is the dense row-major `n × n` matrix: only the lower triangle's entries on a path
+//! to the root are read or written (the caller keeps the others zero).
+
+/// Factorises `h` (`n × n`, row-major, symmetric positive definite with the tree's sparsity)
+/// in place into the `L` of `H = Lᵀ L`, in its lower triangle; `parent(k)` is coordinate `k`'s
+/// parent (below `k`), `None` at the root. On a pivot not clearly positive, returns the
+/// coordinate it belongs to.
+pub(crate) fn factor(
+    h: &mut [f64],
+    n: usize,
+    parent: impl Fn(usize) -> Option<usize>,
+) -> Result<(), usize> {
+    for k in (0..n).rev() {
+        let d = h[k * n + k];
+        if d.is_nan() || d <= 0.0 {
+            return Err(k);
+        }
+        let d = d.sqrt();
+        h[k * n + k] = d;
+        let mut i = parent(k);
+        while let Some(a) = i {
+            h[k * n + a] /= d;
+            i = parent(a);
+        }
+        let mut i = parent(k);
+        while let Some(a) = i {
+            let lka = h[k * n + a];
+            let mut j = Some(a);
+            while let Some(b) = j {
+                h[a * n + b] -= lka * h[k * n + b];
+                j = parent(b);
+            }
+            i = parent(a);
+        }
+    }
+    Ok(())
+}
+
+/// Solves `Lᵀ L x = b` with the factor [`factor`] left in `l`; `b` is overwritten by `x`.
+pub(crate) fn solve(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
+    // Lᵀ y = b, leaf to root.
+    for k in (0..n).rev() {
+        b[k] /= l[k * n + k];
+        let mut i = parent(k);
+        while let Some(a) = i {
+            b[a] -= l[k * n + a] * b[k];
+            i = parent(a);
+        }
+    }
+    // L x = y, root to leaf.
+    for k in 0..n {
+        let mut i = parent(k);
+        while let Some(a) = i {
+            b[k] -= l[k * n + a] * b[a];
+            i = parent(a);
+        }
+        b[k] /= l[k * n + k];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::sparse::factor::tests::rnd;
+
+    /// A random tree of `n` coordinates (each parent below its child) and an `H` with its
+    /// sparsity: `Σ` over links of `J_lᵀ J_l` plus a positive diagonal, where link `l` moves
+    /// the coordinates on its path to the root.
+    fn random_tree(seed: &mut u64, n: usize) -> (Vec<Option<usize>>, Vec<f64>) {
+        let parent: Vec<Option<usize>> = (0..n)
+            .map(|k| {
+                if k == 0 || rnd(seed) < -0.6 {
+                    None
+                } else {
+                    Some(((rnd(seed) * 0.5 + 0.5) * k as f64) as usize % k)
+                }
+            })
+            .collect();
+        let mut h = vec![0.0; n * n];
+        for link in 0..n {
+            for _ in 0..3 {
+                let mut path = Vec::new();
+                let mut c = Some(link);
+                while let Some(k) = c {
+                    path.push((k, rnd(seed)));
+                    c = parent[k];
+                }
+                for &(i, ji) in &path {
+                    for &(j, jj) in &path {
+                        h[i * n + j] += ji * jj;
+                    }
+                }
+            }
+            h[link * n + link] += 0.1 + rnd(seed).abs();
+        }
+        (parent, h)
+    }
+
+    #[test]
+    fn the_tree_factorisation_solves_as_the_dense_matrix_multiplies() {
+        let mut seed = 11u64;
+        for case in 0..200 {
+            let n = 1 + case % 17;
+            let (parent, h) = random_tree(&mut seed, n);
+            let x_true: Vec<f64> = (0..n).map(|_| rnd(&mut seed)).collect();
+            let mut b: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| h[i * n + j] * x_true[j]).sum())
+                .collect();
+            let mut l = h.clone();
+            factor(&mut l, n, |k| parent[k]).unwrap();
+            // No fill: entries off every path to the root stay as they were (zero).
+            for i in 0..n {
+                for j in 0..i {
+                    let mut on_path = false;
+                    let mut c = parent[i];
+                    while let Some(k) = c {
+                        on_path |= k == j;
+                        c = parent[k];
+                    }
+                    if !on_path {
+                        assert_eq!(l[i * n + j], 0.0, "case {case}: fill at ({i}, {j})");
+                    }
+                }
+            }
+            solve(&l, n, |k| parent[k], &mut b);
+            for i in 0..n {
+                assert!(
+                    (b[i] - x_true[i]).abs() < 1e-9 * (1.0 + x_true[i].abs()),
+                    "case {case}: x[{i}] = {} for {}",
+                    b[i],
+                    x_true[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_matrix_not_positive_definite_is_refused_with_its_coordinate() {
+        // A chain of two with a zero pivot at the leaf.
+        let mut h = vec![1.0, 0.0, 0.0, 0.0];
+        assert_eq!(factor(&mut h, 2, |k| (k == 1).then_some(0)), Err(1));
+    }
+}
