@@ -124,5 +124,8 @@ pub struct Reaction {
 /// block whose rows change in number or kind since the step began keeps its step-start rows.
 pub trait RowSource: Sync {
     /// Writes block `block`'s rows for the bodies in `ctx` (the block's two bodies, in order).
+    /// A slot the block gave no body (`None`) arrives as [`RowBody::STATIC`](crate::constraint::RowBody::STATIC),
+    /// the world's frame: a source whose constraint holds a body there that the solver was
+    /// not given (disabled, asleep) must write it at that body's own pose, as the world does.
     fn rewrite(&self, block: usize, ctx: &RowContext, out: &mut RowWriter<'_>);
 }
