@@ -126,6 +126,6 @@ pub trait RowSource: Sync {
     /// Writes block `block`'s rows for the bodies in `ctx` (the block's two bodies, in order).
     /// A slot the block gave no body (`None`) arrives as [`RowBody::STATIC`](crate::constraint::RowBody::STATIC),
     /// the world's frame: a source whose constraint holds a body there that the solver was
-    /// not given (disabled, asleep) must write it at that body's own pose, as the world does.
+    /// not given (a disabled body) must write it at that body's own pose, as the world does.
     fn rewrite(&self, block: usize, ctx: &RowContext, out: &mut RowWriter<'_>);
 }

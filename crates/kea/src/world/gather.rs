@@ -193,7 +193,7 @@ pub(super) struct JointSource<'a> {
     pub(super) constraints: &'a Arena<ConstraintEntry, ConstraintHandle>,
     pub(super) block_constraint: &'a [u32],
     /// The world's bodies and their solver indices: a joint's body the solver does not hold
-    /// (disabled, asleep beside an awake one) is no body to the solver, which gives its slot
+    /// (a disabled one, or any the step leaves out) is no body to the solver, which gives its slot
     /// the static world's frame; the joint is rewritten with that body's own pose instead.
     pub(super) bodies: &'a Arena<Body, BodyHandle>,
     pub(super) slot_to_solver: &'a [u32],
