@@ -19,9 +19,6 @@ use crate::solver::sparse::{LcpReport, Limits};
 /// (the relax solve then takes the correcting velocity out again).
 const DIRECT_RATE: Real = 0.5;
 
-/// No lever shift: the direct solve's rows are the rows its matrix was built from.
-const NO_SHIFT: (Vec3, Vec3) = (Vec3::ZERO, Vec3::ZERO);
-
 impl JointRows {
     /// Whether any gathered row is solved directly.
     pub(crate) fn has_direct(&self) -> bool {
@@ -133,7 +130,7 @@ impl JointRows {
         let n = self.direct_rows.len();
         self.fill_direct(sys, |rows, i| {
             let soft_relax = !use_bias && rows.flags[i] & HARD == 0;
-            let (jv, xi) = rows.jv_and_error_shifted(states, i, soft_relax, NO_SHIFT);
+            let (jv, xi) = rows.jv_and_error_shifted(states, i, soft_relax, None);
             let bias = if use_bias && rows.correction(i) == Correction::Equality {
                 DIRECT_RATE * xi / hs
             } else {
@@ -172,7 +169,7 @@ impl JointRows {
     ) -> LcpReport {
         let n = self.direct_rows.len();
         self.fill_direct(sys, |rows, i| {
-            let (_, xi) = rows.jv_and_error_shifted(states, i, false, NO_SHIFT);
+            let xi = rows.error(states, i, false);
             let (lo, hi, r) = match rows.correction(i) {
                 Correction::Equality => (f64::NEG_INFINITY, f64::INFINITY, -wide(xi)),
                 Correction::Push if xi < 0.0 => (0.0, f64::INFINITY, -wide(xi)),
@@ -219,7 +216,7 @@ impl JointRows {
             if correction == Correction::None {
                 continue;
             }
-            let (_, xi) = self.jv_and_error_shifted(states, i, false, NO_SHIFT);
+            let xi = self.error(states, i, false);
             worst = match correction {
                 Correction::Equality => worst.max(xi.abs()),
                 _ => worst.max(-xi),

@@ -137,19 +137,52 @@ impl JointRows {
         i: usize,
         substep_start: bool,
     ) -> (Real, Real) {
-        self.jv_and_error_shifted(states, i, substep_start, self.departures(states, i))
+        self.jv_and_error_shifted(states, i, substep_start, Some(self.departures(states, i)))
     }
 
     /// [`Self::jv_and_error`] with the levers shifted by the bodies' departures `(da, db)`
-    /// (zero: the row's own Jacobian, as a direct solve's matrix has it).
+    /// (`None`: the row's own Jacobian, as a direct solve's matrix has it).
     #[inline]
     pub(super) fn jv_and_error_shifted(
         &self,
         states: &BodyStates,
         i: usize,
         substep_start: bool,
-        (da, db): (Vec3, Vec3),
+        shift: Option<(Vec3, Vec3)>,
     ) -> (Real, Real) {
+        (
+            self.jv(states, i, shift),
+            self.error(states, i, substep_start),
+        )
+    }
+
+    /// `J v` of row i, its levers shifted by `shift` (see [`Self::jv_and_error_shifted`]).
+    #[inline]
+    pub(super) fn jv(&self, states: &BodyStates, i: usize, shift: Option<(Vec3, Vec3)>) -> Real {
+        let (a, b) = (self.row_a[i], self.row_b[i]);
+        let mut jv = 0.0;
+        if a != NONE {
+            let a = a as usize;
+            let ang = match shift {
+                Some((da, _)) => self.ja_ang[i] - da.cross(self.ja_lin[i]),
+                None => self.ja_ang[i],
+            };
+            jv += self.ja_lin[i].dot(states.vel[a].v) + ang.dot(states.vel[a].w);
+        }
+        if b != NONE {
+            let b = b as usize;
+            let ang = match shift {
+                Some((_, db)) => self.jb_ang[i] - db.cross(self.jb_lin[i]),
+                None => self.jb_ang[i],
+            };
+            jv += self.jb_lin[i].dot(states.vel[b].v) + ang.dot(states.vel[b].w);
+        }
+        jv
+    }
+
+    /// The tracked error of row i, now or (`substep_start`) at the start of the substep.
+    #[inline]
+    pub(super) fn error(&self, states: &BodyStates, i: usize, substep_start: bool) -> Real {
         let elapsed = if substep_start {
             self.elapsed_sub
         } else {
@@ -170,23 +203,18 @@ impl JointRows {
             }
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
-        let mut jv = 0.0;
         // The error is measured from a reference that moves at the row's target velocity (a
         // path, a kinematic body): over one step this is what the exact path's single solve does.
         let mut xi = self.xi0[i] - self.target[i] * elapsed;
         if a != NONE {
             let a = a as usize;
-            let ang = self.ja_ang[i] - da.cross(self.ja_lin[i]);
-            jv += self.ja_lin[i].dot(states.vel[a].v) + ang.dot(states.vel[a].w);
             xi += self.ja_lin[i].dot(dx(a)) + self.ja_ang[i].dot(dth(a));
         }
         if b != NONE {
             let b = b as usize;
-            let ang = self.jb_ang[i] - db.cross(self.jb_lin[i]);
-            jv += self.jb_lin[i].dot(states.vel[b].v) + ang.dot(states.vel[b].w);
             xi += self.jb_lin[i].dot(dx(b)) + self.jb_ang[i].dot(dth(b));
         }
-        (jv, xi)
+        xi
     }
 
     /// The velocity bias of row i for error `xi` (see the module docs).
