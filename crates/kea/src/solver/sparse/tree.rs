@@ -24,7 +24,7 @@ use super::pivoting::{self, HeldSystem, LcpReport, Limits};
 use super::sets::{Bound, Unknowns};
 use super::system::FrictionLink;
 pub(crate) use super::tree_order::TreeOrder;
-use super::tree_order::NONE;
+use super::tree_order::{Position, NONE};
 use crate::math::DVec3;
 use crate::solver::reserve;
 
@@ -195,9 +195,22 @@ impl TreeSystem {
     /// Rows past a position's last free row (a joint's open stops, written after its
     /// equalities) are identity rows: the products skip them.
     fn factor_position(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
+        match self.order.position[k].size {
+            3 => self.factor_position_of::<3>(k, tiny, floor),
+            5 => self.factor_position_of::<5>(k, tiny, floor),
+            6 => self.factor_position_of::<6>(k, tiny, floor),
+            _ => self.factor_position_of::<0>(k, tiny, floor),
+        }
+    }
+
+    /// [`Self::factor_position`] for a position of `S` rows, so that its loops unroll (0: any
+    /// size, read from the position).
+    #[inline(always)]
+    fn factor_position_of<const S: usize>(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
         let o = &self.order;
         let p = o.position[k];
-        let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
+        let size = if S == 0 { p.size as usize } else { S };
+        let (first, at) = (p.row as usize, p.value as usize);
         let (held, act) = (&self.held[..], &self.active[..]);
         let m = act[k] as usize;
         let own_held = held[first..first + m].iter().any(|&h| h);
@@ -493,50 +506,89 @@ impl HeldSystem for TreeSystem {
         let o = &self.order;
         Self::gather(o, x, &mut self.z);
         let z = &mut self.z;
-        let (l, inv, act) = (&self.l, &self.inv, &self.active);
+        let (l, inv, act) = (&self.l[..], &self.inv[..], &self.active[..]);
         for (k, p) in o.position.iter().enumerate() {
-            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
-            let m = act[k] as usize;
-            for r in 0..size {
-                let v = if r < m {
-                    z[first + r] - dot_n(&l[at + r * size..], &z[first..], r)
-                } else {
-                    z[first + r]
-                };
-                z[first + r] = v * inv[first + r];
-            }
-            for b in o.blocks_of(p) {
-                let (tf, lq) = (b.target_row as usize, b.value as usize);
-                for r in 0..act[b.target as usize] as usize {
-                    let v = dot_n(&l[lq + r * size..], &z[first..], m);
-                    z[tf + r] -= v;
-                }
+            let parts = (l, inv, act[k] as usize);
+            match p.size {
+                3 => forward::<3>(o, p, parts, act, z),
+                5 => forward::<5>(o, p, parts, act, z),
+                6 => forward::<6>(o, p, parts, act, z),
+                _ => forward::<0>(o, p, parts, act, z),
             }
         }
         for (k, p) in o.position.iter().enumerate().rev() {
-            let (first, size, at) = (p.row as usize, p.size as usize, p.value as usize);
-            let m = act[k] as usize;
-            for b in o.blocks_of(p) {
-                let (tf, lq) = (b.target_row as usize, b.value as usize);
-                for r in 0..act[b.target as usize] as usize {
-                    let zt = z[tf + r];
-                    let row = &l[lq + r * size..lq + r * size + m];
-                    for (zc, e) in z[first..first + m].iter_mut().zip(row) {
-                        *zc -= e * zt;
-                    }
-                }
-            }
-            for r in (0..size).rev() {
-                let mut v = z[first + r];
-                for c in r + 1..m {
-                    v -= l[at + c * size + r] * z[first + c];
-                }
-                z[first + r] = v * inv[first + r];
+            let parts = (l, inv, act[k] as usize);
+            match p.size {
+                3 => backward::<3>(o, p, parts, act, z),
+                5 => backward::<5>(o, p, parts, act, z),
+                6 => backward::<6>(o, p, parts, act, z),
+                _ => backward::<0>(o, p, parts, act, z),
             }
         }
         for (p, &r) in o.row_of.iter().enumerate() {
             x[r as usize] = z[p];
         }
+    }
+}
+
+/// The solve's forward pass over position `p` (its active rows `m`): `z_k ← L_kk⁻¹ z_k`, then
+/// the blocks it sends take their share off their targets. `S` is the position's size when it
+/// is one joints have (3, 5, 6), so that the loops unroll; 0 for any other (read from `p`).
+#[inline(always)]
+fn forward<const S: usize>(
+    o: &TreeOrder,
+    p: &Position,
+    (l, inv, m): (&[f64], &[f64], usize),
+    act: &[u32],
+    z: &mut [f64],
+) {
+    let (first, at) = (p.row as usize, p.value as usize);
+    let size = if S == 0 { p.size as usize } else { S };
+    for r in 0..size {
+        let v = if r < m {
+            z[first + r] - dot_n(&l[at + r * size..], &z[first..], r)
+        } else {
+            z[first + r]
+        };
+        z[first + r] = v * inv[first + r];
+    }
+    for b in o.blocks_of(p) {
+        let (tf, lq) = (b.target_row as usize, b.value as usize);
+        for r in 0..act[b.target as usize] as usize {
+            let v = dot_n(&l[lq + r * size..], &z[first..], m);
+            z[tf + r] -= v;
+        }
+    }
+}
+
+/// The solve's backward pass over position `p`: the blocks it sent give back their targets'
+/// share, then `z_k ← L_kkᵀ⁻¹ z_k` (see [`forward`] for `S`).
+#[inline(always)]
+fn backward<const S: usize>(
+    o: &TreeOrder,
+    p: &Position,
+    (l, inv, m): (&[f64], &[f64], usize),
+    act: &[u32],
+    z: &mut [f64],
+) {
+    let (first, at) = (p.row as usize, p.value as usize);
+    let size = if S == 0 { p.size as usize } else { S };
+    for b in o.blocks_of(p) {
+        let (tf, lq) = (b.target_row as usize, b.value as usize);
+        for r in 0..act[b.target as usize] as usize {
+            let zt = z[tf + r];
+            let row = &l[lq + r * size..lq + r * size + m];
+            for (zc, e) in z[first..first + m].iter_mut().zip(row) {
+                *zc -= e * zt;
+            }
+        }
+    }
+    for r in (0..size).rev() {
+        let mut v = z[first + r];
+        for c in r + 1..m {
+            v -= l[at + c * size + r] * z[first + c];
+        }
+        z[first + r] = v * inv[first + r];
     }
 }
 
