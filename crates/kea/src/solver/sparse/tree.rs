@@ -197,8 +197,11 @@ impl TreeSystem {
     fn factor_position(&mut self, k: usize, tiny: f64, floor: f64) -> bool {
         match self.order.position[k].size {
             3 => self.factor_position_of::<3>(k, tiny, floor),
+            4 => self.factor_position_of::<4>(k, tiny, floor),
             5 => self.factor_position_of::<5>(k, tiny, floor),
             6 => self.factor_position_of::<6>(k, tiny, floor),
+            7 => self.factor_position_of::<7>(k, tiny, floor),
+            8 => self.factor_position_of::<8>(k, tiny, floor),
             _ => self.factor_position_of::<0>(k, tiny, floor),
         }
     }
@@ -511,8 +514,11 @@ impl HeldSystem for TreeSystem {
             let parts = (l, inv, act[k] as usize);
             match p.size {
                 3 => forward::<3>(o, p, parts, act, z),
+                4 => forward::<4>(o, p, parts, act, z),
                 5 => forward::<5>(o, p, parts, act, z),
                 6 => forward::<6>(o, p, parts, act, z),
+                7 => forward::<7>(o, p, parts, act, z),
+                8 => forward::<8>(o, p, parts, act, z),
                 _ => forward::<0>(o, p, parts, act, z),
             }
         }
@@ -520,8 +526,11 @@ impl HeldSystem for TreeSystem {
             let parts = (l, inv, act[k] as usize);
             match p.size {
                 3 => backward::<3>(o, p, parts, act, z),
+                4 => backward::<4>(o, p, parts, act, z),
                 5 => backward::<5>(o, p, parts, act, z),
                 6 => backward::<6>(o, p, parts, act, z),
+                7 => backward::<7>(o, p, parts, act, z),
+                8 => backward::<8>(o, p, parts, act, z),
                 _ => backward::<0>(o, p, parts, act, z),
             }
         }
@@ -533,7 +542,8 @@ impl HeldSystem for TreeSystem {
 
 /// The solve's forward pass over position `p` (its active rows `m`): `z_k ← L_kk⁻¹ z_k`, then
 /// the blocks it sends take their share off their targets. `S` is the position's size when it
-/// is one joints have (3, 5, 6), so that the loops unroll; 0 for any other (read from `p`).
+/// is one joints have (3 to 8 rows: a joint and its stops), so that the loops unroll; 0 for any
+/// other (read from `p`).
 #[inline(always)]
 fn forward<const S: usize>(
     o: &TreeOrder,
