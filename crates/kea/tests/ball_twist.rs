@@ -5,10 +5,16 @@
 
 mod common;
 use common::{world_on, PATHS};
-use kea::{inertia, BodyDef, Quat, Real, SingleLimit, SolverMode, Vec3};
+use kea::{inertia, BodyDef, BodyHandle, Quat, Real, SingleLimit, SolverMode, Vec3, World};
 
 /// The paths a user can force, split islands (joints re-written every substep) included.
 const EVERY_PATH: [SolverMode; 3] = [PATHS[0], PATHS[1], SolverMode::Split];
+
+/// A 1 kg box (half extents 0.3, 0.2, 0.1) as `def` places it, enabled or not.
+fn add_box(world: &mut World, def: BodyDef) -> BodyHandle {
+    let inertia = inertia::solid_box(1.0, Vec3::new(0.3, 0.2, 0.1)).unwrap();
+    world.create_body(&BodyDef { inertia, ..def }).unwrap()
+}
 
 #[test]
 fn twist_limit_holds_when_the_bodies_frames_differ() {
@@ -16,23 +22,22 @@ fn twist_limit_holds_when_the_bodies_frames_differ() {
     // substeps, and settled at 0.5265 rad.
     for mode in EVERY_PATH {
         let mut world = world_on(mode, 4, 8);
-        let box_inertia = inertia::solid_box(1.0, Vec3::new(0.3, 0.2, 0.1)).unwrap();
         // The parent is turned 90° about z and held still (disabled).
-        let parent = world
-            .create_body(&BodyDef {
-                inertia: box_inertia,
+        let parent = add_box(
+            &mut world,
+            BodyDef {
                 orientation: Quat::from_rotation_z(kea::PI_REAL / 2.0),
                 enabled: false,
                 ..Default::default()
-            })
-            .unwrap();
-        let limb = world
-            .create_body(&BodyDef {
-                inertia: box_inertia,
+            },
+        );
+        let limb = add_box(
+            &mut world,
+            BodyDef {
                 position: Vec3::new(0.0, -1.0, 0.0),
                 ..Default::default()
-            })
-            .unwrap();
+            },
+        );
         let j = world
             .create_joint(limb, Some(parent), kea::JointSpec::ball(Vec3::ZERO))
             .unwrap();
@@ -70,26 +75,25 @@ fn twist_limit_holds_when_the_bodies_frames_differ() {
 fn a_joint_to_a_disabled_body_away_from_the_origin_holds_on_every_path() {
     for mode in EVERY_PATH {
         let mut world = world_on(mode, 4, 8);
-        let box_inertia = inertia::solid_box(1.0, Vec3::new(0.3, 0.2, 0.1)).unwrap();
         let anchor = Vec3::new(3.0, 2.0, 1.0);
-        let parent = world
-            .create_body(&BodyDef {
-                inertia: box_inertia,
+        let parent = add_box(
+            &mut world,
+            BodyDef {
                 position: anchor + Vec3::new(0.5, 0.0, 0.0),
                 orientation: Quat::from_rotation_y(0.7),
                 enabled: false,
                 ..Default::default()
-            })
-            .unwrap();
-        let limb = world
-            .create_body(&BodyDef {
-                inertia: box_inertia,
+            },
+        );
+        let limb = add_box(
+            &mut world,
+            BodyDef {
                 // Hanging below the anchor, pushed into a gentle swing.
                 position: anchor + Vec3::new(0.0, -0.8, 0.0),
                 linear_velocity: Vec3::new(0.5, 0.0, 0.3),
                 ..Default::default()
-            })
-            .unwrap();
+            },
+        );
         world
             .create_joint(limb, Some(parent), kea::JointSpec::ball(anchor))
             .unwrap();

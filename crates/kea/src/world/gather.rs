@@ -208,19 +208,24 @@ impl RowSource for JointSource<'_> {
         else {
             return;
         };
-        let mut ctx = *ctx;
-        for (rb, handle) in ctx.bodies.iter_mut().zip(entry.bodies) {
-            let Some(slot) = handle.map(|h| h.index() as usize) else {
-                continue;
-            };
-            if self.slot_to_solver.get(slot) == Some(&u32::MAX) {
-                if let Some(b) = self.bodies.at(slot) {
-                    // Outside the solver, it stays where the step found it.
-                    *rb = RowBody::fixed(b.position, b.orientation);
+        // A body outside the solver stays where the step found it.
+        let outside = entry.bodies.map(|h| {
+            let slot = h?.index() as usize;
+            let b = self.bodies.at(slot)?;
+            (self.slot_to_solver.get(slot) == Some(&u32::MAX))
+                .then(|| RowBody::fixed(b.position, b.orientation))
+        });
+        if outside.iter().all(Option::is_none) {
+            entry.kind.write_rows(ctx, out);
+        } else {
+            let mut ctx = *ctx;
+            for (rb, fixed) in ctx.bodies.iter_mut().zip(outside) {
+                if let Some(fixed) = fixed {
+                    *rb = fixed;
                 }
             }
+            entry.kind.write_rows(&ctx, out);
         }
-        entry.kind.write_rows(&ctx, out);
         if let Some(g) = entry.gamma {
             out.set_default_gamma(g);
         }

@@ -188,18 +188,12 @@ impl JointRows {
         } else {
             self.elapsed
         };
-        let dx = |l: usize| {
+        // Each body's displacement and turn since the step began, now or at the substep's start.
+        let moved = |l: usize| {
             if substep_start {
-                states.dx_sub[l]
+                (states.dx_sub[l], states.dtheta_sub[l])
             } else {
-                states.delta[l].dp
-            }
-        };
-        let dth = |l: usize| {
-            if substep_start {
-                states.dtheta_sub[l]
-            } else {
-                states.dtheta[l]
+                (states.delta[l].dp, states.dtheta[l])
             }
         };
         let (a, b) = (self.row_a[i], self.row_b[i]);
@@ -207,12 +201,12 @@ impl JointRows {
         // path, a kinematic body): over one step this is what the exact path's single solve does.
         let mut xi = self.xi0[i] - self.target[i] * elapsed;
         if a != NONE {
-            let a = a as usize;
-            xi += self.ja_lin[i].dot(dx(a)) + self.ja_ang[i].dot(dth(a));
+            let (dx, dth) = moved(a as usize);
+            xi += self.ja_lin[i].dot(dx) + self.ja_ang[i].dot(dth);
         }
         if b != NONE {
-            let b = b as usize;
-            xi += self.jb_lin[i].dot(dx(b)) + self.jb_ang[i].dot(dth(b));
+            let (dx, dth) = moved(b as usize);
+            xi += self.jb_lin[i].dot(dx) + self.jb_ang[i].dot(dth);
         }
         xi
     }
