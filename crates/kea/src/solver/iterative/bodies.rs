@@ -134,6 +134,10 @@ pub(crate) struct BodyStates {
     /// `hs·I⁻¹τ` (laid out as velocities, so the contact solver gathers them alike).
     pub(crate) forcing: Vec<BodyVel>,
     damping: Vec<Damping>,
+    /// Bodies whose step is synchronised (`substep` module docs): their islands have no
+    /// contacts, and their forcing is split into half kicks at the step's two ends.
+    synchronised: Vec<bool>,
+    any_synchronised: bool,
 }
 
 impl BodyStates {
@@ -157,6 +161,7 @@ impl BodyStates {
         reserve(&mut self.rotation, n);
         reserve(&mut self.forcing, n);
         reserve(&mut self.damping, n);
+        reserve(&mut self.synchronised, n);
     }
 
     pub(crate) fn bytes(&self) -> usize {
@@ -168,6 +173,7 @@ impl BodyStates {
             + self.inv_mass.capacity() * size_of::<Real>()
             + self.inv_inertia.capacity() * size_of::<Mat3>()
             + self.writable.capacity()
+            + self.synchronised.capacity()
             + (self.dtheta.capacity()
                 + self.dtheta_sub.capacity()
                 + self.dx_sub.capacity()
@@ -184,7 +190,7 @@ impl BodyStates {
         (n + 1)
             * (size_of::<BodyVel>()
                 + size_of::<BodyDelta>()
-                + 14
+                + 15
                 + size_of::<Real>()
                 + size_of::<Mat3>()
                 + 4 * size_of::<Vec3>()
@@ -217,6 +223,8 @@ impl BodyStates {
         self.follows.clear();
         self.forcing.clear();
         self.damping.clear();
+        self.synchronised.clear();
+        self.any_synchronised = false;
         self.push_slot(
             NONE,
             BodyVel::ZERO,
@@ -260,6 +268,33 @@ impl BodyStates {
             angular: None,
             gyroscopic: None,
         });
+        self.synchronised.push(false);
+    }
+
+    /// Marks the slots from `first` on as synchronised (their island has no contacts).
+    pub(crate) fn synchronise_from(&mut self, first: usize) {
+        for s in &mut self.synchronised[first..] {
+            *s = true;
+        }
+        self.any_synchronised |= first < self.synchronised.len();
+    }
+
+    /// Whether any slot's step is synchronised.
+    pub(crate) fn any_synchronised(&self) -> bool {
+        self.any_synchronised
+    }
+
+    /// Adds `scale` times a substep's forcing to every synchronised body that can be pushed
+    /// (−½ after the first substep's full kick, +½ at the step's end: the half kicks).
+    pub(crate) fn kick_synchronised(&mut self, scale: Real) {
+        for l in 0..self.vel.len() {
+            if self.synchronised[l] && self.writable[l] {
+                let f = self.forcing[l];
+                let vel = &mut self.vel[l];
+                vel.v += f.v * scale;
+                vel.w += f.w * scale;
+            }
+        }
     }
 
     /// Whether any body here turns by the fast-spin rule.

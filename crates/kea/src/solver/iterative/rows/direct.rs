@@ -129,19 +129,25 @@ impl JointRows {
     ) -> LcpReport {
         let n = self.direct_rows.len();
         self.fill_direct(sys, |rows, i| {
-            let soft_relax = !use_bias && rows.flags[i] & HARD == 0;
+            if rows.skipped(i) {
+                // Held where it is: a split island with contacts is not synchronised.
+                let y = wide(rows.impulse[i]);
+                return (0.0, y, y, y);
+            }
+            let soft_relax = !use_bias && !rows.rigid(i);
             let (jv, xi) = rows.jv_and_error_shifted(states, i, soft_relax, None);
             let bias = if use_bias && rows.correction(i) == Correction::Equality {
                 DIRECT_RATE * xi / hs
             } else {
                 rows.bias(i, xi, hs, use_bias, max_speed)
             };
-            let r = rows.target[i]
+            let r = rows.target_for(i)
                 - rows.chord_for(i, use_bias)
                 - bias
                 - jv
                 - rows.extra[i] * rows.impulse[i];
-            let (lo, hi) = (wide(rows.lo[i]), wide(rows.hi[i]));
+            let (lo, hi) = rows.own_bounds(i);
+            let (lo, hi) = (wide(lo), wide(hi));
             (wide(r), lo, hi, wide(rows.impulse[i]))
         });
         let report = sys.solve(limits);
@@ -155,6 +161,26 @@ impl JointRows {
             }
         }
         report
+    }
+
+    /// Whether any row of the direct system is synchronised.
+    pub(crate) fn any_direct_synchronised(&self) -> bool {
+        self.direct_rows
+            .iter()
+            .any(|&i| self.flags[i as usize] & super::SYNCHRONISED != 0)
+    }
+
+    /// The synchronising pass of the direct rows (`substep` module docs): the relax solve over
+    /// the synchronised rows, aiming at the tangent of the poses reached.
+    pub(crate) fn synchronise_direct(
+        &mut self,
+        states: &mut BodyStates,
+        sys: &mut SubstepSystem,
+        hs: Real,
+        max_speed: Real,
+        limits: Limits,
+    ) -> LcpReport {
+        self.solve_direct(states, sys, hs, false, max_speed, limits)
     }
 
     /// One post-stabilisation pass (a Newton step on positions): solves

@@ -52,6 +52,8 @@ pub(super) const MAX_BLOCK: usize = 6;
 const HARD: u8 = 1;
 const BOUNCE: u8 = 2;
 const UNILATERAL: u8 = 4;
+/// A row of an island whose step is synchronised (no contacts; `substep` module docs).
+const SYNCHRONISED: u8 = 8;
 
 /// The rows of every iterative island, in compact arrays (structure of arrays: each sweep
 /// streams through them in order).
@@ -77,6 +79,9 @@ pub(crate) struct JointRows {
     xi0: Vec<Real>,
     target: Vec<Real>,
     bounce_target: Vec<Real>,
+    /// The most a stop may push in the synchronising pass: half of what it pushed in the last
+    /// substep (`sweep.rs`, `begin_synchronising`).
+    sync_cap: Vec<Real>,
     /// `(hs/2)·J̇v`: what a substep's velocity solve takes off the target so that it aims
     /// along the chord of the substep ([`crate::constraint::Row::curvature`]); the error's
     /// tracking keeps the plain target.
@@ -123,6 +128,25 @@ pub(crate) struct JointRows {
     direct_rows: Vec<u32>,
     /// Per local body, the move post-stabilisation gives it.
     moves: Vec<(Vec3, Vec3)>,
+    /// The synchronising pass is running: only synchronised rows are solved, aiming at the
+    /// tangent of the poses reached (`synchronise`).
+    synchronising: bool,
+    /// Synchronised rows have half their impulse budget (`sweep.rs`, `own_bounds`).
+    half_budget: bool,
+    /// Which rows a synchronising sweep solves.
+    sync_rows: SyncRows,
+}
+
+/// The rows of a synchronising sweep (`sweep.rs`, `synchronise`).
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+enum SyncRows {
+    /// Every row that acts at an instant (the direct solve's single pass).
+    #[default]
+    All,
+    /// Only the motors (soft rows without a spring).
+    Motors,
+    /// Only the hard rows.
+    Hard,
 }
 
 impl JointRows {
@@ -167,6 +191,7 @@ impl JointRows {
             &mut self.xi0,
             &mut self.target,
             &mut self.bounce_target,
+            &mut self.sync_cap,
             &mut self.chord,
             &mut self.lo,
             &mut self.hi,
@@ -208,7 +233,7 @@ impl JointRows {
             + self.direct.capacity()
             + self.fresh.capacity() * std::mem::size_of::<Row>()
             + 8 * self.ja_lin.capacity() * v3
-            + 14 * self.diag.capacity() * r
+            + 15 * self.diag.capacity() * r
             + self.flags.capacity()
             + self.in_block.capacity()
             + self.eq_kinv.capacity() * r
@@ -219,7 +244,7 @@ impl JointRows {
     pub(crate) fn bytes_for(bodies: usize, rows: usize) -> usize {
         let v3 = std::mem::size_of::<Vec3>();
         let r = std::mem::size_of::<Real>();
-        rows * (56 + 8 + 32 + 1 + 8 * v3 + (18 + MAX_BLOCK) * r + 2)
+        rows * (56 + 8 + 32 + 1 + 8 * v3 + (19 + MAX_BLOCK) * r + 2)
             + (bodies + 1) * 4 * v3
             + 4 * MAX_BLOCK * std::mem::size_of::<Row>()
     }
@@ -227,6 +252,18 @@ impl JointRows {
     /// Number of rows gathered.
     pub(crate) fn len(&self) -> usize {
         self.row_global.len()
+    }
+
+    /// Whether any row bounces (a stop with restitution).
+    pub(crate) fn has_bounce(&self) -> bool {
+        self.flags.iter().any(|f| f & BOUNCE != 0)
+    }
+
+    /// Marks the rows from `first` on as synchronised (their island has no contacts).
+    pub(crate) fn synchronise_from(&mut self, first: usize) {
+        for f in &mut self.flags[first..] {
+            *f |= SYNCHRONISED;
+        }
     }
 
     /// Starts a step: no rows, no time elapsed.
@@ -254,6 +291,7 @@ impl JointRows {
             xi0,
             target,
             bounce_target,
+            sync_cap,
             chord,
             lo,
             hi,
@@ -303,7 +341,7 @@ impl JointRows {
     /// The bounce belongs to the impact at the start of the step, so the bodies also travel
     /// with their change of velocity for the whole step, as they do in the exact path.
     pub(crate) fn restitution(&mut self, states: &mut BodyStates, h: Real) {
-        if !self.flags.iter().any(|f| f & BOUNCE != 0) {
+        if !self.has_bounce() {
             return;
         }
         self.before_bounce.clear();

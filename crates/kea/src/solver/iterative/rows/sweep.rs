@@ -2,7 +2,7 @@
 //! the soft and hard row rules of the module docs.
 
 use super::super::bodies::{BodyStates, NONE};
-use super::{JointRows, HARD, MAX_BLOCK, UNILATERAL};
+use super::{JointRows, SyncRows, HARD, MAX_BLOCK, UNILATERAL};
 use crate::math::{Real, Vec3};
 
 impl JointRows {
@@ -19,10 +19,10 @@ impl JointRows {
         let j = self.pair_second[p] as usize;
         let mut r = [0.0 as Real; 2];
         for (k, row) in [i, j].into_iter().enumerate() {
-            let soft_relax = !use_bias && self.flags[row] & HARD == 0;
+            let soft_relax = !use_bias && !self.rigid(row);
             let (jv, xi) = self.jv_and_error(states, row, soft_relax);
             let bias = self.bias(row, xi, hs, use_bias, max_speed);
-            r[k] = self.target[row]
+            r[k] = self.target_for(row)
                 - self.chord_for(row, use_bias)
                 - bias
                 - jv
@@ -65,7 +65,7 @@ impl JointRows {
     pub(super) fn bounds(&self, i: usize) -> (Real, Real) {
         let l = self.link[i];
         if l == NONE {
-            (self.lo[i], self.hi[i])
+            self.own_bounds(i)
         } else {
             let b = self.mu[i] * self.impulse[l as usize].max(0.0);
             (-b, b)
@@ -226,7 +226,7 @@ impl JointRows {
         if unilateral && xi > 0.0 {
             // A gap may be closed within the substep, never more.
             xi / hs
-        } else if flags & HARD == 0 {
+        } else if !self.rigid(i) {
             // A soft row is a physical spring: its full force, always.
             self.rate[i] * xi
         } else if !use_bias {
@@ -248,16 +248,27 @@ impl JointRows {
     ) {
         for blk in 0..self.eq_start.len() {
             let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
-            if self.direct[self.eq_rows[start] as usize] {
+            let first = self.eq_rows[start] as usize;
+            if self.direct[first] {
                 continue;
+            }
+            if self.synchronising {
+                let rows = &self.eq_rows[start..start + m];
+                if rows.iter().all(|&i| self.skipped(i as usize)) {
+                    continue;
+                }
+                if rows.iter().any(|&i| self.skipped(i as usize)) {
+                    self.solve_block_rows(states, blk, hs, max_speed);
+                    continue;
+                }
             }
             let mut r = [0.0 as Real; MAX_BLOCK];
             for a in 0..m {
                 let i = self.eq_rows[start + a] as usize;
-                let soft_relax = !use_bias && self.flags[i] & HARD == 0;
+                let soft_relax = !use_bias && !self.rigid(i);
                 let (jv, xi) = self.jv_and_error(states, i, soft_relax);
                 let bias = self.bias(i, xi, hs, use_bias, max_speed);
-                r[a] = self.target[i]
+                r[a] = self.target_for(i)
                     - self.chord_for(i, use_bias)
                     - bias
                     - jv
@@ -277,32 +288,57 @@ impl JointRows {
             }
         }
         for i in 0..self.row_global.len() {
-            if self.in_block[i] || self.direct[i] {
+            if self.in_block[i] || self.direct[i] || self.skipped(i) {
                 continue;
             }
             if self.pair_of[i] != NONE {
                 self.solve_pair(states, self.pair_of[i] as usize, i, hs, use_bias, max_speed);
                 continue;
             }
-            let soft_relax = !use_bias && self.flags[i] & HARD == 0;
-            let (jv, xi) = self.jv_and_error(states, i, soft_relax);
-            let bias = self.bias(i, xi, hs, use_bias, max_speed);
-            let e = self.extra[i];
-            let denom = self.diag[i] + e;
-            if denom <= 0.0 {
-                continue;
-            }
-            let (ms, is) = self.scales(i, use_bias);
-            let dp = ms
-                * (self.target[i] - self.chord_for(i, use_bias) - bias - jv - e * self.impulse[i])
-                / denom
-                - is * self.impulse[i];
-            let (lo, hi) = self.bounds(i);
-            let new = (self.impulse[i] + dp).clamp(lo, hi);
-            let dp = new - self.impulse[i];
-            self.impulse[i] = new;
-            if dp != 0.0 {
-                self.apply(states, i, dp);
+            self.solve_row(states, i, hs, use_bias, max_speed);
+        }
+    }
+
+    /// Solves row `i` alone.
+    fn solve_row(
+        &mut self,
+        states: &mut BodyStates,
+        i: usize,
+        hs: Real,
+        use_bias: bool,
+        max_speed: Real,
+    ) {
+        let soft_relax = !use_bias && !self.rigid(i);
+        let (jv, xi) = self.jv_and_error(states, i, soft_relax);
+        let bias = self.bias(i, xi, hs, use_bias, max_speed);
+        let e = self.extra[i];
+        let denom = self.diag[i] + e;
+        if denom <= 0.0 {
+            return;
+        }
+        let (ms, is) = self.scales(i, use_bias);
+        let r = self.target_for(i) - self.chord_for(i, use_bias) - bias - jv - e * self.impulse[i];
+        let dp = ms * r / denom - is * self.impulse[i];
+        let (lo, hi) = self.bounds(i);
+        let new = (self.impulse[i] + dp).clamp(lo, hi);
+        let dp = new - self.impulse[i];
+        self.impulse[i] = new;
+        if dp != 0.0 {
+            self.apply(states, i, dp);
+        }
+    }
+
+    /// The synchronising pass over an equality block with a soft row (a suspension's spring
+    /// among a wheel's hinges): its hard rows one by one, a few times round (the block's
+    /// inverse includes the spring, which this pass leaves alone).
+    fn solve_block_rows(&mut self, states: &mut BodyStates, blk: usize, hs: Real, max_speed: Real) {
+        let (start, m) = (self.eq_start[blk] as usize, self.eq_len[blk] as usize);
+        for _ in 0..4 {
+            for a in 0..m {
+                let i = self.eq_rows[start + a] as usize;
+                if !self.skipped(i) {
+                    self.solve_row(states, i, hs, false, max_speed);
+                }
             }
         }
     }
@@ -320,8 +356,131 @@ impl JointRows {
     pub(super) fn chord_for(&self, i: usize, use_bias: bool) -> Real {
         if use_bias {
             0.0
+        } else if self.synchronising {
+            // Linearised at the poses reached: the velocity is made tangent there, no chord.
+            0.0
         } else {
             self.chord[i]
+        }
+    }
+
+    /// Whether a pass skips row `i`: the synchronising pass solves only the synchronised
+    /// rows that act on velocity at an instant (hard rows, and motors: dampers with a force
+    /// limit); a spring is a force spread over the substeps, and a Coulomb row has no contact
+    /// in such an island to lean on.
+    #[inline]
+    pub(super) fn skipped(&self, i: usize) -> bool {
+        if !self.synchronising {
+            return false;
+        }
+        let force_limited = self.lo[i].is_finite() && self.hi[i].is_finite();
+        self.flags[i] & super::SYNCHRONISED == 0
+            || !self.acts_at_an_instant(i)
+            || self.link[i] != NONE
+            || match self.sync_rows {
+                SyncRows::All => false,
+                SyncRows::Motors => !force_limited,
+                SyncRows::Hard => force_limited,
+            }
+    }
+
+    /// A rigid row, or a soft one without a spring (a damper).
+    #[inline]
+    fn acts_at_an_instant(&self, i: usize) -> bool {
+        self.rigid(i) || self.rate[i] == 0.0
+    }
+
+    /// Whether row `i` is solved as rigid in this pass: a hard row, and in the synchronising
+    /// pass also a row whose softness only regularises (a motor's or a hard stop's, a
+    /// compliance under a millionth of its effective inverse mass), which acts at an instant
+    /// rather than as a spring through the substeps.
+    #[inline]
+    pub(super) fn rigid(&self, i: usize) -> bool {
+        self.flags[i] & HARD != 0 || (self.synchronising && self.extra[i] <= 1.0e-6 * self.diag[i])
+    }
+
+    /// Row `i`'s own impulse bounds in this pass: a bounded row of a synchronised island that
+    /// takes part in the synchronising pass (a motor's force limit) has half a substep's
+    /// budget in the first substep and in that pass, the two half kicks, so that a step's
+    /// budget stays `h·f`.
+    #[inline]
+    pub(super) fn own_bounds(&self, i: usize) -> (Real, Real) {
+        if self.half_budget
+            && self.flags[i] & super::SYNCHRONISED != 0
+            && self.acts_at_an_instant(i)
+        {
+            let hi = 0.5 * self.hi[i];
+            let hi = if self.synchronising {
+                hi.min(self.sync_cap[i])
+            } else {
+                hi
+            };
+            (0.5 * self.lo[i], hi)
+        } else {
+            (self.lo[i], self.hi[i])
+        }
+    }
+
+    /// Gives the synchronised rows half their budget (see [`Self::own_bounds`]) or all of it.
+    pub(crate) fn halve_budget(&mut self, half: bool) {
+        self.half_budget = half;
+    }
+
+    /// The synchronising pass of the Gauss–Seidel rows (`substep` module docs): one unbiased
+    /// sweep over the synchronised rows that makes their velocities tangent to the poses
+    /// reached.
+    pub(crate) fn synchronise(&mut self, states: &mut BodyStates, hs: Real, max_speed: Real) {
+        // Motors first, then the hard rows, so that what a single sweep leaves is a motor a
+        // little off its speed rather than a stop or a joint pushed open (a door driven into
+        // its stop rested at 0.36 rad/s with the order of the rows).
+        self.sync_rows = SyncRows::Motors;
+        self.sweep(states, hs, false, max_speed);
+        self.sync_rows = SyncRows::Hard;
+        self.sweep(states, hs, false, max_speed);
+        self.sync_rows = SyncRows::All;
+    }
+
+    /// Starts the synchronising pass: the synchronised rows' impulses start from zero (the
+    /// pass's impulse is its own, bounded alone), a stop that bounced this step aims at its
+    /// rebound, and a stop may push at most half of what it pushed in the last substep: it
+    /// holds the half kick of what rests on it, but an impact is not the pass's to take (a
+    /// body reaching its stop as the step ends would be stopped dead, its restitution lost).
+    pub(crate) fn begin_synchronising(&mut self) {
+        self.synchronising = true;
+        self.half_budget = true;
+        self.sync_cap.clear();
+        for i in 0..self.len() {
+            let cap = if self.flags[i] & UNILATERAL != 0 {
+                0.5 * self.impulse[i].max(0.0)
+            } else {
+                Real::INFINITY
+            };
+            self.sync_cap.push(cap);
+            if self.flags[i] & super::SYNCHRONISED != 0 {
+                self.impulse[i] = 0.0;
+            }
+        }
+    }
+
+    /// Ends the synchronising pass: its impulses join the step's totals.
+    pub(crate) fn end_synchronising(&mut self) {
+        self.synchronising = false;
+        self.half_budget = false;
+        for i in 0..self.len() {
+            if self.flags[i] & super::SYNCHRONISED != 0 {
+                self.total[i] += self.impulse[i];
+            }
+        }
+    }
+
+    /// Row `i`'s velocity target in this pass: a stop that bounced this step keeps its rebound
+    /// in the synchronising pass.
+    #[inline]
+    pub(super) fn target_for(&self, i: usize) -> Real {
+        if self.synchronising && self.flags[i] & super::BOUNCE != 0 && self.total[i] > 0.0 {
+            self.bounce_target[i]
+        } else {
+            self.target[i]
         }
     }
 }
