@@ -22,7 +22,10 @@
 //! Whatever the mode, an island is then turned away from a path that cannot hold it, and the
 //! step counts it as a warning ([`super::SolverStats::rerouted_islands`]): contacts whose
 //! dense exact system would pass [`DENSE_EXACT_MAX_ROWS`] (a step would stall), and, forced
-//! exact or iterative, a light chain carrying a body `mass_ratio` times heavier (it tears).
+//! exact or iterative, a light chain carrying a body `mass_ratio` times heavier (it tears) and
+//! an island of joints closing loops (forced iterative: any loop, Gauss–Seidel leaves a
+//! four-bar open by 1.8 mm; forced exact: more than four, one linearisation a step leaves a
+//! net open by 11 cm), all solved split.
 
 use super::island::Islands;
 use super::{ConstraintBlock, SolverBody, SolverContact};

@@ -324,6 +324,14 @@ impl BodyStates {
         self.delta[l].dq = (q * self.orientation0[l].inverse()).normalize();
     }
 
+    /// The largest distance from the origin of a body that can be pushed, now.
+    pub(crate) fn extent(&self, bodies: &[SolverBody]) -> Real {
+        (1..self.len())
+            .filter(|&l| self.writable[l])
+            .map(|l| (bodies[self.global[l] as usize].position + self.delta[l].dp).length())
+            .fold(0.0, Real::max)
+    }
+
     /// Local body `l`'s orientation now.
     pub(crate) fn orientation_now(&self, l: usize) -> Quat {
         self.orientation[l]
