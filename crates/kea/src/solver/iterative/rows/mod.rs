@@ -39,6 +39,7 @@ mod direct;
 mod gather;
 mod relinearise;
 mod sweep;
+mod synchronise;
 
 use super::super::integrate::BodyScratch;
 use super::super::{reserve, ConstraintBlock, Reaction};
