@@ -171,15 +171,9 @@ impl IterativeWorkspace {
         }
         self.rows.begin_synchronising();
         self.rows.synchronise(&mut self.states, hs, max_speed);
-        if plan.direct && self.rows.any_direct_synchronised() {
-            let r = self.rows.synchronise_direct(
-                &mut self.states,
-                &mut self.direct,
-                hs,
-                max_speed,
-                plan.limits,
-            );
-            report.add(r);
+        if self.rows.any_direct_synchronised() {
+            // The relax solve, over the synchronised rows only (the others are held).
+            self.solve_direct(plan, false, report);
         }
         self.rows.end_synchronising();
     }

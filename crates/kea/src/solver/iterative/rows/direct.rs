@@ -170,19 +170,6 @@ impl JointRows {
             .any(|&i| self.flags[i as usize] & super::SYNCHRONISED != 0)
     }
 
-    /// The synchronising pass of the direct rows (`substep` module docs): the relax solve over
-    /// the synchronised rows, aiming at the tangent of the poses reached.
-    pub(crate) fn synchronise_direct(
-        &mut self,
-        states: &mut BodyStates,
-        sys: &mut SubstepSystem,
-        hs: Real,
-        max_speed: Real,
-        limits: Limits,
-    ) -> LcpReport {
-        self.solve_direct(states, sys, hs, false, max_speed, limits)
-    }
-
     /// One post-stabilisation pass (a Newton step on positions): solves
     /// `(J M⁻¹ Jᵀ) Δ = −xi` for the rigid rows that correct errors (equalities free,
     /// one-sided stops with `Δ ≥ 0`; others held at zero) and moves the bodies by `M⁻¹ Jᵀ Δ`,
