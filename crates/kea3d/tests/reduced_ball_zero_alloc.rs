@@ -6,8 +6,7 @@ use kea3d::prelude::*;
 
 mod counting;
 
-use counting::{ALLOCATIONS, COUNTING};
-use std::sync::atomic::Ordering;
+use counting::allocations_in;
 
 #[global_allocator]
 static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
@@ -37,11 +36,13 @@ fn a_warm_chain_of_ball_joints_in_reduced_coordinates_steps_without_allocating()
         let stats = world.step(1.0 / 240.0).unwrap();
         assert_eq!(stats.reduced_trees, 1, "step {k}: the chain is one tree");
     }
-    COUNTING.store(true, Ordering::SeqCst);
-    for _ in 0..120 {
-        world.step(1.0 / 240.0).unwrap();
-    }
-    COUNTING.store(false, Ordering::SeqCst);
-    let n = ALLOCATIONS.load(Ordering::SeqCst);
+    let n = allocations_in(|| {
+        for _ in 0..120 {
+            world.step(1.0 / 240.0).unwrap();
+        }
+    });
     assert_eq!(n, 0, "{n} allocations in warm reduced steps");
+    // The counter really counts on this thread.
+    let n = allocations_in(|| drop(std::hint::black_box(vec![1u8; 64])));
+    assert_eq!(n, 1, "a deliberate allocation counted {n} times");
 }

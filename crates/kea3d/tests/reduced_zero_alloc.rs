@@ -6,8 +6,7 @@ use kea3d::robot::MjcfOptions;
 
 mod counting;
 
-use counting::{ALLOCATIONS, COUNTING};
-use std::sync::atomic::Ordering;
+use counting::allocations_in;
 
 #[global_allocator]
 static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
@@ -56,12 +55,14 @@ fn a_warm_arm_in_reduced_coordinates_steps_without_allocating() {
         let stats = world.step(1.0 / 240.0).unwrap();
         assert_eq!(stats.reduced_trees, 1, "step {k}: the arm is one tree");
     }
-    COUNTING.store(true, Ordering::SeqCst);
-    for k in 0..120 {
-        robot.set_controls(&mut world, &controls[k % 4]).unwrap();
-        world.step(1.0 / 240.0).unwrap();
-    }
-    COUNTING.store(false, Ordering::SeqCst);
-    let n = ALLOCATIONS.load(Ordering::SeqCst);
+    let n = allocations_in(|| {
+        for k in 0..120 {
+            robot.set_controls(&mut world, &controls[k % 4]).unwrap();
+            world.step(1.0 / 240.0).unwrap();
+        }
+    });
     assert_eq!(n, 0, "{n} allocations in warm reduced steps");
+    // The counter really counts on this thread.
+    let n = allocations_in(|| drop(std::hint::black_box(vec![1u8; 64])));
+    assert_eq!(n, 1, "a deliberate allocation counted {n} times");
 }

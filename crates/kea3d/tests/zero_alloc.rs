@@ -5,8 +5,7 @@ use kea3d::prelude::*;
 
 mod counting;
 
-use counting::{ALLOCATIONS, COUNTING};
-use std::sync::atomic::Ordering;
+use counting::allocations_in;
 
 #[global_allocator]
 static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
@@ -49,15 +48,13 @@ fn a_grown_world_steps_warm_without_allocating() {
         step(&mut w);
     }
     assert!(w.dynamics().max_constraints() > 1, "the world grew");
-    ALLOCATIONS.store(0, Ordering::SeqCst);
-    COUNTING.store(true, Ordering::SeqCst);
-    for _ in 0..120 {
-        step(&mut w);
-    }
-    COUNTING.store(false, Ordering::SeqCst);
-    assert_eq!(
-        ALLOCATIONS.load(Ordering::SeqCst),
-        0,
-        "allocations in 120 warm steps"
-    );
+    let n = allocations_in(|| {
+        for _ in 0..120 {
+            step(&mut w);
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations in 120 warm steps");
+    // The counter really counts on this thread.
+    let n = allocations_in(|| drop(std::hint::black_box(vec![1u8; 64])));
+    assert_eq!(n, 1, "a deliberate allocation counted {n} times");
 }
