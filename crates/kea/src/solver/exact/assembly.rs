@@ -2,7 +2,7 @@
 //! and `A = J M⁻¹ Jᵀ` filled block by block, the diagonal (constraint softness) added, and the
 //! right-hand side.
 
-use super::{ExactWorkspace, IslandRow};
+use super::{ExactWorkspace, IslandRow, RowValues};
 use crate::constraint::Row;
 use crate::math::{to_f64, wide, Real};
 use crate::solver::integrate::BodyScratch;
@@ -17,6 +17,13 @@ impl ExactWorkspace {
     /// Blocks that join their bodies without a loop take the tree solve; the others the
     /// general pattern.
     pub(super) fn assemble_matrix(&mut self) {
+        self.assemble_matrix_by(None::<fn(usize) -> RowValues>);
+    }
+
+    /// [`Self::assemble_matrix`], each row's Jacobian and `M⁻¹Jᵀ` read from `row` when given
+    /// (straight into the tree solve's storage, or into the island rows for the general
+    /// pattern), else from the island rows.
+    pub(super) fn assemble_matrix_by(&mut self, row: Option<impl Fn(usize) -> RowValues>) {
         self.dense_now = false;
         let island_bodies = self.island_bodies.len();
         self.tree_now = self.tree.order.analyse(
@@ -26,9 +33,28 @@ impl ExactWorkspace {
             island_bodies,
         );
         if self.tree_now {
-            let rows = &self.rows;
-            self.tree.fill(|i| (rows[i].jac, rows[i].mj));
+            match row {
+                Some(row) => self.tree.fill(row),
+                None => {
+                    let rows = &self.rows;
+                    self.tree.fill(|i| (rows[i].jac, rows[i].mj));
+                }
+            }
             return;
+        }
+        if let Some(row) = row {
+            let n = self.block_first.last().map_or(0, |&f| f as usize)
+                + self.block_size.last().map_or(0, |&s| s as usize);
+            self.rows.clear();
+            self.rows.extend((0..n).map(|i| {
+                let (jac, mj) = row(i);
+                IslandRow {
+                    global: i as u32,
+                    bodies: [None; 2],
+                    jac,
+                    mj,
+                }
+            }));
         }
         let pattern = self
             .patterns

@@ -43,7 +43,10 @@ use crate::solver::sparse::pattern::{BlockBodies, PatternCache};
 use crate::solver::sparse::pivoting::{self, FrictionLink, LcpWorkspace, System, Unknowns};
 use crate::solver::sparse::tree::TreeSystem;
 pub(crate) use crate::solver::sparse::{LcpReport, Limits};
-pub(crate) use substep::{SubstepRow, SubstepSystem};
+pub(crate) use substep::SubstepSystem;
+
+/// A row's Jacobian and `M⁻¹Jᵀ` in `f64`, linear then angular, per body slot.
+pub(crate) type RowValues = ([DVec3; 4], [DVec3; 4]);
 
 /// One island row in `f64`: Jacobian and M⁻¹Jᵀ per body slot.
 #[derive(Debug, Clone, Copy, Default)]

@@ -3,13 +3,14 @@
 //! `(J M⁻¹ Jᵀ + E) y = b` over the same analysis, factorisation and pivoting as the exact
 //! path, while the island's contacts run in the contact solver around it.
 //!
-//! The caller (the iterative path's joint rows) adds its rows block by block with their
-//! Jacobians and `M⁻¹Jᵀ` and its bodies' slots, calls [`SubstepSystem::assemble`] once per
-//! linearisation, and then solves for the rows' impulses as often as it likes with different
-//! right-hand sides (the biased solve and the relax of a substep share one matrix).
+//! The caller (the iterative path's joint rows) adds its rows block by block (their count,
+//! softness and friction links, and its bodies' slots), calls [`SubstepSystem::assemble`] once
+//! per linearisation with a reader of each row's Jacobian and `M⁻¹Jᵀ`, which a tree's solve
+//! takes straight into its storage in elimination order (no copy of the rows in between), and
+//! then solves for the rows' impulses as often as it likes with different right-hand sides
+//! (the biased solve and the relax of a substep share one matrix).
 
-use super::{ExactWorkspace, IslandRow};
-use crate::math::DVec3;
+use super::{ExactWorkspace, RowValues};
 use crate::solver::sparse::pattern::BlockBodies;
 use crate::solver::sparse::pivoting::{self, FrictionLink, LcpReport, Limits};
 
@@ -27,21 +28,12 @@ const REGULARISATION: f64 = 1.0e-9;
 /// 0.04 mm worst; 1e-3 gave 0.07 mm, 1e-2 0.12 mm. Trees keep [`REGULARISATION`].
 const LOOP_COMPLIANCE: f64 = 1.0e-4;
 
-/// One row handed to the system: its Jacobian and `M⁻¹Jᵀ`, linear then angular, per slot.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SubstepRow {
-    pub(crate) jac: [DVec3; 4],
-    pub(crate) mj: [DVec3; 4],
-    /// Softness and slip on the diagonal, in the system's units.
-    pub(crate) extra: f64,
-    /// A Coulomb row: its normal row (an index into this system) and μ.
-    pub(crate) link: FrictionLink,
-}
-
 /// The system of the split islands' joint rows (see the module docs).
 #[derive(Debug, Default, Clone)]
 pub(crate) struct SubstepSystem {
     ws: ExactWorkspace,
+    /// Rows added.
+    count: usize,
     extra: Vec<f64>,
     /// `A·y₀` for the current impulses `y₀`.
     product: Vec<f64>,
@@ -82,29 +74,31 @@ impl SubstepSystem {
             ws.local_body.resize(bodies, u32::MAX);
         }
         self.extra.clear();
+        self.count = 0;
     }
 
     /// Rows in the system.
     pub(crate) fn len(&self) -> usize {
-        self.ws.rows.len()
+        self.count
     }
 
     /// Adds one block of rows acting on the bodies in `slots` (`u32::MAX`: none, or a body
-    /// that cannot move). A block must have at least one row.
-    pub(crate) fn add_block(&mut self, slots: [u32; 2], rows: impl Iterator<Item = SubstepRow>) {
+    /// that cannot move), each row given by its softness and slip on the diagonal (in the
+    /// system's units) and its friction link (a Coulomb row: its normal row, an index into this
+    /// system, and μ). A block must have at least one row.
+    pub(crate) fn add_block(
+        &mut self,
+        slots: [u32; 2],
+        rows: impl Iterator<Item = (f64, FrictionLink)>,
+    ) {
         let ws = &mut self.ws;
-        let base = ws.rows.len() as u32;
-        for r in rows {
-            ws.rows.push(IslandRow {
-                global: ws.rows.len() as u32,
-                bodies: [None; 2],
-                jac: r.jac,
-                mj: r.mj,
-            });
-            ws.sys.links.push(r.link);
-            self.extra.push(r.extra);
+        let base = self.count as u32;
+        for (extra, link) in rows {
+            ws.sys.links.push(link);
+            self.extra.push(extra);
+            self.count += 1;
         }
-        let size = ws.rows.len() as u32 - base;
+        let size = self.count as u32 - base;
         debug_assert!(size > 0, "a block has rows");
         let key: BlockBodies = slots.map(|s| {
             if s == u32::MAX {
@@ -122,14 +116,14 @@ impl SubstepSystem {
         ws.block_key.push(key);
     }
 
-    /// Builds `A = J M⁻¹ Jᵀ + E` for the rows added (their analysis from the cache while the
-    /// blocks' graph is unchanged).
-    pub(crate) fn assemble(&mut self) {
+    /// Builds `A = J M⁻¹ Jᵀ + E` for the rows added, row `i`'s Jacobian and `M⁻¹Jᵀ` read from
+    /// `row(i)` (their analysis from the cache while the blocks' graph is unchanged).
+    pub(crate) fn assemble(&mut self, row: impl Fn(usize) -> RowValues) {
         let ws = &mut self.ws;
-        if ws.rows.is_empty() {
+        if self.count == 0 {
             return;
         }
-        ws.assemble_matrix();
+        ws.assemble_matrix_by(Some(row));
         let reg = if ws.tree_now {
             REGULARISATION
         } else {
@@ -168,7 +162,7 @@ impl SubstepSystem {
     pub(crate) fn solve(&mut self, limits: Limits) -> LcpReport {
         let ws = &mut self.ws;
         let (r, lo, hi, y) = (&self.r, &self.lo, &self.hi, &mut self.y);
-        let n = ws.rows.len();
+        let n = self.count;
         if n == 0 {
             return LcpReport {
                 converged: true,

@@ -12,7 +12,7 @@
 use super::super::bodies::{BodyStates, NONE};
 use super::{JointRows, HARD, UNILATERAL};
 use crate::math::{to_f64, wide, Real, Vec3};
-use crate::solver::exact::{SubstepRow, SubstepSystem};
+use crate::solver::exact::SubstepSystem;
 use crate::solver::sparse::{LcpReport, Limits};
 
 /// The fraction of a hard equality row's error its biased direct solve removes per substep
@@ -58,27 +58,30 @@ impl JointRows {
                 slots,
                 rows.iter().map(|&i| {
                     let i = i as usize;
-                    SubstepRow {
-                        jac: [
-                            to_f64(self.ja_lin[i]),
-                            to_f64(self.ja_ang[i]),
-                            to_f64(self.jb_lin[i]),
-                            to_f64(self.jb_ang[i]),
-                        ],
-                        mj: [
-                            to_f64(self.ma_lin[i]),
-                            to_f64(self.ma_ang[i]),
-                            to_f64(self.mb_lin[i]),
-                            to_f64(self.mb_ang[i]),
-                        ],
-                        extra: wide(self.extra[i]),
-                        link: (self.link[i] != NONE)
-                            .then(|| (self.direct_index[self.link[i] as usize], wide(self.mu[i]))),
-                    }
+                    let link = (self.link[i] != NONE)
+                        .then(|| (self.direct_index[self.link[i] as usize], wide(self.mu[i])));
+                    (wide(self.extra[i]), link)
                 }),
             );
         }
-        sys.assemble();
+        let direct_rows = &self.direct_rows;
+        sys.assemble(|s| {
+            let i = direct_rows[s] as usize;
+            (
+                [
+                    to_f64(self.ja_lin[i]),
+                    to_f64(self.ja_ang[i]),
+                    to_f64(self.jb_lin[i]),
+                    to_f64(self.jb_ang[i]),
+                ],
+                [
+                    to_f64(self.ma_lin[i]),
+                    to_f64(self.ma_ang[i]),
+                    to_f64(self.mb_lin[i]),
+                    to_f64(self.mb_ang[i]),
+                ],
+            )
+        });
     }
 
     /// Applies impulse `dp` of row `i` with its own Jacobian (no lever shift).
