@@ -117,6 +117,7 @@ impl ArticulatedTree {
                     sv[i] = qd[i] + C[k] * h * qdd[i];
                 }
             }
+            self.contact.weight = B[k];
             result = self.solve(&sq, &sv, tau, 0.0, qdd);
             if result.is_err() {
                 break;

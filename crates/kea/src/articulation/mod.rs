@@ -30,11 +30,13 @@ use crate::error::{KeaError, KeaResult};
 use glam::{DMat3, DQuat, DVec3};
 use impulses::CoordinateRow;
 
+mod contacts;
 mod dynamics;
 mod impulses;
 mod integrate;
 mod soft_limits;
 
+pub use contacts::TreeContact;
 pub use integrate::Integrator;
 
 /// How a joint of the tree moves.
@@ -161,6 +163,10 @@ pub struct ArticulatedTree {
     /// The soft stops engaged in the last evaluation, and the step's length they read.
     soft_rows: Vec<soft_limits::SoftRow>,
     step_length: f64,
+    /// The links' contacts with the base.
+    contact: contacts::ContactState,
+    /// The applied wrenches while the reactions' pass adds the contacts' to them.
+    external_kept: Vec<[DVec3; 2]>,
 }
 
 impl ArticulatedTree {
@@ -243,6 +249,8 @@ impl ArticulatedTree {
             q_start: vec![0.0; n],
             soft_rows: Vec::with_capacity(2 * n),
             step_length: 0.0,
+            contact: contacts::ContactState::default(),
+            external_kept: Vec::with_capacity(n),
         })
     }
 
@@ -287,6 +295,7 @@ impl ArticulatedTree {
         }
         self.lu.resize(n * n, 0.0);
         self.soft_rows.reserve(2 * n);
+        self.contact.clear();
     }
 
     /// The integrator the steps use.
@@ -416,6 +425,7 @@ impl ArticulatedTree {
         self.rate0.copy_from_slice(qd);
         self.q_start.copy_from_slice(q);
         self.step_length = h;
+        self.start_contacts(q);
         let mut qdd = std::mem::take(&mut self.rhs);
         qdd.resize(self.len(), 0.0);
         let solved = self.smooth_step(q, qd, tau, h, &mut qdd).and_then(|()| {
@@ -442,8 +452,12 @@ impl ArticulatedTree {
                 }
                 let rate0 = std::mem::take(&mut self.rate0);
                 let q_start = std::mem::take(&mut self.q_start);
+                // The contacts' forces act on the links like applied ones.
+                self.external_kept.clone_from(&self.external);
+                self.add_contact_wrenches(&q_start);
                 self.place(&q_start);
                 self.newton_euler(&rate0, Some(&qdd));
+                std::mem::swap(&mut self.external, &mut self.external_kept);
                 self.rate0 = rate0;
                 self.q_start = q_start;
             }

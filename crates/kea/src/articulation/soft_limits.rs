@@ -3,7 +3,8 @@
 //! solves `min ½ fᵀ (A + R) f + fᵀ (J q̈₀ − a_ref)` — `A = J H'⁻¹ Jᵀ`, `q̈₀` the free
 //! accelerations — by projected Gauss–Seidel to round-off, then `q̈ = q̈₀ + H'⁻¹ Jᵀ f`.
 //! The regulariser uses the current `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's
-//! reference pose (equal for a slider on a free body, close for an arm).
+//! reference pose (equal for a slider on a free body, close for an arm). The links' contacts
+//! with the base (`contacts.rs`) are rows of the same problem, solved in the same sweeps.
 
 use super::ArticulatedTree;
 use crate::math::wide;
@@ -21,7 +22,7 @@ pub(super) struct SoftRow {
 }
 
 /// MuJoCo's impedance at distance `x` past the margin.
-fn impedance(s: &SoftLimit, x: f64) -> f64 {
+pub(super) fn impedance(s: &SoftLimit, x: f64) -> f64 {
     let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
     let x = (x.abs() / width).min(1.0);
     let y = if x <= mid {
@@ -33,8 +34,9 @@ fn impedance(s: &SoftLimit, x: f64) -> f64 {
 }
 
 impl ArticulatedTree {
-    /// Adds the soft stops' forces to the accelerations `qdd` at `q`, `qd`; the factor of
-    /// `H'` must be in `h`. `step` is the step's length (a time constant is at least two).
+    /// Adds the soft stops' and the contacts' forces to the accelerations `qdd` at `q`, `qd`;
+    /// the factor of `H'` must be in `h`. `step` is the step's length (a time constant is at
+    /// least two).
     pub(super) fn soft_stops(&mut self, q: &[f64], qd: &[f64], qdd: &mut [f64], step: f64) {
         let n = self.len();
         self.soft_rows.clear();
@@ -65,7 +67,8 @@ impl ArticulatedTree {
                 });
             }
         }
-        if self.soft_rows.is_empty() {
+        self.contact_rows(q, qd, step);
+        if self.soft_rows.is_empty() && self.contact.rows.is_empty() {
             return;
         }
         // The columns of H'⁻¹ the rows act through.
@@ -92,9 +95,11 @@ impl ArticulatedTree {
                     largest = largest.max((delta * a).abs());
                 }
             }
+            largest = largest.max(self.contact_sweep(qdd));
             if largest < 1e-13 {
                 break;
             }
         }
+        self.record_contact_forces();
     }
 }

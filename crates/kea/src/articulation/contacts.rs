@@ -1,0 +1,294 @@
+//! Contacts of a tree's links with its base (the ground a robot stands on), in joint space, by
+//! MuJoCo's soft contact model: the tree stays in reduced coordinates while it touches.
+//!
+//! A contact is a point fixed on a link, a unit normal `n` (base frame, the way the base pushes
+//! the link) and the signed distance `r` along it at the step's start (negative: overlap). At
+//! the coordinates `q` of an evaluation the point is at `p(q)` and the distance is
+//! `r + n·(p(q) − p(q₀))`. Within the model's margin the contact gives rows `J = dᵀ J_p(q)` on
+//! the rates, `J_p` the point's velocity Jacobian (`Σ_j (s_j × (p − a_j)) q̇_j` over its
+//! link's hinges from the root, `s_j q̇_j` for sliders) and `d` the edges of MuJoCo's pyramidal
+//! friction cone, `n ± μ t₁`, `n ± μ t₂` (the normal alone without friction). Each row's force
+//! `f ≥ 0` joins the soft stops' problem (`soft_limits.rs`):
+//! `min ½ fᵀ (A + R) f + fᵀ (J q̈₀ − a_ref)` with `A = J H'⁻¹ Jᵀ`,
+//! `a_ref = −b J q̇ − k·imp(x)·x` at `x = r − margin`, `b = 2/(d_max τ)`,
+//! `k = 1/(d_max² τ² ζ²)` (τ at least two steps), `R = (1 − imp)/imp · A` — the soft stops'
+//! formulas with the contact's `solref`/`solimp`, solved in the same Gauss–Seidel sweeps, so a
+//! foot on the ground and a knee on its stop hold together. It runs inside every evaluation
+//! of the accelerations (the four stages of Runge–Kutta each), and the force a contact
+//! passes in a step is the integrator's weighted mean of its evaluations'.
+
+use super::soft_limits::impedance;
+use super::{ArticulatedTree, TreeJointKind};
+use crate::error::{KeaError, KeaResult};
+use crate::math::wide;
+use crate::SoftLimit;
+use glam::{DMat3, DVec3};
+
+/// A contact of one of a tree's links with its base (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreeContact {
+    /// The link touched.
+    pub link: usize,
+    /// The contact point, in the link's frame.
+    pub point: DVec3,
+    /// Unit normal in the base's frame: the direction the base pushes the link.
+    pub normal: DVec3,
+    /// Signed distance along the normal at the coordinates the next step starts from, m
+    /// (negative: overlapping).
+    pub distance: f64,
+    /// Coulomb friction coefficient μ ≥ 0 (0: frictionless, the normal row alone).
+    pub friction: f64,
+}
+
+/// One row of a contact in the evaluation in flight: its contact and edge direction (base
+/// frame), MuJoCo's reference acceleration and regulariser, `A`'s diagonal entry, the force,
+/// and where its `J` and `H'⁻¹Jᵀ` sit in the scratch (`2n` numbers from `at`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct ContactRow {
+    contact: usize,
+    direction: DVec3,
+    reference: f64,
+    regulariser: f64,
+    a: f64,
+    force: f64,
+    at: usize,
+}
+
+/// What a tree keeps for its contacts: the contacts, their model, where each point was at the
+/// step's start, each one's mean force over the last step, and the evaluations' scratch.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(super) struct ContactState {
+    contacts: Vec<TreeContact>,
+    model: SoftLimit,
+    origin: Vec<DVec3>,
+    /// Each contact's mean force on its link over the last step, base frame, N.
+    force: Vec<DVec3>,
+    /// The weight of the evaluation in flight in the step's mean (Runge–Kutta's `b_k`).
+    pub(super) weight: f64,
+    pub(super) rows: Vec<ContactRow>,
+    jw: Vec<f64>,
+    /// Each link's rotation and origin in the base's frame at the evaluation's coordinates.
+    rot: Vec<DMat3>,
+    pos: Vec<DVec3>,
+}
+
+impl ContactState {
+    /// Forgets the contacts (the links they named changed).
+    pub(super) fn clear(&mut self) {
+        self.contacts.clear();
+        self.force.clear();
+    }
+
+    /// Whether the tree has no contact.
+    pub(super) fn is_empty(&self) -> bool {
+        self.contacts.is_empty()
+    }
+}
+
+impl ArticulatedTree {
+    /// Sets the contacts of the steps that follow (replacing any before) and the soft model
+    /// they are solved by (its `solref`, `solimp` and `margin`). Errors name the contact and
+    /// the field: a link outside the tree, a normal not of unit length, a non-finite point or
+    /// distance, a negative friction.
+    pub fn set_contacts(&mut self, contacts: &[TreeContact], model: SoftLimit) -> KeaResult<()> {
+        model.validate()?;
+        for (k, c) in contacts.iter().enumerate() {
+            let bad = |arg: &'static str, value: String, expected: &'static str| {
+                Err(KeaError::OutOfRange {
+                    arg,
+                    value: format!("contact {k}: {value}"),
+                    expected,
+                })
+            };
+            if c.link >= self.len() {
+                return bad("link", c.link.to_string(), "a link of the tree");
+            }
+            if !(c.point.is_finite() && c.distance.is_finite()) {
+                return bad(
+                    "point",
+                    format!("{} / {}", c.point, c.distance),
+                    "a finite point and distance",
+                );
+            }
+            if !c.normal.is_finite() || (c.normal.length() - 1.0).abs() >= 1e-6 {
+                return bad("normal", c.normal.to_string(), "a unit vector");
+            }
+            if !(c.friction >= 0.0 && c.friction.is_finite()) {
+                return bad("friction", c.friction.to_string(), "a finite μ >= 0");
+            }
+        }
+        let s = &mut self.contact;
+        s.contacts.clear();
+        s.contacts.extend_from_slice(contacts);
+        s.model = model;
+        s.force.clear();
+        s.force.resize(contacts.len(), DVec3::ZERO);
+        Ok(())
+    }
+
+    /// Each contact's mean force on its link over the last step, base frame, N (in the order
+    /// [`ArticulatedTree::set_contacts`] gave them).
+    #[must_use]
+    pub fn contact_forces(&self) -> &[DVec3] {
+        &self.contact.force
+    }
+
+    /// At a step's start (coordinates `q`): where each contact point is, and no force yet.
+    pub(super) fn start_contacts(&mut self, q: &[f64]) {
+        if self.contact.is_empty() {
+            return;
+        }
+        self.place(q);
+        self.link_frames();
+        let s = &mut self.contact;
+        s.origin.clear();
+        for c in &s.contacts {
+            s.origin.push(s.pos[c.link] + s.rot[c.link] * c.point);
+        }
+        s.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
+        s.weight = 1.0;
+    }
+
+    /// Each link's rotation and origin in the base's frame from the placements `place` left.
+    fn link_frames(&mut self) {
+        let n = self.len();
+        let s = &mut self.contact;
+        s.rot.resize(n, DMat3::IDENTITY);
+        s.pos.resize(n, DVec3::ZERO);
+        for i in 0..n {
+            let local = self.rot[i].transpose();
+            (s.rot[i], s.pos[i]) = match self.links[i].parent {
+                Some(p) => (s.rot[p] * local, s.pos[p] + s.rot[p] * self.pos[i]),
+                None => (local, self.pos[i]),
+            };
+        }
+    }
+
+    /// The rows of the contacts within their margin at `q`, `qd` (module docs), with their
+    /// `J` and `H'⁻¹Jᵀ`; the factor of `H'` must be in `h`.
+    pub(super) fn contact_rows(&mut self, q: &[f64], qd: &[f64], step: f64) {
+        self.contact.rows.clear();
+        if self.contact.is_empty() {
+            return;
+        }
+        let _ = q; // placed by the evaluation's `assemble`
+        self.link_frames();
+        let n = self.len();
+        let model = self.contact.model;
+        let margin = wide(model.margin);
+        let tau = wide(model.solref[0]).max(2.0 * step);
+        let (zeta, dmax) = (wide(model.solref[1]), wide(model.solimp[1]));
+        let (b, k) = (
+            2.0 / (dmax * tau),
+            1.0 / (dmax * dmax * tau * tau * zeta * zeta),
+        );
+        let mut jw = std::mem::take(&mut self.contact.jw);
+        let mut rows = std::mem::take(&mut self.contact.rows);
+        jw.clear();
+        for c in 0..self.contact.contacts.len() {
+            let contact = self.contact.contacts[c];
+            let s = &self.contact;
+            let p = s.pos[contact.link] + s.rot[contact.link] * contact.point;
+            let distance = contact.distance + contact.normal.dot(p - s.origin[c]);
+            if distance >= margin {
+                continue;
+            }
+            let x = distance - margin;
+            let imp = impedance(&model, x);
+            let n_dir = contact.normal;
+            let (t1, t2) = n_dir.any_orthonormal_pair();
+            let mu = contact.friction;
+            let edges = [
+                n_dir + t1 * mu,
+                n_dir - t1 * mu,
+                n_dir + t2 * mu,
+                n_dir - t2 * mu,
+            ];
+            let used = if mu > 0.0 { &edges[..] } else { &edges[..1] };
+            for &d in used {
+                let at = jw.len();
+                jw.resize(at + 2 * n, 0.0);
+                // J: the edge's component of the point's velocity per coordinate.
+                let mut j = Some(contact.link);
+                while let Some(l) = j {
+                    let link = &self.links[l];
+                    let axis = s.rot[l] * link.axis;
+                    let lin = match link.kind {
+                        TreeJointKind::Hinge => axis.cross(p - (s.pos[l] + s.rot[l] * link.anchor)),
+                        TreeJointKind::Slider => axis,
+                    };
+                    jw[at + l] = d.dot(lin);
+                    j = link.parent;
+                }
+                let (row, w) = jw[at..at + 2 * n].split_at_mut(n);
+                w.copy_from_slice(row);
+                self.solve_h(w);
+                let a = dot(row, w);
+                let velocity = dot(row, qd);
+                rows.push(ContactRow {
+                    contact: c,
+                    direction: d,
+                    reference: -b * velocity - k * imp * x,
+                    regulariser: (1.0 - imp) / imp * a,
+                    a,
+                    force: 0.0,
+                    at,
+                });
+            }
+        }
+        self.contact.jw = jw;
+        self.contact.rows = rows;
+    }
+
+    /// One Gauss–Seidel sweep over the contact rows, `qdd` updated as it goes; returns the
+    /// largest change of a row's acceleration.
+    pub(super) fn contact_sweep(&mut self, qdd: &mut [f64]) -> f64 {
+        let n = self.len();
+        let s = &mut self.contact;
+        let mut largest: f64 = 0.0;
+        for row in &mut s.rows {
+            let (j, w) = s.jw[row.at..row.at + 2 * n].split_at(n);
+            let residual = dot(j, qdd) - row.reference + row.regulariser * row.force;
+            let f = (row.force - residual / (row.a + row.regulariser)).max(0.0);
+            let delta = f - row.force;
+            if delta != 0.0 {
+                row.force = f;
+                for (acc, wk) in qdd.iter_mut().zip(w) {
+                    *acc += wk * delta;
+                }
+                largest = largest.max((delta * row.a).abs());
+            }
+        }
+        largest
+    }
+
+    /// Adds the evaluation's contact forces, at its weight, to the step's mean.
+    pub(super) fn record_contact_forces(&mut self) {
+        let s = &mut self.contact;
+        for row in &s.rows {
+            s.force[row.contact] += row.direction * (row.force * s.weight);
+        }
+    }
+
+    /// The contacts' mean forces as wrenches on their links (link coordinates at the step's
+    /// start: torque about the origin, force) added to `external`, for the reactions; the
+    /// links' base frames at the step's start must be in the scratch (`start_contacts`).
+    pub(super) fn add_contact_wrenches(&mut self, q_start: &[f64]) {
+        if self.contact.is_empty() {
+            return;
+        }
+        self.place(q_start);
+        self.link_frames();
+        let s = &self.contact;
+        for (c, f) in s.contacts.iter().zip(&s.force) {
+            let local = s.rot[c.link].transpose() * *f;
+            let [n, force] = &mut self.external[c.link];
+            *n += c.point.cross(local);
+            *force += local;
+        }
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
