@@ -141,6 +141,8 @@ fn settings_of(w: &WorldSpec, d: &kea::WorldSettings) -> Result<kea::WorldSettin
         projection_iterations: w.projection_iterations,
         world_substeps: w.world_substeps,
         integrator: w.integrator.into(),
+        // Robots loaded from MJCF set it; a scene's own bodies take no contact model.
+        reduced_contacts: d.reduced_contacts,
         speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
             linear: s.linear,
             angular: s.angular,

@@ -67,6 +67,7 @@ fn ground(link: usize, q: f64, mu: f64, point: DVec3) -> TreeContact {
         normal: DVec3::Z,
         distance: q,
         friction: mu,
+        other: None,
     }
 }
 

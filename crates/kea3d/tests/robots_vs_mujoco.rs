@@ -336,6 +336,65 @@ fn gymnasium_hopper_comes_to_rest_at_mujocos_height() {
     drop_height("hopper.xml", 5.0);
 }
 
+/// Gymnasium's planar walkers (a planar root on the world: a tree in reduced coordinates),
+/// passive from the file's pose at the file's step and integrator: they stay in reduced
+/// coordinates while they touch the ground (their contacts solved in joint space by MuJoCo's
+/// soft contact model), the torso's height follows MuJoCo's within 5 cm over the first half
+/// second, and comes to rest within 1 cm of MuJoCo's.
+#[test]
+fn gymnasium_planar_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
+    let Some((_, assets)) = dirs() else { return };
+    for (name, seconds) in [
+        ("hopper.xml", 5.0),
+        ("walker2d.xml", 5.0),
+        ("half_cheetah.xml", 5.0),
+    ] {
+        let file = assets.join(name);
+        let mut world = PhysicsWorld::new();
+        let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
+        let h = robot.timestep().expect("the file's step");
+        let steps = (seconds / wide(h)).round() as usize;
+        let reference =
+            reference::run(&["collapse", file.to_str().unwrap(), &steps.to_string(), "1"]).unwrap();
+        let expected: Vec<f64> = reference["heights"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let (mut early, mut touching) = (0.0f64, 0);
+        for (k, &mujoco) in expected.iter().enumerate() {
+            let stats = world.step(h).unwrap();
+            assert_eq!(
+                stats.reduced_trees, 1,
+                "{name}, step {k}: the walker is one reduced tree"
+            );
+            let touches = world.dynamics().contacts().count() > 0;
+            touching += usize::from(touches);
+            let height = wide(robot.joint_positions(&world).unwrap()[1]);
+            if (k + 1) as f64 * wide(h) <= 0.5 {
+                early = early.max((height - mujoco).abs());
+            }
+        }
+        let height = wide(robot.joint_positions(&world).unwrap()[1]);
+        let rest = *expected.last().unwrap();
+        println!(
+            "{name}: torso height within {:.1} cm of MuJoCo's over the first 0.5 s; at rest {height:.4} m, MuJoCo {rest:.4} m; touching in {touching} of {} steps",
+            early * 100.0,
+            expected.len()
+        );
+        assert!(touching > expected.len() / 2, "{name}: it lands");
+        assert!(
+            early < 0.05,
+            "{name}: {early} m from MuJoCo in the first 0.5 s"
+        );
+        assert!(
+            (height - rest).abs() < 0.01,
+            "{name}: rests at {height}, MuJoCo {rest}"
+        );
+    }
+}
+
 /// dm_control's suite (when installed): the models without tendons load (their `<include>`s
 /// spliced in) and step; those with tendons are refused naming the element.
 #[test]

@@ -1,9 +1,10 @@
 //! Contacts of a tree's links with its base (the ground a robot stands on), in joint space, by
 //! MuJoCo's soft contact model: the tree stays in reduced coordinates while it touches.
 //!
-//! A contact is a point fixed on a link, a unit normal `n` (base frame, the way the base pushes
-//! the link) and the signed distance `r` along it at the step's start (negative: overlap). At
-//! the coordinates `q` of an evaluation the point is at `p(q)` and the distance is
+//! A contact is a point fixed on a link, a unit normal `n` (base frame, the way the base — or
+//! a second link of the tree — pushes the link) and the signed distance `r` along it at the
+//! step's start (negative: overlap). At the coordinates `q` of an evaluation the point is at
+//! `p(q)` (less the other link's point, between links) and the distance is
 //! `r + n·(p(q) − p(q₀))`. Within the model's margin the contact gives rows `J = dᵀ J_p(q)` on
 //! the rates, `J_p` the point's velocity Jacobian (`Σ_j (s_j × (p − a_j)) q̇_j` over its
 //! link's hinges from the root, `s_j q̇_j` for sliders) and `d` the edges of MuJoCo's pyramidal
@@ -11,8 +12,10 @@
 //! `f ≥ 0` joins the soft stops' problem (`soft_limits.rs`):
 //! `min ½ fᵀ (A + R) f + fᵀ (J q̈₀ − a_ref)` with `A = J H'⁻¹ Jᵀ`,
 //! `a_ref = −b J q̇ − k·imp(x)·x` at `x = r − margin`, `b = 2/(d_max τ)`,
-//! `k = 1/(d_max² τ² ζ²)` (τ at least two steps), `R = (1 − imp)/imp · A` — the soft stops'
-//! formulas with the contact's `solref`/`solimp`, solved in the same Gauss–Seidel sweeps, so a
+//! `k = 1/(d_max² τ² ζ²)` (τ at least two steps), `R = (1 − imp)/imp · A`, and on a pyramid
+//! every edge `2μ²` times its first edge's `R` (MuJoCo's match of the elliptic cone's friction
+//! impedance) — the soft stops' formulas with the contact's `solref`/`solimp`, solved in the
+//! same Gauss–Seidel sweeps, so a
 //! foot on the ground and a knee on its stop hold together. It runs inside every evaluation
 //! of the accelerations (the four stages of Runge–Kutta each), and the force a contact
 //! passes in a step is the integrator's weighted mean of its evaluations'.
@@ -38,6 +41,9 @@ pub struct TreeContact {
     pub distance: f64,
     /// Coulomb friction coefficient μ ≥ 0 (0: frictionless, the normal row alone).
     pub friction: f64,
+    /// A contact between two of the tree's links: the other link (pushed along `−normal`)
+    /// and the point on it, in its frame. `None`: the base.
+    pub other: Option<(usize, DVec3)>,
 }
 
 /// One row of a contact in the evaluation in flight: its contact and edge direction (base
@@ -100,8 +106,16 @@ impl ArticulatedTree {
                     expected,
                 })
             };
-            if c.link >= self.len() {
-                return bad("link", c.link.to_string(), "a link of the tree");
+            if c.link >= self.len() || c.other.is_some_and(|(o, _)| o >= self.len() || o == c.link)
+            {
+                return bad(
+                    "link",
+                    format!("{} / {:?}", c.link, c.other.map(|o| o.0)),
+                    "links of the tree, two different ones for a contact between links",
+                );
+            }
+            if c.other.is_some_and(|(_, p)| !p.is_finite()) {
+                return bad("point", format!("{:?}", c.other), "a finite point");
             }
             if !(c.point.is_finite() && c.distance.is_finite()) {
                 return bad(
@@ -143,7 +157,7 @@ impl ArticulatedTree {
         let s = &mut self.contact;
         s.origin.clear();
         for c in &s.contacts {
-            s.origin.push(s.pos[c.link] + s.rot[c.link] * c.point);
+            s.origin.push(separation(s, c));
         }
         s.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
         s.weight = 1.0;
@@ -189,7 +203,8 @@ impl ArticulatedTree {
             let contact = self.contact.contacts[c];
             let s = &self.contact;
             let p = s.pos[contact.link] + s.rot[contact.link] * contact.point;
-            let distance = contact.distance + contact.normal.dot(p - s.origin[c]);
+            let distance =
+                contact.distance + contact.normal.dot(separation(s, &contact) - s.origin[c]);
             if distance >= margin {
                 continue;
             }
@@ -205,20 +220,36 @@ impl ArticulatedTree {
                 n_dir - t2 * mu,
             ];
             let used = if mu > 0.0 { &edges[..] } else { &edges[..1] };
+            // MuJoCo's pyramid: every edge takes the regulariser `2μ²·R` of its first edge,
+            // which matches the elliptic cone's friction impedance; without friction, `R`.
+            let cone = if mu > 0.0 { 2.0 * mu * mu } else { 1.0 };
+            let first_row = rows.len();
             for &d in used {
                 let at = jw.len();
                 jw.resize(at + 2 * n, 0.0);
-                // J: the edge's component of the point's velocity per coordinate.
-                let mut j = Some(contact.link);
-                while let Some(l) = j {
-                    let link = &self.links[l];
-                    let axis = s.rot[l] * link.axis;
-                    let lin = match link.kind {
-                        TreeJointKind::Hinge => axis.cross(p - (s.pos[l] + s.rot[l] * link.anchor)),
-                        TreeJointKind::Slider => axis,
-                    };
-                    jw[at + l] = d.dot(lin);
-                    j = link.parent;
+                // J: the edge's component of the point's velocity per coordinate (less the
+                // other link's point's, for a contact between links).
+                let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
+                if let Some((o, point)) = contact.other {
+                    sides[1] = (o, s.pos[o] + s.rot[o] * point, -1.0);
+                }
+                for (start, at_point, sign) in sides {
+                    if sign == 0.0 {
+                        continue;
+                    }
+                    let mut j = Some(start);
+                    while let Some(l) = j {
+                        let link = &self.links[l];
+                        let axis = s.rot[l] * link.axis;
+                        let lin = match link.kind {
+                            TreeJointKind::Hinge => {
+                                axis.cross(at_point - (s.pos[l] + s.rot[l] * link.anchor))
+                            }
+                            TreeJointKind::Slider => axis,
+                        };
+                        jw[at + l] += sign * d.dot(lin);
+                        j = link.parent;
+                    }
                 }
                 let (row, w) = jw[at..at + 2 * n].split_at_mut(n);
                 w.copy_from_slice(row);
@@ -229,11 +260,15 @@ impl ArticulatedTree {
                     contact: c,
                     direction: d,
                     reference: -b * velocity - k * imp * x,
-                    regulariser: (1.0 - imp) / imp * a,
+                    regulariser: (1.0 - imp) / imp * a * cone,
                     a,
                     force: 0.0,
                     at,
                 });
+            }
+            let common = rows[first_row].regulariser;
+            for row in &mut rows[first_row..] {
+                row.regulariser = common;
             }
         }
         self.contact.jw = jw;
@@ -281,11 +316,27 @@ impl ArticulatedTree {
         self.link_frames();
         let s = &self.contact;
         for (c, f) in s.contacts.iter().zip(&s.force) {
-            let local = s.rot[c.link].transpose() * *f;
-            let [n, force] = &mut self.external[c.link];
-            *n += c.point.cross(local);
-            *force += local;
+            let mut sides = [(c.link, c.point, *f), (c.link, c.point, DVec3::ZERO)];
+            if let Some((o, point)) = c.other {
+                sides[1] = (o, point, -*f);
+            }
+            for (l, point, f) in sides {
+                let local = s.rot[l].transpose() * f;
+                let [n, force] = &mut self.external[l];
+                *n += point.cross(local);
+                *force += local;
+            }
         }
+    }
+}
+
+/// Where a contact's point on its link is from its point on the other side (the base's: the
+/// origin), base frame, at the frames in the scratch.
+fn separation(s: &ContactState, c: &TreeContact) -> DVec3 {
+    let p = s.pos[c.link] + s.rot[c.link] * c.point;
+    match c.other {
+        Some((o, point)) => p - (s.pos[o] + s.rot[o] * point),
+        None => p,
     }
 }
 

@@ -59,6 +59,16 @@ pub struct WorldSettings {
     /// `<option integrator>` sets it). The maximal-coordinate paths step semi-implicit Euler,
     /// as the guide's solver does.
     pub integrator: Integrator,
+    /// Contacts on the reduced-coordinate path (default `None`: a contact on a link sends its
+    /// tree to the maximal-coordinate paths for that step). `Some(model)`: a tree's links
+    /// touching the static world (or a disabled body) stay in reduced coordinates, their
+    /// contacts solved in joint space by MuJoCo's soft contact model with this `solref`,
+    /// `solimp` and `margin` and a pyramidal friction cone (`kea::articulation`'s contacts),
+    /// with the Euler and Runge–Kutta integrators. Only plain contacts are taken: Coulomb
+    /// friction equal both ways (or none), no restitution, own softness, adhesion, slip,
+    /// conveyor or primary direction. An MJCF file sets it to its contact parameters.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub reduced_contacts: Option<crate::SoftLimit>,
     /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     /// Off, they read zero and no clock is read: worth it for small worlds stepped many times
     /// whose statistics nobody reads (see [`crate::timing`]). Results are the same bits
@@ -82,6 +92,7 @@ impl Default for WorldSettings {
             speed_limits: SpeedLimits::default(),
             world_substeps: 1,
             integrator: Integrator::RungeKutta4,
+            reduced_contacts: None,
             step_timing: true,
         }
     }
@@ -95,6 +106,9 @@ impl WorldSettings {
         self.dem.validate()?;
         check_projection(self.projection_iterations)?;
         check_substeps(self.world_substeps)?;
+        if let Some(model) = &self.reduced_contacts {
+            model.validate()?;
+        }
         self.speed_limits.validate()
     }
 

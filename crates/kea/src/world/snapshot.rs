@@ -49,6 +49,9 @@ pub struct WorldSnapshot {
     /// Absent from snapshots made before it existed, which stepped Euler.
     #[serde(default = "euler")]
     integrator: Integrator,
+    /// The reduced path's contact model (absent in older snapshots: none).
+    #[serde(default)]
+    reduced_contacts: Option<crate::SoftLimit>,
     quarantine: Vec<QuarantineEvent>,
     /// Last step's λ (joints' warm starts, through each constraint's `last_rows`).
     lambda: Vec<Real>,
@@ -103,6 +106,7 @@ impl World {
             speed_limits: self.settings.speed_limits,
             world_substeps: self.settings.world_substeps,
             integrator: self.settings.integrator,
+            reduced_contacts: self.settings.reduced_contacts,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -150,6 +154,7 @@ impl World {
                 speed_limits: snapshot.speed_limits,
                 world_substeps: snapshot.world_substeps,
                 integrator: snapshot.integrator,
+                reduced_contacts: snapshot.reduced_contacts,
                 step_timing: true,
             },
         })?;

@@ -169,6 +169,23 @@ impl Builder<'_> {
                 geoms[h].push((link, g));
             }
         }
+        if let Some(target) = spec.total_mass {
+            // MJCF's `settotalmass`: every body's mass and inertia scaled together (those
+            // welded to the world count, as MuJoCo counts them).
+            let total: Real = (0..n)
+                .filter(|&k| l.head[k] == k)
+                .map(|k| inertial[k].mass)
+                .sum();
+            if above(total, 0.0) {
+                let s = target / total;
+                for (k, m) in inertial.iter_mut().enumerate() {
+                    if l.head[k] == k && k != 0 {
+                        m.mass *= s;
+                        m.inertia *= s;
+                    }
+                }
+            }
+        }
         Ok((inertial, geoms))
     }
 

@@ -34,6 +34,9 @@ pub(crate) struct MjcfModel {
     pub option: super::mjcf_option::MjcfOption,
     pub actuators: Vec<ActuatorSpec>,
     pub equalities: Vec<super::mjcf_equality::EqualitySpec>,
+    /// MuJoCo's soft contact parameters (`solref`, `solimp`) its geoms give, or MuJoCo's
+    /// defaults: the reduced-coordinate path's contacts follow them.
+    pub contact: kea::SoftLimit,
 }
 
 /// Top-level sections passed over: they do not change the physics.
@@ -56,6 +59,9 @@ struct Reader<'a, 'd> {
     meshes: HashMap<String, (PathBuf, Vec3)>,
     options: &'a MjcfOptions,
     spec: RobotSpec,
+    /// The first geom's contact parameters, and whether a later geom gave others.
+    contact: std::cell::Cell<Option<kea::SoftLimit>>,
+    contact_mixed: std::cell::Cell<bool>,
     _doc: std::marker::PhantomData<&'d ()>,
 }
 
@@ -104,9 +110,12 @@ pub(crate) fn parse(
         options,
         spec: RobotSpec::new(root.attribute("model").unwrap_or("model"), true),
         src,
+        contact: std::cell::Cell::new(None),
+        contact_mixed: std::cell::Cell::new(false),
         _doc: std::marker::PhantomData,
     };
     reader.spec.skipped.append(&mut skipped);
+    reader.spec.total_mass = reader.compiler.total_mass;
     reader.read_assets(root)?;
     for world in children(root, "worldbody") {
         reader.read_body_contents(world, 0, MAIN)?;
@@ -125,8 +134,15 @@ pub(crate) fn parse(
         }
     }
     let equalities = super::mjcf_equality::read(&reader.src, root, &mut reader.spec.skipped)?;
+    if reader.contact_mixed.get() {
+        reader.spec.skipped.push(format!(
+            "{}: geoms with different `solref`/`solimp`: the first geom's are used for every contact",
+            reader.src.file.display()
+        ));
+    }
     Ok(MjcfModel {
         equalities,
+        contact: reader.contact.get().unwrap_or_default(),
         spec: reader.spec,
         option,
         actuators,
@@ -320,6 +336,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             Some((f, _)) => return Err(el.error(format!("`friction` = {}: must be >= 0", f[0]))),
             None => None,
         };
+        self.read_contact_model(&el)?;
         let density = el.number("density")?;
         let mass = el.number("mass")?;
         if let Some(d) = density.filter(|d| *d < 0.0) {
@@ -547,6 +564,58 @@ impl<'a, 'd> Reader<'a, 'd> {
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
+}
+
+impl Reader<'_, '_> {
+    /// A geom's `solref` and `solimp`, kept as the model's contact parameters when they are
+    /// the first given (a later geom with others is reported).
+    fn read_contact_model(&self, el: &Element<'_>) -> Result<(), ImportError> {
+        let solref = el.numbers::<2>("solref")?;
+        let solimp = solimp(el, "solimp")?;
+        if solref.is_none() && solimp.is_none() {
+            return Ok(());
+        }
+        let mut s = kea::SoftLimit::default();
+        if let Some(r) = solref {
+            if r[0] <= 0.0 {
+                return Err(el.error(format!(
+                    "`solref` = {} {}: Kea reads MuJoCo's positive (time constant, damping ratio) form",
+                    r[0], r[1]
+                )));
+            }
+            s.solref = r;
+        }
+        if let Some(i) = solimp {
+            s.solimp = i;
+        }
+        s.validate().map_err(|e| el.error(e.to_string()))?;
+        match self.contact.get() {
+            None => self.contact.set(Some(s)),
+            Some(first) if first != s => self.contact_mixed.set(true),
+            Some(_) => {}
+        }
+        Ok(())
+    }
+}
+
+/// A `solimp`-like attribute (3 or 5 numbers), clamped into (0, 1) as MuJoCo does.
+fn solimp(el: &Element<'_>, attr: &str) -> Result<Option<[Real; 5]>, ImportError> {
+    let imp = match el.numbers::<5>(attr) {
+        Ok(v) => v,
+        Err(five) => match el.numbers::<3>(attr) {
+            Ok(v) => v.map(|[a, b, c]| [a, b, c, 0.5, 2.0]),
+            Err(_) => return Err(five),
+        },
+    };
+    Ok(imp.map(|i| {
+        [
+            i[0].clamp(1e-4, 0.9999),
+            i[1].clamp(1e-4, 0.9999),
+            i[2],
+            i[3],
+            i[4],
+        ]
+    }))
 }
 
 /// A joint's stops as MuJoCo makes them: soft, by its `solreflimit`, `solimplimit` (3 or 5

@@ -20,6 +20,8 @@ pub(crate) struct Compiler {
     /// Joints with a range but no `limited` are limited.
     pub auto_limits: bool,
     pub meshdir: Option<String>,
+    /// `settotalmass`: the model's bodies scaled to this total mass, kg.
+    pub total_mass: Option<Real>,
 }
 
 impl Compiler {
@@ -30,6 +32,7 @@ impl Compiler {
             inertia_from_geom: None,
             auto_limits: true,
             meshdir: None,
+            total_mass: None,
         };
         for node in children(root, "compiler") {
             if let Some(a) = node.attribute("angle") {
@@ -73,6 +76,10 @@ impl Compiler {
                 if a != "local" {
                     return Err(src.error(node, format!("coordinate=\"{a}\": only local coordinates are supported (MuJoCo removed global ones)")));
                 }
+            }
+            if let Some(t) = src.number(node, "settotalmass")? {
+                // MuJoCo: a non-positive value leaves the masses as they are.
+                c.total_mass = above(t, 0.0).then_some(t);
             }
             if let Some(d) = node.attribute("meshdir") {
                 c.meshdir = Some(d.to_string());

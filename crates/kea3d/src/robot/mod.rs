@@ -140,7 +140,10 @@ impl PhysicsWorld {
 
     /// Loads an MJCF model (MuJoCo's format): its `worldbody` tree, joints, geometry,
     /// defaults and actuators. Its `option` sets the world's gravity (−9.81 along z by
-    /// default) and integrator (MuJoCo's default, Euler, when it names none), and its
+    /// default) and integrator (MuJoCo's default, Euler, when it names none), its geoms'
+    /// `solref`/`solimp` the contact model of trees in reduced coordinates
+    /// ([`kea::WorldSettings::reduced_contacts`]: a robot on a fixed or planar base stays
+    /// reduced while it touches the ground), and its
     /// `timestep` is the robot's [`Robot::timestep`]; options Kea does not model are named in
     /// [`Robot::skipped`]. On error, which names the file, line and element, nothing is
     /// added.
@@ -165,11 +168,13 @@ impl PhysicsWorld {
         let model = mjcf::parse(text, path, options)?;
         let mut staged = self.clone();
         let option = model.option;
+        let contact = model.contact;
         staged
             .dynamics_mut()
             .update_settings(|s| {
                 s.gravity = option.gravity;
                 s.integrator = option.integrator;
+                s.reduced_contacts = Some(contact);
             })
             .map_err(|source| ImportError::World {
                 file: path.to_path_buf(),

@@ -272,6 +272,9 @@ pub(crate) struct RobotSpec {
     /// Geometry's `groups`/`mask` are MuJoCo's `contype`/`conaffinity` (a pair collides if
     /// either's type meets the other's affinity) rather than Kea's groups and mask.
     pub mujoco_filter: bool,
+    /// MJCF's `<compiler settotalmass>`: every moving link's mass and inertia scaled so that
+    /// they sum to this, kg.
+    pub total_mass: Option<Real>,
 }
 
 impl RobotSpec {
@@ -288,6 +291,7 @@ impl RobotSpec {
             joints: Vec::new(),
             skipped: Vec::new(),
             mujoco_filter,
+            total_mass: None,
         }
     }
 }

@@ -131,6 +131,19 @@ def drop(model_path, dt, steps, index):
     return {"height": float(d.qpos[index]), "speed": float(abs(d.qvel).max())}
 
 
+def collapse(model_path, steps, index):
+    """Passive from the file's pose at the file's step: coordinate `index` after every step."""
+    import mujoco
+    m = load(model_path)
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    heights = []
+    for _ in range(steps):
+        mujoco.mj_step(m, d)
+        heights.append(float(d.qpos[index]))
+    return {"heights": heights, "timestep": float(m.opt.timestep), "speed": float(abs(d.qvel).max())}
+
+
 def main(argv):
     if argv[0] == "paths":
         out = paths()
@@ -139,6 +152,8 @@ def main(argv):
                     numbers(argv[6]) if len(argv) > 6 else [])
     elif argv[0] == "pybullet_swing":
         out = pybullet_swing(argv[1], float(argv[2]), int(argv[3]), int(argv[4]), numbers(argv[5]))
+    elif argv[0] == "collapse":
+        out = collapse(argv[1], int(argv[2]), int(argv[3]))
     elif argv[0] == "drop":
         out = drop(argv[1], float(argv[2]), int(argv[3]), int(argv[4]))
     else:

@@ -76,8 +76,12 @@ impl World {
     /// Joins links by reducible joints into sets; anything else touching a link (a contact,
     /// another joint, a joint to a body that cannot be a link or a base) blocks it.
     fn group_links(&mut self) {
+        let takes_contacts = self.settings.reduced_contacts.is_some()
+            && self.settings.integrator != crate::Integrator::Implicit;
         let r = &mut self.scratch.reduced;
         r.sets.reset(self.bodies.slot_count());
+        r.contact_slots.clear();
+        r.pending_contacts.clear();
         for slot in 0..self.constraint_bodies.len() {
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
@@ -90,6 +94,18 @@ impl World {
             match roles {
                 [Role::Link, Role::Link] if reducible => r.sets.union(a, b),
                 [Role::Link, Role::Base] | [Role::Base, Role::Link] if reducible => {}
+                [Role::Link, Role::Base] | [Role::Base, Role::Link]
+                    if takes_contacts && self.constraints.at(slot).is_some_and(plain_contact) =>
+                {
+                    r.contact_slots.push(slot as u32);
+                }
+                // Between two links: kept if they are in one tree (known once every joint is
+                // seen).
+                [Role::Link, Role::Link]
+                    if takes_contacts && self.constraints.at(slot).is_some_and(plain_contact) =>
+                {
+                    r.pending_contacts.push(slot as u32);
+                }
                 _ => {
                     for (x, role) in [a, b].into_iter().zip(roles) {
                         if role == Role::Link {
@@ -97,6 +113,16 @@ impl World {
                         }
                     }
                 }
+            }
+        }
+        for k in 0..r.pending_contacts.len() {
+            let slot = r.pending_contacts[k] as usize;
+            let [a, b] = self.constraint_bodies[slot];
+            if r.sets.find(a) == r.sets.find(b) {
+                r.contact_slots.push(slot as u32);
+            } else {
+                r.role[a as usize] = Role::Blocked;
+                r.role[b as usize] = Role::Blocked;
             }
         }
     }
@@ -131,11 +157,14 @@ impl World {
                 continue;
             }
             match [a, b].map(|x| r.role_of(x)) {
-                [Role::Link, Role::Link] => {
+                // Joints only: a contact between links of a tree is no joint of it.
+                [Role::Link, Role::Link] if self.tree_joint_slots[slot] => {
                     let root = r.sets.find(a) as usize;
                     r.inner_joints[root] += 1;
                 }
-                [Role::Link, Role::Base] | [Role::Base, Role::Link] => {
+                [Role::Link, Role::Base] | [Role::Base, Role::Link]
+                    if self.tree_joint_slots[slot] =>
+                {
                     let link = if r.role_of(a) == Role::Link { a } else { b };
                     let root = r.sets.find(link) as usize;
                     r.base_joints[root] += 1;
@@ -153,11 +182,16 @@ impl World {
         let r = &mut self.scratch.reduced;
         r.start.clear();
         r.start.resize(n + 1, 0);
-        let linked = |r: &ReducedScratch, [a, b]: [u32; 2]| {
-            a != EMPTY && r.role_of(a) == Role::Link && r.role_of(b) == Role::Link
+        // Joints between links (a contact between two links of a tree joins nothing).
+        let joints = &self.tree_joint_slots;
+        let linked = |r: &ReducedScratch, slot: usize, [a, b]: [u32; 2]| {
+            a != EMPTY
+                && joints.get(slot) == Some(&true)
+                && r.role_of(a) == Role::Link
+                && r.role_of(b) == Role::Link
         };
-        for &pair in &self.constraint_bodies {
-            if linked(r, pair) {
+        for (slot, &pair) in self.constraint_bodies.iter().enumerate() {
+            if linked(r, slot, pair) {
                 r.start[pair[0] as usize + 1] += 1;
                 r.start[pair[1] as usize + 1] += 1;
             }
@@ -170,7 +204,7 @@ impl World {
         r.fill.clear();
         r.fill.extend_from_slice(&r.start[..n]);
         for (slot, &[a, b]) in self.constraint_bodies.iter().enumerate() {
-            if linked(r, [a, b]) {
+            if linked(r, slot, [a, b]) {
                 for (x, y) in [(a, b), (b, a)] {
                     let k = r.fill[x as usize] as usize;
                     r.adjacency[k] = (slot as u32, y);
@@ -190,6 +224,33 @@ impl ReducedScratch {
             self.role[x as usize]
         }
     }
+}
+
+/// Whether a contact of a link with a base or another link may be solved in the tree's joint
+/// space (see
+/// [`crate::WorldSettings::reduced_contacts`]): Coulomb friction equal both ways or none, and
+/// nothing else a plain contact lacks.
+fn plain_contact(e: &ConstraintEntry) -> bool {
+    use crate::constraint::{ContactType, FrictionModel};
+    let ConstraintKind::Contact(c) = &e.kind else {
+        return false;
+    };
+    let p = c.params();
+    let friction = match p.contact_type {
+        ContactType::Frictionless => true,
+        ContactType::Friction1D => false,
+        ContactType::Friction2D => matches!(
+            p.friction,
+            [FrictionModel::Coulomb { mu: a }, FrictionModel::Coulomb { mu: b }] if a == b
+        ),
+    };
+    friction
+        && p.restitution == 0.0
+        && p.softness.is_none()
+        && p.max_adhesive_force == 0.0
+        && p.slip == [0.0; 2]
+        && p.slide == [0.0; 2]
+        && c.direction().is_none()
 }
 
 /// Whether a body may be a link: dynamic, undamped, without a fast-spin axis.
