@@ -14,7 +14,8 @@ static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
 #[test]
 fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
     // A planar hopper-like root, joint dynamics and springs, actuators of every kind, stops,
-    // contacts with a floor, and world substeps: everything a robot adds to a step.
+    // contacts with a floor (in joint space: the tree stays reduced), and world substeps:
+    // everything a robot adds to a step.
     let xml = r#"<mujoco><compiler angle="degree"/>
       <default><joint armature="0.1" damping="0.5" limited="true"/></default>
       <worldbody>
@@ -64,6 +65,13 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         world.step(1.0 / 240.0).unwrap();
     });
     assert_eq!(n, 0, "{n} allocations in warm robot steps");
+    // Those steps were in reduced coordinates, with the contacts solved in joint space.
+    let stats = world.step(1.0 / 240.0).unwrap();
+    assert_eq!(stats.reduced_trees, 1, "the hopper is one reduced tree");
+    assert!(
+        world.dynamics().contacts().count() > 0,
+        "it stands on the floor"
+    );
     // The counter really counts on this thread.
     let n = allocations_in(|| drop(std::hint::black_box(vec![1u8; 64])));
     assert_eq!(n, 1, "a deliberate allocation counted {n} times");

@@ -24,8 +24,12 @@ use super::soft_limits::impedance;
 use super::{ArticulatedTree, TreeJointKind};
 use crate::error::{KeaError, KeaResult};
 use crate::math::wide;
+use crate::solver::sparse::lcp_dense::{self, Bound, LcpWorkspace, Unknowns};
 use crate::SoftLimit;
 use glam::{DMat3, DVec3};
+
+/// Pivoting iterations the exact solve of an evaluation's rows may take.
+const LCP_ITERATIONS: u32 = 50;
 
 /// A contact of one of a tree's links with its base (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,6 +80,29 @@ pub(super) struct ContactState {
     /// Each link's rotation and origin in the base's frame at the evaluation's coordinates.
     rot: Vec<DMat3>,
     pos: Vec<DVec3>,
+    /// The exact solve's system (stops' rows first, then the contacts'), and its scratch.
+    lcp: LcpSystem,
+}
+
+/// The dense LCP of an evaluation's soft rows: `(A + R) f − b ≥ 0`, `f ≥ 0`, complementary.
+#[derive(Debug, Clone, Default)]
+struct LcpSystem {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    f: Vec<f64>,
+    w: Vec<f64>,
+    state: Vec<Bound>,
+    /// Each row's `J` and `H'⁻¹Jᵀ` (`2n` numbers a row).
+    jw: Vec<f64>,
+    ws: LcpWorkspace,
+}
+
+impl PartialEq for LcpSystem {
+    fn eq(&self, _: &Self) -> bool {
+        true // scratch: no part of a tree's state
+    }
 }
 
 impl ContactState {
@@ -275,26 +302,84 @@ impl ArticulatedTree {
         self.contact.rows = rows;
     }
 
-    /// One Gauss–Seidel sweep over the contact rows, `qdd` updated as it goes; returns the
-    /// largest change of a row's acceleration.
-    pub(super) fn contact_sweep(&mut self, qdd: &mut [f64]) -> f64 {
+    /// The soft stops' and the contacts' rows solved together exactly (module docs): the
+    /// soft stops' rows (`J = ±e_i`, their `H'⁻¹` columns in `inverse`) first, then the
+    /// contacts'; `qdd` gets `H'⁻¹ Jᵀ f`.
+    pub(super) fn solve_rows_exactly(&mut self, qdd: &mut [f64]) {
         let n = self.len();
-        let s = &mut self.contact;
-        let mut largest: f64 = 0.0;
-        for row in &mut s.rows {
-            let (j, w) = s.jw[row.at..row.at + 2 * n].split_at(n);
-            let residual = dot(j, qdd) - row.reference + row.regulariser * row.force;
-            let f = (row.force - residual / (row.a + row.regulariser)).max(0.0);
-            let delta = f - row.force;
-            if delta != 0.0 {
-                row.force = f;
+        let stops = self.stop_rows();
+        let m = stops + self.contact.rows.len();
+        let mut sys = std::mem::take(&mut self.contact.lcp);
+        sys.jw.clear();
+        sys.jw.resize(2 * n * m, 0.0);
+        sys.b.clear();
+        let mut regulariser = std::mem::take(&mut sys.w);
+        regulariser.clear();
+        for r in 0..stops {
+            let (i, sign, reference, reg) = self.stop_row(r);
+            let (j, w) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
+            j[i] = sign;
+            for (k, wk) in w.iter_mut().enumerate() {
+                *wk = sign * self.inverse[k * n + i];
+            }
+            sys.b.push(reference - sign * qdd[i]);
+            regulariser.push(reg);
+        }
+        for (k, row) in self.contact.rows.iter().enumerate() {
+            let r = stops + k;
+            let src = &self.contact.jw[row.at..row.at + 2 * n];
+            sys.jw[2 * n * r..2 * n * (r + 1)].copy_from_slice(src);
+            sys.b.push(row.reference - dot(&src[..n], qdd));
+            regulariser.push(row.regulariser);
+        }
+        sys.a.clear();
+        sys.a.resize(m * m, 0.0);
+        for (r, reg) in regulariser.iter().enumerate() {
+            let jr = &sys.jw[2 * n * r..2 * n * r + n];
+            for c in 0..m {
+                let wc = &sys.jw[2 * n * c + n..2 * n * (c + 1)];
+                sys.a[r * m + c] = dot(jr, wc);
+            }
+            sys.a[r * m + r] += reg;
+        }
+        for v in [&mut sys.lo, &mut sys.f] {
+            v.clear();
+            v.resize(m, 0.0);
+        }
+        sys.hi.clear();
+        sys.hi.resize(m, f64::INFINITY);
+        regulariser.clear();
+        regulariser.resize(m, 0.0);
+        sys.w = regulariser;
+        sys.state.clear();
+        sys.state.resize(m, Bound::Lower);
+        let mut u = Unknowns {
+            lo: &mut sys.lo,
+            hi: &mut sys.hi,
+            x: &mut sys.f,
+            w: &mut sys.w,
+            state: &mut sys.state,
+        };
+        lcp_dense::solve(m, (&sys.a, &sys.b), &mut u, &mut sys.ws, LCP_ITERATIONS);
+        for r in 0..m {
+            let f = if sys.f[r].is_finite() {
+                sys.f[r].max(0.0)
+            } else {
+                0.0
+            };
+            if f != 0.0 {
+                let w = &sys.jw[2 * n * r + n..2 * n * (r + 1)];
                 for (acc, wk) in qdd.iter_mut().zip(w) {
-                    *acc += wk * delta;
+                    *acc += wk * f;
                 }
-                largest = largest.max((delta * row.a).abs());
+            }
+            if r < stops {
+                self.set_stop_force(r, f);
+            } else {
+                self.contact.rows[r - stops].force = f;
             }
         }
-        largest
+        self.contact.lcp = sys;
     }
 
     /// Adds the evaluation's contact forces, at its weight, to the step's mean.

@@ -78,6 +78,13 @@ impl ArticulatedTree {
             let row = &mut self.soft_rows[r];
             row.regulariser *= self.inverse[j * n + j];
         }
+        if !self.contact.rows.is_empty() {
+            // With contacts the rows couple strongly (a pyramid's edges share a point): one
+            // exact solve of the small LCP instead of sweeps.
+            self.solve_rows_exactly(qdd);
+            self.record_contact_forces();
+            return;
+        }
         for _sweep in 0..100 {
             let mut largest: f64 = 0.0;
             for r in 0..self.soft_rows.len() {
@@ -95,11 +102,25 @@ impl ArticulatedTree {
                     largest = largest.max((delta * a).abs());
                 }
             }
-            largest = largest.max(self.contact_sweep(qdd));
             if largest < 1e-13 {
                 break;
             }
         }
-        self.record_contact_forces();
+    }
+
+    /// The soft stops' row `r`: its coordinate, direction, reference, regulariser, and force.
+    pub(super) fn stop_row(&self, r: usize) -> (usize, f64, f64, f64) {
+        let row = &self.soft_rows[r];
+        (row.coordinate, row.sign, row.reference, row.regulariser)
+    }
+
+    /// Sets the soft stops' row `r`'s force.
+    pub(super) fn set_stop_force(&mut self, r: usize, force: f64) {
+        self.soft_rows[r].force = force;
+    }
+
+    /// The soft stops' rows this evaluation.
+    pub(super) fn stop_rows(&self) -> usize {
+        self.soft_rows.len()
     }
 }

@@ -98,8 +98,9 @@ pub struct Routing {
     /// joint, touched by nothing else, stepped in its joint coordinates (exact for the tree,
     /// no joint error at all; `kea::articulation`) instead of as bodies held by rows. Its
     /// stops must be hard without restitution, its servos uncapped, its joints unbreakable
-    /// and its bodies undamped; anything else, or a contact on a link, sends the tree to the
-    /// other paths for that step. Default 32; 0 never. The forced modes never reduce.
+    /// and its bodies undamped; anything else, or a contact on a link (unless
+    /// [`crate::WorldSettings::reduced_contacts`] takes it into joint space), sends the tree
+    /// to the other paths for that step. Default 32; 0 never. The forced modes never reduce.
     pub max_reduced_links: u32,
 }
 

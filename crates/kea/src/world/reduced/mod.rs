@@ -10,8 +10,12 @@
 //! breakable and none with its own γ; at most `max_reduced_links` coordinates (a ball joint
 //! counts three); exactly one of those
 //! joints holds the tree to the static world or a disabled body, and the joints make no loop;
-//! and nothing else touches its bodies — no contact, no other joint (`qualify.rs`). A tree that
-//! stops qualifying (a link touches something) goes to the maximal path in the same step.
+//! and nothing else touches its bodies — no other joint, and no contact unless the world's
+//! [`crate::WorldSettings::reduced_contacts`] is set and the contact is plain and between a
+//! link and a base or two links of the tree (`qualify.rs`): those are solved in the tree's
+//! joint space (`crate::articulation`'s contacts, MuJoCo's soft model), their forces written
+//! back to the contacts and counted in the joints' reactions. A tree that stops qualifying
+//! (a link touches something else) goes to the maximal path in the same step.
 //!
 //! The tree is built (`build.rs`) from the bodies and joints where they are: coordinates
 //! measured from there, each link's frame put where its joint holds it (a drift off the joint
