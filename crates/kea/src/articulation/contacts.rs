@@ -52,7 +52,7 @@ pub struct TreeContact {
 
 /// One row of a contact in the evaluation in flight: its contact and edge direction (base
 /// frame), MuJoCo's reference acceleration and regulariser, `A`'s diagonal entry, the force,
-/// and where its `J` and `H'⁻¹Jᵀ` sit in the scratch (`2n` numbers from `at`).
+/// and where its `J` and `L⁻ᵀJᵀ` sit in the scratch (`2n` numbers from `at`, `H' = LᵀL`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct ContactRow {
     contact: usize,
@@ -94,8 +94,9 @@ struct LcpSystem {
     f: Vec<f64>,
     w: Vec<f64>,
     state: Vec<Bound>,
-    /// Each row's `J` and `H'⁻¹Jᵀ` (`2n` numbers a row).
+    /// Each row's `J` and `L⁻ᵀJᵀ` (`2n` numbers a row), and `Jᵀ f`.
     jw: Vec<f64>,
+    push: Vec<f64>,
     ws: LcpWorkspace,
 }
 
@@ -206,7 +207,7 @@ impl ArticulatedTree {
     }
 
     /// The rows of the contacts within their margin at `q`, `qd` (module docs), with their
-    /// `J` and `H'⁻¹Jᵀ`; the factor of `H'` must be in `h`.
+    /// `J` and `L⁻ᵀJᵀ`; the factor of `H'` must be in `h`.
     pub(super) fn contact_rows(&mut self, q: &[f64], qd: &[f64], step: f64) {
         self.contact.rows.clear();
         if self.contact.is_empty() {
@@ -278,10 +279,10 @@ impl ArticulatedTree {
                         j = link.parent;
                     }
                 }
-                let (row, w) = jw[at..at + 2 * n].split_at_mut(n);
-                w.copy_from_slice(row);
-                self.solve_h(w);
-                let a = dot(row, w);
+                let (row, y) = jw[at..at + 2 * n].split_at_mut(n);
+                y.copy_from_slice(row);
+                self.half_solve_h(y);
+                let a = dot(y, y);
                 let velocity = dot(row, qd);
                 rows.push(ContactRow {
                     contact: c,
@@ -317,11 +318,10 @@ impl ArticulatedTree {
         regulariser.clear();
         for r in 0..stops {
             let (i, sign, reference, reg) = self.stop_row(r);
-            let (j, w) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
+            let (j, y) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
             j[i] = sign;
-            for (k, wk) in w.iter_mut().enumerate() {
-                *wk = sign * self.inverse[k * n + i];
-            }
+            y[i] = sign;
+            self.half_solve_h(y);
             sys.b.push(reference - sign * qdd[i]);
             regulariser.push(reg);
         }
@@ -334,11 +334,14 @@ impl ArticulatedTree {
         }
         sys.a.clear();
         sys.a.resize(m * m, 0.0);
+        // A = J H'⁻¹ Jᵀ = (L⁻ᵀJᵀ)ᵀ(L⁻ᵀJᵀ): symmetric by construction.
         for (r, reg) in regulariser.iter().enumerate() {
-            let jr = &sys.jw[2 * n * r..2 * n * r + n];
-            for c in 0..m {
-                let wc = &sys.jw[2 * n * c + n..2 * n * (c + 1)];
-                sys.a[r * m + c] = dot(jr, wc);
+            let yr = &sys.jw[2 * n * r + n..2 * n * (r + 1)];
+            for c in 0..=r {
+                let yc = &sys.jw[2 * n * c + n..2 * n * (c + 1)];
+                let v = dot(yr, yc);
+                sys.a[r * m + c] = v;
+                sys.a[c * m + r] = v;
             }
             sys.a[r * m + r] += reg;
         }
@@ -361,16 +364,15 @@ impl ArticulatedTree {
             state: &mut sys.state,
         };
         lcp_dense::solve(m, (&sys.a, &sys.b), &mut u, &mut sys.ws, LCP_ITERATIONS);
+        // q̈ += H'⁻¹ Jᵀ f: one solve for all rows.
+        sys.push.clear();
+        sys.push.resize(n, 0.0);
         for r in 0..m {
-            let f = if sys.f[r].is_finite() {
-                sys.f[r].max(0.0)
-            } else {
-                0.0
-            };
+            let f = if sys.f[r].is_finite() { sys.f[r].max(0.0) } else { 0.0 };
             if f != 0.0 {
-                let w = &sys.jw[2 * n * r + n..2 * n * (r + 1)];
-                for (acc, wk) in qdd.iter_mut().zip(w) {
-                    *acc += wk * f;
+                let j = &sys.jw[2 * n * r..2 * n * r + n];
+                for (p, jk) in sys.push.iter_mut().zip(j) {
+                    *p += jk * f;
                 }
             }
             if r < stops {
@@ -378,6 +380,10 @@ impl ArticulatedTree {
             } else {
                 self.contact.rows[r - stops].force = f;
             }
+        }
+        self.solve_h(&mut sys.push);
+        for (acc, p) in qdd.iter_mut().zip(&sys.push) {
+            *acc += p;
         }
         self.contact.lcp = sys;
     }

@@ -247,6 +247,13 @@ impl ArticulatedTree {
         let links = &self.links;
         joint_space::solve(&self.h, self.len(), |k| links[k].parent, b);
     }
+
+    /// `b ← L⁻ᵀ b` with `H' = Lᵀ L` (the factor in `h`): for rows `J`, `J H'⁻¹ Jᵀ` is the
+    /// Gram matrix of their halves.
+    pub(super) fn half_solve_h(&self, b: &mut [f64]) {
+        let links = &self.links;
+        joint_space::solve_transposed(&self.h, self.len(), |k| links[k].parent, b);
+    }
 }
 
 /// Solves `A x = b` for a general `A` (row-major, overwritten by its LU factors) by Gaussian

@@ -50,7 +50,18 @@ pub(crate) fn factor(
 
 /// Solves `Lᵀ L x = b` with the factor [`factor`] left in `l`; `b` is overwritten by `x`.
 pub(crate) fn solve(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
-    // Lᵀ y = b, leaf to root.
+    solve_transposed(l, n, &parent, b);
+    solve_factor(l, n, &parent, b);
+}
+
+/// The first half of [`solve`]: `Lᵀ y = b`, leaf to root, `b` becoming `y` (so that
+/// `bᵀ (LᵀL)⁻¹ c` is the dot of the two halves).
+pub(crate) fn solve_transposed(
+    l: &[f64],
+    n: usize,
+    parent: impl Fn(usize) -> Option<usize>,
+    b: &mut [f64],
+) {
     for k in (0..n).rev() {
         b[k] /= l[k * n + k];
         let mut i = parent(k);
@@ -59,7 +70,10 @@ pub(crate) fn solve(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>
             i = parent(a);
         }
     }
-    // L x = y, root to leaf.
+}
+
+/// The second half of [`solve`]: `L x = y`, root to leaf, `b` becoming `x`.
+fn solve_factor(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
     for k in 0..n {
         let mut i = parent(k);
         while let Some(a) = i {
