@@ -189,6 +189,7 @@ impl ArticulatedTree {
         }
         s.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
         s.weight = 1.0;
+        s.lcp.state.clear();
     }
 
     /// Each link's rotation and origin in the base's frame from the placements `place` left.
@@ -354,8 +355,12 @@ impl ArticulatedTree {
         regulariser.clear();
         regulariser.resize(m, 0.0);
         sys.w = regulariser;
-        sys.state.clear();
-        sys.state.resize(m, Bound::Lower);
+        // The last evaluation's sets in this step are the guess when the rows are alike (the
+        // stages of Runge-Kutta); a step starts from every row at rest.
+        if sys.state.len() != m {
+            sys.state.clear();
+            sys.state.resize(m, Bound::Lower);
+        }
         let mut u = Unknowns {
             lo: &mut sys.lo,
             hi: &mut sys.hi,
