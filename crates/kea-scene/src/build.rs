@@ -143,6 +143,7 @@ fn settings_of(w: &WorldSpec, d: &kea::WorldSettings) -> Result<kea::WorldSettin
         integrator: w.integrator.into(),
         // Robots loaded from MJCF set it; a scene's own bodies take no contact model.
         reduced_contacts: d.reduced_contacts,
+        reduced_free_trees: d.reduced_free_trees,
         speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
             linear: s.linear,
             angular: s.angular,

@@ -336,26 +336,44 @@ fn gymnasium_hopper_comes_to_rest_at_mujocos_height() {
     drop_height("hopper.xml", 5.0);
 }
 
-/// Gymnasium's planar walkers (a planar root on the world: a tree in reduced coordinates),
-/// passive from the file's pose at the file's step and integrator: they stay in reduced
-/// coordinates while they touch the ground (their contacts solved in joint space by MuJoCo's
-/// soft contact model), the torso's height follows MuJoCo's within 5 cm over the first half
-/// second, and comes to rest within 1 cm of MuJoCo's.
+/// Gymnasium's walkers — planar roots on the world (hopper, walker2d, half_cheetah) and a
+/// free one (ant): trees in reduced coordinates — passive from the file's pose at the file's
+/// step and integrator: they stay in reduced coordinates while they touch the ground (their
+/// contacts solved in joint space by MuJoCo's soft contact model), the torso's height
+/// follows MuJoCo's within 5 cm over the first half second, and comes to rest within 1 cm of
+/// MuJoCo's.
 #[test]
-fn gymnasium_planar_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
+fn gymnasium_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
     let Some((_, assets)) = dirs() else { return };
     for (name, seconds) in [
         ("hopper.xml", 5.0),
         ("walker2d.xml", 5.0),
         ("half_cheetah.xml", 5.0),
+        // MuJoCo's ant creeps down on its soft contacts until its ankles reach their stops
+        // (at 10 s at 1 ms steps, later at its file's 10 ms; Kea's is there by 3 s: its
+        // contacts' regulariser is their present Delassus diagonal, MuJoCo's its bodies' mean
+        // inverse weight at the model's pose). Its rest is compared in
+        // `gymnasium_ant_comes_to_rest_at_mujocos_height`.
+        ("ant.xml", 5.0),
     ] {
         let file = assets.join(name);
         let mut world = PhysicsWorld::new();
         let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
         let h = robot.timestep().expect("the file's step");
         let steps = (seconds / wide(h)).round() as usize;
-        let reference =
-            reference::run(&["collapse", file.to_str().unwrap(), &steps.to_string(), "1"]).unwrap();
+        // The torso's height: a free root's z, a planar root's second slide.
+        let index = if robot.joints()[0].kind == kea3d::robot::JointType::Free {
+            2
+        } else {
+            1
+        };
+        let reference = reference::run(&[
+            "collapse",
+            file.to_str().unwrap(),
+            &steps.to_string(),
+            &index.to_string(),
+        ])
+        .unwrap();
         let expected: Vec<f64> = reference["heights"]
             .as_array()
             .unwrap()
@@ -371,12 +389,12 @@ fn gymnasium_planar_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
             );
             let touches = world.dynamics().contacts().count() > 0;
             touching += usize::from(touches);
-            let height = wide(robot.joint_positions(&world).unwrap()[1]);
+            let height = wide(robot.joint_positions(&world).unwrap()[index]);
             if (k + 1) as f64 * wide(h) <= 0.5 {
                 early = early.max((height - mujoco).abs());
             }
         }
-        let height = wide(robot.joint_positions(&world).unwrap()[1]);
+        let height = wide(robot.joint_positions(&world).unwrap()[index]);
         let rest = *expected.last().unwrap();
         println!(
             "{name}: torso height within {:.1} cm of MuJoCo's over the first 0.5 s; at rest {height:.4} m, MuJoCo {rest:.4} m; touching in {touching} of {} steps",
@@ -388,10 +406,14 @@ fn gymnasium_planar_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
             early < 0.05,
             "{name}: {early} m from MuJoCo in the first 0.5 s"
         );
-        assert!(
-            (height - rest).abs() < 0.01,
-            "{name}: rests at {height}, MuJoCo {rest}"
-        );
+        if reference["speed"].as_f64().unwrap() < 1e-3 {
+            assert!(
+                (height - rest).abs() < 0.01,
+                "{name}: rests at {height}, MuJoCo {rest}"
+            );
+        } else {
+            println!("{name}: MuJoCo still moves at the end: its rest is compared elsewhere");
+        }
     }
 }
 

@@ -373,7 +373,11 @@ impl ArticulatedTree {
         sys.push.clear();
         sys.push.resize(n, 0.0);
         for r in 0..m {
-            let f = if sys.f[r].is_finite() { sys.f[r].max(0.0) } else { 0.0 };
+            let f = if sys.f[r].is_finite() {
+                sys.f[r].max(0.0)
+            } else {
+                0.0
+            };
             if f != 0.0 {
                 let j = &sys.jw[2 * n * r..2 * n * r + n];
                 for (p, jk) in sys.push.iter_mut().zip(j) {

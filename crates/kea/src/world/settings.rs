@@ -69,6 +69,13 @@ pub struct WorldSettings {
     /// conveyor or primary direction. An MJCF file sets it to its contact parameters.
     #[cfg_attr(feature = "serde", serde(default))]
     pub reduced_contacts: Option<crate::SoftLimit>,
+    /// Trees with a free (floating) root on the reduced-coordinate path (default false): a
+    /// set of bodies joined by a tree's joints and held to nothing (a legged robot, a
+    /// satellite with arms) is stepped in joint coordinates, its root's six (three travels
+    /// along the world's axes, three turns about its own axes, their chart centred each step)
+    /// first. An MJCF file whose root has a free joint sets it.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub reduced_free_trees: bool,
     /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     /// Off, they read zero and no clock is read: worth it for small worlds stepped many times
     /// whose statistics nobody reads (see [`crate::timing`]). Results are the same bits
@@ -93,6 +100,7 @@ impl Default for WorldSettings {
             world_substeps: 1,
             integrator: Integrator::RungeKutta4,
             reduced_contacts: None,
+            reduced_free_trees: false,
             step_timing: true,
         }
     }

@@ -52,6 +52,9 @@ pub struct WorldSnapshot {
     /// The reduced path's contact model (absent in older snapshots: none).
     #[serde(default)]
     reduced_contacts: Option<crate::SoftLimit>,
+    /// Whether floating trees are reduced (absent in older snapshots: no).
+    #[serde(default)]
+    reduced_free_trees: bool,
     quarantine: Vec<QuarantineEvent>,
     /// Last step's λ (joints' warm starts, through each constraint's `last_rows`).
     lambda: Vec<Real>,
@@ -107,6 +110,7 @@ impl World {
             world_substeps: self.settings.world_substeps,
             integrator: self.settings.integrator,
             reduced_contacts: self.settings.reduced_contacts,
+            reduced_free_trees: self.settings.reduced_free_trees,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -155,6 +159,7 @@ impl World {
                 world_substeps: snapshot.world_substeps,
                 integrator: snapshot.integrator,
                 reduced_contacts: snapshot.reduced_contacts,
+                reduced_free_trees: snapshot.reduced_free_trees,
                 step_timing: true,
             },
         })?;

@@ -143,7 +143,8 @@ impl PhysicsWorld {
     /// default) and integrator (MuJoCo's default, Euler, when it names none), its geoms'
     /// `solref`/`solimp` the contact model of trees in reduced coordinates
     /// ([`kea::WorldSettings::reduced_contacts`]: a robot on a fixed or planar base stays
-    /// reduced while it touches the ground), and its
+    /// reduced while it touches the ground), floating roots reduced too
+    /// ([`kea::WorldSettings::reduced_free_trees`]), and its
     /// `timestep` is the robot's [`Robot::timestep`]; options Kea does not model are named in
     /// [`Robot::skipped`]. On error, which names the file, line and element, nothing is
     /// added.
@@ -175,6 +176,7 @@ impl PhysicsWorld {
                 s.gravity = option.gravity;
                 s.integrator = option.integrator;
                 s.reduced_contacts = Some(contact);
+                s.reduced_free_trees = true;
             })
             .map_err(|source| ImportError::World {
                 file: path.to_path_buf(),

@@ -5,7 +5,7 @@
 use super::convert::{d3, dm, dq};
 use super::frames::{joint_frame, planar_frame, seen_from};
 use super::qualify::Role;
-use super::{CachedTree, LinkPlan};
+use super::{CachedTree, LinkPlan, FREE_ROOT};
 use crate::articulation::{TreeJointKind, TreeLink};
 use crate::body::Body;
 use crate::constraint::{Actuator, Limit, RowBody, RowContext};
@@ -41,6 +41,14 @@ impl World {
         cache.rebuilt_each_step = false;
         for p in plan {
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            if p.free {
+                cache.rebuilt_each_step = true;
+                cache.first_link.push(cache.building.len());
+                free_root(b, &mut cache.building, &mut cache.qd);
+                cache.kick.push((DVec3::ZERO, DVec3::ZERO));
+                cache.link_of.push(cache.building.len() - 1);
+                continue;
+            }
             // The parent's frame: its body's, or the world's for the root.
             let parent_body = p.parent.map(|k| {
                 bodies
@@ -140,7 +148,11 @@ impl World {
             .refill(cache.building.iter().copied(), d3(self.settings.gravity));
         cache.q.clear();
         cache.q.resize(n, 0.0);
-        cache.base_joint = self.scratch.reduced.base_joint[root as usize];
+        cache.base_joint = if plan[0].free {
+            FREE_ROOT
+        } else {
+            self.scratch.reduced.base_joint[root as usize]
+        };
         cache.revision = self.joint_revision;
         true
     }
@@ -149,13 +161,29 @@ impl World {
     /// measuring each joint.
     fn plan_tree(&self, root: u32, plan: &mut Vec<LinkPlan>) -> bool {
         let r = &self.scratch.reduced;
-        let base_joint = r.base_joint[root as usize];
-        let [a, b] = self.constraint_bodies[base_joint as usize];
-        let first = if r.role_of(a) == Role::Link { a } else { b };
-        debug_assert!(first != NO_BODY);
         plan.clear();
-        let Some(link) = self.measure(first, base_joint, None) else {
-            return false;
+        let link = if r.base_joints[root as usize] == 0 {
+            // Floating: the set's first body is the root, free.
+            LinkPlan {
+                body: r.root_body[root as usize],
+                joint: FREE_ROOT,
+                parent: None,
+                sign: 1.0,
+                at: 0.0,
+                rate: 0.0,
+                ball: false,
+                planar: None,
+                free: true,
+            }
+        } else {
+            let base_joint = r.base_joint[root as usize];
+            let [a, b] = self.constraint_bodies[base_joint as usize];
+            let first = if r.role_of(a) == Role::Link { a } else { b };
+            debug_assert!(first != NO_BODY);
+            let Some(link) = self.measure(first, base_joint, None) else {
+                return false;
+            };
+            link
         };
         plan.push(link);
         let mut k = 0;
@@ -230,8 +258,65 @@ impl World {
             rate: wide(rate),
             ball,
             planar,
+            free: false,
         })
     }
+}
+
+/// A floating root's six links: travels along the world's x, y and z (massless, the first
+/// from the body's place), then turns about the body's own x, y and z through its centre (the
+/// last carrying the body), their chart centred on its present turn; rates its velocity and
+/// its spin in its own axes.
+fn free_root(b: &Body, links: &mut Vec<TreeLink>, qd: &mut Vec<f64>) {
+    let first = links.len();
+    let massless = TreeLink {
+        parent: None,
+        kind: TreeJointKind::Slider,
+        origin: (d3(b.position), DQuat::IDENTITY),
+        axis: DVec3::X,
+        anchor: DVec3::ZERO,
+        mass: 0.0,
+        com: DVec3::ZERO,
+        inertia: DMat3::ZERO,
+        ..TreeLink::default()
+    };
+    let at = |k: usize| (DVec3::ZERO, DQuat::IDENTITY, Some(first + k));
+    links.push(massless);
+    for (k, axis) in [(0, DVec3::Y), (1, DVec3::Z)] {
+        let (t, r, parent) = at(k);
+        links.push(TreeLink {
+            parent,
+            origin: (t, r),
+            axis,
+            ..massless
+        });
+    }
+    links.push(TreeLink {
+        parent: Some(first + 2),
+        kind: TreeJointKind::Hinge,
+        origin: (DVec3::ZERO, dq(b.orientation)),
+        axis: DVec3::X,
+        ..massless
+    });
+    links.push(TreeLink {
+        parent: Some(first + 3),
+        kind: TreeJointKind::Hinge,
+        origin: (DVec3::ZERO, DQuat::IDENTITY),
+        axis: DVec3::Y,
+        ..massless
+    });
+    links.push(TreeLink {
+        parent: Some(first + 4),
+        kind: TreeJointKind::Hinge,
+        origin: (DVec3::ZERO, DQuat::IDENTITY),
+        axis: DVec3::Z,
+        mass: wide(b.mass),
+        inertia: dm(b.inertia),
+        ..massless
+    });
+    let spin = dq(b.orientation).inverse() * d3(b.angular_velocity);
+    let v = d3(b.linear_velocity);
+    qd.extend([v.x, v.y, v.z, spin.x, spin.y, spin.z]);
 }
 
 /// The joint's tracked coordinate: a hinge's angle, a slider's travel (a ball joint has none).

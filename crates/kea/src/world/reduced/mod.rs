@@ -75,7 +75,14 @@ struct LinkPlan {
     /// its first travel's, these its second travel's and its turn's (value, rate, value, rate).
     #[cfg_attr(feature = "serde", serde(default))]
     planar: Option<[f64; 4]>,
+    /// A floating tree's root: no joint (`joint` is [`FREE_ROOT`]); six coordinates, three
+    /// travels and three turns, before its link.
+    #[cfg_attr(feature = "serde", serde(default))]
+    free: bool,
 }
+
+/// The joint slot a floating tree's root plan names: none.
+const FREE_ROOT: u32 = u32::MAX;
 
 /// What a step left in a link's body and joint: a kept tree is stepped again only while its
 /// bodies and joints still read so.
@@ -175,6 +182,8 @@ pub(super) struct ReducedScratch {
     contact_slots: Vec<u32>,
     /// Contacts between two links, kept once both are known to be in one tree.
     pending_contacts: Vec<u32>,
+    /// Per set root, its first body: a floating tree's root link.
+    root_body: Vec<u32>,
     /// Per body slot, the tree link that carries it while its tree's contacts are gathered.
     link_body: Vec<u32>,
     /// The tree in flight's contacts, where each came from, and the force on each link.
@@ -300,9 +309,17 @@ impl World {
     /// The kept tree for set `root`, built again unless its bodies and joints read as the
     /// last step left them.
     fn kept_tree(&mut self, root: u32, adjacency_ready: &mut bool) -> Option<usize> {
-        let base_joint = self.scratch.reduced.base_joint[root as usize];
+        let floating = self.scratch.reduced.base_joints[root as usize] == 0;
+        let base_joint = if floating {
+            FREE_ROOT
+        } else {
+            self.scratch.reduced.base_joint[root as usize]
+        };
         let r = &self.scratch.reduced;
-        let kept = r.tree_of.get(base_joint as usize).map(|&i| i as usize);
+        // A floating tree is built again every step (its root's chart centred): never kept.
+        let kept = (!floating)
+            .then(|| r.tree_of.get(base_joint as usize).map(|&i| i as usize))
+            .flatten();
         if let Some(i) = kept.filter(|&i| {
             r.trees.get(i).is_some_and(|t| {
                 t.base_joint == base_joint && t.revision == self.joint_revision && self.untouched(t)
@@ -331,12 +348,15 @@ impl World {
             r.trees[index].revision = 0;
             return None;
         }
+        r.trees[index].marks.clear();
+        if floating {
+            return Some(index);
+        }
         if r.tree_of.len() <= base_joint as usize {
             r.tree_of
                 .resize(self.constraint_bodies.len().max(base_joint as usize + 1), 0);
         }
         r.tree_of[base_joint as usize] = index as u32;
-        r.trees[index].marks.clear();
         Some(index)
     }
 
@@ -375,6 +395,17 @@ impl World {
         r.tau.resize(t.tree.len(), 0.0);
         for (k, p) in t.plan.iter().enumerate() {
             let link = t.link_of[k];
+            let b = bodies.at(p.body as usize).expect("planned bodies are live");
+            let turn = dq(b.orientation).inverse();
+            if t.tree
+                .set_external(link, turn * d3(b.torque), turn * d3(b.force))
+                .is_err()
+            {
+                return false;
+            }
+            if p.free {
+                continue; // a floating root: no joint to drive
+            }
             let entry = constraints
                 .at(p.joint as usize)
                 .expect("planned joints are live");
@@ -393,14 +424,6 @@ impl World {
                 }
             } else if !p.ball {
                 r.tau[link] = drive(limit_of(entry), p, t.tree.link_mut(link));
-            }
-            let b = bodies.at(p.body as usize).expect("planned bodies are live");
-            let turn = dq(b.orientation).inverse();
-            if t.tree
-                .set_external(link, turn * d3(b.torque), turn * d3(b.force))
-                .is_err()
-            {
-                return false;
             }
         }
         let model = self.settings.reduced_contacts.unwrap_or_default();
@@ -502,6 +525,9 @@ impl World {
             if let Some(parent) = p.parent {
                 t.subtree[parent as usize] += sum;
             }
+            if p.free {
+                continue; // no joint holds a floating root
+            }
             let [n, _] = with_kick(t, k, b, h64);
             let f = dq(b.orientation).inverse() * sum;
             let parent = p
@@ -579,7 +605,9 @@ impl World {
                     e.last_rows = None;
                     e.reaction = x.reaction;
                 }
-                self.scratch.written.push(x.joint);
+                if x.joint != FREE_ROOT {
+                    self.scratch.written.push(x.joint);
+                }
             }
             t.stepped = false;
         }

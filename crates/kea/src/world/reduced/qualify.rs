@@ -28,14 +28,18 @@ impl World {
         self.classify_bodies();
         self.group_links();
         self.count_sets();
+        let floating = self.settings.reduced_free_trees;
         let r = &mut self.scratch.reduced;
         r.roots.clear();
         for slot in 0..r.links.len() as u32 {
             let i = slot as usize;
+            // Held to a base by one joint, or (floating) by none, with a joint at least.
+            let held =
+                r.base_joints[i] == 1 || (floating && r.base_joints[i] == 0 && r.links[i] > 1);
             let qualifies = r.links[i] > 0
                 && r.sets.find(slot) == slot
                 && !r.set_blocked[i]
-                && r.base_joints[i] == 1
+                && held
                 && r.inner_joints[i] + 1 == r.links[i]
                 && r.links[i] <= limit;
             if qualifies {
@@ -141,12 +145,18 @@ impl World {
             v.clear();
             v.resize(n, 0);
         }
+        // A floating set's root: its first body (an importer's root link, made first).
+        r.root_body.clear();
+        r.root_body.resize(n, u32::MAX);
         r.set_blocked.clear();
         r.set_blocked.resize(n, false);
         for slot in 0..n {
             let root = r.sets.find(slot as u32) as usize;
             match r.role[slot] {
-                Role::Link => r.links[root] += 1,
+                Role::Link => {
+                    r.links[root] += 1;
+                    r.root_body[root] = r.root_body[root].min(slot as u32);
+                }
                 Role::Blocked => r.set_blocked[root] = true,
                 Role::Base => {}
             }
