@@ -282,7 +282,11 @@ impl ArticulatedTree {
                 }
                 let (row, y) = jw[at..at + 2 * n].split_at_mut(n);
                 y.copy_from_slice(row);
-                self.half_solve_h(y);
+                if contact.other.is_some() {
+                    self.half_solve_h(y);
+                } else {
+                    self.half_solve_h_path(contact.link, y);
+                }
                 let a = dot(y, y);
                 let velocity = dot(row, qd);
                 rows.push(ContactRow {
@@ -322,9 +326,10 @@ impl ArticulatedTree {
             let (j, y) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
             j[i] = sign;
             y[i] = sign;
-            self.half_solve_h(y);
+            self.half_solve_h_path(i, y);
             sys.b.push(reference - sign * qdd[i]);
-            regulariser.push(reg);
+            // MuJoCo's regulariser scales with the row's own `[H'⁻¹]ᵢᵢ = |L⁻ᵀeᵢ|²`.
+            regulariser.push(reg * dot(y, y));
         }
         for (k, row) in self.contact.rows.iter().enumerate() {
             let r = stops + k;

@@ -254,6 +254,13 @@ impl ArticulatedTree {
         let links = &self.links;
         joint_space::solve_transposed(&self.h, self.len(), |k| links[k].parent, b);
     }
+
+    /// [`Self::half_solve_h`] for a `b` that is zero off the path from link `leaf` to the
+    /// root (one link's point Jacobian): only the path is visited.
+    pub(super) fn half_solve_h_path(&self, leaf: usize, b: &mut [f64]) {
+        let links = &self.links;
+        joint_space::solve_transposed_path(&self.h, self.len(), |k| links[k].parent, leaf, b);
+    }
 }
 
 /// Solves `A x = b` for a general `A` (row-major, overwritten by its LU factors) by Gaussian

@@ -71,19 +71,19 @@ impl ArticulatedTree {
         if self.soft_rows.is_empty() && self.contact.rows.is_empty() {
             return;
         }
-        // The columns of H'⁻¹ the rows act through.
-        for r in 0..self.soft_rows.len() {
-            let j = self.soft_rows[r].coordinate;
-            self.inverse_column(j);
-            let row = &mut self.soft_rows[r];
-            row.regulariser *= self.inverse[j * n + j];
-        }
         if !self.contact.rows.is_empty() {
             // With contacts the rows couple strongly (a pyramid's edges share a point): one
             // exact solve of the small LCP instead of sweeps.
             self.solve_rows_exactly(qdd);
             self.record_contact_forces();
             return;
+        }
+        // The columns of H'⁻¹ the rows act through.
+        for r in 0..self.soft_rows.len() {
+            let j = self.soft_rows[r].coordinate;
+            self.inverse_column(j);
+            let row = &mut self.soft_rows[r];
+            row.regulariser *= self.inverse[j * n + j];
         }
         for _sweep in 0..100 {
             let mut largest: f64 = 0.0;
@@ -108,7 +108,8 @@ impl ArticulatedTree {
         }
     }
 
-    /// The soft stops' row `r`: its coordinate, direction, reference, regulariser, and force.
+    /// The soft stops' row `r`: its coordinate, direction, reference, and regulariser relative
+    /// to its `[H'⁻¹]ᵢᵢ`.
     pub(super) fn stop_row(&self, r: usize) -> (usize, f64, f64, f64) {
         let row = &self.soft_rows[r];
         (row.coordinate, row.sign, row.reference, row.regulariser)

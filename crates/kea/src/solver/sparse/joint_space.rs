@@ -72,6 +72,27 @@ pub(crate) fn solve_transposed(
     }
 }
 
+/// [`solve_transposed`] for a `b` that is zero but on the path from `leaf` to the root (a
+/// point's Jacobian on one link): only that path is visited, leaf to root.
+pub(crate) fn solve_transposed_path(
+    l: &[f64],
+    n: usize,
+    parent: impl Fn(usize) -> Option<usize>,
+    leaf: usize,
+    b: &mut [f64],
+) {
+    let mut k = Some(leaf);
+    while let Some(kk) = k {
+        b[kk] /= l[kk * n + kk];
+        let mut i = parent(kk);
+        while let Some(a) = i {
+            b[a] -= l[kk * n + a] * b[kk];
+            i = parent(a);
+        }
+        k = parent(kk);
+    }
+}
+
 /// The second half of [`solve`]: `L x = y`, root to leaf, `b` becoming `x`.
 fn solve_factor(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
     for k in 0..n {
