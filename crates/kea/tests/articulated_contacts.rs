@@ -6,6 +6,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 use kea::articulation::{ArticulatedTree, Integrator, TreeContact, TreeJointKind, TreeLink};
+use kea::math::wide;
 use kea::SoftLimit;
 
 const G: f64 = 9.81;
@@ -25,7 +26,7 @@ fn slider(parent: Option<usize>, axis: DVec3, mass: f64) -> TreeLink {
 
 /// MuJoCo's impedance at `x` past the margin (its default `solimp`).
 fn impedance(s: &SoftLimit, x: f64) -> f64 {
-    let [dmin, dmax, width, mid, power] = s.solimp.map(f64::from);
+    let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
     let x = (x.abs() / width).min(1.0);
     let y = if x <= mid {
         x.powf(power) / mid.powf(power - 1.0)
@@ -39,8 +40,8 @@ fn impedance(s: &SoftLimit, x: f64) -> f64 {
 /// row's force solves `(A + R) f = a_ref + g`, `R = (1 − d)/d · A`, `a_ref = −k d x`, and the
 /// body rests when `A f = g`: `g (1 − d) = −k d² x`. Found by bisection on `x < 0`.
 fn rest_depth(s: &SoftLimit, h: f64) -> f64 {
-    let tau = f64::from(s.solref[0]).max(2.0 * h);
-    let (zeta, dmax) = (f64::from(s.solref[1]), f64::from(s.solimp[1]));
+    let tau = wide(s.solref[0]).max(2.0 * h);
+    let (zeta, dmax) = (wide(s.solref[1]), wide(s.solimp[1]));
     let k = 1.0 / (dmax * dmax * tau * tau * zeta * zeta);
     let f = |x: f64| {
         let d = impedance(s, x);
