@@ -570,13 +570,15 @@ fn load_on_stack(xml: String, kib: usize) -> Result<(), String> {
         .expect("no overflow")
 }
 
-/// Too deep a file is refused before any reader recurses, so on a 64 KiB thread stack too
-/// (the least a PhysicsWorld fits on); a model nested as deep as allowed (250 bodies) loads
-/// on 512 KiB (the XML reader and the body reader take about 1 KiB a level each).
+/// Too deep a file is refused before any reader recurses, so on a 96 KiB thread stack too
+/// (a PhysicsWorld needs 72 KiB to be made in the test profile; 64 before the reduced path's
+/// contacts added to its settings and scratch); a model nested as deep as allowed (250 bodies)
+/// loads on 512 KiB (the XML reader and the body reader take about 1 KiB a level each, so the
+/// refused files would need 6 MB and 100 MB).
 #[test]
 fn deep_files_are_refused_on_small_thread_stacks_and_deep_models_load() {
     for depth in [6000, 100_000] {
-        let err = load_on_stack(nested_bodies(depth), 64).unwrap_err();
+        let err = load_on_stack(nested_bodies(depth), 96).unwrap_err();
         assert!(err.contains("deep.xml:") && err.contains("nest"), "{err}");
     }
     load_on_stack(nested_bodies(250), 512).unwrap();
