@@ -16,8 +16,29 @@ if importlib.util.find_spec("pybullet_data") is None:
 
 import kea.robot_envs as tasks  # noqa: E402
 
-SINGLE = [tasks.ReacherEnv, tasks.InvertedDoublePendulumEnv, tasks.KukaReachEnv]
+SINGLE = [
+    tasks.ReacherEnv,
+    tasks.InvertedDoublePendulumEnv,
+    tasks.KukaReachEnv,
+    tasks.HopperEnv,
+    tasks.Walker2dEnv,
+    tasks.HalfCheetahEnv,
+]
 VECTOR = [tasks.ReacherVecEnv, tasks.InvertedDoublePendulumVecEnv, tasks.KukaReachVecEnv]
+
+# Gymnasium's own tasks and how many environment steps from a shared state are compared: the
+# walkers' first steps stand or push on the ground; the cheetah falls for two steps and lands
+# in the third, where the engines' impacts part (MuJoCo's regulariser uses its bodies' mean
+# inverse weights at the model's pose, Kea's the contacts' present Delassus diagonal).
+# The relative tolerance: the cheetah's random torques (gear 120) drive its joints at up to
+# 7 rad/s in one step and onto its soft stops, whose regulariser MuJoCo takes at the model's
+# pose and Kea at the present one (2.5% measured on one rate). The cheetah is compared until
+# it lands (a reset can start it in the ground): its impacts part the same way, by 15%.
+LOCOMOTION = [
+    (tasks.HopperEnv, "Hopper-v5", 5, 0.0, False),
+    (tasks.Walker2dEnv, "Walker2d-v5", 3, 0.0, False),
+    (tasks.HalfCheetahEnv, "HalfCheetah-v5", 2, 0.03, True),
+]
 
 
 @pytest.mark.parametrize("env_class", SINGLE)
@@ -65,6 +86,58 @@ def test_the_double_pendulum_follows_mujocos_from_the_same_state():
         # Angles and rates within a few hundredths after 0.25 s of the file's RK4 at 0.01 s.
         assert got[:8] == pytest.approx(expected[:8], abs=0.05)
         assert r_got == pytest.approx(r_expected, abs=0.05)
+
+
+@pytest.mark.parametrize("ours_class, gym_id, steps, rel, until_landing", LOCOMOTION)
+def test_locomotion_tasks_match_gymnasiums_from_the_same_state(
+    ours_class, gym_id, steps, rel, until_landing
+):
+    pytest.importorskip("mujoco")
+    try:
+        theirs = gym.make(gym_id).unwrapped
+    except Exception as e:  # rendering dependencies missing: nothing to compare with
+        pytest.skip(f"Gymnasium's MuJoCo environment cannot be made: {e}")
+    ours = ours_class()
+    assert ours.observation_space.shape == theirs.observation_space.shape
+    assert ours.action_space.shape == theirs.action_space.shape
+    assert np.array_equal(ours.action_space.low, theirs.action_space.low)
+    assert np.array_equal(ours.action_space.high, theirs.action_space.high)
+    assert ours._vec.dt == pytest.approx(theirs.dt, rel=1e-6)
+    rng = np.random.default_rng(7)
+    compared = 0
+    for seed in range(3):
+        theirs.reset(seed=seed)
+        ours.reset(seed=seed)
+        ours._vec.batch.set_joint_positions(theirs.data.qpos[None])
+        ours._vec.batch.set_joint_velocities(theirs.data.qvel[None])
+        for _ in range(steps):
+            a = rng.uniform(-1.0, 1.0, size=ours.action_space.shape).astype(np.float32)
+            expected, r_expected, t_expected, *_ = theirs.step(a)
+            got, r_got, t_got, *_ = ours.step(a)
+            if until_landing and theirs.data.ncon > 0:
+                break
+            compared += 1
+            assert got == pytest.approx(expected, rel=rel, abs=0.02), f"{gym_id}, seed {seed}"
+            assert r_got == pytest.approx(r_expected, abs=0.02), f"{gym_id}, seed {seed}"
+            assert t_got == t_expected
+    assert compared >= 3, f"{gym_id}: {compared} steps compared"
+
+
+def test_locomotion_tasks_end_when_unhealthy_and_reset_with_gymnasiums_noise():
+    hopper = tasks.HopperEnv()
+    obs, _ = hopper.reset(seed=1)
+    # Uniform noise of ±5e-3 about the file's pose (x left out of the observation).
+    assert np.abs(obs[:5] - hopper._vec.init_qpos[1:]).max() <= 5e-3
+    # Fallen: the torso below 0.7 m ends the episode, with no healthy reward.
+    q = hopper._vec.batch.joint_positions()
+    q[0, 1] = 0.5
+    hopper._vec.batch.set_joint_positions(q)
+    _, reward, terminated, _, _ = hopper.step(np.zeros(3, dtype=np.float32))
+    assert terminated and reward < 0.5
+    cheetah = tasks.HalfCheetahEnv()
+    for _ in range(10):
+        _, _, terminated, _, _ = cheetah.step(cheetah.action_space.sample())
+        assert not terminated  # the cheetah never ends early
 
 
 def test_kuka_reaching_moves_the_hand_towards_a_target_with_a_simple_controller():

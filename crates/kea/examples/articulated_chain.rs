@@ -30,6 +30,7 @@ fn main() {
             friction: 0.0,
             soft_limit: None,
             servo: None,
+            spring: None,
             stop_recovery_speed: f64::INFINITY,
         })
         .collect();

@@ -31,6 +31,7 @@ fn link(
         friction: 0.0,
         soft_limit: None,
         servo: None,
+        spring: None,
         stop_recovery_speed: f64::INFINITY,
     }
 }

@@ -15,6 +15,16 @@ and as a single ``gymnasium.Env`` (a batch of one, so both give the same numbers
   joint's effort limit), the observation joint positions and velocities, the hand's position and
   the target's (20 numbers), reward ``-|hand - target| - 0.01 |a|²``, 200 steps of 10 × 2 ms.
 
+* ``HopperVecEnv``, ``Walker2dVecEnv``, ``HalfCheetahVecEnv`` (and their single forms):
+  Gymnasium's ``Hopper-v5``, ``Walker2d-v5`` and ``HalfCheetah-v5`` from their own MJCF files,
+  stepped in reduced coordinates with their contacts in joint space: the observation is the
+  joint positions but the first (x) and the velocities (clipped to ±10 for the hopper and the
+  walker), the actions the motors' controls in [-1, 1], the reward the forward speed (x moved
+  over the environment step) less ``ctrl_cost_weight·|a|²`` plus 1 while healthy (hopper,
+  walker), ending when unhealthy (torso height and angle out of range; the hopper's state past
+  ±100), 1000 steps of ``frame_skip`` × the file's step; reset noise as Gymnasium's (uniform
+  ±5e-3, or for the cheetah uniform ±0.1 on positions and normal 0.1 on velocities).
+
 The robot files come from the installed ``gymnasium`` and ``pybullet`` packages.
 """
 
@@ -245,6 +255,112 @@ class KukaReachVecEnv(_RobotVecEnv):
         return -gap - 0.01 * np.square(actions).sum(axis=1), np.zeros(self.num_envs, dtype=bool)
 
 
+class _LocomotionVecEnv(_RobotVecEnv):
+    """What Gymnasium's planar walkers share (module docs): a task sets the file, the frame
+    skip and the weights, and whether it has a healthy range."""
+
+    asset = ""
+    frame_skip = 4
+    max_steps = 1000
+    forward_reward_weight = 1.0
+    ctrl_cost_weight = 1e-3
+    healthy_reward = 1.0
+    # (low, high) of the torso's height and angle; None: never unhealthy.
+    healthy_z: Optional[tuple[float, float]] = None
+    healthy_angle: tuple[float, float] = (-np.inf, np.inf)
+    # Bound on every entry of the state past its first two (the hopper's).
+    healthy_state: Optional[float] = None
+    clip_velocity: Optional[float] = 10.0
+    reset_noise = 5e-3
+    normal_velocity_noise = False
+
+    def __init__(self, num_envs: int = 16, threads: Optional[int] = None):
+        world = kea.World.from_mjcf(gymnasium_asset(self.asset))
+        self.observation_size = world.position_count - 1 + world.velocity_count
+        super().__init__(world, num_envs, threads, world.timestep)
+        self._x_before = np.zeros(num_envs)
+
+    @property
+    def dt(self) -> float:
+        """One environment step, s (Gymnasium's ``dt``)."""
+        return self.dt_physics * self.frame_skip
+
+    def _initial(self, count):
+        s = self.reset_noise
+        nq, nv = self.init_qpos.size, self.init_qvel.size
+        q = self.init_qpos + self._rng.uniform(-s, s, size=(count, nq))
+        if self.normal_velocity_noise:
+            v = self.init_qvel + s * self._rng.standard_normal((count, nv))
+        else:
+            v = self.init_qvel + self._rng.uniform(-s, s, size=(count, nv))
+        return q, v
+
+    def _observe(self):
+        q, v = self.batch.joint_positions(), self.batch.joint_velocities()
+        if self.clip_velocity is not None:
+            v = np.clip(v, -self.clip_velocity, self.clip_velocity)
+        return np.concatenate([q[:, 1:], v], axis=1)
+
+    def _apply(self, actions):
+        self._x_before = self.batch.joint_positions()[:, 0].copy()
+        self.batch.set_controls(actions)
+
+    def _healthy(self) -> np.ndarray:
+        q, v = self.batch.joint_positions(), self.batch.joint_velocities()
+        healthy = np.ones(self.num_envs, dtype=bool)
+        if self.healthy_z is None:
+            return healthy
+        z, angle = q[:, 1], q[:, 2]
+        healthy &= (self.healthy_z[0] < z) & (z < self.healthy_z[1])
+        healthy &= (self.healthy_angle[0] < angle) & (angle < self.healthy_angle[1])
+        if self.healthy_state is not None:
+            state = np.concatenate([q, v], axis=1)[:, 2:]
+            healthy &= np.all(np.abs(state) < self.healthy_state, axis=1)
+        return healthy
+
+    def _reward(self, actions):
+        x_velocity = (self.batch.joint_positions()[:, 0] - self._x_before) / self.dt
+        healthy = self._healthy()
+        reward = self.forward_reward_weight * x_velocity - self.ctrl_cost_weight * np.square(
+            actions
+        ).sum(axis=1)
+        if self.healthy_z is not None:
+            reward = reward + self.healthy_reward * healthy
+            return reward, ~healthy
+        return reward, np.zeros(self.num_envs, dtype=bool)
+
+
+class HopperVecEnv(_LocomotionVecEnv):
+    """``num_envs`` of Gymnasium's Hopper-v5, from its MJCF file, in one ``kea.Batch``."""
+
+    asset = "hopper.xml"
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float32)
+    healthy_z = (0.7, np.inf)
+    healthy_angle = (-0.2, 0.2)
+    healthy_state = 100.0
+
+
+class Walker2dVecEnv(_LocomotionVecEnv):
+    """``num_envs`` of Gymnasium's Walker2d-v5, from its MJCF file, in one ``kea.Batch``."""
+
+    asset = "walker2d_v5.xml"
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(6,), dtype=np.float32)
+    healthy_z = (0.8, 2.0)
+    healthy_angle = (-1.0, 1.0)
+
+
+class HalfCheetahVecEnv(_LocomotionVecEnv):
+    """``num_envs`` of Gymnasium's HalfCheetah-v5, from its MJCF file, in one ``kea.Batch``."""
+
+    asset = "half_cheetah.xml"
+    single_action_space = gym.spaces.Box(-1.0, 1.0, shape=(6,), dtype=np.float32)
+    frame_skip = 5
+    ctrl_cost_weight = 0.1
+    clip_velocity = None
+    reset_noise = 0.1
+    normal_velocity_noise = True
+
+
 class _Single(SingleEnv):
     """One task (a batch of one), for ``gymnasium.make``."""
 
@@ -269,6 +385,27 @@ class KukaReachEnv(_Single):
     vector_class = KukaReachVecEnv
 
 
+class HopperEnv(_Single):
+    """Gymnasium's Hopper-v5 on Kea, from its own MJCF."""
+
+    vector_class = HopperVecEnv
+
+
+class Walker2dEnv(_Single):
+    """Gymnasium's Walker2d-v5 on Kea, from its own MJCF."""
+
+    vector_class = Walker2dVecEnv
+
+
+class HalfCheetahEnv(_Single):
+    """Gymnasium's HalfCheetah-v5 on Kea, from its own MJCF."""
+
+    vector_class = HalfCheetahVecEnv
+
+
 gym.register(id="kea/Reacher-v0", entry_point="kea.robot_envs:ReacherEnv")
 gym.register(id="kea/InvertedDoublePendulum-v0", entry_point="kea.robot_envs:InvertedDoublePendulumEnv")
 gym.register(id="kea/KukaReach-v0", entry_point="kea.robot_envs:KukaReachEnv")
+gym.register(id="kea/Hopper-v0", entry_point="kea.robot_envs:HopperEnv")
+gym.register(id="kea/Walker2d-v0", entry_point="kea.robot_envs:Walker2dEnv")
+gym.register(id="kea/HalfCheetah-v0", entry_point="kea.robot_envs:HalfCheetahEnv")

@@ -217,6 +217,9 @@ impl ArticulatedTree {
             let d = l.damping;
             rhs[i] = tau[i] - rhs[i] - d * qd[i];
             self.h[i * n + i] += h * d;
+            if let Some((rest, k)) = l.spring {
+                rhs[i] += k * (rest - q[i]);
+            }
             // A servo's force kp (q* − q − h q̇⁺) + kv (v* − q̇⁺), with q̇⁺ = q̇ + h q̈: its
             // q̈ terms join H', the rest the right side.
             if let Some((target, rate, kp, kv)) = l.servo {

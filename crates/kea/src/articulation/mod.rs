@@ -82,6 +82,9 @@ pub struct TreeLink {
     /// A servo: stiffness kp towards a position and gain kv towards a rate, implicit in the
     /// step (`(position, rate, kp, kv)`, gains ≥ 0).
     pub servo: Option<(f64, f64, f64, f64)>,
+    /// The joint's passive spring, `(rest, stiffness ≥ 0)`: explicit in every integrator, as
+    /// MuJoCo's joint `stiffness` (read at each evaluation's coordinates).
+    pub spring: Option<(f64, f64)>,
     /// Fastest a stop pushes back a coordinate found beyond it, rad/s or m/s (`INFINITY`: a
     /// fifth of the overshoot per step, as the maximal-coordinate path's stops do).
     pub stop_recovery_speed: f64,
@@ -106,6 +109,7 @@ impl Default for TreeLink {
             friction: 0.0,
             soft_limit: None,
             servo: None,
+            spring: None,
             stop_recovery_speed: f64::INFINITY,
         }
     }

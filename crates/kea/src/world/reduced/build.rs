@@ -399,9 +399,10 @@ pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
     link.damping = wide(d.damping);
     link.friction = wide(d.friction);
     link.soft_limit = d.soft_limit;
-    // The joint's spring and a servo act as one spring (their stiffnesses add, towards the
-    // stiffness-weighted target) and one damper towards the servo's rate.
+    // The joint's spring is explicit (MuJoCo's passive stiffness, in every integrator); a
+    // servo is implicit.
     let (k, rest) = (wide(d.stiffness), tree(d.rest));
+    link.spring = (k > 0.0).then_some((rest, k));
     let (kp, target, kv, rate, force) = match limit.actuator() {
         Some(Actuator::Servo {
             position,
@@ -419,14 +420,6 @@ pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
         Some(Actuator::Force(f)) => (0.0, 0.0, 0.0, 0.0, p.sign * wide(f)),
         None => (0.0, 0.0, 0.0, 0.0, 0.0),
     };
-    let stiffness = k + kp;
-    link.servo = (stiffness > 0.0 || kv > 0.0).then(|| {
-        let position = if stiffness > 0.0 {
-            (k * rest + kp * target) / stiffness
-        } else {
-            0.0
-        };
-        (position, rate, stiffness, kv)
-    });
+    link.servo = (kp > 0.0 || kv > 0.0).then_some((target, rate, kp, kv));
     force
 }
