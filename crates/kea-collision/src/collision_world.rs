@@ -112,6 +112,9 @@ pub struct CollisionWorld {
     previously_jointed: Vec<(BodyHandle, BodyHandle)>,
     /// Joints whose bodies may still collide.
     colliding_joints: Vec<ConstraintHandle>,
+    /// Body pairs that never collide, as if jointed (sorted; [`CollisionWorld::exclude_pair`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    excluded: Vec<(BodyHandle, BodyHandle)>,
     /// What the last update did.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) stats: CollisionStats,
@@ -152,6 +155,7 @@ impl CollisionWorld {
             jointed: Vec::new(),
             previously_jointed: Vec::new(),
             colliding_joints: Vec::new(),
+            excluded: Vec::new(),
             pairs: Pairs::default(),
             tree: DynamicTree::new(),
             moved: Vec::new(),
@@ -354,6 +358,33 @@ impl CollisionWorld {
         self.free.push(index);
     }
 
+    /// Stops two bodies colliding with each other, as bodies joined by a joint do not (a
+    /// robot's link and its parent joined through light links between its joints). Refused
+    /// for a body that is not in `world`, or a body paired with itself.
+    pub fn exclude_pair(
+        &mut self,
+        world: &World,
+        a: BodyHandle,
+        b: BodyHandle,
+    ) -> CollisionResult<()> {
+        world.body(a)?;
+        world.body(b)?;
+        if a == b {
+            return Err(kea::KeaError::OutOfRange {
+                arg: "b",
+                value: format!("{b:?}"),
+                expected: "a body other than `a`",
+            }
+            .into());
+        }
+        let pair = (a.min(b), a.max(b));
+        if let Err(i) = self.excluded.binary_search(&pair) {
+            self.excluded.insert(i, pair);
+            self.jointed_revision = None;
+        }
+        Ok(())
+    }
+
     /// Lets (or stops) the two bodies of a joint collide with each other. By default bodies
     /// joined by an enabled joint do not collide.
     pub fn set_joint_collisions(
@@ -470,7 +501,9 @@ impl CollisionWorld {
                 }
             }
         }
+        self.jointed.extend_from_slice(&self.excluded);
         self.jointed.sort_unstable();
+        self.jointed.dedup();
         self.jointed_changed = self.jointed != self.previously_jointed;
         if !self.jointed_changed {
             return;

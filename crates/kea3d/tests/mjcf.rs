@@ -297,8 +297,8 @@ fn bad_models_are_refused_naming_line_and_element_and_add_nothing() {
             &["test.xml:2", "mesh", "missing.stl", "not found"],
         ),
         (
-            "<mujoco><worldbody/>\n<tendon/>\n</mujoco>",
-            &["test.xml:2", "tendon", "not supported"],
+            "<mujoco><worldbody/>\n<tendon><spatial/></tendon>\n</mujoco>",
+            &["test.xml:2", "spatial", "not supported"],
         ),
         (
             "<mujoco><worldbody>\n<body name=\"a\"><geom size=\"1\" class=\"nope\"/></body>\n</worldbody></mujoco>",

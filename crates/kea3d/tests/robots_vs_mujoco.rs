@@ -336,8 +336,9 @@ fn gymnasium_hopper_comes_to_rest_at_mujocos_height() {
     drop_height("hopper.xml", 5.0);
 }
 
-/// Gymnasium's walkers — planar roots on the world (hopper, walker2d, half_cheetah) and a
-/// free one (ant): trees in reduced coordinates — passive from the file's pose at the file's
+/// Gymnasium's walkers — planar roots on the world (hopper, walker2d, half_cheetah) and free
+/// ones (ant, humanoid: its hips and abdomen chains of single hinges, its force-free tendons
+/// read): trees in reduced coordinates — passive from the file's pose at the file's
 /// step and integrator: they stay in reduced coordinates while they touch the ground (their
 /// contacts solved in joint space by MuJoCo's soft contact model), the torso's height
 /// follows MuJoCo's within 5 cm over the first half second, and comes to rest within 1 cm of
@@ -355,6 +356,7 @@ fn gymnasium_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
         // inverse weight at the model's pose). Its rest is compared in
         // `gymnasium_ant_comes_to_rest_at_mujocos_height`.
         ("ant.xml", 5.0),
+        ("humanoid.xml", 3.0),
     ] {
         let file = assets.join(name);
         let mut world = PhysicsWorld::new();

@@ -270,6 +270,39 @@ impl Builder<'_> {
         Ok(body_of)
     }
 
+    /// A body whose joints became a chain (`mjcf_joints::chain`) does not collide with its
+    /// parent (MuJoCo's parent and child do not; a child of the world does).
+    fn exclude_across_chains(&mut self, body_of: &[Option<BodyHandle>]) -> Result<(), ImportError> {
+        let spec = self.spec;
+        if spec.chain_links.is_empty() {
+            return Ok(());
+        }
+        let parent_of = |link: usize| {
+            spec.joints
+                .iter()
+                .find(|j| j.child == link)
+                .map(|j| j.parent)
+        };
+        for j in &spec.joints {
+            if spec.chain_links.contains(&j.child) || !spec.chain_links.contains(&j.parent) {
+                continue;
+            }
+            let mut above = j.parent;
+            while spec.chain_links.contains(&above) {
+                above = parent_of(above).unwrap_or(0);
+            }
+            let head = &self.layout.head;
+            if let (Some(a), Some(b)) = (body_of[head[above]], body_of[head[j.child]]) {
+                if head[above] != 0 && a != b {
+                    self.world
+                        .exclude_collisions(a, b)
+                        .map_err(self.world_error(format!("joint \"{}\"", j.name), j.line))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Every joint in the file's order, with its place in the joint vectors.
     fn insert_joints(
         &mut self,
@@ -322,6 +355,7 @@ fn build_into(
     };
     let body_of = b.insert_bodies(options.self_collision)?;
     let joints = b.insert_joints(&body_of)?;
+    b.exclude_across_chains(&body_of)?;
     let l = &b.layout;
     let links = (0..spec.links.len())
         .map(|k| RobotLink {

@@ -10,8 +10,8 @@
 //! springs (`stiffness`, `springref`) are read on hinges and slides and refused on ball and
 //! free joints; a joint's stops are MuJoCo's soft ones (`solreflimit`, `solimplimit`,
 //! `margin`) where it steps in reduced coordinates; `<option>` is `mjcf_option.rs`. What
-//! would change the physics and is not read — tendons, joint equalities, contact pairs and
-//! exclusions, composites — is refused by name; what does not (lights,
+//! would change the physics and is not read — tendons that apply force (`mjcf_tendon.rs`),
+//! joint equalities, contact pairs and exclusions, composites — is refused by name; what does not (lights,
 //! cameras, sites, sensors, visual settings) is passed over.
 
 use super::mesh;
@@ -50,7 +50,7 @@ const PASSIVE_SECTIONS: [&str; 7] = [
     "extension",
 ];
 /// Top-level sections refused: the model's behaviour depends on them.
-const REFUSED_SECTIONS: [&str; 3] = ["tendon", "contact", "deformable"];
+const REFUSED_SECTIONS: [&str; 2] = ["contact", "deformable"];
 
 struct Reader<'a, 'd> {
     src: Source<'a>,
@@ -94,6 +94,7 @@ pub(crate) fn parse(
             "worldbody",
             "actuator",
             "equality",
+            "tendon",
         ];
         if !known.contains(&tag) && !PASSIVE_SECTIONS.contains(&tag) {
             return Err(src.error(section, format!("<{tag}> is not supported")));
@@ -121,6 +122,7 @@ pub(crate) fn parse(
         reader.read_body_contents(world, 0, MAIN)?;
     }
     let actuators = super::mjcf_actuators::read(&reader.src, &reader.defaults, &reader.spec, root)?;
+    super::mjcf_tendon::read(&reader.src, &reader.defaults, &mut reader.spec, root)?;
     if contacts_disabled(root) {
         // The model asks for no contacts at all: no geometry collides.
         for g in reader
@@ -264,8 +266,8 @@ impl<'a, 'd> Reader<'a, 'd> {
             inertial,
             geoms: Vec::new(),
         });
-        let joint = self.read_joints(body, &childclass, parent, link, Pose::new(pos, rot))?;
-        self.spec.joints.push(joint);
+        let joints = self.read_joints(body, &childclass, parent, link, Pose::new(pos, rot))?;
+        self.spec.joints.extend(joints);
         self.read_body_contents(body, link, &childclass)
     }
 
@@ -440,7 +442,7 @@ impl<'a, 'd> Reader<'a, 'd> {
         parent: usize,
         link: usize,
         origin: Pose,
-    ) -> Result<JointSpec, ImportError> {
+    ) -> Result<Vec<JointSpec>, ImportError> {
         let mut parts: Vec<JointPart<'_>> = Vec::new();
         for j in body.children().filter(|c| c.is_element()) {
             let tag = j.tag_name().name();
@@ -479,7 +481,21 @@ impl<'a, 'd> Reader<'a, 'd> {
             parts.push((name, kind, coord, anchor, j));
         }
         let link_name = self.spec.links[link].name.clone();
-        let (kind, anchor) = combined(&self.src, body, &parts, parent, &link_name)?;
+        let one_each = parts.len() > 1 && parts.iter().all(|p| matches!(p.1, "hinge" | "slide"));
+        let (kind, anchor) = match combined(&self.src, body, &parts, parent, &link_name) {
+            Ok(found) => found,
+            // Hinges and slides MuJoCo composes in order: a chain of single joints.
+            Err(_) if one_each => {
+                return Ok(super::mjcf_joints::chain(
+                    &mut self.spec,
+                    &self.src,
+                    &parts,
+                    (parent, link),
+                    origin,
+                ))
+            }
+            Err(e) => return Err(e),
+        };
         for (name, k, c, _, node) in &parts {
             let d = c.dynamics;
             if matches!(*k, "free" | "ball")
@@ -493,7 +509,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             }
         }
         let names: Vec<String> = parts.iter().map(|p| p.0.clone()).collect();
-        Ok(JointSpec {
+        Ok(vec![JointSpec {
             line: parts
                 .first()
                 .map_or(self.src.line(body), |p| self.src.line(p.4)),
@@ -512,7 +528,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             } else {
                 parts.iter().map(|p| p.2).collect()
             },
-        })
+        }])
     }
 
     /// One joint's coordinate (axis, range, dynamics, reference) and its point.

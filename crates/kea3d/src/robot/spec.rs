@@ -275,6 +275,9 @@ pub(crate) struct RobotSpec {
     /// MJCF's `<compiler settotalmass>`: every moving link's mass and inertia scaled so that
     /// they sum to this, kg.
     pub total_mass: Option<Real>,
+    /// Links carried between one MJCF body's joints (`mjcf_joints::chain`): no geometry, and
+    /// the nearest real links on either side do not collide with each other.
+    pub chain_links: Vec<usize>,
 }
 
 impl RobotSpec {
@@ -292,6 +295,7 @@ impl RobotSpec {
             skipped: Vec::new(),
             mujoco_filter,
             total_mass: None,
+            chain_links: Vec::new(),
         }
     }
 }

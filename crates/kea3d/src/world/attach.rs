@@ -124,6 +124,13 @@ impl PhysicsWorld {
         Ok(h)
     }
 
+    /// Stops two bodies colliding with each other, as bodies joined by a joint do not (a
+    /// robot's link and its parent, joined through light links between the link's joints).
+    /// Refused, changing nothing, for a body not in the world or a body paired with itself.
+    pub fn exclude_collisions(&mut self, a: BodyHandle, b: BodyHandle) -> Result<()> {
+        Ok(self.collision.exclude_pair(&self.dynamics, a, b)?)
+    }
+
     /// Removes a joint.
     pub fn remove_joint<J: JointKind>(&mut self, h: JointHandle<J>) -> Result<()> {
         self.collision
