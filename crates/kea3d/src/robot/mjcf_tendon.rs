@@ -39,7 +39,9 @@ pub(crate) fn read(
             for attr in ACTING {
                 let value = el.text(attr);
                 let zero = value.is_none_or(|v| v.split_whitespace().all(|x| x.parse() == Ok(0.0)));
-                if !zero && !(attr == "range" && el.flag("limited")? == Some(false)) {
+                // A range acts only where the tendon is limited.
+                let unlimited_range = attr == "range" && el.flag("limited")? == Some(false);
+                if !(zero || unlimited_range) {
                     return Err(el.error(format!(
                         "fixed tendon with `{attr}` = {:?}: a tendon that applies force is not supported",
                         value.unwrap_or_default()
