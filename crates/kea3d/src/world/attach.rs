@@ -128,7 +128,7 @@ impl PhysicsWorld {
     /// robot's link and its parent, joined through light links between the link's joints).
     /// Refused, changing nothing, for a body not in the world or a body paired with itself.
     pub fn exclude_collisions(&mut self, a: BodyHandle, b: BodyHandle) -> Result<()> {
-        Ok(self.collision.exclude_pair(&self.dynamics, a, b)?)
+        self.collision.exclude_pair(&self.dynamics, a, b)
     }
 
     /// Removes a joint.
