@@ -77,6 +77,8 @@ pub(super) struct ContactState {
     pub(super) weight: f64,
     pub(super) rows: Vec<ContactRow>,
     jw: Vec<f64>,
+    /// One point's `J` and `L⁻ᵀJᵀ` along its normal and tangents (`2n` numbers each).
+    point: Vec<f64>,
     /// Each link's rotation and origin in the base's frame at the evaluation's coordinates.
     rot: Vec<DMat3>,
     pos: Vec<DVec3>,
@@ -221,11 +223,12 @@ impl ArticulatedTree {
         let margin = wide(model.margin);
         let tau = wide(model.solref[0]).max(2.0 * step);
         let (zeta, dmax) = (wide(model.solref[1]), wide(model.solimp[1]));
-        let (b, k) = (
+        let (b, k_stiff) = (
             2.0 / (dmax * tau),
             1.0 / (dmax * dmax * tau * tau * zeta * zeta),
         );
         let mut jw = std::mem::take(&mut self.contact.jw);
+        let mut point = std::mem::take(&mut self.contact.point);
         let mut rows = std::mem::take(&mut self.contact.rows);
         jw.clear();
         for c in 0..self.contact.contacts.len() {
@@ -253,46 +256,66 @@ impl ArticulatedTree {
             // which matches the elliptic cone's friction impedance; without friction, `R`.
             let cone = if mu > 0.0 { 2.0 * mu * mu } else { 1.0 };
             let first_row = rows.len();
-            for &d in used {
-                let at = jw.len();
-                jw.resize(at + 2 * n, 0.0);
-                // J: the edge's component of the point's velocity per coordinate (less the
-                // other link's point's, for a contact between links).
-                let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
-                if let Some((o, point)) = contact.other {
-                    sides[1] = (o, s.pos[o] + s.rot[o] * point, -1.0);
+            // The point's velocity along n, t₁ and t₂ per coordinate (less the other link's
+            // point's, between links) and their halves `L⁻ᵀJᵀ`, once: each edge is `J_n ± μ J_t`.
+            let basis = [n_dir, t1, t2];
+            let dirs = if mu > 0.0 { 3 } else { 1 };
+            point.clear();
+            point.resize(2 * 3 * n, 0.0);
+            let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
+            if let Some((o, at)) = contact.other {
+                sides[1] = (o, s.pos[o] + s.rot[o] * at, -1.0);
+            }
+            for (start, at_point, sign) in sides {
+                if sign == 0.0 {
+                    continue;
                 }
-                for (start, at_point, sign) in sides {
-                    if sign == 0.0 {
-                        continue;
+                let mut j = Some(start);
+                while let Some(l) = j {
+                    let link = &self.links[l];
+                    let axis = s.rot[l] * link.axis;
+                    let lin = match link.kind {
+                        TreeJointKind::Hinge => {
+                            axis.cross(at_point - (s.pos[l] + s.rot[l] * link.anchor))
+                        }
+                        TreeJointKind::Slider => axis,
+                    };
+                    for (e, d) in basis.iter().enumerate().take(dirs) {
+                        point[2 * n * e + l] += sign * d.dot(lin);
                     }
-                    let mut j = Some(start);
-                    while let Some(l) = j {
-                        let link = &self.links[l];
-                        let axis = s.rot[l] * link.axis;
-                        let lin = match link.kind {
-                            TreeJointKind::Hinge => {
-                                axis.cross(at_point - (s.pos[l] + s.rot[l] * link.anchor))
-                            }
-                            TreeJointKind::Slider => axis,
-                        };
-                        jw[at + l] += sign * d.dot(lin);
-                        j = link.parent;
-                    }
+                    j = link.parent;
                 }
-                let (row, y) = jw[at..at + 2 * n].split_at_mut(n);
+            }
+            for e in 0..dirs {
+                let (row, y) = point[2 * n * e..2 * n * (e + 1)].split_at_mut(n);
                 y.copy_from_slice(row);
                 if contact.other.is_some() {
                     self.half_solve_h(y);
                 } else {
                     self.half_solve_h_path(contact.link, y);
                 }
+            }
+            for (k, &d) in used.iter().enumerate() {
+                let at = jw.len();
+                jw.resize(at + 2 * n, 0.0);
+                // Edge k: the normal's halves plus or minus μ times a tangent's.
+                let (t, sign) = match k {
+                    0 => (1, mu),
+                    1 => (1, -mu),
+                    2 => (2, mu),
+                    _ => (2, -mu),
+                };
+                for i in 0..2 * n {
+                    let tangent = if dirs > 1 { point[2 * n * t + i] } else { 0.0 };
+                    jw[at + i] = point[i] + sign * tangent;
+                }
+                let (row, y) = jw[at..at + 2 * n].split_at(n);
                 let a = dot(y, y);
                 let velocity = dot(row, qd);
                 rows.push(ContactRow {
                     contact: c,
                     direction: d,
-                    reference: -b * velocity - k * imp * x,
+                    reference: -b * velocity - k_stiff * imp * x,
                     regulariser: (1.0 - imp) / imp * a * cone,
                     a,
                     force: 0.0,
@@ -305,6 +328,7 @@ impl ArticulatedTree {
             }
         }
         self.contact.jw = jw;
+        self.contact.point = point;
         self.contact.rows = rows;
     }
 
