@@ -402,7 +402,7 @@ impl Sandbox {
 
     fn settings(&mut self, rng: &mut Rng) -> Outcome {
         let w = self.physics.dynamics_mut();
-        match rng.below(9) {
+        match rng.below(11) {
             0 => w.update_settings(|s| s.gravity = rng.vec3(-20.0, 20.0)),
             1 => w.update_settings(|s| s.epsilon = rng.real(0.0, 0.1)),
             2 => w.update_settings(|s| s.gamma = rng.real(0.0, 1.0)),
@@ -434,6 +434,19 @@ impl Sandbox {
             7 => {
                 w.clear_quarantine();
                 Ok(())
+            }
+            // The reduced path's contacts in joint space and floating trees, on or off.
+            9 => w.update_settings(|s| {
+                s.reduced_contacts = (rng.below(2) == 0).then(kea::SoftLimit::default);
+                s.reduced_free_trees = rng.below(2) == 0;
+            }),
+            10 => {
+                let integrator = [
+                    kea::Integrator::Euler,
+                    kea::Integrator::Implicit,
+                    kea::Integrator::RungeKutta4,
+                ][rng.below(3)];
+                w.update_settings(|s| s.integrator = integrator)
             }
             _ => {
                 self.physics.collision_mut().touch_distance = rng.real(0.0, 0.01);

@@ -8,7 +8,7 @@ pub mod inertia;
 
 use crate::error::{
     check_coordinate, check_inertia, check_mass, check_non_negative, check_quat, check_unit,
-    check_vec3, KeaResult,
+    check_vec3, KeaError, KeaResult,
 };
 use crate::math::{Mat3, Mat4, Quat, Real, Vec3};
 use crate::solver::SolverPath;
@@ -391,23 +391,27 @@ impl Body {
     pub fn set_user_data(&mut self, data: u64) {
         self.user_data = data;
     }
-    /// Adds a force at the centre of mass for the next step.
+    /// Adds a force at the centre of mass for the next step. Refused, changing nothing, when
+    /// it is not finite or the step's total would overflow.
     pub fn add_force(&mut self, f: Vec3) -> KeaResult<()> {
-        self.force += check_vec3("force", f)?;
+        self.force = accumulated("force", self.force, check_vec3("force", f)?)?;
         Ok(())
     }
-    /// Adds a torque for the next step.
+    /// Adds a torque for the next step (refused as [`Body::add_force`] is).
     pub fn add_torque(&mut self, t: Vec3) -> KeaResult<()> {
-        self.torque += check_vec3("torque", t)?;
+        self.torque = accumulated("torque", self.torque, check_vec3("torque", t)?)?;
         Ok(())
     }
     /// Adds a force applied at a world point: the force at the centre of mass plus the torque
-    /// `(p − x) × f` (the guide's `MdtBodyAddForceAtPosition`).
+    /// `(p − x) × f` (the guide's `MdtBodyAddForceAtPosition`; refused as
+    /// [`Body::add_force`] is, the torque's total too).
     pub fn add_force_at_point(&mut self, f: Vec3, point: Vec3) -> KeaResult<()> {
         check_vec3("force", f)?;
         check_vec3("point", point)?;
-        self.force += f;
-        self.torque += (point - self.position).cross(f);
+        let force = accumulated("force", self.force, f)?;
+        let torque = accumulated("force", self.torque, (point - self.position).cross(f))?;
+        self.force = force;
+        self.torque = torque;
         Ok(())
     }
     /// Clears the force and torque accumulators.
@@ -455,4 +459,19 @@ pub(crate) struct Motion {
     pub(crate) angular_velocity: Vec3,
     pub(crate) linear_acceleration: Vec3,
     pub(crate) angular_acceleration: Vec3,
+}
+
+/// `total + added`, or an error naming `arg` when the sum is not finite (forces a step keeps
+/// adding up must reach the solver finite: a refused step would keep its collision update).
+fn accumulated(arg: &'static str, total: Vec3, added: Vec3) -> KeaResult<Vec3> {
+    let sum = total + added;
+    if sum.is_finite() {
+        Ok(sum)
+    } else {
+        Err(KeaError::OutOfRange {
+            arg,
+            value: format!("{added} on top of {total}"),
+            expected: "a total for the step that stays finite",
+        })
+    }
 }
