@@ -179,6 +179,24 @@ fn bad_setters_change_nothing() {
     expect_err(&w, &before, e, "gamma", "1.5");
     let e = w.update_settings(|s| s.epsilon = -0.1).unwrap_err();
     expect_err(&w, &before, e, "epsilon", "-0.1");
+    // A force whose total for the step would overflow: refused, the total kept as it was.
+    let big = Vec3::new(0.0, 0.0, 0.75 * Real::MAX);
+    w.body_mut(b).unwrap().add_force(big).unwrap();
+    let total = w.body(b).unwrap().force();
+    for e in [
+        w.body_mut(b).unwrap().add_force(big).unwrap_err(),
+        w.body_mut(b)
+            .unwrap()
+            .add_force_at_point(big, Vec3::ZERO)
+            .unwrap_err(),
+    ] {
+        assert!(e.to_string().contains("force"), "{e}");
+        assert_eq!(w.body(b).unwrap().force(), total);
+    }
+    w.body_mut(b).unwrap().add_torque(big).unwrap();
+    let e = w.body_mut(b).unwrap().add_torque(big).unwrap_err();
+    assert!(e.to_string().contains("torque"), "{e}");
+    assert!(w.body(b).unwrap().torque().is_finite());
 }
 
 #[test]
