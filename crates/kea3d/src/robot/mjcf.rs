@@ -576,7 +576,7 @@ impl<'a, 'd> Reader<'a, 'd> {
             // at the file's pose, where the file's coordinate is `ref`.
             rest: unit(el.number("springref")?.unwrap_or(0.0)) - c.reference,
             friction: el.non_negative("frictionloss")?,
-            soft_limit: soft_limit(el)?,
+            soft_limit: super::mjcf_soft::soft_limit(el)?,
         };
         Ok((c, el.vec3("pos")?.unwrap_or(Vec3::ZERO)))
     }
@@ -586,25 +586,9 @@ impl Reader<'_, '_> {
     /// A geom's `solref` and `solimp`, kept as the model's contact parameters when they are
     /// the first given (a later geom with others is reported).
     fn read_contact_model(&self, el: &Element<'_>) -> Result<(), ImportError> {
-        let solref = el.numbers::<2>("solref")?;
-        let solimp = solimp(el, "solimp")?;
-        if solref.is_none() && solimp.is_none() {
+        let Some(s) = super::mjcf_soft::contact_model(el)? else {
             return Ok(());
-        }
-        let mut s = kea::SoftLimit::default();
-        if let Some(r) = solref {
-            if r[0] <= 0.0 {
-                return Err(el.error(format!(
-                    "`solref` = {} {}: Kea reads MuJoCo's positive (time constant, damping ratio) form",
-                    r[0], r[1]
-                )));
-            }
-            s.solref = r;
-        }
-        if let Some(i) = solimp {
-            s.solimp = i;
-        }
-        s.validate().map_err(|e| el.error(e.to_string()))?;
+        };
         match self.contact.get() {
             None => self.contact.set(Some(s)),
             Some(first) if first != s => self.contact_mixed.set(true),
@@ -612,61 +596,6 @@ impl Reader<'_, '_> {
         }
         Ok(())
     }
-}
-
-/// A `solimp`-like attribute (3 or 5 numbers), clamped into (0, 1) as MuJoCo does.
-fn solimp(el: &Element<'_>, attr: &str) -> Result<Option<[Real; 5]>, ImportError> {
-    let imp = match el.numbers::<5>(attr) {
-        Ok(v) => v,
-        Err(five) => match el.numbers::<3>(attr) {
-            Ok(v) => v.map(|[a, b, c]| [a, b, c, 0.5, 2.0]),
-            Err(_) => return Err(five),
-        },
-    };
-    Ok(imp.map(|i| {
-        [
-            i[0].clamp(1e-4, 0.9999),
-            i[1].clamp(1e-4, 0.9999),
-            i[2],
-            i[3],
-            i[4],
-        ]
-    }))
-}
-
-/// A joint's stops as MuJoCo makes them: soft, by its `solreflimit`, `solimplimit` (3 or 5
-/// numbers) and `margin`, MuJoCo's defaults where absent.
-fn soft_limit(el: &Element<'_>) -> Result<Option<kea::SoftLimit>, ImportError> {
-    let mut s = kea::SoftLimit::default();
-    if let Some(r) = el.numbers::<2>("solreflimit")? {
-        if r[0] <= 0.0 {
-            return Err(el.error(format!(
-                "`solreflimit` = {} {}: Kea reads MuJoCo's positive (time constant, damping ratio) form",
-                r[0], r[1]
-            )));
-        }
-        s.solref = r;
-    }
-    let imp = match el.numbers::<5>("solimplimit") {
-        Ok(v) => v,
-        Err(five) => match el.numbers::<3>("solimplimit") {
-            Ok(v) => v.map(|[a, b, c]| [a, b, c, 0.5, 2.0]),
-            Err(_) => return Err(five),
-        },
-    };
-    if let Some(i) = imp {
-        // MuJoCo clamps the impedances into (0, 1).
-        s.solimp = [
-            i[0].clamp(1e-4, 0.9999),
-            i[1].clamp(1e-4, 0.9999),
-            i[2],
-            i[3],
-            i[4],
-        ];
-    }
-    s.margin = el.non_negative("margin")?;
-    s.validate().map_err(|e| el.error(e.to_string()))?;
-    Ok(Some(s))
 }
 
 /// Points on an ellipsoid of these radii, for its convex hull.

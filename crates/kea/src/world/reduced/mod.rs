@@ -33,6 +33,7 @@
 //! was.
 
 mod build;
+mod contacts;
 mod convert;
 mod frames;
 mod qualify;
@@ -43,14 +44,14 @@ mod saved;
 pub(crate) use saved::SavedTree;
 
 use super::World;
-use crate::articulation::{ArticulatedTree, TreeContact, TreeLink};
+use crate::articulation::{ArticulatedTree, TreeLink};
 use crate::body::Motion;
-use crate::constraint::PointForce;
 use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
 use crate::world::constraint_entry::ConstraintKind;
 use build::{coordinate_of, drive, limit_of};
+use contacts::TreeContacts;
 use convert::{d3, dq, rq, v3};
 use glam::DVec3;
 use qualify::Role;
@@ -177,30 +178,10 @@ pub(super) struct ReducedScratch {
     /// After a step whose trees' joints were every constraint of the world: the joint
     /// revision and their number.
     alone: Option<(u64, usize)>,
-    /// Contacts of links with a base this step (`WorldSettings::reduced_contacts`), by
-    /// constraint slot.
-    contact_slots: Vec<u32>,
-    /// Contacts between two links, kept once both are known to be in one tree.
-    pending_contacts: Vec<u32>,
     /// Per set root, its first body: a floating tree's root link.
     root_body: Vec<u32>,
-    /// Per body slot, the tree link that carries it while its tree's contacts are gathered.
-    link_body: Vec<u32>,
-    /// The tree in flight's contacts, where each came from, and the force on each link.
-    tree_contacts: Vec<TreeContact>,
-    contact_refs: Vec<ContactRef>,
-    contact_on_link: Vec<DVec3>,
-    /// Each stepped tree's contact forces, written once the step succeeds.
-    contact_results: Vec<(u32, u8, PointForce)>,
-}
-
-/// Where a tree contact came from: the contact's slot, its point, and whether the link is the
-/// contact's first body.
-#[derive(Debug, Clone, Copy)]
-struct ContactRef {
-    slot: u32,
-    point: u8,
-    first: bool,
+    /// The trees' contacts in joint space (`contacts.rs`).
+    contacts: TreeContacts,
 }
 
 impl World {
@@ -212,7 +193,7 @@ impl World {
         r.reduced.clear();
         r.reduced.resize(n, false);
         r.results.clear();
-        r.contact_results.clear();
+        r.contacts.results.clear();
         for t in &mut r.trees {
             t.stepped = false;
         }
@@ -427,9 +408,9 @@ impl World {
             }
         }
         let model = self.settings.reduced_contacts.unwrap_or_default();
-        gather_contacts(r, index, bodies, constraints);
+        r.contacts.gather(&r.trees[index], bodies, constraints);
         let t = &mut r.trees[index];
-        if t.tree.set_contacts(&r.tree_contacts, model).is_err() {
+        if t.tree.set_contacts(&r.contacts.tree, model).is_err() {
             return false;
         }
         t.q_next.clone_from(&t.q);
@@ -442,38 +423,7 @@ impl World {
             return false;
         }
         t.tree.forward(&t.q_next, &t.qd_next);
-        let contacts_from = r.contact_results.len();
-        r.contact_on_link.clear();
-        r.contact_on_link.resize(t.tree.len(), DVec3::ZERO);
-        for ((c, at), &force) in r
-            .tree_contacts
-            .iter()
-            .zip(&r.contact_refs)
-            .zip(t.tree.contact_forces())
-        {
-            r.contact_on_link[c.link] += force;
-            if let Some((o, _)) = c.other {
-                r.contact_on_link[o] -= force;
-            }
-            // The contact's force on its first body.
-            let on_first = if at.first { force } else { -force };
-            let normal = constraints
-                .at(at.slot as usize)
-                .and_then(|e| match &e.kind {
-                    ConstraintKind::Contact(k) => Some(k.normal()),
-                    _ => None,
-                })
-                .unwrap_or(Vec3::Y);
-            let along = on_first.dot(d3(normal));
-            r.contact_results.push((
-                at.slot,
-                at.point,
-                PointForce {
-                    normal: along as Real,
-                    friction: v3(on_first - d3(normal) * along),
-                },
-            ));
-        }
+        let contacts_from = r.contacts.record(&t.tree, constraints);
         t.first = r.results.len();
         for (k, p) in t.plan.iter().enumerate() {
             let link = t.link_of[k];
@@ -519,7 +469,7 @@ impl World {
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             let a = r.results[t.first + k].motion.linear_acceleration;
             let own = d3(a * b.mass - self.settings.gravity * b.mass - b.force)
-                - r.contact_on_link[t.link_of[k]];
+                - r.contacts.on_link[t.link_of[k]];
             let sum = t.subtree[k] + own;
             t.subtree[k] = sum;
             if let Some(parent) = p.parent {
@@ -548,7 +498,7 @@ impl World {
         });
         if !finite {
             r.results.truncate(t.first);
-            r.contact_results.truncate(contacts_from);
+            r.contacts.results.truncate(contacts_from);
             return false;
         }
         for p in &t.plan {
@@ -563,7 +513,7 @@ impl World {
     pub(super) fn discard_reduced_trees(&mut self) {
         let r = &mut self.scratch.reduced;
         r.results.clear();
-        r.contact_results.clear();
+        r.contacts.results.clear();
         r.reduced.iter_mut().for_each(|x| *x = false);
         for t in &mut r.trees {
             t.stepped = false;
@@ -612,106 +562,13 @@ impl World {
             t.stepped = false;
         }
         r.results.clear();
-        for &(slot, point, force) in &r.contact_results {
-            if let Some(ConstraintKind::Contact(c)) =
-                self.constraints.at_mut(slot as usize).map(|e| &mut e.kind)
-            {
-                c.set_point_force(usize::from(point), force, force);
-            }
-        }
-        r.contact_results.clear();
+        r.contacts.write_back(&mut self.constraints);
         r.reduced.iter_mut().for_each(|x| *x = false);
     }
 
     /// Bodies the reduced path stepped this step.
     pub(super) fn reduced_body_count(&self) -> u32 {
         self.scratch.reduced.results.len() as u32
-    }
-}
-
-/// Fills the scratch with tree `index`'s contacts this step: each point of each contact
-/// between one of its links and a base, in the link's frame and the world's.
-fn gather_contacts(
-    r: &mut ReducedScratch,
-    index: usize,
-    bodies: &crate::handle::Arena<crate::body::Body, crate::BodyHandle>,
-    constraints: &crate::handle::Arena<
-        crate::world::constraint_entry::ConstraintEntry,
-        crate::handle::ConstraintHandle,
-    >,
-) {
-    use crate::constraint::ContactType;
-    const NONE: u32 = u32::MAX;
-    r.tree_contacts.clear();
-    r.contact_refs.clear();
-    if r.contact_slots.is_empty() {
-        return;
-    }
-    let t = &r.trees[index];
-    if r.link_body.len() < bodies.slot_count() {
-        r.link_body.resize(bodies.slot_count(), NONE);
-    }
-    for (k, p) in t.plan.iter().enumerate() {
-        r.link_body[p.body as usize] = t.link_of[k] as u32;
-    }
-    for &slot in &r.contact_slots {
-        let Some(e) = constraints.at(slot as usize) else {
-            continue;
-        };
-        let ConstraintKind::Contact(c) = &e.kind else {
-            continue;
-        };
-        let on = |h: Option<crate::BodyHandle>| {
-            h.map(|h| h.index() as usize)
-                .filter(|&b| r.link_body.get(b).is_some_and(|&l| l != NONE))
-        };
-        let second = on(e.bodies[1]);
-        let (body, first) = match (on(e.bodies[0]), second) {
-            (Some(b), _) => (b, true),
-            (None, Some(b)) => (b, false),
-            (None, None) => continue,
-        };
-        // Between two links of this tree: the second one's link and frame.
-        let other = match (first, second) {
-            (true, Some(o)) => bodies.at(o).map(|ob| (r.link_body[o] as usize, ob)),
-            _ => None,
-        };
-        let Some(b) = bodies.at(body) else {
-            continue;
-        };
-        let link = r.link_body[body] as usize;
-        let to_link = dq(b.orientation).inverse();
-        let normal = if first { c.normal() } else { -c.normal() };
-        let friction = match c.params().contact_type {
-            ContactType::Frictionless => 0.0,
-            _ => c.coulomb_mu(0).map_or(0.0, wide),
-        };
-        for (i, p) in c.points().iter().enumerate() {
-            let at = if first {
-                p.position
-            } else {
-                p.position + p.to_second
-            };
-            r.tree_contacts.push(TreeContact {
-                link,
-                point: to_link * d3(at - b.position),
-                normal: d3(normal),
-                distance: -wide(p.penetration),
-                friction,
-                other: other.map(|(o, ob)| {
-                    let held = p.position + p.to_second;
-                    (o, dq(ob.orientation).inverse() * d3(held - ob.position))
-                }),
-            });
-            r.contact_refs.push(ContactRef {
-                slot,
-                point: i as u8,
-                first,
-            });
-        }
-    }
-    for p in &t.plan {
-        r.link_body[p.body as usize] = NONE;
     }
 }
 

@@ -84,8 +84,8 @@ impl World {
             && self.settings.integrator != crate::Integrator::Implicit;
         let r = &mut self.scratch.reduced;
         r.sets.reset(self.bodies.slot_count());
-        r.contact_slots.clear();
-        r.pending_contacts.clear();
+        r.contacts.slots.clear();
+        r.contacts.pending.clear();
         for slot in 0..self.constraint_bodies.len() {
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
@@ -101,14 +101,14 @@ impl World {
                 [Role::Link, Role::Base] | [Role::Base, Role::Link]
                     if takes_contacts && self.constraints.at(slot).is_some_and(plain_contact) =>
                 {
-                    r.contact_slots.push(slot as u32);
+                    r.contacts.slots.push(slot as u32);
                 }
                 // Between two links: kept if they are in one tree (known once every joint is
                 // seen).
                 [Role::Link, Role::Link]
                     if takes_contacts && self.constraints.at(slot).is_some_and(plain_contact) =>
                 {
-                    r.pending_contacts.push(slot as u32);
+                    r.contacts.pending.push(slot as u32);
                 }
                 _ => {
                     for (x, role) in [a, b].into_iter().zip(roles) {
@@ -119,11 +119,11 @@ impl World {
                 }
             }
         }
-        for k in 0..r.pending_contacts.len() {
-            let slot = r.pending_contacts[k] as usize;
+        for k in 0..r.contacts.pending.len() {
+            let slot = r.contacts.pending[k] as usize;
             let [a, b] = self.constraint_bodies[slot];
             if r.sets.find(a) == r.sets.find(b) {
-                r.contact_slots.push(slot as u32);
+                r.contacts.slots.push(slot as u32);
             } else {
                 r.role[a as usize] = Role::Blocked;
                 r.role[b as usize] = Role::Blocked;
