@@ -14,9 +14,9 @@
 //! `a_ref = −b J q̇ − k·imp(x)·x` at `x = r − margin`, `b = 2/(d_max τ)`,
 //! `k = 1/(d_max² τ² ζ²)` (τ at least two steps), `R = (1 − imp)/imp · A`, and on a pyramid
 //! every edge `2μ²` times its first edge's `R` (MuJoCo's match of the elliptic cone's friction
-//! impedance) — the soft stops' formulas with the contact's `solref`/`solimp`, solved in the
-//! same Gauss–Seidel sweeps, so a
-//! foot on the ground and a knee on its stop hold together. It runs inside every evaluation
+//! impedance) — the soft stops' formulas with the contact's `solref`/`solimp`, solved together
+//! with the soft stops as one small LCP by the exact dense solver (`solve_rows_exactly`), so
+//! a foot on the ground and a knee on its stop hold together. It runs inside every evaluation
 //! of the accelerations (the four stages of Runge–Kutta each), and the force a contact
 //! passes in a step is the integrator's weighted mean of its evaluations'.
 
@@ -51,7 +51,7 @@ pub struct TreeContact {
 }
 
 /// One row of a contact in the evaluation in flight: its contact and edge direction (base
-/// frame), MuJoCo's reference acceleration and regulariser, `A`'s diagonal entry, the force,
+/// frame), MuJoCo's reference acceleration and regulariser, the force,
 /// and where its `J` and `L⁻ᵀJᵀ` sit in the scratch (`2n` numbers from `at`, `H' = LᵀL`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct ContactRow {
@@ -59,7 +59,6 @@ pub(super) struct ContactRow {
     direction: DVec3,
     reference: f64,
     regulariser: f64,
-    a: f64,
     force: f64,
     at: usize,
 }
@@ -96,8 +95,9 @@ struct LcpSystem {
     f: Vec<f64>,
     w: Vec<f64>,
     state: Vec<Bound>,
-    /// Each row's `J` and `L⁻ᵀJᵀ` (`2n` numbers a row), and `Jᵀ f`.
+    /// Each row's `J` and `L⁻ᵀJᵀ` (`2n` numbers a row), regulariser, and `Jᵀ f`.
     jw: Vec<f64>,
+    reg: Vec<f64>,
     push: Vec<f64>,
     ws: LcpWorkspace,
 }
@@ -209,14 +209,14 @@ impl ArticulatedTree {
         }
     }
 
-    /// The rows of the contacts within their margin at `q`, `qd` (module docs), with their
-    /// `J` and `L⁻ᵀJᵀ`; the factor of `H'` must be in `h`.
-    pub(super) fn contact_rows(&mut self, q: &[f64], qd: &[f64], step: f64) {
+    /// The rows of the contacts within their margin at rates `qd` (module docs), with their
+    /// `J` and `L⁻ᵀJᵀ`; the evaluation's `assemble` must have placed the links and left the
+    /// factor of `H'` in `h`.
+    pub(super) fn contact_rows(&mut self, qd: &[f64], step: f64) {
         self.contact.rows.clear();
         if self.contact.is_empty() {
             return;
         }
-        let _ = q; // placed by the evaluation's `assemble`
         self.link_frames();
         let n = self.len();
         let model = self.contact.model;
@@ -309,20 +309,20 @@ impl ArticulatedTree {
                     let tangent = if dirs > 1 { point[2 * n * t + i] } else { 0.0 };
                     jw[at + i] = point[i] + sign * tangent;
                 }
-                let (row, y) = jw[at..at + 2 * n].split_at(n);
-                let a = dot(y, y);
-                let velocity = dot(row, qd);
+                let velocity = dot(&jw[at..at + n], qd);
                 rows.push(ContactRow {
                     contact: c,
                     direction: d,
                     reference: -b * velocity - k_stiff * imp * x,
-                    regulariser: (1.0 - imp) / imp * a * cone,
-                    a,
+                    regulariser: 0.0,
                     force: 0.0,
                     at,
                 });
             }
-            let common = rows[first_row].regulariser;
+            // The first edge's `R = (1 − imp)/imp · A` (A = |L⁻ᵀJᵀ|²) for every edge.
+            let at = rows[first_row].at;
+            let y = &jw[at + n..at + 2 * n];
+            let common = (1.0 - imp) / imp * dot(y, y) * cone;
             for row in &mut rows[first_row..] {
                 row.regulariser = common;
             }
@@ -343,8 +343,7 @@ impl ArticulatedTree {
         sys.jw.clear();
         sys.jw.resize(2 * n * m, 0.0);
         sys.b.clear();
-        let mut regulariser = std::mem::take(&mut sys.w);
-        regulariser.clear();
+        sys.reg.clear();
         for r in 0..stops {
             let (i, sign, reference, reg) = self.stop_row(r);
             let (j, y) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
@@ -353,19 +352,19 @@ impl ArticulatedTree {
             self.half_solve_h_path(i, y);
             sys.b.push(reference - sign * qdd[i]);
             // MuJoCo's regulariser scales with the row's own `[H'⁻¹]ᵢᵢ = |L⁻ᵀeᵢ|²`.
-            regulariser.push(reg * dot(y, y));
+            sys.reg.push(reg * dot(y, y));
         }
         for (k, row) in self.contact.rows.iter().enumerate() {
             let r = stops + k;
             let src = &self.contact.jw[row.at..row.at + 2 * n];
             sys.jw[2 * n * r..2 * n * (r + 1)].copy_from_slice(src);
             sys.b.push(row.reference - dot(&src[..n], qdd));
-            regulariser.push(row.regulariser);
+            sys.reg.push(row.regulariser);
         }
         sys.a.clear();
         sys.a.resize(m * m, 0.0);
         // A = J H'⁻¹ Jᵀ = (L⁻ᵀJᵀ)ᵀ(L⁻ᵀJᵀ): symmetric by construction.
-        for (r, reg) in regulariser.iter().enumerate() {
+        for (r, reg) in sys.reg.iter().enumerate() {
             let yr = &sys.jw[2 * n * r + n..2 * n * (r + 1)];
             for c in 0..=r {
                 let yc = &sys.jw[2 * n * c + n..2 * n * (c + 1)];
@@ -375,15 +374,12 @@ impl ArticulatedTree {
             }
             sys.a[r * m + r] += reg;
         }
-        for v in [&mut sys.lo, &mut sys.f] {
+        for v in [&mut sys.lo, &mut sys.f, &mut sys.w] {
             v.clear();
             v.resize(m, 0.0);
         }
         sys.hi.clear();
         sys.hi.resize(m, f64::INFINITY);
-        regulariser.clear();
-        regulariser.resize(m, 0.0);
-        sys.w = regulariser;
         // The last evaluation's sets in this step are the guess when the rows are alike (the
         // stages of Runge-Kutta); a step starts from every row at rest.
         if sys.state.len() != m {

@@ -4,7 +4,8 @@
 //! accelerations — by projected Gauss–Seidel to round-off, then `q̈ = q̈₀ + H'⁻¹ Jᵀ f`.
 //! The regulariser uses the current `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's
 //! reference pose (equal for a slider on a free body, close for an arm). The links' contacts
-//! with the base (`contacts.rs`) are rows of the same problem, solved in the same sweeps.
+//! with the base (`contacts.rs`) are rows of the same problem; with any of them, the rows are
+//! solved together exactly (`solve_rows_exactly`) instead of by sweeps.
 
 use super::ArticulatedTree;
 use crate::math::wide;
@@ -67,7 +68,7 @@ impl ArticulatedTree {
                 });
             }
         }
-        self.contact_rows(q, qd, step);
+        self.contact_rows(qd, step);
         if self.soft_rows.is_empty() && self.contact.rows.is_empty() {
             return;
         }
