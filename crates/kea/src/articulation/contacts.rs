@@ -24,6 +24,7 @@ use super::soft_limits::impedance;
 use super::{ArticulatedTree, TreeJointKind};
 use crate::error::{KeaError, KeaResult};
 use crate::math::wide;
+use crate::solver::sparse::dot_lanes as dot;
 use crate::solver::sparse::lcp_dense::{self, Bound, LcpWorkspace, Unknowns};
 use crate::SoftLimit;
 use glam::{DMat3, DVec3};
@@ -463,8 +464,4 @@ fn separation(s: &ContactState, c: &TreeContact) -> DVec3 {
         Some((o, point)) => p - (s.pos[o] + s.rot[o] * point),
         None => p,
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

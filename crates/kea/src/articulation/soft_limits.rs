@@ -26,10 +26,20 @@ pub(super) struct SoftRow {
 pub(super) fn impedance(s: &SoftLimit, x: f64) -> f64 {
     let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
     let x = (x.abs() / width).min(1.0);
+    // MuJoCo's default power is 2: a product instead of two `pow` calls.
+    let pow = |base: f64, e: f64| {
+        if e == 2.0 {
+            base * base
+        } else if e == 1.0 {
+            base
+        } else {
+            base.powf(e)
+        }
+    };
     let y = if x <= mid {
-        x.powf(power) / mid.powf(power - 1.0)
+        pow(x, power) / pow(mid, power - 1.0)
     } else {
-        1.0 - (1.0 - x).powf(power) / (1.0 - mid).powf(power - 1.0)
+        1.0 - pow(1.0 - x, power) / pow(1.0 - mid, power - 1.0)
     };
     dmin + y * (dmax - dmin)
 }

@@ -3,6 +3,7 @@
 //! [`Robot`] that knows where every link and coordinate went.
 
 use super::colliders::{collider, collision_filters, placement, shape_of};
+use super::mjcf_pairs::PairMaterials;
 use super::model::{Robot, RobotJoint, RobotLink};
 use super::spec::{Coordinate, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec};
 use super::xml::above;
@@ -238,6 +239,13 @@ impl Builder<'_> {
     ) -> Result<Vec<Option<BodyHandle>>, ImportError> {
         let (inertial, geoms) = self.merged_links()?;
         let filters = collision_filters(self.spec, &geoms, self_collision);
+        let all = geoms.iter().flatten().map(|(_, g)| g);
+        let pairs = PairMaterials::add(self.world, all).map_err(|e| ImportError::World {
+            file: self.file.to_path_buf(),
+            line: 0,
+            element: "the geoms' friction".into(),
+            source: e,
+        })?;
         let mut body_of = vec![None::<BodyHandle>; self.spec.links.len()];
         for k in 0..self.layout.order.len() {
             let link = self.layout.order[k];
@@ -254,7 +262,10 @@ impl Builder<'_> {
             for (g, (owner, geom)) in geoms[link].iter().enumerate() {
                 let line = self.spec.links[*owner].line;
                 let owner = &self.spec.links[*owner].name;
-                let (collider, note) = collider(geom, filters[link][g]);
+                let (mut collider, note) = collider(geom, filters[link][g]);
+                if let Some(material) = pairs.of(geom) {
+                    collider = collider.material(material);
+                }
                 if let Some(note) = note {
                     let file = self.file.display();
                     self.skipped.push(format!(

@@ -210,6 +210,14 @@ impl<'a, 'd> Reader<'a, 'd> {
             match c.tag_name().name() {
                 "geom" => {
                     let g = self.read_geom(c, class, link == 0)?;
+                    if let Some(condim @ (4 | 6)) = g.condim {
+                        self.spec.skipped.push(format!(
+                            "{}:{}: geom: torsional and rolling friction (`condim` = {condim}) \
+                             are not simulated: its contacts have sliding friction only",
+                            self.src.file.display(),
+                            self.src.line(c)
+                        ));
+                    }
                     self.spec.links[link].geoms.push(g);
                 }
                 "body" => self.read_body(c, link, class)?,
@@ -333,10 +341,20 @@ impl<'a, 'd> Reader<'a, 'd> {
                 ))),
             }
         };
+        // MuJoCo's default sliding friction is 1; torsional and rolling are not simulated.
         let friction = match el.up_to::<3>("friction")? {
-            Some((f, _)) if f[0] >= 0.0 => Some(f[0]),
-            Some((f, _)) => return Err(el.error(format!("`friction` = {}: must be >= 0", f[0]))),
-            None => None,
+            Some((f, _)) if f[0] >= 0.0 && f[0].is_finite() => f[0],
+            Some((f, _)) => {
+                return Err(el.error(format!("`friction` = {}: must be finite and >= 0", f[0])))
+            }
+            None => 1.0,
+        };
+        let condim = match el.number("condim")? {
+            None => 3,
+            Some(c) if c == 1.0 || c == 3.0 => c as u32,
+            // Read as given; the caller says that its torsion and rolling are dropped.
+            Some(c) if c == 4.0 || c == 6.0 => c as u32,
+            Some(c) => return Err(el.error(format!("`condim` = {c}: must be 1, 3, 4 or 6"))),
         };
         self.read_contact_model(&el)?;
         let density = el.number("density")?;
@@ -352,7 +370,8 @@ impl<'a, 'd> Reader<'a, 'd> {
             pose,
             groups: bits("contype")?,
             mask: bits("conaffinity")?,
-            friction,
+            friction: Some(friction),
+            condim: Some(condim),
             density,
             mass,
             skin: (el.number("margin")?.unwrap_or(0.0) - el.number("gap")?.unwrap_or(0.0)).max(0.0),

@@ -40,6 +40,7 @@ mod mjcf_equality;
 mod mjcf_include;
 mod mjcf_joints;
 mod mjcf_option;
+mod mjcf_pairs;
 mod mjcf_soft;
 mod mjcf_tendon;
 mod model;

@@ -144,6 +144,9 @@ pub(crate) struct GeomSpec {
     pub groups: u32,
     pub mask: u32,
     pub friction: Option<Real>,
+    /// MJCF's contact dimensionality (1: frictionless, 3: sliding friction); `Some` pairs the
+    /// geometry by MuJoCo's rule (`mjcf_pairs`), `None` (URDF) by Kea's combine rule.
+    pub condim: Option<u32>,
     /// Mass from this geometry when the link has no inertial: density or mass (MJCF).
     pub density: Option<Real>,
     pub mass: Option<Real>,

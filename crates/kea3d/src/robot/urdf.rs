@@ -203,6 +203,7 @@ fn read_link(
             groups: 1,
             mask: u32::MAX,
             friction: None,
+            condim: None,
             density: None,
             mass: None,
             skin: 0.0,

@@ -22,6 +22,7 @@
 //! and the result is flagged. A state visited twice flags a cycle; the iteration cap is a
 //! parameter. None of these abort: the caller gets the best `x` found, clamped to its bounds.
 
+use super::dot_lanes;
 pub(crate) use super::sets::Bound;
 pub(crate) use super::sets::Unknowns;
 use super::sets::{settle_states, violations, PivotRule};
@@ -133,11 +134,7 @@ pub(crate) fn solve(
         report.singular |= solve_free_block(n, (a, b), u, ws, diag_max);
         // w = A x − b everywhere.
         for i in 0..n {
-            let row = &a[i * n..i * n + n];
-            u.w[i] = row
-                .iter()
-                .zip(&u.x[..n])
-                .fold(-b[i], |s, (aij, xj)| s + aij * xj);
+            u.w[i] = dot_lanes(&a[i * n..i * n + n], &u.x[..n]) - b[i];
         }
         let tol_x = 1.0e-11 * u.x[..n].iter().fold(1.0_f64, |m, v| m.max(v.abs()));
         let (count, last) = violations(n, u, (tol_x, tol_w));
@@ -190,7 +187,8 @@ fn solve_free_block(
         let row = &a[i * n..i * n + n];
         let mut s = b[i];
         for j in 0..n {
-            if state[j] != Bound::Free {
+            // Rows held at a zero bound (most contacts') add nothing.
+            if state[j] != Bound::Free && x[j] != 0.0 {
                 s -= row[j] * x[j];
             }
         }
@@ -237,10 +235,7 @@ fn factor_free(a: &[f64], n: usize, ws: &mut LcpWorkspace, diag_max: f64) -> Opt
 /// inverted): `y ← (L Lᵀ)⁻¹ y`.
 fn substitute(l: &[f64], y: &mut [f64], m: usize) {
     for i in 0..m {
-        let mut s = y[i];
-        for k in 0..i {
-            s -= l[i * m + k] * y[k];
-        }
+        let s = y[i] - dot_lanes(&l[i * m..i * m + i], &y[..i]);
         y[i] = s * l[i * m + i];
     }
     for i in (0..m).rev() {
@@ -275,9 +270,7 @@ fn cholesky(
             if i == j {
                 s += shift;
             }
-            for k in 0..j {
-                s -= out[i * m + k] * out[j * m + k];
-            }
+            s -= dot_lanes(&out[i * m..i * m + j], &out[j * m..j * m + j]);
             if i == j {
                 if s.is_nan() || s <= tiny {
                     return false;
