@@ -14,7 +14,8 @@
 //! to the root are read or written (the caller keeps the others zero).
 
 /// Factorises `h` (`n × n`, row-major, symmetric positive definite with the tree's sparsity)
-/// in place into the `L` of `H = Lᵀ L`, in its lower triangle; `parent(k)` is coordinate `k`'s
+/// in place into the `L` of `H = Lᵀ L`, in its lower triangle, each diagonal entry held as
+/// its reciprocal; `parent(k)` is coordinate `k`'s
 /// parent (below `k`), `None` at the root. On a pivot not clearly positive, returns the
 /// coordinate it belongs to.
 pub(crate) fn factor(
@@ -27,11 +28,13 @@ pub(crate) fn factor(
         if d.is_nan() || d <= 0.0 {
             return Err(k);
         }
-        let d = d.sqrt();
-        h[k * n + k] = d;
+        // The pivot is kept as its reciprocal: the solves' serial chains multiply instead of
+        // divide.
+        let inv = 1.0 / d.sqrt();
+        h[k * n + k] = inv;
         let mut i = parent(k);
         while let Some(a) = i {
-            h[k * n + a] /= d;
+            h[k * n + a] *= inv;
             i = parent(a);
         }
         let mut i = parent(k);
@@ -63,7 +66,7 @@ pub(crate) fn solve_transposed(
     b: &mut [f64],
 ) {
     for k in (0..n).rev() {
-        b[k] /= l[k * n + k];
+        b[k] *= l[k * n + k];
         let mut i = parent(k);
         while let Some(a) = i {
             b[a] -= l[k * n + a] * b[k];
@@ -83,7 +86,7 @@ pub(crate) fn solve_transposed_path(
 ) {
     let mut k = Some(leaf);
     while let Some(kk) = k {
-        b[kk] /= l[kk * n + kk];
+        b[kk] *= l[kk * n + kk];
         let mut i = parent(kk);
         while let Some(a) = i {
             b[a] -= l[kk * n + a] * b[kk];
@@ -101,7 +104,7 @@ fn solve_factor(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b:
             b[k] -= l[k * n + a] * b[a];
             i = parent(a);
         }
-        b[k] /= l[k * n + k];
+        b[k] *= l[k * n + k];
     }
 }
 
