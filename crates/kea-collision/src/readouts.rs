@@ -81,6 +81,26 @@ impl CollisionWorld {
         }
     }
 
+    /// Each contact the last update made and the colliders it is between: `(first, second,
+    /// contact)`, `first` the collider on the contact's body 1 (its points' forces act on
+    /// it), in pair order.
+    pub fn contact_colliders(
+        &self,
+    ) -> impl Iterator<Item = (ColliderHandle, ColliderHandle, ConstraintHandle)> + '_ {
+        self.pairs.live().flat_map(move |(_, state)| {
+            let handle = |i: u32| ColliderHandle {
+                index: i,
+                generation: self.slots[i as usize].generation,
+            };
+            let (a, b) = (handle(state.colliders.0), handle(state.colliders.1));
+            let (first, second) = if state.flipped { (b, a) } else { (a, b) };
+            state
+                .manifolds
+                .iter()
+                .map(move |m| (first, second, m.handle))
+        })
+    }
+
     /// The deepest penetration among the contacts this collision world made, m (0 if none
     /// overlap): the contact constraints' largest error.
     #[must_use]

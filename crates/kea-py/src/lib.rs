@@ -8,6 +8,7 @@
 mod batch;
 mod batch_robot;
 mod convert;
+mod link_states;
 mod pickle;
 mod queries;
 mod robot;

@@ -47,7 +47,7 @@ impl PyWorld {
         world
     }
 
-    fn robot(&self) -> PyResult<&Robot> {
+    pub(crate) fn robot(&self) -> PyResult<&Robot> {
         self.robot.as_ref().ok_or_else(no_robot)
     }
 

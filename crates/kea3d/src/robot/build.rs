@@ -12,7 +12,7 @@ use crate::{Body, Joint, PhysicsWorld};
 use kea::{
     BodyHandle, ConstraintHandle, Hinge, JointHandle, Limit, Planar, Prismatic, Real, SingleLimit,
 };
-use kea_collision::MassProperties;
+use kea_collision::{ColliderHandle, MassProperties};
 use std::path::Path;
 
 /// How fast a robot's joint found beyond a stop is brought back, rad/s or m/s (MJCF models
@@ -135,6 +135,9 @@ struct Builder<'a> {
     file: &'a Path,
     layout: Layout,
     skipped: Vec<String>,
+    /// Each link's own mass properties, and the colliders of its geometry.
+    own: Vec<Inertial>,
+    colliders: Vec<Vec<ColliderHandle>>,
 }
 
 impl Builder<'_> {
@@ -149,11 +152,14 @@ impl Builder<'_> {
     }
 
     /// Each body's mass properties and geometry, gathered from its welded links into its head
-    /// link's frame.
+    /// link's frame; each link's own mass properties are kept in `self.own`.
     #[allow(clippy::type_complexity)]
-    fn merged_links(&self) -> Result<(Vec<Inertial>, Vec<Vec<(usize, GeomSpec)>>), ImportError> {
+    fn merged_links(
+        &mut self,
+    ) -> Result<(Vec<Inertial>, Vec<Vec<(usize, GeomSpec)>>), ImportError> {
         let (spec, l) = (self.spec, &self.layout);
         let n = spec.links.len();
+        self.own = vec![Inertial::NONE; n];
         let mut inertial = vec![Inertial::NONE; n];
         let mut geoms: Vec<Vec<(usize, GeomSpec)>> = vec![Vec::new(); n];
         for &link in &l.order {
@@ -164,6 +170,7 @@ impl Builder<'_> {
                 spec.links[link].line,
             ))?;
             inertial[h] = inertial[h].merged(&own, &in_head);
+            self.own[link] = own;
             for g in &spec.links[link].geoms {
                 let mut g = g.clone();
                 g.pose = in_head.then(&g.pose);
@@ -181,6 +188,12 @@ impl Builder<'_> {
                 let s = target / total;
                 for (k, m) in inertial.iter_mut().enumerate() {
                     if l.head[k] == k && k != 0 {
+                        m.mass *= s;
+                        m.inertia *= s;
+                    }
+                }
+                for (k, m) in self.own.iter_mut().enumerate() {
+                    if l.head[k] != 0 {
                         m.mass *= s;
                         m.inertia *= s;
                     }
@@ -238,6 +251,7 @@ impl Builder<'_> {
         self_collision: bool,
     ) -> Result<Vec<Option<BodyHandle>>, ImportError> {
         let (inertial, geoms) = self.merged_links()?;
+        self.colliders = vec![Vec::new(); self.spec.links.len()];
         let filters = collision_filters(self.spec, &geoms, self_collision);
         let all = geoms.iter().flatten().map(|(_, g)| g);
         let pairs = PairMaterials::add(self.world, all).map_err(|e| ImportError::World {
@@ -273,9 +287,11 @@ impl Builder<'_> {
                     ));
                 }
                 let element = format!("collision of link \"{owner}\"");
-                self.world
+                let c = self
+                    .world
                     .insert_collider(collider, Some(h))
                     .map_err(self.world_error(element, line))?;
+                self.colliders[geoms[link][g].0].push(c);
             }
         }
         Ok(body_of)
@@ -363,6 +379,8 @@ fn build_into(
         file,
         layout: Layout::of(spec, options.base),
         skipped: spec.skipped.clone(),
+        own: Vec::new(),
+        colliders: Vec::new(),
     };
     let body_of = b.insert_bodies(options.self_collision)?;
     let joints = b.insert_joints(&body_of)?;
@@ -373,6 +391,10 @@ fn build_into(
             name: spec.links[k].name.clone(),
             body: body_of[l.head[k]].expect("every head has a body"),
             offset: l.pose[l.head[k]].inverse().then(&l.pose[k]),
+            mass: b.own[k].mass,
+            center_of_mass: b.own[k].com,
+            inertia: b.own[k].inertia,
+            colliders: b.colliders[k].clone(),
         })
         .collect();
     Ok(Robot::new(

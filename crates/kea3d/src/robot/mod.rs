@@ -44,6 +44,7 @@ mod mjcf_pairs;
 mod mjcf_soft;
 mod mjcf_tendon;
 mod model;
+mod readouts;
 mod spec;
 mod urdf;
 mod xml;
@@ -52,6 +53,7 @@ pub use actuator::UNCAPPED_MOTOR_FORCE;
 pub use error::ImportError;
 pub use mjcf_actuators::{ActuatorKind, ActuatorSpec};
 pub use model::{Robot, RobotJoint, RobotLink};
+pub use readouts::LinkState;
 pub use spec::{JointType, Pose};
 
 use crate::PhysicsWorld;

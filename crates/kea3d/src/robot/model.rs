@@ -5,7 +5,10 @@
 use super::spec::{Coordinate, JointType, Pose};
 use super::xml::above;
 use crate::{PhysicsWorld, Result};
-use kea::{BodyHandle, ConstraintHandle, Hinge, JointHandle, KeaError, Planar, Quat, Real, Vec3};
+use kea::{
+    BodyHandle, ConstraintHandle, Hinge, JointHandle, KeaError, Mat3, Planar, Quat, Real, Vec3,
+};
+use kea_collision::ColliderHandle;
 
 /// A link of a loaded robot.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -16,6 +19,18 @@ pub struct RobotLink {
     pub body: BodyHandle,
     /// The link's frame in its body's frame.
     pub offset: Pose,
+    /// The link's own mass, kg (a welded link's too: its body carries the sum).
+    #[serde(default)]
+    pub mass: Real,
+    /// Its own centre of mass, link frame.
+    #[serde(default)]
+    pub center_of_mass: Vec3,
+    /// Its own inertia about that centre, link axes.
+    #[serde(default)]
+    pub inertia: Mat3,
+    /// The colliders made of its geometry.
+    #[serde(default)]
+    pub colliders: Vec<ColliderHandle>,
 }
 
 /// A joint of a loaded robot.
