@@ -1,5 +1,6 @@
 """Batch throughput: Kea's ``kea.Batch`` against MuJoCo's ``rollout`` on the same cart-pole,
-and on the same KUKA iiwa arm loaded by both engines from pybullet_data's URDF.
+on the same KUKA iiwa arm loaded by both engines from pybullet_data's URDF, and on Gymnasium's
+ant and humanoid loaded by both from Gymnasium's MJCF.
 
 Both models: a 1 kg cart on a slider along x (stops at ±2.4 m) driven by a velocity servo
 (±3 m/s, at most 30 N), a 0.1 kg, 1 m pole on a hinge; 0.01 s physics steps, two per
@@ -213,6 +214,78 @@ def mujoco_arm_rates(worlds: int, threads: int, env_steps: int, runs: int):
     return median_rate(closed, runs), median_rate(open_loop, runs)
 
 
+ROBOT_FRAME_SKIP = 5
+
+
+def gymnasium_file(name: str) -> str:
+    from kea.robot_envs import gymnasium_asset
+
+    return gymnasium_asset(name)
+
+
+def kea_robot_rates(asset: str, worlds: int, threads: int | None, env_steps: int, runs: int):
+    """Gymnasium's robot from its own MJCF at its file's timestep: closed loop sets random
+    controls, steps the frame skip and reads every world's joint positions and velocities."""
+    world = kea.World.from_mjcf(gymnasium_file(asset))
+    dt = world.timestep
+    batch = kea.Batch(world, worlds, threads)
+    ranges = np.array(world.control_ranges())
+    rng = np.random.default_rng(0)
+
+    def closed():
+        batch.reset()
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            batch.set_controls(rng.uniform(ranges[:, 0], ranges[:, 1], (worlds, len(ranges))))
+            batch.step(dt, ROBOT_FRAME_SKIP)
+            batch.joint_positions()
+            batch.joint_velocities()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        batch.reset()
+        batch.set_controls(np.zeros((worlds, len(ranges))))
+        start = time.perf_counter()
+        batch.step(dt, ROBOT_FRAME_SKIP * env_steps)
+        batch.joint_positions()
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
+def mujoco_robot_rates(asset: str, worlds: int, threads: int, env_steps: int, runs: int):
+    import mujoco
+    from mujoco import rollout
+
+    model = mujoco.MjModel.from_xml_path(gymnasium_file(asset))
+    datas = [mujoco.MjData(model) for _ in range(threads)]
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state0 = np.zeros((worlds, mujoco.mj_stateSize(model, spec)))
+    mujoco.mj_getState(model, datas[0], state0[0], spec)
+    state0[:] = state0[0]
+    low, high = model.actuator_ctrlrange[:, 0], model.actuator_ctrlrange[:, 1]
+    rng = np.random.default_rng(0)
+
+    def closed():
+        state = state0.copy()
+        start = time.perf_counter()
+        for _ in range(env_steps):
+            u = rng.uniform(low, high, (worlds, 1, model.nu)).repeat(ROBOT_FRAME_SKIP, axis=1)
+            out, _ = rollout.rollout(model, datas, state, u, nstep=ROBOT_FRAME_SKIP, persistent_pool=True)
+            state = out[:, -1, :]
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    def open_loop():
+        control = np.zeros((worlds, ROBOT_FRAME_SKIP * env_steps, model.nu))
+        start = time.perf_counter()
+        rollout.rollout(model, datas, state0, control, nstep=ROBOT_FRAME_SKIP * env_steps, persistent_pool=True)
+        return worlds * env_steps / (time.perf_counter() - start)
+
+    closed()
+    return median_rate(closed, runs), median_rate(open_loop, runs)
+
+
 def report(title: str, rows: dict, cores: int) -> None:
     print(title)
     print(f"{'engine':<8} {'threads':>7} {'closed loop':>14} {'open loop':>14}   (env steps/s)")
@@ -232,16 +305,35 @@ def main():
     parser.add_argument("--worlds", type=int, default=1024)
     parser.add_argument("--env-steps", type=int, default=100)
     parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--robot-env-steps", type=int, default=20, help="ant and humanoid")
+    parser.add_argument("--only", choices=["cartpole", "kuka", "ant", "humanoid"], action="append")
     args = parser.parse_args()
+    only = set(args.only or ["cartpole", "kuka", "ant", "humanoid"])
     cores = os.cpu_count() or 1
     rows, arm = {}, {}
+    robots = {name: {} for name in ("ant", "humanoid") if name in only}
     for threads in sorted({1, cores}):
-        rows[("kea", threads)] = kea_rates(args.worlds, threads, args.env_steps, args.runs)
-        rows[("mujoco", threads)] = mujoco_rates(args.worlds, threads, args.env_steps, args.runs)
-        arm[("kea", threads)] = kea_arm_rates(args.worlds, threads, args.env_steps, args.runs)
-        arm[("mujoco", threads)] = mujoco_arm_rates(args.worlds, threads, args.env_steps, args.runs)
-    report(f"{args.worlds} cart-poles, {args.env_steps} env steps of 2 x {DT} s, median of {args.runs} runs, {cores} cores", rows, cores)
-    report(f"{args.worlds} KUKA iiwa arms (URDF), {args.env_steps} env steps of {ARM_SUBSTEPS} x {ARM_DT} s", arm, cores)
+        if "cartpole" in only:
+            rows[("kea", threads)] = kea_rates(args.worlds, threads, args.env_steps, args.runs)
+            rows[("mujoco", threads)] = mujoco_rates(args.worlds, threads, args.env_steps, args.runs)
+        if "kuka" in only:
+            arm[("kea", threads)] = kea_arm_rates(args.worlds, threads, args.env_steps, args.runs)
+            arm[("mujoco", threads)] = mujoco_arm_rates(args.worlds, threads, args.env_steps, args.runs)
+        for name, table in robots.items():
+            steps = args.robot_env_steps
+            table[("kea", threads)] = kea_robot_rates(f"{name}.xml", args.worlds, threads, steps, args.runs)
+            table[("mujoco", threads)] = mujoco_robot_rates(f"{name}.xml", args.worlds, threads, steps, args.runs)
+    if rows:
+        report(f"{args.worlds} cart-poles, {args.env_steps} env steps of 2 x {DT} s, median of {args.runs} runs, {cores} cores", rows, cores)
+    if arm:
+        report(f"{args.worlds} KUKA iiwa arms (URDF), {args.env_steps} env steps of {ARM_SUBSTEPS} x {ARM_DT} s", arm, cores)
+    for name, table in robots.items():
+        report(
+            f"{args.worlds} Gymnasium {name}s (their MJCF), {args.robot_env_steps} env steps of "
+            f"{ROBOT_FRAME_SKIP} file steps from the file's pose, random controls (closed loop)",
+            table,
+            cores,
+        )
 
 
 if __name__ == "__main__":
