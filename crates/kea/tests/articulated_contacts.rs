@@ -69,6 +69,7 @@ fn ground(link: usize, q: f64, mu: f64, point: DVec3) -> TreeContact {
         distance: q,
         friction: mu,
         other: None,
+        warm: DVec3::ZERO,
     }
 }
 

@@ -419,3 +419,76 @@ fn a_robot_on_the_ground_in_reduced_coordinates_replays_from_a_snapshot_and_a_cl
     assert_eq!(state(&from_json), state(&w));
     assert_eq!(state(&copy), state(&w));
 }
+
+/// Four legs on a free torso, each a hip and a knee with stops and a motor: an MJCF robot
+/// that stands on the floor in reduced coordinates, its contacts solved in joint space.
+const QUADRUPED: &str = r#"
+<mujoco model="quadruped">
+  <option timestep="0.005"/>
+  <default><geom contype="1" conaffinity="0" friction="1"/><joint range="-40 40"/></default>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" conaffinity="1"/>
+    <body name="torso" pos="0 0 0.45">
+      <freejoint/>
+      <geom type="box" size="0.25 0.15 0.05" mass="6"/>
+      <body pos="0.2 0.15 0"><joint name="h1" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/>
+        <body pos="0 0 -0.2"><joint name="k1" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/></body></body>
+      <body pos="0.2 -0.15 0"><joint name="h2" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/>
+        <body pos="0 0 -0.2"><joint name="k2" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/></body></body>
+      <body pos="-0.2 0.15 0"><joint name="h3" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/>
+        <body pos="0 0 -0.2"><joint name="k3" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/></body></body>
+      <body pos="-0.2 -0.15 0"><joint name="h4" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/>
+        <body pos="0 0 -0.2"><joint name="k4" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.03"/></body></body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="h1" gear="20"/><motor joint="k1" gear="20"/><motor joint="h2" gear="20"/><motor joint="k2" gear="20"/>
+    <motor joint="h3" gear="20"/><motor joint="k3" gear="20"/><motor joint="h4" gear="20"/><motor joint="k4" gear="20"/>
+  </actuator>
+</mujoco>
+"#;
+
+#[test]
+fn a_legged_robot_on_the_ground_replays_bit_for_bit_from_a_snapshot_and_a_clone() {
+    let mut original = PhysicsWorld::new();
+    let robot = original
+        .load_mjcf_str(
+            QUADRUPED,
+            "quadruped.xml",
+            &kea3d::robot::MjcfOptions::default(),
+        )
+        .unwrap();
+    let h = robot.timestep().unwrap();
+    // Kicking legs: contacts that come and go, stops that push and let go.
+    let controls = |k: usize| -> Vec<Real> {
+        (0..8)
+            .map(|j| (0.7 * (k as Real * 0.05 + j as Real)).sin())
+            .collect()
+    };
+    let step = |w: &mut PhysicsWorld, k: usize| {
+        robot.set_controls(w, &controls(k)).unwrap();
+        w.step(h).unwrap();
+    };
+    let mut touching = 0;
+    for k in 0..150 {
+        step(&mut original, k);
+        touching += usize::from(original.dynamics().contacts().count() > 0);
+    }
+    assert!(
+        touching > 50,
+        "the robot hops on the floor: touching in {touching} of 150 steps"
+    );
+    let binary = original.snapshot().unwrap().to_binary().unwrap();
+    let mut restored = SceneSnapshot::from_binary(&binary)
+        .and_then(PhysicsWorld::restore)
+        .unwrap();
+    let mut cloned = original.clone();
+    for k in 150..450 {
+        step(&mut original, k);
+        step(&mut restored, k);
+        step(&mut cloned, k);
+        let expected = state_hash(&original);
+        assert_eq!(state_hash(&restored), expected, "snapshot: step {k}");
+        assert_eq!(state_hash(&cloned), expected, "clone: step {k}");
+    }
+}

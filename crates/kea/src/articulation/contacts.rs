@@ -49,6 +49,10 @@ pub struct TreeContact {
     /// A contact between two of the tree's links: the other link (pushed along `−normal`)
     /// and the point on it, in its frame. `None`: the base.
     pub other: Option<(usize, DVec3)>,
+    /// The contact's force on the link in the last step, base frame, N (zero for a new one):
+    /// the solve's first guess of which of its rows push (a warm start, so it changes how
+    /// fast the step is found, not what it is).
+    pub warm: DVec3,
 }
 
 /// One row of a contact in the evaluation in flight: its contact and edge direction (base
@@ -161,6 +165,9 @@ impl ArticulatedTree {
             if !(c.friction >= 0.0 && c.friction.is_finite()) {
                 return bad("friction", c.friction.to_string(), "a finite μ >= 0");
             }
+            if !c.warm.is_finite() {
+                return bad("warm", c.warm.to_string(), "a finite force");
+            }
         }
         let s = &mut self.contact;
         s.contacts.clear();
@@ -192,7 +199,6 @@ impl ArticulatedTree {
         }
         s.force.iter_mut().for_each(|f| *f = DVec3::ZERO);
         s.weight = 1.0;
-        s.lcp.state.clear();
     }
 
     /// Each link's rotation and origin in the base's frame from the placements `place` left.
@@ -381,11 +387,28 @@ impl ArticulatedTree {
         }
         sys.hi.clear();
         sys.hi.resize(m, f64::INFINITY);
-        // The last evaluation's sets in this step are the guess when the rows are alike (the
-        // stages of Runge-Kutta); a step starts from every row at rest.
+        // The last evaluation's sets are the guess while the rows are as many (the stages of
+        // Runge-Kutta, and the steps of a robot at rest: one pivot an evaluation); otherwise
+        // a stop pushes where the motion without it breaks its reference and a contact's edge
+        // where its last step's force leaned on it. The guess changes how fast the solution
+        // is found, not which: with every row regularised the problem is strictly convex, its
+        // solution and so its final sets unique (the free rows' values come from those sets
+        // alone), so a world restored from a snapshot, whose scratch starts empty, steps on
+        // the same bits.
         if sys.state.len() != m {
             sys.state.clear();
-            sys.state.resize(m, Bound::Lower);
+            for r in 0..stops {
+                // A stop pushes if the motion without it would break its reference.
+                let pushing = sys.b[r] > 0.0;
+                sys.state
+                    .push(if pushing { Bound::Free } else { Bound::Lower });
+            }
+            for row in &self.contact.rows {
+                let warm = self.contact.contacts[row.contact].warm;
+                let pushing = warm.dot(row.direction) > 0.0;
+                sys.state
+                    .push(if pushing { Bound::Free } else { Bound::Lower });
+            }
         }
         let mut u = Unknowns {
             lo: &mut sys.lo,

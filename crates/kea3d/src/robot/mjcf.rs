@@ -563,9 +563,10 @@ impl<'a, 'd> Reader<'a, 'd> {
         let angular = kind == "hinge";
         let unit = |v: Real| if angular { self.compiler.angle(v) } else { v };
         let range = el.numbers::<2>("range")?;
+        // `autolimits`: a range makes the joint limited, the element's own or its class's.
         let limited = el
             .flag("limited")?
-            .unwrap_or(self.compiler.auto_limits && el.node.attribute("range").is_some());
+            .unwrap_or(self.compiler.auto_limits && range.is_some());
         let limits = match (limited, range) {
             (true, Some([lo, hi])) if lo < hi => Some((unit(lo), unit(hi))),
             (true, Some([lo, hi])) => {

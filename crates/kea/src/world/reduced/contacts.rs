@@ -98,7 +98,10 @@ impl TreeContacts {
                 ContactType::Frictionless => 0.0,
                 _ => c.coulomb_mu(0).map_or(0.0, wide),
             };
-            for (i, p) in c.points().iter().enumerate() {
+            for (i, (p, w)) in c.points().iter().zip(c.warm_forces()).enumerate() {
+                // The point's force on the contact's first body last step, on the link.
+                let on_first = d3(c.normal() * w.normal + w.friction);
+                let warm = if first { on_first } else { -on_first };
                 let at = if first {
                     p.position
                 } else {
@@ -110,6 +113,7 @@ impl TreeContacts {
                     normal: d3(normal),
                     distance: -wide(p.penetration),
                     friction,
+                    warm,
                     other: other.map(|(o, ob)| {
                         let held = p.position + p.to_second;
                         (o, dq(ob.orientation).inverse() * d3(held - ob.position))
