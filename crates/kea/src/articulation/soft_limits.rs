@@ -22,6 +22,15 @@ pub(super) struct SoftRow {
     force: f64,
 }
 
+/// `base^e` for a power other than 1 or 2, out of line: LLVM may compute a `powf` it can see
+/// on both sides of the branch (it is marked speculatable), which cost the common power 2 a
+/// `pow` call per row.
+#[cold]
+#[inline(never)]
+fn general_power(base: f64, e: f64) -> f64 {
+    base.powf(e)
+}
+
 /// MuJoCo's impedance at distance `x` past the margin.
 pub(super) fn impedance(s: &SoftLimit, x: f64) -> f64 {
     let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
@@ -33,7 +42,7 @@ pub(super) fn impedance(s: &SoftLimit, x: f64) -> f64 {
         } else if e == 1.0 {
             base
         } else {
-            base.powf(e)
+            general_power(base, e)
         }
     };
     let y = if x <= mid {
