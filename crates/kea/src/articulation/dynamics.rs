@@ -65,12 +65,9 @@ impl ArticulatedTree {
     }
 
     /// Joint `i`'s motion subspace in its link's coordinates.
+    #[inline]
     pub(super) fn subspace(&self, i: usize) -> [DVec3; 2] {
-        let l = &self.links[i];
-        match l.kind {
-            TreeJointKind::Hinge => [l.axis, l.anchor.cross(l.axis)],
-            TreeJointKind::Slider => [DVec3::ZERO, l.axis],
-        }
+        self.motion[i]
     }
 
     /// Each link's transform from its parent at `q`: the parent-to-child rotation and the
@@ -234,8 +231,8 @@ impl ArticulatedTree {
     /// Factorises `H'` (left in `h` by `assemble`) in place, leaf to root with no fill
     /// (`solver::sparse::joint_space`).
     pub(super) fn factor_h(&mut self) -> KeaResult<()> {
-        let (n, links) = (self.len(), &self.links);
-        joint_space::factor(&mut self.h, n, |k| links[k].parent).map_err(|k| {
+        let (n, parents) = (self.len(), &self.parents);
+        joint_space::factor(&mut self.h, n, |k| parents[k]).map_err(|k| {
             KeaError::Inconsistent {
                 arg: "links",
                 reason: format!(
@@ -247,22 +244,22 @@ impl ArticulatedTree {
 
     /// Solves `H' x = b` with the factor [`Self::factor_h`] left in `h`; `b` becomes `x`.
     pub(super) fn solve_h(&self, b: &mut [f64]) {
-        let links = &self.links;
-        joint_space::solve(&self.h, self.len(), |k| links[k].parent, b);
+        let parents = &self.parents;
+        joint_space::solve(&self.h, self.len(), |k| parents[k], b);
     }
 
     /// `b ← L⁻ᵀ b` with `H' = Lᵀ L` (the factor in `h`): for rows `J`, `J H'⁻¹ Jᵀ` is the
     /// Gram matrix of their halves.
     pub(super) fn half_solve_h(&self, b: &mut [f64]) {
-        let links = &self.links;
-        joint_space::solve_transposed(&self.h, self.len(), |k| links[k].parent, b);
+        let parents = &self.parents;
+        joint_space::solve_transposed(&self.h, self.len(), |k| parents[k], b);
     }
 
     /// [`Self::half_solve_h`] for a `b` that is zero off the path from link `leaf` to the
     /// root (one link's point Jacobian): only the path is visited.
     pub(super) fn half_solve_h_path(&self, leaf: usize, b: &mut [f64]) {
-        let links = &self.links;
-        joint_space::solve_transposed_path(&self.h, self.len(), |k| links[k].parent, leaf, b);
+        let parents = &self.parents;
+        joint_space::solve_transposed_path(&self.h, self.len(), |k| parents[k], leaf, b);
     }
 }
 

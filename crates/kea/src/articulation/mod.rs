@@ -90,6 +90,16 @@ pub struct TreeLink {
     pub stop_recovery_speed: f64,
 }
 
+impl TreeLink {
+    /// Its joint's motion subspace in its own coordinates: `[ω; v]` per unit rate.
+    fn subspace(&self) -> [DVec3; 2] {
+        match self.kind {
+            TreeJointKind::Hinge => [self.axis, self.anchor.cross(self.axis)],
+            TreeJointKind::Slider => [DVec3::ZERO, self.axis],
+        }
+    }
+}
+
 impl Default for TreeLink {
     /// A 1 kg hinge about z on the base, its centre at its origin, unit inertia, nothing else.
     fn default() -> Self {
@@ -126,6 +136,10 @@ impl Default for ArticulatedTree {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArticulatedTree {
     links: Vec<TreeLink>,
+    /// Each link's parent and joint motion subspace (its link's coordinates), read from the
+    /// links when they are set: the factorisations and recursions walk them compactly.
+    parents: Vec<Option<usize>>,
+    motion: Vec<[DVec3; 2]>,
     /// Gravity in the base's frame, m/s².
     gravity: DVec3,
     // Scratch, reused every call: per link its transform from the parent (E, r), spatial
@@ -223,8 +237,14 @@ impl ArticulatedTree {
             }
         }
         let n = links.len();
+        let (parents, motion) = (
+            links.iter().map(|l| l.parent).collect(),
+            links.iter().map(TreeLink::subspace).collect(),
+        );
         Ok(Self {
             links,
+            parents,
+            motion,
             gravity,
             rot: vec![DMat3::IDENTITY; n],
             pos: vec![DVec3::ZERO; n],
@@ -269,6 +289,10 @@ impl ArticulatedTree {
     pub(crate) fn refill(&mut self, links: impl Iterator<Item = TreeLink>, gravity: DVec3) {
         self.links.clear();
         self.links.extend(links);
+        self.parents.clear();
+        self.parents.extend(self.links.iter().map(|l| l.parent));
+        self.motion.clear();
+        self.motion.extend(self.links.iter().map(TreeLink::subspace));
         self.placed_valid = false;
         self.gravity = gravity;
         let n = self.links.len();
