@@ -232,13 +232,11 @@ impl ArticulatedTree {
     /// (`solver::sparse::joint_space`).
     pub(super) fn factor_h(&mut self) -> KeaResult<()> {
         let (n, parents) = (self.len(), &self.parents);
-        joint_space::factor(&mut self.h, n, |k| parents[k]).map_err(|k| {
-            KeaError::Inconsistent {
-                arg: "links",
-                reason: format!(
-                    "the tree's joint-space inertia is not positive definite (coordinate {k})"
-                ),
-            }
+        joint_space::factor(&mut self.h, n, |k| parents[k]).map_err(|k| KeaError::Inconsistent {
+            arg: "links",
+            reason: format!(
+                "the tree's joint-space inertia is not positive definite (coordinate {k})"
+            ),
         })
     }
 

@@ -292,7 +292,8 @@ impl ArticulatedTree {
         self.parents.clear();
         self.parents.extend(self.links.iter().map(|l| l.parent));
         self.motion.clear();
-        self.motion.extend(self.links.iter().map(TreeLink::subspace));
+        self.motion
+            .extend(self.links.iter().map(TreeLink::subspace));
         self.placed_valid = false;
         self.gravity = gravity;
         let n = self.links.len();
