@@ -59,31 +59,28 @@ fn a_robot_at_rest_stands_on_contact_forces_equal_to_its_weight() {
     let names: Vec<&str> = robot.links().iter().map(|l| l.name.as_str()).collect();
     let at = |n: &str| names.iter().position(|x| *x == n).unwrap();
     // Each link's own mass, also the foot welded to its leg's body.
-    let masses: Vec<f64> = s.iter().map(|x| f64::from(x.mass)).collect();
+    let masses: Vec<Real> = s.iter().map(|x| x.mass).collect();
     assert!((masses[at("torso")] - 4.0).abs() < 1e-4, "{masses:?}");
     assert!((masses[at("left_foot")] - 0.5).abs() < 1e-4, "{masses:?}");
     assert!((masses[at("left")] - 1.0).abs() < 1e-4, "{masses:?}");
-    let total: f64 = masses.iter().sum();
+    let total: Real = masses.iter().sum();
     assert!((total - 6.5).abs() < 1e-3, "total {total}");
     // At rest the contacts carry the weight: on the robot's links m g up, on the floor the
     // same down; the foot's contacts are on the foot, none on the leg above it.
     let on_robot: Vec3 = s[1..].iter().map(|x| x.contact_force).sum();
-    let weight = 6.5 * 9.81;
+    let weight: Real = 6.5 * 9.81;
     assert!(
-        (f64::from(on_robot.z) - weight).abs() < 0.01 * weight,
+        (on_robot.z - weight).abs() < 0.01 * weight,
         "contacts on the robot {on_robot}, weight {weight}"
     );
+    assert!(on_robot.x.hypot(on_robot.y) < 0.01 * weight, "{on_robot}");
     assert!(
-        f64::from(on_robot.x.hypot(on_robot.y)) < 0.01 * weight,
-        "{on_robot}"
-    );
-    assert!(
-        (s[0].contact_force + on_robot).length() < 1e-3 * weight as Real,
+        (s[0].contact_force + on_robot).length() < 1e-3 * weight,
         "floor {}",
         s[0].contact_force
     );
     assert!(
-        s[at("left_foot")].contact_force.z > 0.1 * weight as Real,
+        s[at("left_foot")].contact_force.z > 0.1 * weight,
         "{:?}",
         s[at("left_foot")]
     );
@@ -99,10 +96,7 @@ fn a_robot_at_rest_stands_on_contact_forces_equal_to_its_weight() {
         .iter()
         .map(|x| x.contact_torque + (x.center_of_mass - centre).cross(x.contact_force))
         .sum();
-    assert!(
-        f64::from(torque.length()) < 0.02 * weight * 0.3,
-        "torque {torque}"
-    );
+    assert!(torque.length() < 0.02 * weight * 0.3, "torque {torque}");
 }
 
 #[test]
@@ -148,7 +142,7 @@ fn actuator_forces_are_gear_times_the_clamped_control_on_their_coordinates() {
     // Free joint first (6), then the hips: 20 × 0.5 and 30 × 0.5 (clamped from 2).
     assert_eq!(&f[..6], &[0.0; 6]);
     assert!(
-        (f64::from(f[6]) - 10.0).abs() < 1e-5 && (f64::from(f[7]) - 15.0).abs() < 1e-5,
+        (f[6] - 10.0).abs() < 1e-5 && (f[7] - 15.0).abs() < 1e-5,
         "{f:?}"
     );
     // A wrong length or a NaN is refused, naming the argument.
