@@ -1,11 +1,12 @@
 //! MuJoCo's soft stops on a tree's coordinates (`crate::SoftLimit`): inside every evaluation
 //! of the accelerations, each stop within its margin is a row `J = ±e_i` whose force `f ≥ 0`
 //! solves `min ½ fᵀ (A + R) f + fᵀ (J q̈₀ − a_ref)` — `A = J H'⁻¹ Jᵀ`, `q̈₀` the free
-//! accelerations — by projected Gauss–Seidel to round-off, then `q̈ = q̈₀ + H'⁻¹ Jᵀ f`.
-//! The regulariser uses the current `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's
-//! reference pose (equal for a slider on a free body, close for an arm). The links' contacts
-//! with the base (`contacts.rs`) are rows of the same problem; with any of them, the rows are
-//! solved together exactly (`solve_rows_exactly`) instead of by sweeps.
+//! accelerations — exactly, then `q̈ = q̈₀ + H'⁻¹ Jᵀ f`. The regulariser uses the current
+//! `[H'⁻¹]ᵢᵢ` where MuJoCo uses its value at the model's reference pose (equal for a slider on
+//! a free body, close for an arm). The links' contacts with the base (`contacts.rs`) are rows
+//! of the same problem: stops and contacts are one small LCP, solved by the dense pivoting
+//! solver warm-started from the last evaluation's sets (`solve_rows_exactly`; it replaced
+//! projected Gauss–Seidel sweeps, which converge slowly where a limb's stops couple).
 
 use super::ArticulatedTree;
 use crate::math::wide;
@@ -91,41 +92,11 @@ impl ArticulatedTree {
         if self.soft_rows.is_empty() && self.contact.rows.is_empty() {
             return;
         }
-        if !self.contact.rows.is_empty() {
-            // With contacts the rows couple strongly (a pyramid's edges share a point): one
-            // exact solve of the small LCP instead of sweeps.
-            self.solve_rows_exactly(qdd);
-            self.record_contact_forces();
-            return;
-        }
-        // The columns of H'⁻¹ the rows act through.
-        for r in 0..self.soft_rows.len() {
-            let j = self.soft_rows[r].coordinate;
-            self.inverse_column(j);
-            let row = &mut self.soft_rows[r];
-            row.regulariser *= self.inverse[j * n + j];
-        }
-        for _sweep in 0..100 {
-            let mut largest: f64 = 0.0;
-            for r in 0..self.soft_rows.len() {
-                let row = self.soft_rows[r];
-                let i = row.coordinate;
-                let a = self.inverse[i * n + i];
-                let residual = row.sign * qdd[i] - row.reference + row.regulariser * row.force;
-                let f = (row.force - residual / (a + row.regulariser)).max(0.0);
-                let delta = f - row.force;
-                if delta != 0.0 {
-                    self.soft_rows[r].force = f;
-                    for (k, acc) in qdd.iter_mut().enumerate() {
-                        *acc += self.inverse[k * n + i] * row.sign * delta;
-                    }
-                    largest = largest.max((delta * a).abs());
-                }
-            }
-            if largest < 1e-13 {
-                break;
-            }
-        }
+        // One exact solve of the small LCP (stops and contacts together), warm-started from
+        // the last evaluation's sets: a pyramid's edges share a point and a limb's stops
+        // couple through the inertia, where sweeps converge slowly.
+        self.solve_rows_exactly(qdd);
+        self.record_contact_forces();
     }
 
     /// The soft stops' row `r`: its coordinate, direction, reference, and regulariser relative
