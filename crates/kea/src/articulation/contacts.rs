@@ -267,41 +267,7 @@ impl ArticulatedTree {
             // point's, between links) and their halves `L⁻ᵀJᵀ`, once: each edge is `J_n ± μ J_t`.
             let basis = [n_dir, t1, t2];
             let dirs = if mu > 0.0 { 3 } else { 1 };
-            point.clear();
-            point.resize(2 * 3 * n, 0.0);
-            let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
-            if let Some((o, at)) = contact.other {
-                sides[1] = (o, s.pos[o] + s.rot[o] * at, -1.0);
-            }
-            for (start, at_point, sign) in sides {
-                if sign == 0.0 {
-                    continue;
-                }
-                let mut j = Some(start);
-                while let Some(l) = j {
-                    let link = &self.links[l];
-                    let axis = s.rot[l] * link.axis;
-                    let lin = match link.kind {
-                        TreeJointKind::Hinge => {
-                            axis.cross(at_point - (s.pos[l] + s.rot[l] * link.anchor))
-                        }
-                        TreeJointKind::Slider => axis,
-                    };
-                    for (e, d) in basis.iter().enumerate().take(dirs) {
-                        point[2 * n * e + l] += sign * d.dot(lin);
-                    }
-                    j = link.parent;
-                }
-            }
-            for e in 0..dirs {
-                let (row, y) = point[2 * n * e..2 * n * (e + 1)].split_at_mut(n);
-                y.copy_from_slice(row);
-                if contact.other.is_some() {
-                    self.half_solve_h(y);
-                } else {
-                    self.half_solve_h_path(contact.link, y);
-                }
-            }
+            self.point_bases(&contact, p, &basis[..dirs], &mut point);
             for (k, &d) in used.iter().enumerate() {
                 let at = jw.len();
                 jw.resize(at + 2 * n, 0.0);
@@ -337,6 +303,49 @@ impl ArticulatedTree {
         self.contact.jw = jw;
         self.contact.point = point;
         self.contact.rows = rows;
+    }
+
+    /// A contact point's velocity along each of `basis` per coordinate (less the other link's
+    /// point's, between links), its `J`, and its half `L⁻ᵀJᵀ`, into `point` (`2n` numbers a
+    /// direction); the links' frames must be in the scratch (`link_frames`).
+    fn point_bases(&self, contact: &TreeContact, p: DVec3, basis: &[DVec3], point: &mut Vec<f64>) {
+        let n = self.len();
+        let s = &self.contact;
+        point.clear();
+        point.resize(2 * 3 * n, 0.0);
+        let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
+        if let Some((o, at)) = contact.other {
+            sides[1] = (o, s.pos[o] + s.rot[o] * at, -1.0);
+        }
+        for (start, at_point, sign) in sides {
+            if sign == 0.0 {
+                continue;
+            }
+            let mut j = Some(start);
+            while let Some(l) = j {
+                let link = &self.links[l];
+                let axis = s.rot[l] * link.axis;
+                let lin = match link.kind {
+                    TreeJointKind::Hinge => {
+                        axis.cross(at_point - (s.pos[l] + s.rot[l] * link.anchor))
+                    }
+                    TreeJointKind::Slider => axis,
+                };
+                for (e, d) in basis.iter().enumerate() {
+                    point[2 * n * e + l] += sign * d.dot(lin);
+                }
+                j = link.parent;
+            }
+        }
+        for e in 0..basis.len() {
+            let (row, y) = point[2 * n * e..2 * n * (e + 1)].split_at_mut(n);
+            y.copy_from_slice(row);
+            if contact.other.is_some() {
+                self.half_solve_h(y);
+            } else {
+                self.half_solve_h_path(contact.link, y);
+            }
+        }
     }
 
     /// The soft stops' and the contacts' rows solved together exactly (module docs): the
@@ -387,29 +396,7 @@ impl ArticulatedTree {
         }
         sys.hi.clear();
         sys.hi.resize(m, f64::INFINITY);
-        // The last evaluation's sets are the guess while the rows are as many (the stages of
-        // Runge-Kutta, and the steps of a robot at rest: one pivot an evaluation); otherwise
-        // a stop pushes where the motion without it breaks its reference and a contact's edge
-        // where its last step's force leaned on it. The guess changes how fast the solution
-        // is found, not which: with every row regularised the problem is strictly convex, its
-        // solution and so its final sets unique (the free rows' values come from those sets
-        // alone), so a world restored from a snapshot, whose scratch starts empty, steps on
-        // the same bits.
-        if sys.state.len() != m {
-            sys.state.clear();
-            for r in 0..stops {
-                // A stop pushes if the motion without it would break its reference.
-                let pushing = sys.b[r] > 0.0;
-                sys.state
-                    .push(if pushing { Bound::Free } else { Bound::Lower });
-            }
-            for row in &self.contact.rows {
-                let warm = self.contact.contacts[row.contact].warm;
-                let pushing = warm.dot(row.direction) > 0.0;
-                sys.state
-                    .push(if pushing { Bound::Free } else { Bound::Lower });
-            }
-        }
+        self.guess_sets(&mut sys, stops, m);
         let mut u = Unknowns {
             lo: &mut sys.lo,
             hi: &mut sys.hi,
@@ -444,6 +431,34 @@ impl ArticulatedTree {
             *acc += p;
         }
         self.contact.lcp = sys;
+    }
+
+    /// The exact solve's starting sets.
+    fn guess_sets(&self, sys: &mut LcpSystem, stops: usize, m: usize) {
+        // The last evaluation's sets are the guess while the rows are as many (the stages of
+        // Runge-Kutta, and the steps of a robot at rest: one pivot an evaluation); otherwise
+        // a stop pushes where the motion without it breaks its reference and a contact's edge
+        // where its last step's force leaned on it. The guess changes how fast the solution
+        // is found, not which: with every row regularised the problem is strictly convex, its
+        // solution and so its final sets unique (the free rows' values come from those sets
+        // alone), so a world restored from a snapshot, whose scratch starts empty, steps on
+        // the same bits.
+        if sys.state.len() == m {
+            return;
+        }
+        sys.state.clear();
+        for r in 0..stops {
+            // A stop pushes if the motion without it would break its reference.
+            let pushing = sys.b[r] > 0.0;
+            sys.state
+                .push(if pushing { Bound::Free } else { Bound::Lower });
+        }
+        for row in &self.contact.rows {
+            let warm = self.contact.contacts[row.contact].warm;
+            let pushing = warm.dot(row.direction) > 0.0;
+            sys.state
+                .push(if pushing { Bound::Free } else { Bound::Lower });
+        }
     }
 
     /// Adds the evaluation's contact forces, at its weight, to the step's mean.

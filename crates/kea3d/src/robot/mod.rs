@@ -37,6 +37,7 @@ mod mjcf;
 mod mjcf_actuators;
 mod mjcf_defaults;
 mod mjcf_equality;
+mod mjcf_geom;
 mod mjcf_include;
 mod mjcf_joints;
 mod mjcf_option;
