@@ -312,7 +312,7 @@ impl ArticulatedTree {
         let n = self.len();
         let s = &self.contact;
         point.clear();
-        point.resize(2 * 3 * n, 0.0);
+        point.resize(2 * basis.len() * n, 0.0);
         let mut sides = [(contact.link, p, 1.0), (contact.link, p, 0.0)];
         if let Some((o, at)) = contact.other {
             sides[1] = (o, s.pos[o] + s.rot[o] * at, -1.0);
@@ -356,8 +356,11 @@ impl ArticulatedTree {
         let stops = self.stop_rows();
         let m = stops + self.contact.rows.len();
         let mut sys = std::mem::take(&mut self.contact.lcp);
+        // The stops' rows (zero but on their coordinate's path), then the contacts' as
+        // `contact_rows` left them, in row order.
         sys.jw.clear();
-        sys.jw.resize(2 * n * m, 0.0);
+        sys.jw.resize(2 * n * stops, 0.0);
+        sys.jw.extend_from_slice(&self.contact.jw);
         sys.b.clear();
         sys.reg.clear();
         for r in 0..stops {
@@ -371,10 +374,9 @@ impl ArticulatedTree {
             sys.reg.push(reg * dot(y, y));
         }
         for (k, row) in self.contact.rows.iter().enumerate() {
-            let r = stops + k;
-            let src = &self.contact.jw[row.at..row.at + 2 * n];
-            sys.jw[2 * n * r..2 * n * (r + 1)].copy_from_slice(src);
-            sys.b.push(row.reference - dot(&src[..n], qdd));
+            debug_assert_eq!(row.at, 2 * n * k, "contact rows lie in order");
+            let j = &self.contact.jw[row.at..row.at + n];
+            sys.b.push(row.reference - dot(j, qdd));
             sys.reg.push(row.regulariser);
         }
         sys.a.clear();
