@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use rayon::prelude::*;
 
 impl PyBatch {
-    fn robot(&self) -> PyResult<Robot> {
+    pub(crate) fn robot(&self) -> PyResult<Robot> {
         self.robot.clone().ok_or_else(|| {
             PyValueError::new_err(
                 "this batch holds no robot: make it from World.from_urdf or World.from_mjcf",

@@ -8,7 +8,6 @@ use crate::world::PyWorld;
 use kea3d::robot::{LinkState, Robot};
 use kea3d::{PhysicsWorld, Real};
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -123,21 +122,11 @@ impl PyWorld {
     }
 }
 
-impl PyBatch {
-    fn batch_robot(&self) -> PyResult<Robot> {
-        self.robot.clone().ok_or_else(|| {
-            PyValueError::new_err(
-                "this batch holds no robot: make it from World.from_urdf or World.from_mjcf",
-            )
-        })
-    }
-}
-
 #[pymethods]
 impl PyBatch {
     /// Every world's `World.link_states`, each array with a leading world axis (N, L, …).
     fn link_states<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let robot = self.batch_robot()?;
+        let robot = self.robot()?;
         let (n, links) = (self.worlds.len(), robot.links().len());
         let mut flat = vec![0.0; n * links * WIDTH];
         let worlds = &self.worlds;
@@ -157,7 +146,7 @@ impl PyBatch {
         py_: Python<'py>,
         controls: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-        let robot = self.batch_robot()?;
+        let robot = self.robot()?;
         let width = robot.actuators().len();
         let (rows, values) = crate::convert::matrix("controls", controls, width)?;
         let n = self.worlds.len();

@@ -53,6 +53,11 @@ class _RobotVecEnv(AutoresetVecEnv):
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._done = np.zeros(num_envs, dtype=bool)
 
+    @property
+    def dt(self) -> float:
+        """One environment step, s (Gymnasium's ``dt``)."""
+        return self.dt_physics * self.frame_skip
+
     # What a task defines.
     observation_size = 0
     single_action_space: gym.spaces.Box

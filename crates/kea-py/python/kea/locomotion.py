@@ -63,11 +63,6 @@ class _LocomotionVecEnv(_RobotVecEnv):
         super().__init__(world, num_envs, threads, world.timestep)
         self._x_before = np.zeros(num_envs)
 
-    @property
-    def dt(self) -> float:
-        """One environment step, s (Gymnasium's ``dt``)."""
-        return self.dt_physics * self.frame_skip
-
     def _initial(self, count):
         s = self.reset_noise
         nq, nv = self.init_qpos.size, self.init_qvel.size
@@ -187,11 +182,6 @@ class _FloatingBaseVecEnv(_RobotVecEnv):
         super().__init__(world, num_envs, threads, world.timestep)
         self._actions = np.zeros((num_envs, ranges.shape[0]))
         self._before = np.zeros((num_envs, 2))
-
-    @property
-    def dt(self) -> float:
-        """One environment step, s (Gymnasium's ``dt``)."""
-        return self.dt_physics * self.frame_skip
 
     def _initial(self, count):
         s = self.reset_noise

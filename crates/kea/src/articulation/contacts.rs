@@ -422,9 +422,7 @@ impl ArticulatedTree {
                     *p += jk * f;
                 }
             }
-            if r < stops {
-                self.set_stop_force(r, f);
-            } else {
+            if r >= stops {
                 self.contact.rows[r - stops].force = f;
             }
         }

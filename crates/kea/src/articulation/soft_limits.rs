@@ -13,14 +13,13 @@ use crate::math::wide;
 use crate::SoftLimit;
 
 /// One engaged soft stop: its coordinate, direction (+1 lower, −1 upper), the acceleration it
-/// pulls towards, its regulariser, and its force.
+/// pulls towards, and its regulariser.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct SoftRow {
     coordinate: usize,
     sign: f64,
     reference: f64,
     regulariser: f64,
-    force: f64,
 }
 
 /// `base^e` for a power other than 1 or 2, out of line: LLVM may compute a `powf` it can see
@@ -84,7 +83,6 @@ impl ArticulatedTree {
                     sign,
                     reference: -b * sign * qd[i] - k * d * x,
                     regulariser: (1.0 - d) / d,
-                    force: 0.0,
                 });
             }
         }
@@ -104,11 +102,6 @@ impl ArticulatedTree {
     pub(super) fn stop_row(&self, r: usize) -> (usize, f64, f64, f64) {
         let row = &self.soft_rows[r];
         (row.coordinate, row.sign, row.reference, row.regulariser)
-    }
-
-    /// Sets the soft stops' row `r`'s force.
-    pub(super) fn set_stop_force(&mut self, r: usize, force: f64) {
-        self.soft_rows[r].force = force;
     }
 
     /// The soft stops' rows this evaluation.

@@ -23,7 +23,7 @@ impl Robot {
     }
 
     /// The joint and coordinate an actuator drives.
-    fn actuated(&self, a: &ActuatorSpec) -> Option<(usize, usize)> {
+    pub(super) fn actuated(&self, a: &ActuatorSpec) -> Option<(usize, usize)> {
         self.joints()
             .iter()
             .enumerate()

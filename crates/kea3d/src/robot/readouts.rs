@@ -95,13 +95,10 @@ impl Robot {
         let v = self.joint_velocities(world)?;
         let mut out = vec![0.0; self.velocity_count()];
         for (a, &u) in self.actuators().iter().zip(controls) {
-            let Some((j, k)) = self
-                .joints()
-                .iter()
-                .find_map(|j| j.parts.iter().position(|p| *p == a.joint).map(|k| (j, k)))
-            else {
+            let Some((j, k)) = self.actuated(a) else {
                 continue;
             };
+            let j = &self.joints()[j];
             let (pos, vel) = (j.first_position + k, j.first_velocity + k);
             let u = a.ctrl_range.map_or(u, |(lo, hi)| u.clamp(lo, hi));
             let g = a.gear;
