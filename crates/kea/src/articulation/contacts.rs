@@ -348,18 +348,20 @@ impl ArticulatedTree {
         }
     }
 
-    /// The soft stops' and the contacts' rows solved together exactly (module docs): the
-    /// soft stops' rows (`J = ±e_i`, their `H'⁻¹` columns in `inverse`) first, then the
-    /// contacts'; `qdd` gets `H'⁻¹ Jᵀ f`.
+    /// The soft stops', the tendons' ranges' and the contacts' rows solved together exactly
+    /// (module docs): the soft stops' rows (`J = ±e_i`) first, then the tendons'
+    /// (`tendons.rs`), then the contacts'; `qdd` gets `H'⁻¹ Jᵀ f`.
     pub(super) fn solve_rows_exactly(&mut self, qdd: &mut [f64]) {
         let n = self.len();
         let stops = self.stop_rows();
-        let m = stops + self.contact.rows.len();
+        let tendons = self.tendon.rows.len();
+        let singles = stops + tendons;
+        let m = singles + self.contact.rows.len();
         let mut sys = std::mem::take(&mut self.contact.lcp);
-        // The stops' rows (zero but on their coordinate's path), then the contacts' as
-        // `contact_rows` left them, in row order.
+        // The stops' rows (zero but on their coordinate's path), the tendons', then the
+        // contacts' as `contact_rows` left them, in row order.
         sys.jw.clear();
-        sys.jw.resize(2 * n * stops, 0.0);
+        sys.jw.resize(2 * n * singles, 0.0);
         sys.jw.extend_from_slice(&self.contact.jw);
         sys.b.clear();
         sys.reg.clear();
@@ -372,6 +374,17 @@ impl ArticulatedTree {
             sys.b.push(reference - sign * qdd[i]);
             // MuJoCo's regulariser scales with the row's own `[H'⁻¹]ᵢᵢ = |L⁻ᵀeᵢ|²`.
             sys.reg.push(reg * dot(y, y));
+        }
+        for (k, row) in self.tendon.rows.iter().enumerate() {
+            let r = stops + k;
+            let (j, y) = sys.jw[2 * n * r..2 * n * (r + 1)].split_at_mut(n);
+            for &(i, c) in self.tendon.terms(row.tendon) {
+                j[i] += row.sign * c;
+            }
+            y.copy_from_slice(j);
+            self.half_solve_h(y);
+            sys.b.push(row.reference - dot(j, qdd));
+            sys.reg.push(row.regulariser * dot(y, y));
         }
         for (k, row) in self.contact.rows.iter().enumerate() {
             debug_assert_eq!(row.at, 2 * n * k, "contact rows lie in order");
@@ -398,7 +411,7 @@ impl ArticulatedTree {
         }
         sys.hi.clear();
         sys.hi.resize(m, f64::INFINITY);
-        self.guess_sets(&mut sys, stops, m);
+        self.guess_sets(&mut sys, singles, m);
         let mut u = Unknowns {
             lo: &mut sys.lo,
             hi: &mut sys.hi,
@@ -422,8 +435,8 @@ impl ArticulatedTree {
                     *p += jk * f;
                 }
             }
-            if r >= stops {
-                self.contact.rows[r - stops].force = f;
+            if r >= singles {
+                self.contact.rows[r - singles].force = f;
             }
         }
         self.solve_h(&mut sys.push);
@@ -433,8 +446,9 @@ impl ArticulatedTree {
         self.contact.lcp = sys;
     }
 
-    /// The exact solve's starting sets.
-    fn guess_sets(&self, sys: &mut LcpSystem, stops: usize, m: usize) {
+    /// The exact solve's starting sets (`singles`: the stops' and tendons' rows, before the
+    /// contacts').
+    fn guess_sets(&self, sys: &mut LcpSystem, singles: usize, m: usize) {
         // The last evaluation's sets are the guess while the rows are as many (the stages of
         // Runge-Kutta, and the steps of a robot at rest: one pivot an evaluation); otherwise
         // a stop pushes where the motion without it breaks its reference and a contact's edge
@@ -447,7 +461,7 @@ impl ArticulatedTree {
             return;
         }
         sys.state.clear();
-        for r in 0..stops {
+        for r in 0..singles {
             // A stop pushes if the motion without it would break its reference.
             let pushing = sys.b[r] > 0.0;
             sys.state

@@ -224,6 +224,9 @@ impl ArticulatedTree {
                 self.h[i * n + i] += h * h * kp + h * kv;
             }
         }
+        if self.has_tendons() {
+            self.tendon_forces(q, qd, rhs);
+        }
     }
 }
 

@@ -35,9 +35,12 @@ mod dynamics;
 mod impulses;
 mod integrate;
 mod soft_limits;
+mod tendons;
 
 pub use contacts::TreeContact;
 pub use integrate::Integrator;
+pub(crate) use soft_limits::impedance;
+pub(crate) use tendons::TreeTendon;
 
 /// How a joint of the tree moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -183,6 +186,8 @@ pub struct ArticulatedTree {
     step_length: f64,
     /// The links' contacts with the base.
     contact: contacts::ContactState,
+    /// Fixed tendons over its coordinates (`tendons.rs`).
+    tendon: tendons::TendonState,
     /// The applied wrenches while the reactions' pass adds the contacts' to them.
     external_kept: Vec<[DVec3; 2]>,
 }
@@ -274,6 +279,7 @@ impl ArticulatedTree {
             soft_rows: Vec::with_capacity(2 * n),
             step_length: 0.0,
             contact: contacts::ContactState::default(),
+            tendon: tendons::TendonState::default(),
             external_kept: Vec::with_capacity(n),
         })
     }
@@ -325,6 +331,7 @@ impl ArticulatedTree {
         self.lu.resize(n * n, 0.0);
         self.soft_rows.reserve(2 * n);
         self.contact.clear();
+        self.tendon.tendons.clear();
     }
 
     /// The integrator the steps use.

@@ -32,7 +32,7 @@ fn general_power(base: f64, e: f64) -> f64 {
 }
 
 /// MuJoCo's impedance at distance `x` past the margin.
-pub(super) fn impedance(s: &SoftLimit, x: f64) -> f64 {
+pub(crate) fn impedance(s: &SoftLimit, x: f64) -> f64 {
     let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
     let x = (x.abs() / width).min(1.0);
     // MuJoCo's default power is 2: a product instead of two `pow` calls.
@@ -86,8 +86,10 @@ impl ArticulatedTree {
                 });
             }
         }
+        self.tendon_rows(q, qd, step);
         self.contact_rows(qd, step);
-        if self.soft_rows.is_empty() && self.contact.rows.is_empty() {
+        if self.soft_rows.is_empty() && self.tendon.rows.is_empty() && self.contact.rows.is_empty()
+        {
             return;
         }
         // One exact solve of the small LCP (stops and contacts together), warm-started from

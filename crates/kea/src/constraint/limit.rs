@@ -357,6 +357,10 @@ pub struct Limit {
     actuator: Option<Actuator>,
     position: Real,
     velocity: Real,
+    /// The force its fixed tendons put on the coordinate this step (maximal paths; set by
+    /// the world before each step).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    tendon_force: Real,
 }
 
 impl Limit {
@@ -506,6 +510,12 @@ impl Limit {
                 out.push(row);
             }
         }
+        if self.tendon_force != 0.0 {
+            let f = self.tendon_force;
+            let mut row = Row::new(j[0], j[1]).with_bounds(f, f).with_gamma(0.0);
+            row.softness = Some(RIGID);
+            out.push(row);
+        }
         match self.actuator {
             None => {}
             Some(Actuator::Force(f)) => {
@@ -532,6 +542,16 @@ impl Limit {
                 }
             }
         }
+    }
+
+    /// The force the coordinate's fixed tendons put on it this step (maximal paths).
+    #[must_use]
+    pub fn tendon_force(&self) -> Real {
+        self.tendon_force
+    }
+
+    pub(crate) fn set_tendon_force(&mut self, force: Real) {
+        self.tendon_force = force;
     }
 
     pub(crate) fn record(&mut self, position: Real, velocity: Real) {

@@ -25,6 +25,7 @@ mod sleep;
 mod snapshot;
 mod step;
 mod step_size;
+mod tendons;
 mod write_back;
 
 pub use islands::IslandList;
@@ -40,6 +41,7 @@ pub(crate) use snapshot::serde_real;
 pub use snapshot::{WorldSnapshot, SNAPSHOT_VERSION};
 pub use step::{CollisionStats, StepStats, PROJECTION_TOLERANCE};
 pub use step_size::StepSize;
+pub use tendons::{FixedTendon, TendonHandle, TendonTerm};
 
 use crate::body::{Body, BodyDef};
 use crate::constraint::Row;
@@ -115,6 +117,8 @@ struct StepScratch {
     /// Slots of the constraints whose read-outs (rows, reactions) the last step wrote: the
     /// only ones the next step must clear (a sleeping pile's contacts are not visited).
     written: Vec<u32>,
+    /// Per tendon: stepped by the reduced path this step.
+    tendon_reduced: Vec<bool>,
     /// Joint slots whose rows came out non-finite in this step's gather.
     unwritable: Vec<u32>,
     /// Per constraint of the step: (slot, first row, row count), for projection.
@@ -175,6 +179,8 @@ pub struct World {
     quarantine_roots: Vec<(u32, bool)>,
     solver: Solver,
     scratch: StepScratch,
+    /// Fixed tendons by index (`None`: removed; `tendons.rs`).
+    tendons: Vec<Option<FixedTendon>>,
     time: f64,
     steps: u64,
 }
@@ -240,6 +246,7 @@ impl World {
             quarantine_sets,
             quarantine_root: Vec::with_capacity(def.max_bodies),
             reduced: reduced::ReducedScratch::default(),
+            tendon_reduced: Vec::new(),
         };
         Ok(Self {
             id,
@@ -260,6 +267,7 @@ impl World {
                 island_rows,
             ),
             scratch,
+            tendons: Vec::new(),
             time: 0.0,
             steps: 0,
         })

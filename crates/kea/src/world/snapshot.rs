@@ -70,6 +70,9 @@ pub struct WorldSnapshot {
     /// world steps them on the same bits.
     #[serde(default)]
     reduced_trees: Vec<super::reduced::SavedTree>,
+    /// Fixed tendons by index, `None` where removed (absent in older snapshots: none).
+    #[serde(default)]
+    tendons: Vec<Option<super::FixedTendon>>,
 }
 
 impl World {
@@ -120,6 +123,7 @@ impl World {
             time: self.time,
             steps: self.steps,
             reduced_trees: self.saved_trees(),
+            tendons: self.tendons.clone(),
         })
     }
 
@@ -194,6 +198,10 @@ impl World {
         world.time = snapshot.time;
         world.steps = snapshot.steps;
         world.restore_trees(snapshot.reduced_trees)?;
+        for t in snapshot.tendons.iter().flatten() {
+            world.check_tendon(t)?;
+        }
+        world.tendons = snapshot.tendons;
         Ok(world)
     }
 }

@@ -135,6 +135,7 @@ impl World {
             self.scratch.wake.clear();
         }
         let reduced_trees = self.step_reduced_trees(dt);
+        self.load_tendon_forces(dt);
         self.collect_bodies();
         let t1 = Stamp::now(self.settings.step_timing);
         let constraints = self.gather_rows(&params);

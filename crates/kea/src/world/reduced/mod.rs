@@ -39,6 +39,7 @@ mod frames;
 mod qualify;
 #[cfg(feature = "serde")]
 mod saved;
+mod tendons;
 
 #[cfg(feature = "serde")]
 pub(crate) use saved::SavedTree;
@@ -182,6 +183,12 @@ pub(super) struct ReducedScratch {
     root_body: Vec<u32>,
     /// The trees' contacts in joint space (`contacts.rs`).
     contacts: TreeContacts,
+    /// The tendons of the tree in flight (`tendons.rs`): their indices, their form in its
+    /// coordinates and their terms, and per joint slot its plan entry + 1 (scratch, zeros).
+    tendon_ids: Vec<u32>,
+    tree_tendons: Vec<crate::articulation::TreeTendon>,
+    tendon_terms: Vec<(usize, f64)>,
+    plan_of_joint: Vec<u32>,
 }
 
 impl World {
@@ -197,6 +204,10 @@ impl World {
         for t in &mut r.trees {
             t.stepped = false;
         }
+        self.scratch.tendon_reduced.clear();
+        self.scratch
+            .tendon_reduced
+            .resize(self.tendons.len(), false);
         let limit = self.settings.routing.max_reduced_links;
         if self.settings.routing.mode != SolverMode::Hybrid
             || limit == 0
@@ -407,6 +418,9 @@ impl World {
                 r.tau[link] = drive(limit_of(entry), p, t.tree.link_mut(link));
             }
         }
+        self.tree_tendons(index);
+        let (bodies, constraints) = (&self.bodies, &self.constraints);
+        let r = &mut self.scratch.reduced;
         let model = self.settings.reduced_contacts.unwrap_or_default();
         r.contacts.gather(&r.trees[index], bodies, constraints);
         let t = &mut r.trees[index];
@@ -505,6 +519,7 @@ impl World {
             r.reduced[p.body as usize] = true;
         }
         t.stepped = true;
+        self.mark_tree_tendons();
         true
     }
 

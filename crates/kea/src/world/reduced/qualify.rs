@@ -119,6 +119,8 @@ impl World {
                 }
             }
         }
+        self.group_tendon_links();
+        let r = &mut self.scratch.reduced;
         for k in 0..r.contacts.pending.len() {
             let slot = r.contacts.pending[k] as usize;
             let [a, b] = self.constraint_bodies[slot];
