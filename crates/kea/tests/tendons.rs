@@ -4,8 +4,8 @@
 //! f64; bad tendons refused by name; clones stepping on the same bits.
 
 use kea::{
-    BodyDef, BodyHandle, ConstraintHandle, FixedTendon, JointSpec, Mat3, Real, Routing,
-    SolverMode, TendonTerm, Vec3, World,
+    BodyDef, BodyHandle, ConstraintHandle, FixedTendon, JointSpec, Mat3, Real, Routing, SolverMode,
+    TendonTerm, Vec3, World,
 };
 
 const G: Real = 9.81;
@@ -99,7 +99,10 @@ fn a_tendon_spring_on_a_wheel_oscillates_at_its_closed_form_frequency_on_every_p
         for _ in 0..6000 {
             let stats = w.step(h).unwrap();
             let reduced = u32::from(mode == SolverMode::Hybrid);
-            assert_eq!(stats.reduced_trees, reduced, "{mode:?}: one tree, reduced when free to");
+            assert_eq!(
+                stats.reduced_trees, reduced,
+                "{mode:?}: one tree, reduced when free to"
+            );
             time += h;
             let now = w.tendon_length(t).unwrap().0;
             largest = largest.max(now.abs());
@@ -109,7 +112,8 @@ fn a_tendon_spring_on_a_wheel_oscillates_at_its_closed_form_frequency_on_every_p
             last = now;
         }
         let period = 2.0 * PI / omega;
-        let measured = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as Real;
+        let measured =
+            (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as Real;
         assert!(
             (measured - period).abs() < 5e-3 * period,
             "{mode:?}: period {measured} s, closed form {period} s"
@@ -117,7 +121,11 @@ fn a_tendon_spring_on_a_wheel_oscillates_at_its_closed_form_frequency_on_every_p
         let amplitude = c * spin / omega;
         // The iterative path holds the step's force over its substeps (between explicit and
         // symplectic Euler): it gains about 0.4% a second here.
-        let tolerance = if mode == SolverMode::Iterative { 0.03 } else { 0.002 };
+        let tolerance = if mode == SolverMode::Iterative {
+            0.03
+        } else {
+            0.002
+        };
         assert!(
             (largest - amplitude).abs() < tolerance * amplitude,
             "{mode:?}: amplitude {largest}, closed form {amplitude}"
@@ -236,7 +244,11 @@ fn a_tendon_range_holds_a_double_pendulum_on_every_path() {
         let unheld = free(false, mode);
         assert!(unheld > 0.5, "{mode:?}: the elbow swings {unheld} rad free");
         let held = free(true, mode);
-        let allowed = if mode == SolverMode::Hybrid { 0.03 } else { 0.1 };
+        let allowed = if mode == SolverMode::Hybrid {
+            0.03
+        } else {
+            0.1
+        };
         assert!(
             held < 0.2 + allowed,
             "{mode:?}: the elbow reached {held} rad against a range of ±0.2"
@@ -250,11 +262,7 @@ fn bad_tendons_are_refused_by_name_and_change_nothing() {
     let mut w = world(G, SolverMode::Hybrid);
     let (b1, j) = rod(&mut w, Vec3::ZERO, (1.0, 1.0), None, 0.0);
     let ball = w
-        .create_joint(
-            b1,
-            None,
-            JointSpec::ball(Vec3::new(0.0, -1.0, 0.0)),
-        )
+        .create_joint(b1, None, JointSpec::ball(Vec3::new(0.0, -1.0, 0.0)))
         .unwrap()
         .raw();
     let ok = FixedTendon {
@@ -262,25 +270,79 @@ fn bad_tendons_are_refused_by_name_and_change_nothing() {
         ..FixedTendon::default()
     };
     let cases: Vec<(&str, FixedTendon)> = vec![
-        ("terms", FixedTendon { terms: vec![], ..ok.clone() }),
-        ("terms", FixedTendon { terms: vec![term(ball, 1.0)], ..ok.clone() }),
         (
             "terms",
             FixedTendon {
-                terms: vec![TendonTerm { coordinate: 1, ..term(j, 1.0) }],
+                terms: vec![],
                 ..ok.clone()
             },
         ),
-        ("coefficient", FixedTendon { terms: vec![term(j, Real::NAN)], ..ok.clone() }),
-        ("stiffness", FixedTendon { stiffness: -1.0, ..ok.clone() }),
-        ("damping", FixedTendon { damping: Real::INFINITY, ..ok.clone() }),
-        ("spring_length", FixedTendon { spring_length: [1.0, 0.0], ..ok.clone() }),
-        ("range", FixedTendon { range: Some([0.1, Real::NAN]), ..ok.clone() }),
-        ("range", FixedTendon { range: Some([0.3, -0.3]), ..ok.clone() }),
+        (
+            "terms",
+            FixedTendon {
+                terms: vec![term(ball, 1.0)],
+                ..ok.clone()
+            },
+        ),
+        (
+            "terms",
+            FixedTendon {
+                terms: vec![TendonTerm {
+                    coordinate: 1,
+                    ..term(j, 1.0)
+                }],
+                ..ok.clone()
+            },
+        ),
+        (
+            "coefficient",
+            FixedTendon {
+                terms: vec![term(j, Real::NAN)],
+                ..ok.clone()
+            },
+        ),
+        (
+            "stiffness",
+            FixedTendon {
+                stiffness: -1.0,
+                ..ok.clone()
+            },
+        ),
+        (
+            "damping",
+            FixedTendon {
+                damping: Real::INFINITY,
+                ..ok.clone()
+            },
+        ),
+        (
+            "spring_length",
+            FixedTendon {
+                spring_length: [1.0, 0.0],
+                ..ok.clone()
+            },
+        ),
+        (
+            "range",
+            FixedTendon {
+                range: Some([0.1, Real::NAN]),
+                ..ok.clone()
+            },
+        ),
+        (
+            "range",
+            FixedTendon {
+                range: Some([0.3, -0.3]),
+                ..ok.clone()
+            },
+        ),
         (
             "solref",
             FixedTendon {
-                soft: kea::SoftLimit { solref: [Real::NAN, 1.0], ..kea::SoftLimit::default() },
+                soft: kea::SoftLimit {
+                    solref: [Real::NAN, 1.0],
+                    ..kea::SoftLimit::default()
+                },
                 ..ok.clone()
             },
         ),

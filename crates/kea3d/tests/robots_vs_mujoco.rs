@@ -507,3 +507,98 @@ fn every_urdf_in_pybullet_data_loads_or_is_refused_by_name() {
         refused.len()
     );
 }
+
+/// An arm of our own with fixed tendons that act (a spring and damper with a dead band over
+/// two hinges, a class default's spring at MuJoCo's default length over a hinge and a
+/// slide, a range over two hinges that the starts break; a joint with `ref`), in `integrator`.
+fn tendon_arm(integrator: &str) -> String {
+    format!(
+        r#"<mujoco model="tendon_arm">
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="0.002" integrator="{integrator}"/>
+  <default>
+    <joint damping="0.05" armature="0.01"/>
+    <geom type="capsule" size="0.04" density="500"/>
+    <default class="springy"><tendon stiffness="2"/></default>
+  </default>
+  <worldbody>
+    <body name="l1" pos="0 0 1">
+      <joint name="j1" type="hinge" axis="0 1 0"/>
+      <geom fromto="0 0 0 0.4 0 0"/>
+      <body name="l2" pos="0.4 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0" ref="0.3"/>
+        <geom fromto="0 0 0 0.35 0 0"/>
+        <body name="l3" pos="0.35 0 0">
+          <joint name="j3" type="hinge" axis="0 0.6 0.8" springref="0.2"/>
+          <geom fromto="0 0 0 0.3 0 0"/>
+          <body name="l4" pos="0.3 0 0">
+            <joint name="s4" type="slide" axis="1 0 0" range="-0.2 0.2"/>
+            <geom type="sphere" size="0.06"/>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="spring" stiffness="3" damping="0.2" springlength="0.1 0.2">
+      <joint joint="j1" coef="0.5"/>
+      <joint joint="j2" coef="-1"/>
+    </fixed>
+    <fixed name="range" range="-0.4 0.4" solreflimit="0.01 1">
+      <joint joint="j2" coef="1"/>
+      <joint joint="j3" coef="1"/>
+    </fixed>
+    <fixed name="default_length" class="springy">
+      <joint joint="j3" coef="1"/>
+      <joint joint="s4" coef="2"/>
+    </fixed>
+  </tendon>
+</mujoco>
+"#
+    )
+}
+
+/// Fixed tendons (issue 37 item 3) against MuJoCo: the arm above from 5 random starts (q in
+/// ±0.3 — the range tendon starts up to 0.2 past its end — q̇ in ±1), at the file's step
+/// and integrator, in reduced coordinates, every joint within 0.01 of MuJoCo's over 1 s; the
+/// tendons' lengths read in the file's units.
+#[test]
+fn fixed_tendons_act_as_in_mujoco() {
+    if dirs().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("kea-tendon-arm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for integrator in ["RK4", "Euler"] {
+        let file = dir.join(format!("tendon_arm_{integrator}.xml"));
+        std::fs::write(&file, tendon_arm(integrator)).unwrap();
+        for s in 0..5 {
+            let mut seed = 0x7e4d + s;
+            let mut world = PhysicsWorld::new();
+            let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
+            assert_eq!(robot.tendons().len(), 3);
+            let q0: Vec<f64> = (0..4).map(|_| uniform(&mut seed, -0.3, 0.3)).collect();
+            let v0: Vec<f64> = (0..4).map(|_| uniform(&mut seed, -1.0, 1.0)).collect();
+            let name = file.to_str().unwrap();
+            let gap =
+                swing_gap_at(&mut world, &robot, name, &q0, &v0, 500, None, usize::MAX).unwrap();
+            assert!(
+                gap < 0.01,
+                "{integrator} from {q0:?}, {v0:?}: {gap} from MuJoCo"
+            );
+            assert_eq!(
+                world.step(0.002).unwrap().reduced_trees,
+                1,
+                "one tree, reduced"
+            );
+            // Lengths in the file's units: Σ c·qpos.
+            let q = robot.joint_positions(&world).unwrap();
+            let lengths = robot.tendon_lengths(&world).unwrap();
+            let expected = [0.5 * q[0] - q[1], q[1] + q[2], q[2] + 2.0 * q[3]];
+            for ((l, _), e) in lengths.iter().zip(expected) {
+                assert!((l - e).abs() < 1e-4, "length {l}, Σ c·q = {e}");
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -385,6 +385,7 @@ fn build_into(
     let body_of = b.insert_bodies(options.self_collision)?;
     let joints = b.insert_joints(&body_of)?;
     b.exclude_across_chains(&body_of)?;
+    let tendons = super::tendons::insert_tendons(b.world, spec, &joints, file)?;
     let l = &b.layout;
     let links = (0..spec.links.len())
         .map(|k| RobotLink {
@@ -397,13 +398,9 @@ fn build_into(
             colliders: b.colliders[k].clone(),
         })
         .collect();
-    Ok(Robot::new(
-        spec.name.clone(),
-        links,
-        joints,
-        b.layout.order,
-        b.skipped,
-    ))
+    let mut robot = Robot::new(spec.name.clone(), links, joints, b.layout.order, b.skipped);
+    robot.tendons = tendons;
+    Ok(robot)
 }
 
 /// A link's own mass properties: given, or from its geometry's density and mass.

@@ -120,7 +120,13 @@ pub(crate) fn parse(
         reader.read_body_contents(world, 0, MAIN)?;
     }
     let actuators = super::mjcf_actuators::read(&reader.src, &reader.defaults, &reader.spec, root)?;
-    super::mjcf_tendon::read(&reader.src, &reader.defaults, &mut reader.spec, root)?;
+    super::mjcf_tendon::read(
+        &reader.src,
+        &reader.defaults,
+        reader.compiler.auto_limits,
+        &mut reader.spec,
+        root,
+    )?;
     if contacts_disabled(root) {
         // The model asks for no contacts at all: no geometry collides.
         for g in reader

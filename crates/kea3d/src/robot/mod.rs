@@ -47,6 +47,7 @@ mod mjcf_tendon;
 mod model;
 mod readouts;
 mod spec;
+mod tendons;
 mod urdf;
 mod xml;
 
@@ -56,6 +57,7 @@ pub use mjcf_actuators::{ActuatorKind, ActuatorSpec};
 pub use model::{Robot, RobotJoint, RobotLink};
 pub use readouts::LinkState;
 pub use spec::{JointType, Pose};
+pub use tendons::RobotTendon;
 
 use crate::PhysicsWorld;
 use kea::{Quat, Vec3};

@@ -87,6 +87,9 @@ pub struct Robot {
     skipped: Vec<String>,
     pub(crate) actuators: Vec<super::mjcf_actuators::ActuatorSpec>,
     pub(crate) timestep: Option<Real>,
+    /// Its fixed tendons (`tendons.rs`).
+    #[serde(default)]
+    pub(crate) tendons: Vec<super::tendons::RobotTendon>,
 }
 
 impl Robot {
@@ -121,6 +124,7 @@ impl Robot {
             skipped,
             actuators: Vec::new(),
             timestep: None,
+            tendons: Vec::new(),
         }
     }
 

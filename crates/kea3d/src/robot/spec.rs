@@ -281,6 +281,23 @@ pub(crate) struct RobotSpec {
     /// Links carried between one MJCF body's joints (`mjcf_joints::chain`): no geometry, and
     /// the nearest real links on either side do not collide with each other.
     pub chain_links: Vec<usize>,
+    /// MJCF's fixed tendons that act.
+    pub tendons: Vec<TendonSpec>,
+}
+
+/// A fixed tendon as its file gives it: lengths in the file's coordinates (`Σ c·q`).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct TendonSpec {
+    pub name: String,
+    pub line: u32,
+    /// The file's joint names and their coefficients.
+    pub terms: Vec<(String, Real)>,
+    pub stiffness: Real,
+    pub damping: Real,
+    /// `None`: MuJoCo's default, the length at the joints' `springref`.
+    pub spring_length: Option<[Real; 2]>,
+    pub range: Option<[Real; 2]>,
+    pub soft: kea::SoftLimit,
 }
 
 impl RobotSpec {
@@ -299,6 +316,7 @@ impl RobotSpec {
             mujoco_filter,
             total_mass: None,
             chain_links: Vec::new(),
+            tendons: Vec::new(),
         }
     }
 }

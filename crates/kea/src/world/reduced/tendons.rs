@@ -107,10 +107,7 @@ impl World {
                 offset,
                 stiffness: wide(tendon.stiffness),
                 damping: wide(tendon.damping),
-                spring: (
-                    wide(tendon.spring_length[0]),
-                    wide(tendon.spring_length[1]),
-                ),
+                spring: (wide(tendon.spring_length[0]), wide(tendon.spring_length[1])),
                 range: tendon.range.map(|[lo, hi]| (wide(lo), wide(hi))),
                 soft: s,
             });
