@@ -118,6 +118,35 @@ fn warm_allocations(mode: SolverMode) -> (usize, u32) {
         .create_joint(bob, None, kea::JointSpec::ball(Vec3::new(-1.0, 2.0, 0.0)))
         .unwrap();
     world.add_custom_constraint(crate_, None, Spring).unwrap();
+    // A hinged rod with a fixed tendon's spring, damper and range on it (the reduced path's
+    // joint space under Hybrid, the joint's rows otherwise).
+    let rod = world
+        .create_body(&BodyDef {
+            position: Vec3::new(4.0, 1.5, 0.0),
+            linear_velocity: Vec3::new(3.0, 0.0, 0.0),
+            ..Default::default()
+        })
+        .unwrap();
+    let hinge = world
+        .create_joint(
+            rod,
+            None,
+            kea::JointSpec::hinge(Vec3::new(4.0, 2.0, 0.0), Vec3::Z),
+        )
+        .unwrap();
+    world
+        .add_tendon(kea::FixedTendon {
+            terms: vec![kea::TendonTerm {
+                joint: hinge.raw(),
+                coordinate: 0,
+                coefficient: 2.0,
+            }],
+            stiffness: 1.0,
+            damping: 0.1,
+            range: Some([-0.3, 0.3]),
+            ..Default::default()
+        })
+        .unwrap();
     let params = ContactParams {
         restitution: 0.5,
         ..Default::default()

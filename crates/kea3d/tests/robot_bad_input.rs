@@ -292,3 +292,81 @@ fn bad_option_values_are_refused_by_line_and_nothing_is_built() {
         assert_eq!(w.gravity(), PhysicsWorld::new().gravity(), "{option}");
     }
 }
+
+/// A two-hinge MJCF arm whose tendon section is `tendon`, on line 5.
+fn tendon_arm(tendon: &str) -> String {
+    format!(
+        r#"<mujoco><worldbody>
+<body name="a"><joint name="j1" type="hinge"/><geom size="0.1"/>
+<body name="b" pos="0 0 -0.3"><joint name="j2" type="hinge"/><geom size="0.1"/><body pos="0 0 -0.3"><joint name="ball" type="ball"/><geom size="0.1"/></body></body>
+</body></worldbody><tendon>
+{tendon}
+</tendon></mujoco>"#
+    )
+}
+
+#[test]
+fn tendons_kea_does_not_simulate_or_with_bad_values_are_refused_by_element() {
+    let j = r#"<joint joint="j1" coef="1"/><joint joint="j2" coef="-1"/>"#;
+    for (tendon, says) in [
+        (
+            format!(r#"<spatial name="s">{j}</spatial>"#),
+            "<spatial> tendons are not supported",
+        ),
+        (
+            format!(r#"<fixed frictionloss="0.5">{j}</fixed>"#),
+            "frictionloss",
+        ),
+        (format!(r#"<fixed armature="0.1">{j}</fixed>"#), "armature"),
+        (
+            format!(r#"<fixed stiffness="1 2">{j}</fixed>"#),
+            "polynomial",
+        ),
+        (format!(r#"<fixed stiffness="-1">{j}</fixed>"#), "stiffness"),
+        (format!(r#"<fixed damping="nan">{j}</fixed>"#), "damping"),
+        (format!(r#"<fixed range="0.5 -0.5">{j}</fixed>"#), "range"),
+        (
+            format!(r#"<fixed limited="true">{j}</fixed>"#),
+            "needs a `range`",
+        ),
+        (
+            format!(r#"<fixed springlength="1 0" stiffness="1">{j}</fixed>"#),
+            "springlength",
+        ),
+        (
+            format!(r#"<fixed range="-1 1" solreflimit="nan 1">{j}</fixed>"#),
+            "solreflimit",
+        ),
+        (
+            format!(r#"<fixed range="-1 1" solimplimit="0.9 0.95 -1">{j}</fixed>"#),
+            "width",
+        ),
+        (
+            r#"<fixed stiffness="1"><joint joint="nope"/></fixed>"#.to_string(),
+            "\"nope\"",
+        ),
+        (
+            r#"<fixed stiffness="1"><joint joint="ball"/></fixed>"#.to_string(),
+            "\"ball\"",
+        ),
+        (
+            r#"<fixed stiffness="1"><joint joint="j1" coef="x"/></fixed>"#.to_string(),
+            "coef",
+        ),
+        (r#"<fixed stiffness="1"/>"#.to_string(), "has no joint"),
+    ] {
+        refused(load_mjcf(&tendon_arm(&tendon)), "bad.xml:5", says);
+    }
+    // One that applies no force loads, and says so; one that acts loads as a tendon.
+    let (_, robot) = load_mjcf(&tendon_arm(&format!(r#"<fixed name="idle">{j}</fixed>"#)));
+    let robot = robot.unwrap();
+    assert!(robot.tendons().is_empty());
+    assert!(robot
+        .skipped()
+        .join("\n")
+        .contains("bad.xml:5: fixed tendon \"idle\""));
+    let (_, robot) = load_mjcf(&tendon_arm(&format!(
+        r#"<fixed name="on" damping="1">{j}</fixed>"#
+    )));
+    assert_eq!(robot.unwrap().tendons()[0].name, "on");
+}

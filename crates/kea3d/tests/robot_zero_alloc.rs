@@ -14,7 +14,8 @@ static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
 #[test]
 fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
     // A planar hopper-like root, joint dynamics and springs, actuators of every kind, stops,
-    // contacts with a floor (in joint space: the tree stays reduced), and world substeps:
+    // a fixed tendon with a spring, a damper and a range, contacts with a floor (in joint
+    // space: the tree stays reduced), and world substeps:
     // everything a robot adds to a step.
     let xml = r#"<mujoco><compiler angle="degree"/>
       <default><joint armature="0.1" damping="0.5" limited="true"/></default>
@@ -39,7 +40,12 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         <motor joint="hip" gear="50" ctrlrange="-1 1"/>
         <position joint="knee" kp="30" kv="1"/>
         <velocity joint="x" kv="5"/>
-      </actuator></mujoco>"#;
+      </actuator>
+      <tendon>
+        <fixed name="hipknee" stiffness="2" damping="0.1" range="-0.5 0.5">
+          <joint joint="hip" coef="1"/><joint joint="knee" coef="-1"/>
+        </fixed>
+      </tendon></mujoco>"#;
     let mut world = PhysicsWorld::new();
     let robot = world
         .load_mjcf_str(xml, "hopper.xml", &MjcfOptions::default())

@@ -358,64 +358,95 @@ fn gymnasium_walkers_collapse_as_in_mujoco_in_reduced_coordinates() {
         ("ant.xml", 5.0),
         ("humanoid.xml", 3.0),
     ] {
-        let file = assets.join(name);
-        let mut world = PhysicsWorld::new();
-        let robot = world.load_mjcf(&file, &MjcfOptions::default()).unwrap();
-        let h = robot.timestep().expect("the file's step");
-        let steps = (seconds / wide(h)).round() as usize;
-        // The torso's height: a free root's z, a planar root's second slide.
-        let index = if robot.joints()[0].kind == kea3d::robot::JointType::Free {
-            2
-        } else {
-            1
-        };
-        let reference = reference::run(&[
-            "collapse",
-            file.to_str().unwrap(),
-            &steps.to_string(),
-            &index.to_string(),
-        ])
-        .unwrap();
-        let expected: Vec<f64> = reference["heights"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
-        let (mut early, mut touching) = (0.0f64, 0);
-        for (k, &mujoco) in expected.iter().enumerate() {
-            let stats = world.step(h).unwrap();
-            assert_eq!(
-                stats.reduced_trees, 1,
-                "{name}, step {k}: the walker is one reduced tree"
-            );
-            let touches = world.dynamics().contacts().count() > 0;
-            touching += usize::from(touches);
-            let height = wide(robot.joint_positions(&world).unwrap()[index]);
-            if (k + 1) as f64 * wide(h) <= 0.5 {
-                early = early.max((height - mujoco).abs());
-            }
-        }
+        collapse_as_in_mujoco(&assets.join(name), seconds);
+    }
+}
+
+/// A harder humanoid: Gymnasium's file with its two hip–knee tendons made to act (a spring,
+/// a damper and a range that the collapse reaches), collapsing as MuJoCo's does.
+#[test]
+fn a_humanoid_with_acting_tendons_collapses_as_in_mujoco() {
+    let Some((_, assets)) = dirs() else { return };
+    let text = std::fs::read_to_string(assets.join("humanoid.xml")).unwrap();
+    let mut acting = text.clone();
+    for side in ["left", "right"] {
+        acting = acting.replace(
+            &format!(r#"<fixed name="{side}_hipknee">"#),
+            &format!(
+                r#"<fixed name="{side}_hipknee" stiffness="30" damping="3" range="-0.4 0.6">"#
+            ),
+        );
+    }
+    assert_ne!(acting, text, "Gymnasium's humanoid names its tendons so");
+    let dir = std::env::temp_dir().join(format!("kea-humanoid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("humanoid_acting_tendons.xml");
+    std::fs::write(&file, acting).unwrap();
+    collapse_as_in_mujoco(&file, 3.0);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The model in `file` dropped passive from its pose at its file's step and integrator: one
+/// tree in reduced coordinates at every step, its torso's height within 5 cm of MuJoCo's
+/// over the first half second, and at rest within 1 cm of MuJoCo's where MuJoCo rests.
+fn collapse_as_in_mujoco(file: &std::path::Path, seconds: f64) {
+    let name = file.file_name().unwrap().to_string_lossy().into_owned();
+    let mut world = PhysicsWorld::new();
+    let robot = world.load_mjcf(file, &MjcfOptions::default()).unwrap();
+    let h = robot.timestep().expect("the file's step");
+    let steps = (seconds / wide(h)).round() as usize;
+    // The torso's height: a free root's z, a planar root's second slide.
+    let index = if robot.joints()[0].kind == kea3d::robot::JointType::Free {
+        2
+    } else {
+        1
+    };
+    let reference = reference::run(&[
+        "collapse",
+        file.to_str().unwrap(),
+        &steps.to_string(),
+        &index.to_string(),
+    ])
+    .unwrap();
+    let expected: Vec<f64> = reference["heights"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let (mut early, mut touching) = (0.0f64, 0);
+    for (k, &mujoco) in expected.iter().enumerate() {
+        let stats = world.step(h).unwrap();
+        assert_eq!(
+            stats.reduced_trees, 1,
+            "{name}, step {k}: the walker is one reduced tree"
+        );
+        let touches = world.dynamics().contacts().count() > 0;
+        touching += usize::from(touches);
         let height = wide(robot.joint_positions(&world).unwrap()[index]);
-        let rest = *expected.last().unwrap();
-        println!(
-            "{name}: torso height within {:.1} cm of MuJoCo's over the first 0.5 s; at rest {height:.4} m, MuJoCo {rest:.4} m; touching in {touching} of {} steps",
-            early * 100.0,
-            expected.len()
-        );
-        assert!(touching > expected.len() / 2, "{name}: it lands");
-        assert!(
-            early < 0.05,
-            "{name}: {early} m from MuJoCo in the first 0.5 s"
-        );
-        if reference["speed"].as_f64().unwrap() < 1e-3 {
-            assert!(
-                (height - rest).abs() < 0.01,
-                "{name}: rests at {height}, MuJoCo {rest}"
-            );
-        } else {
-            println!("{name}: MuJoCo still moves at the end: its rest is compared elsewhere");
+        if (k + 1) as f64 * wide(h) <= 0.5 {
+            early = early.max((height - mujoco).abs());
         }
+    }
+    let height = wide(robot.joint_positions(&world).unwrap()[index]);
+    let rest = *expected.last().unwrap();
+    println!(
+        "{name}: torso height within {:.1} cm of MuJoCo's over the first 0.5 s; at rest {height:.4} m, MuJoCo {rest:.4} m; touching in {touching} of {} steps",
+        early * 100.0,
+        expected.len()
+    );
+    assert!(touching > expected.len() / 2, "{name}: it lands");
+    assert!(
+        early < 0.05,
+        "{name}: {early} m from MuJoCo in the first 0.5 s"
+    );
+    if reference["speed"].as_f64().unwrap() < 1e-3 {
+        assert!(
+            (height - rest).abs() < 0.01,
+            "{name}: rests at {height}, MuJoCo {rest}"
+        );
+    } else {
+        println!("{name}: MuJoCo still moves at the end: its rest is compared elsewhere");
     }
 }
 

@@ -17,7 +17,8 @@ pub(crate) fn soft_limit(el: &Element<'_>) -> Result<Option<SoftLimit>, ImportEr
         s.solimp = i;
     }
     s.margin = el.non_negative("margin")?;
-    s.validate().map_err(|e| el.error(e.to_string()))?;
+    s.validate()
+        .map_err(|e| refused(el, e, ["solreflimit", "solimplimit"]))?;
     Ok(Some(s))
 }
 
@@ -34,7 +35,8 @@ pub(crate) fn contact_model(el: &Element<'_>) -> Result<Option<SoftLimit>, Impor
     if let Some(i) = i {
         s.solimp = i;
     }
-    s.validate().map_err(|e| el.error(e.to_string()))?;
+    s.validate()
+        .map_err(|e| refused(el, e, ["solref", "solimp"]))?;
     Ok(Some(s))
 }
 
@@ -68,4 +70,29 @@ fn solimp(el: &Element<'_>, attr: &str) -> Result<Option<[Real; 5]>, ImportError
             i[4],
         ]
     }))
+}
+
+/// A soft model's refusal in the file's terms: the attribute (`names`: the element's `solref`
+/// and `solimp` names) and which of its numbers, rather than the API's argument.
+fn refused(el: &Element<'_>, e: kea::KeaError, [solref, solimp]: [&str; 2]) -> ImportError {
+    match e {
+        kea::KeaError::OutOfRange {
+            arg,
+            value,
+            expected,
+        } => {
+            let (attr, part) = match arg.split_once('[') {
+                Some(("solref", rest)) => (solref, rest.trim_end_matches(']')),
+                Some(("solimp", rest)) => (solimp, rest.trim_end_matches(']')),
+                _ => (arg, ""),
+            };
+            let which = if part.is_empty() {
+                String::new()
+            } else {
+                format!(" (number {part})")
+            };
+            el.error(format!("`{attr}`{which} = {value}: {expected}"))
+        }
+        other => el.error(other.to_string()),
+    }
 }
