@@ -17,6 +17,7 @@ pub struct Sandbox {
     bodies: Vec<BodyHandle>,
     joints: Vec<ConstraintHandle>,
     colliders: Vec<ColliderHandle>,
+    tendons: Vec<kea::TendonHandle>,
 }
 
 /// What an operation did: accepted, refused, or (for a query) answered.
@@ -45,6 +46,7 @@ impl Sandbox {
             bodies: Vec::new(),
             joints: Vec::new(),
             colliders: vec![ground],
+            tendons: Vec::new(),
         }
     }
 
@@ -211,7 +213,14 @@ impl Sandbox {
         } else {
             SingleLimit::soft(rng.real(0.0, 2.0), rng.real(1.0, 1e4), rng.real(0.0, 10.0))
         };
-        match rng.below(10) {
+        match rng.below(12) {
+            10 => return self.add_tendon(rng),
+            11 => {
+                let t = (!self.tendons.is_empty())
+                    .then(|| self.tendons[rng.below(self.tendons.len())])
+                    .ok_or("no tendon")?;
+                return w.remove_tendon(t).map_err(err);
+            }
             0 => JointHandle::<Hinge>::from_raw(j)
                 .limit_mut(w)
                 .and_then(|l| l.set_limits(lower, upper)),
@@ -238,6 +247,39 @@ impl Sandbox {
             _ => w.destroy_constraint(j),
         }
         .map_err(err)
+    }
+
+    /// A fixed tendon over one to three of the joints (any kind, any coordinate: most are
+    /// refused), with a spring, a damper and a range drawn wide.
+    fn add_tendon(&mut self, rng: &mut Rng) -> Outcome {
+        let mut terms = Vec::new();
+        for _ in 0..1 + rng.below(3) {
+            let joint = self.joint(rng).ok_or("no joint")?;
+            terms.push(kea::TendonTerm {
+                joint,
+                coordinate: rng.below(4),
+                coefficient: rng.real(-3.0, 3.0),
+            });
+        }
+        let lo = rng.real(-2.0, 0.5);
+        let tendon = kea::FixedTendon {
+            terms,
+            stiffness: rng.real(0.0, 1e3),
+            damping: rng.real(0.0, 50.0),
+            spring_length: [lo, lo + rng.real(0.0, 1.0)],
+            range: rng.chance(0.5).then(|| [lo, rng.real(-0.5, 2.0)]),
+            soft: kea::SoftLimit {
+                solref: [rng.real(0.001, 0.1), rng.real(0.1, 2.0)],
+                ..kea::SoftLimit::default()
+            },
+        };
+        let h = self
+            .physics
+            .dynamics_mut()
+            .add_tendon(tendon)
+            .map_err(err)?;
+        self.tendons.push(h);
+        Ok(())
     }
 
     fn create_contact(&mut self, rng: &mut Rng) -> Outcome {
