@@ -100,9 +100,7 @@ impl PyBatch {
     #[pyo3(signature = (dt = 1.0 / 60.0, steps = 1))]
     fn step(&mut self, py_: Python<'_>, dt: f64, steps: usize) -> PyResult<()> {
         let dt = real(dt);
-        self.each(py_, |_, w| {
-            (0..steps).try_for_each(|_| w.step(dt).map(|_| ()))
-        })
+        self.each(py_, |_, w| crate::world::step_many(w, dt, steps))
     }
 
     /// Puts the chosen worlds (all if None) back to the batch's starting world.

@@ -323,7 +323,7 @@ impl PyWorld {
         let file_step = self.robot.as_ref().and_then(|r| r.timestep());
         let dt = dt.map_or_else(|| file_step.unwrap_or(1.0 / 60.0), real);
         let inner = &mut self.inner;
-        py(py_.detach(|| (0..steps).try_for_each(|_| inner.step(dt).map(|_| ()))))
+        py(py_.detach(|| step_many(inner, dt, steps)))
     }
 
     /// Every body's state row, as a new (bodies, 13) float64 array.
@@ -487,4 +487,20 @@ fn with_drive<J: kea3d::dynamics::OneCoordinate>(
         j = j.motor(real(v), real(f));
     }
     j
+}
+
+/// `steps` steps of `dt` (none for 0) by [`PhysicsWorld::step_many`]: the same bits as
+/// stepping one by one, the joints' reactions worked out for the last step only.
+pub(crate) fn step_many(
+    world: &mut PhysicsWorld,
+    dt: kea3d::Real,
+    steps: usize,
+) -> kea3d::Result<()> {
+    let mut left = steps;
+    while left > 0 {
+        let now = left.min(u32::MAX as usize);
+        world.step_many(dt, now as u32)?;
+        left -= now;
+    }
+    Ok(())
 }

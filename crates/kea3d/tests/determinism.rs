@@ -492,3 +492,66 @@ fn a_legged_robot_on_the_ground_replays_bit_for_bit_from_a_snapshot_and_a_clone(
         assert_eq!(state_hash(&cloned), expected, "clone: step {k}");
     }
 }
+
+/// `step_many` (what Python's `World.step(dt, steps)` and `Batch.step` run) gives the bits of
+/// as many single steps, the joints' reactions after it included, on the legged robot above
+/// with its contacts, stops, actuators and world substeps.
+#[test]
+fn many_steps_at_once_give_the_bits_of_single_steps_reactions_included() {
+    let mut one = PhysicsWorld::new();
+    let robot = one
+        .load_mjcf_str(
+            QUADRUPED,
+            "quadruped.xml",
+            &kea3d::robot::MjcfOptions::default(),
+        )
+        .unwrap();
+    one.dynamics_mut()
+        .update_settings(|s| s.world_substeps = 2)
+        .unwrap();
+    let h = robot.timestep().unwrap();
+    let mut many = one.clone();
+    let reactions = |w: &PhysicsWorld| -> Vec<u64> {
+        robot
+            .joints()
+            .iter()
+            .filter_map(|j| j.raw)
+            .flat_map(|j| w.dynamics().constraint_reaction(j).unwrap())
+            .flat_map(|r| [r.force, r.torque])
+            .flat_map(|v| v.to_array())
+            .map(bits)
+            .collect()
+    };
+    let mut touching = 0;
+    for k in 0..40 {
+        let u: Vec<Real> = (0..8)
+            .map(|j| (0.7 * (k as Real * 0.3 + j as Real)).sin())
+            .collect();
+        robot.set_controls(&mut one, &u).unwrap();
+        robot.set_controls(&mut many, &u).unwrap();
+        for _ in 0..5 {
+            one.step(h).unwrap();
+        }
+        many.step_many(h, 5).unwrap();
+        assert_eq!(state_hash(&many), state_hash(&one), "after call {k}");
+        assert_eq!(
+            reactions(&many),
+            reactions(&one),
+            "reactions after call {k}"
+        );
+        touching += usize::from(one.dynamics().contacts().count() > 0);
+    }
+    assert!(
+        touching > 10,
+        "it touches the floor ({touching} of 40 calls)"
+    );
+    assert!(
+        reactions(&one).iter().any(|&b| b != 0),
+        "the joints carry load"
+    );
+    assert!(many
+        .step_many(h, 0)
+        .unwrap_err()
+        .to_string()
+        .contains("steps"));
+}

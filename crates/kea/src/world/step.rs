@@ -102,13 +102,40 @@ impl World {
 
     /// [`World::step`] by a step already checked: [`crate::WorldSettings::world_substeps`] steps of `dt / n`.
     pub fn step_by(&mut self, dt: StepSize) -> KeaResult<StepStats> {
+        self.step_with(dt, true)
+    }
+
+    /// `steps` steps of `dt` (at least one), as many calls of [`World::step`] give them, bit for
+    /// bit; only the last works out the joint reactions of trees on the reduced path (a
+    /// Newton–Euler pass per tree, whose results each step overwrites), so the read-outs after
+    /// it are the last step's, as they would be. Returns the last step's statistics; on an
+    /// `Err` the steps before it stand.
+    pub fn step_many(&mut self, dt: Real, steps: u32) -> KeaResult<StepStats> {
+        let dt = StepSize::new(dt)?;
+        if steps == 0 {
+            return Err(crate::error::KeaError::OutOfRange {
+                arg: "steps",
+                value: "0".into(),
+                expected: "at least one step",
+            });
+        }
+        for _ in 1..steps {
+            self.step_with(dt, false)?;
+        }
+        self.step_with(dt, true)
+    }
+
+    /// A step of `dt`, working out the reduced trees' joint reactions on its last substep
+    /// when `reactions` (earlier substeps' are never read: the next one overwrites them).
+    fn step_with(&mut self, dt: StepSize, reactions: bool) -> KeaResult<StepStats> {
         let n = self.settings.world_substeps;
         let h = dt.seconds() / n as Real;
         // Inside the pool (a pipeline that hopped already) it stays where it is.
         crate::threads::on_pool(self.awake_body_count(), || {
-            let mut stats = self.step_here(h, n == 1)?;
+            let mut stats = self.step_here(h, n == 1, reactions && n == 1)?;
             for k in 1..n {
-                stats = self.step_here(h, k + 1 == n)?;
+                let last = k + 1 == n;
+                stats = self.step_here(h, last, reactions && last)?;
             }
             Ok(stats)
         })
@@ -118,14 +145,27 @@ impl World {
     /// drivers): the applied forces are kept for the next substep unless this is the `last`.
     /// A pipeline calls it [`crate::WorldSettings::world_substeps`] times with `h = dt / n`.
     pub fn substep_by(&mut self, h: StepSize, last: bool) -> KeaResult<StepStats> {
+        self.substep_with(h, last, last)
+    }
+
+    /// [`World::substep_by`], working out the reduced trees' joint reactions only when
+    /// `reactions` (a pipeline asks for them on the last substep of a step whose read-outs
+    /// may be read; see [`World::step_many`]).
+    pub fn substep_with(
+        &mut self,
+        h: StepSize,
+        last: bool,
+        reactions: bool,
+    ) -> KeaResult<StepStats> {
         crate::threads::on_pool(self.awake_body_count(), || {
-            self.step_here(h.seconds(), last)
+            self.step_here(h.seconds(), last, reactions)
         })
     }
 
     /// One (sub)step on the calling thread, `dt` checked; the applied forces are cleared after
-    /// it when `last`.
-    fn step_here(&mut self, dt: Real, last: bool) -> KeaResult<StepStats> {
+    /// it when `last`; the reduced trees' joint reactions worked out when `reactions`.
+    fn step_here(&mut self, dt: Real, last: bool, reactions: bool) -> KeaResult<StepStats> {
+        self.scratch.reduced.reactions = reactions;
         let t0 = Stamp::now(self.settings.step_timing);
         let params = self.solver_params(dt);
         let auto_disable = self.settings.dem.mode == super::DemMode::PartitionAutoDisable;

@@ -29,13 +29,38 @@ impl PhysicsWorld {
     /// see [`kea::threads`].
     pub fn step(&mut self, dt: Real) -> Result<StepStats> {
         let dt = StepSize::new(dt)?;
-        kea::threads::on_pool(self.dynamics.awake_body_count(), || self.run_stages(dt))
+        kea::threads::on_pool(self.dynamics.awake_body_count(), || {
+            self.run_stages(dt, true)
+        })
     }
 
-    /// The stages of one step, on the calling thread. Every input is checked before the first
-    /// stage changes anything: `dt` by the caller, the collision settings here, targets and
-    /// paths when they were set.
-    fn run_stages(&mut self, dt: StepSize) -> Result<StepStats> {
+    /// `steps` steps of `dt` (at least one), bit for bit as many calls of
+    /// [`PhysicsWorld::step`]; only the last works out the joint reactions of trees on the
+    /// reduced path, which each step overwrites (see [`kea::World::step_many`]). Returns the
+    /// last step's statistics; on an `Err` the steps before it stand.
+    pub fn step_many(&mut self, dt: Real, steps: u32) -> Result<StepStats> {
+        let dt = StepSize::new(dt)?;
+        if steps == 0 {
+            return Err(kea::KeaError::OutOfRange {
+                arg: "steps",
+                value: "0".into(),
+                expected: "at least one step",
+            }
+            .into());
+        }
+        kea::threads::on_pool(self.dynamics.awake_body_count(), || {
+            for _ in 1..steps {
+                self.run_stages(dt, false)?;
+            }
+            self.run_stages(dt, true)
+        })
+    }
+
+    /// The stages of one step, on the calling thread (the reduced trees' joint reactions
+    /// worked out on its last substep when `reactions`). Every input is checked before the
+    /// first stage changes anything: `dt` by the caller, the collision settings here, targets
+    /// and paths when they were set.
+    fn run_stages(&mut self, dt: StepSize, reactions: bool) -> Result<StepStats> {
         self.collision.check_settings()?;
         let n = self.dynamics.settings().world_substeps;
         let h = if n == 1 {
@@ -48,7 +73,8 @@ impl PhysicsWorld {
             let remaining = dt.seconds() - k as Real * h.seconds();
             self.drive(h, remaining)?;
             self.collision.update_contacts_by(&mut self.dynamics, h)?;
-            stats = self.dynamics.substep_by(h, k + 1 == n)?;
+            let last = k + 1 == n;
+            stats = self.dynamics.substep_with(h, last, reactions && last)?;
         }
         stats.collision = *self.collision.stats();
         for &h in &self.driven {

@@ -186,6 +186,8 @@ pub(super) struct ReducedScratch {
     /// The tendons of the tree in flight (`tendons.rs`): their indices, their form in its
     /// coordinates and their terms, and per joint slot its plan entry + 1 (scratch, zeros).
     tendon_ids: Vec<u32>,
+    /// Whether the step in flight works out the joints' reactions (`World::step_many`).
+    pub(super) reactions: bool,
     tree_tendons: Vec<crate::articulation::TreeTendon>,
     tendon_terms: Vec<(usize, f64)>,
     plan_of_joint: Vec<u32>,
@@ -430,8 +432,9 @@ impl World {
         t.q_next.clone_from(&t.q);
         t.qd_next.clone_from(&t.qd);
         let h64 = wide(h);
+        let want_reactions = r.reactions;
         if t.tree
-            .step_with_reactions(&mut t.q_next, &mut t.qd_next, &r.tau, h64, true)
+            .step_with_reactions(&mut t.q_next, &mut t.qd_next, &r.tau, h64, want_reactions)
             .is_err()
         {
             return false;
@@ -475,10 +478,10 @@ impl World {
         // Each joint's force on its link, exactly: what its subtree's bodies' momenta took
         // in the step less their weights and applied forces (Newton on the subtree), so that
         // a body's joints account for m a − m g − f to round-off; the torques are Newton–
-        // Euler's at the step's start.
+        // Euler's at the step's start. Skipped (zero) where the next step overwrites them.
         t.subtree.clear();
         t.subtree.resize(t.plan.len(), DVec3::ZERO);
-        for k in (0..t.plan.len()).rev() {
+        for k in (0..t.plan.len()).rev().filter(|_| want_reactions) {
             let p = &t.plan[k];
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             let a = r.results[t.first + k].motion.linear_acceleration;
