@@ -74,7 +74,6 @@ impl World {
                 ..TreeLink::default()
             };
             if let (Some(more), ConstraintKind::Planar(j)) = (p.planar, &entry.kind) {
-                cache.rebuilt_each_step = true;
                 let seen = seen_from(entry, true, b, parent, bodies);
                 let f = planar_frame(j, &seen);
                 let first = cache.building.len();
@@ -319,12 +318,14 @@ fn free_root(b: &Body, links: &mut Vec<TreeLink>, qd: &mut Vec<f64>) {
     qd.extend([v.x, v.y, v.z, spin.x, spin.y, spin.z]);
 }
 
-/// The joint's tracked coordinate: a hinge's angle, a slider's travel (a ball joint has none).
-pub(super) fn coordinate_of(entry: &ConstraintEntry) -> Real {
+/// The joint's tracked coordinates: a hinge's angle, a slider's travel, a planar joint's two
+/// travels and turn (zeros past the joint's own; a ball joint has none).
+pub(super) fn coordinates_of(entry: &ConstraintEntry) -> [Real; 3] {
     match &entry.kind {
-        ConstraintKind::Hinge(j) => j.angle(),
-        ConstraintKind::Prismatic(j) => j.limit().position(),
-        _ => 0.0,
+        ConstraintKind::Hinge(j) => [j.angle(), 0.0, 0.0],
+        ConstraintKind::Prismatic(j) => [j.limit().position(), 0.0, 0.0],
+        ConstraintKind::Planar(j) => j.coordinates(),
+        _ => [0.0; 3],
     }
 }
 

@@ -51,7 +51,7 @@ use crate::math::{wide, Mat3, Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverMode};
 use crate::union_find::UnionFind;
 use crate::world::constraint_entry::ConstraintKind;
-use build::{coordinate_of, drive, limit_of};
+use build::{coordinates_of, drive, limit_of};
 use contacts::TreeContacts;
 use convert::{d3, dq, rq, v3};
 use glam::DVec3;
@@ -98,6 +98,10 @@ struct Mark {
     mass: Real,
     inertia: Mat3,
     coordinate: Real,
+    /// A planar joint's second travel and turn (0 for a hinge or a slider; absent in older
+    /// snapshots, which kept no planar tree).
+    #[cfg_attr(feature = "serde", serde(default))]
+    more: [Real; 2],
 }
 
 /// A link's state after the tree's step, committed once the step succeeds.
@@ -125,7 +129,8 @@ struct CachedTree {
     /// the first of its joint's links (a planar joint's first slider).
     link_of: Vec<usize>,
     first_link: Vec<usize>,
-    /// Holds a ball or planar joint: built again every step (see `build.rs`), never kept.
+    /// Holds a ball joint or a floating root: built again every step, its chart centred
+    /// (see `build.rs`), never kept.
     rebuilt_each_step: bool,
     /// Per plan entry, the impulse (world frame) a ball joint gave its body at the joint's
     /// point when the tree was built (its velocity as the joint allows it), and that point
@@ -361,7 +366,7 @@ impl World {
                 let body = self.bodies.at(p.body as usize);
                 let joint = self.constraints.at(p.joint as usize);
                 match (body, joint) {
-                    (Some(b), Some(e)) => *m == mark(b, coordinate_of(e)),
+                    (Some(b), Some(e)) => *m == mark(b, coordinates_of(e)),
                     _ => false,
                 }
             })
@@ -554,7 +559,8 @@ impl World {
             for x in &r.results[t.first..t.first + t.plan.len()] {
                 if let Some(b) = self.bodies.at_mut(x.body as usize) {
                     b.take_motion(&x.motion);
-                    t.marks.push(mark(b, x.coordinate));
+                    t.marks
+                        .push(mark(b, [x.coordinate, x.more[0].0, x.more[1].0]));
                 }
                 if let Some(e) = self.constraints.at_mut(x.joint as usize) {
                     match &mut e.kind {
@@ -591,7 +597,7 @@ impl World {
 }
 
 /// What a step leaves in a body and its joint's coordinate.
-fn mark(b: &crate::body::Body, coordinate: Real) -> Mark {
+fn mark(b: &crate::body::Body, [coordinate, second, turn]: [Real; 3]) -> Mark {
     Mark {
         position: b.position,
         orientation: b.orientation,
@@ -600,6 +606,7 @@ fn mark(b: &crate::body::Body, coordinate: Real) -> Mark {
         mass: b.mass,
         inertia: b.inertia,
         coordinate,
+        more: [second, turn],
     }
 }
 

@@ -18,6 +18,63 @@ pub(crate) struct SavedTree {
     q: Vec<f64>,
     qd: Vec<f64>,
     marks: Vec<Mark>,
+    /// Tree links past each plan entry's first (a planar joint's second travel and turn), in
+    /// tree order, with their plan entry (absent in older snapshots, which kept no planar
+    /// tree).
+    #[serde(default)]
+    more: Vec<(usize, SavedGeometry)>,
+}
+
+/// A tree link's own geometry.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct SavedGeometry {
+    slider: bool,
+    origin: (DVec3, DQuat),
+    axis: DVec3,
+    anchor: DVec3,
+    mass: f64,
+    inertia: DMat3,
+}
+
+impl SavedGeometry {
+    fn of(l: &TreeLink) -> Self {
+        Self {
+            slider: l.kind == TreeJointKind::Slider,
+            origin: l.origin,
+            axis: l.axis,
+            anchor: l.anchor,
+            mass: l.mass,
+            inertia: l.inertia,
+        }
+    }
+
+    fn link(&self, parent: Option<usize>) -> TreeLink {
+        TreeLink {
+            parent,
+            kind: if self.slider {
+                TreeJointKind::Slider
+            } else {
+                TreeJointKind::Hinge
+            },
+            origin: self.origin,
+            axis: self.axis,
+            anchor: self.anchor,
+            mass: self.mass,
+            com: DVec3::ZERO,
+            inertia: self.inertia,
+            ..TreeLink::default()
+        }
+    }
+
+    fn valid(&self, massless: bool) -> bool {
+        self.origin.0.is_finite()
+            && self.origin.1.is_finite()
+            && (self.axis.length() - 1.0).abs() < 1e-6
+            && self.anchor.is_finite()
+            && self.mass.is_finite()
+            && (self.mass > 0.0 || (massless && self.mass == 0.0))
+            && self.inertia.is_finite()
+    }
 }
 
 /// One link: its plan and its geometry in the tree.
@@ -39,25 +96,37 @@ impl World {
         r.trees
             .iter()
             .filter(|t| t.revision == self.joint_revision && t.marks.len() == t.plan.len())
-            .map(|t| SavedTree {
-                base_joint: t.base_joint,
-                links: t
-                    .plan
-                    .iter()
-                    .zip(t.tree.links())
-                    .map(|(p, l)| SavedLink {
-                        plan: *p,
-                        slider: l.kind == TreeJointKind::Slider,
-                        origin: l.origin,
-                        axis: l.axis,
-                        anchor: l.anchor,
-                        mass: l.mass,
-                        inertia: l.inertia,
-                    })
-                    .collect(),
-                q: t.q.clone(),
-                qd: t.qd.clone(),
-                marks: t.marks.clone(),
+            .map(|t| {
+                let links = t.tree.links();
+                SavedTree {
+                    base_joint: t.base_joint,
+                    links: t
+                        .plan
+                        .iter()
+                        .zip(&t.first_link)
+                        .map(|(p, &first)| {
+                            let l = &links[first];
+                            SavedLink {
+                                plan: *p,
+                                slider: l.kind == TreeJointKind::Slider,
+                                origin: l.origin,
+                                axis: l.axis,
+                                anchor: l.anchor,
+                                mass: l.mass,
+                                inertia: l.inertia,
+                            }
+                        })
+                        .collect(),
+                    more: (0..t.plan.len())
+                        .flat_map(|k| {
+                            (t.first_link[k] + 1..=t.link_of[k])
+                                .map(move |i| (k, SavedGeometry::of(&links[i])))
+                        })
+                        .collect(),
+                    q: t.q.clone(),
+                    qd: t.qd.clone(),
+                    marks: t.marks.clone(),
+                }
             })
             .collect()
     }
@@ -71,27 +140,30 @@ impl World {
                     arg: "snapshot",
                     reason: format!("reduced tree on joint slot {}: {reason}", s.base_joint),
                 })?;
-            let links = s.links.iter().map(|l| TreeLink {
-                parent: l.plan.parent.map(|k| k as usize),
-                kind: if l.slider {
-                    TreeJointKind::Slider
-                } else {
-                    TreeJointKind::Hinge
-                },
-                origin: l.origin,
-                axis: l.axis,
-                anchor: l.anchor,
-                mass: l.mass,
-                com: DVec3::ZERO,
-                inertia: l.inertia,
-                ..TreeLink::default()
-            });
+            // Kept trees hold no ball joint: one tree link per plan entry, a planar joint's
+            // one to three.
             let mut tree = CachedTree::default();
-            tree.tree.refill(links, DVec3::ZERO);
+            let mut links = Vec::with_capacity(s.q.len());
+            let mut more = s.more.iter().peekable();
+            for (k, l) in s.links.iter().enumerate() {
+                tree.first_link.push(links.len());
+                let first = SavedGeometry {
+                    slider: l.slider,
+                    origin: l.origin,
+                    axis: l.axis,
+                    anchor: l.anchor,
+                    mass: l.mass,
+                    inertia: l.inertia,
+                };
+                let parent = l.plan.parent.map(|p| tree.link_of[p as usize]);
+                links.push(first.link(parent));
+                while let Some((_, g)) = more.next_if(|(entry, _)| *entry == k) {
+                    links.push(g.link(Some(links.len() - 1)));
+                }
+                tree.link_of.push(links.len() - 1);
+            }
+            tree.tree.refill(links.into_iter(), DVec3::ZERO);
             tree.plan = s.links.iter().map(|l| l.plan).collect();
-            // Kept trees hold no ball joint: one tree link per plan entry.
-            tree.link_of = (0..s.links.len()).collect();
-            tree.first_link = (0..s.links.len()).collect();
             tree.kick = vec![(DVec3::ZERO, DVec3::ZERO); s.links.len()];
             tree.base_joint = s.base_joint;
             tree.revision = self.joint_revision;
@@ -110,22 +182,36 @@ impl World {
 
     fn check_saved(&self, s: &SavedTree) -> Result<(), &'static str> {
         let n = s.links.len();
-        if n == 0 || s.q.len() != n || s.qd.len() != n || s.marks.len() != n {
+        let links = n + s.more.len();
+        if n == 0 || s.q.len() != links || s.qd.len() != links || s.marks.len() != n {
             return Err("its vectors differ in length");
         }
-        let finite = s.q.iter().chain(&s.qd).all(|x| x.is_finite())
-            && s.links.iter().all(|l| {
-                l.origin.0.is_finite()
-                    && l.origin.1.is_finite()
-                    && (l.axis.length() - 1.0).abs() < 1e-6
-                    && l.anchor.is_finite()
-                    && l.mass.is_finite()
-                    && l.mass > 0.0
-                    && l.inertia.is_finite()
+        // A planar entry's first link is massless when more follow it; at most two follow.
+        let follow = |k: usize| s.more.iter().filter(|(e, _)| *e == k).count();
+        let ordered = s.more.windows(2).all(|w| w[0].0 <= w[1].0);
+        let finite = ordered
+            && s.q.iter().chain(&s.qd).all(|x| x.is_finite())
+            && s.more.iter().all(|(k, g)| *k < n && g.valid(true))
+            && s.links.iter().enumerate().all(|(k, l)| {
+                let planar = l
+                    .plan
+                    .planar
+                    .is_some_and(|m| m.iter().all(|x| x.is_finite()));
+                let extra = follow(k);
+                let geometry = SavedGeometry {
+                    slider: l.slider,
+                    origin: l.origin,
+                    axis: l.axis,
+                    anchor: l.anchor,
+                    mass: l.mass,
+                    inertia: l.inertia,
+                };
+                geometry.valid(planar)
                     && l.plan.at.is_finite()
                     && l.plan.rate.is_finite()
                     && !l.plan.ball
-                    && l.plan.planar.is_none()
+                    && (l.plan.planar.is_none() || planar)
+                    && (extra == 0 || (planar && extra <= 2))
             });
         if !finite {
             return Err("a number is not finite or out of range");
@@ -136,11 +222,13 @@ impl World {
                 .constraints
                 .at(joint as usize)
                 .ok_or("a joint is gone")?;
-            if !matches!(
-                entry.kind,
-                ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_)
-            ) {
-                return Err("a joint is neither a hinge nor a slider");
+            let fits = match entry.kind {
+                ConstraintKind::Hinge(_) | ConstraintKind::Prismatic(_) => l.plan.planar.is_none(),
+                ConstraintKind::Planar(_) => l.plan.planar.is_some(),
+                _ => false,
+            };
+            if !fits {
+                return Err("a joint is not the hinge, slider or planar joint it was");
             }
             let sides = entry.bodies.map(|h| h.map(|h| h.index()));
             let side = if l.plan.sign > 0.0 { 0 } else { 1 };
