@@ -42,7 +42,6 @@ impl World {
         for p in plan {
             let b = bodies.at(p.body as usize).expect("planned bodies are live");
             if p.free {
-                cache.rebuilt_each_step = true;
                 cache.first_link.push(cache.building.len());
                 free_root(b, &mut cache.building, &mut cache.qd);
                 cache.kick.push((DVec3::ZERO, DVec3::ZERO));

@@ -86,6 +86,10 @@ struct LinkPlan {
 /// The joint slot a floating tree's root plan names: none.
 const FREE_ROOT: u32 = u32::MAX;
 
+/// How far a kept floating tree's root may turn from where its chart was centred, rad: past
+/// it the tree is built again, centred again (the chart is singular at a quarter turn).
+const CHART_LIMIT: f64 = 0.5;
+
 /// What a step left in a link's body and joint: a kept tree is stepped again only while its
 /// bodies and joints still read so.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,9 +178,11 @@ pub(super) struct ReducedScratch {
     start: Vec<u32>,
     adjacency: Vec<(u32, u32)>,
     fill: Vec<u32>,
-    /// Kept trees, and per joint slot the kept tree it is the base joint of.
+    /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
+    /// the kept floating tree it is the root of.
     trees: Vec<CachedTree>,
     tree_of: Vec<u32>,
+    floating_of: Vec<u32>,
     tau: Vec<f64>,
     results: Vec<LinkResult>,
     /// The joint revision last looked at, and whether the world then held any hinge or slider.
@@ -315,13 +321,22 @@ impl World {
             self.scratch.reduced.base_joint[root as usize]
         };
         let r = &self.scratch.reduced;
-        // A floating tree is built again every step (its root's chart centred): never kept.
-        let kept = (!floating)
-            .then(|| r.tree_of.get(base_joint as usize).map(|&i| i as usize))
-            .flatten();
-        if let Some(i) = kept.filter(|&i| {
+        // A floating tree is found by its root body (its chart is re-centred past
+        // `CHART_LIMIT` by building it again: `commit_reduced_trees`).
+        let root_body = r.root_body[root as usize];
+        let kept = if floating {
+            r.floating_of.get(root_body as usize)
+        } else {
+            r.tree_of.get(base_joint as usize)
+        };
+        if let Some(i) = kept.map(|&i| i as usize).filter(|&i| {
             r.trees.get(i).is_some_and(|t| {
-                t.base_joint == base_joint && t.revision == self.joint_revision && self.untouched(t)
+                t.base_joint == base_joint
+                    && t.plan
+                        .first()
+                        .is_some_and(|p| !floating || p.body == root_body)
+                    && t.revision == self.joint_revision
+                    && self.untouched(t)
             })
         }) {
             return Some(i);
@@ -349,6 +364,11 @@ impl World {
         }
         r.trees[index].marks.clear();
         if floating {
+            if r.floating_of.len() <= root_body as usize {
+                r.floating_of
+                    .resize(self.bodies.slot_count().max(root_body as usize + 1), 0);
+            }
+            r.floating_of[root_body as usize] = index as u32;
             return Some(index);
         }
         if r.tree_of.len() <= base_joint as usize {
@@ -364,6 +384,9 @@ impl World {
         t.marks.len() == t.plan.len()
             && t.plan.iter().zip(&t.marks).all(|(p, m)| {
                 let body = self.bodies.at(p.body as usize);
+                if p.free {
+                    return body.is_some_and(|b| *m == mark(b, [0.0; 3]));
+                }
                 let joint = self.constraints.at(p.joint as usize);
                 match (body, joint) {
                     (Some(b), Some(e)) => *m == mark(b, coordinates_of(e)),
@@ -551,7 +574,7 @@ impl World {
         for t in r.trees.iter_mut().filter(|t| t.stepped) {
             std::mem::swap(&mut t.q, &mut t.q_next);
             std::mem::swap(&mut t.qd, &mut t.qd_next);
-            if t.rebuilt_each_step {
+            if t.rebuilt_each_step || !chart_centred(t) {
                 // Built again, centred again, from the bodies next step.
                 t.revision = 0;
             }
@@ -559,8 +582,12 @@ impl World {
             for x in &r.results[t.first..t.first + t.plan.len()] {
                 if let Some(b) = self.bodies.at_mut(x.body as usize) {
                     b.take_motion(&x.motion);
-                    t.marks
-                        .push(mark(b, [x.coordinate, x.more[0].0, x.more[1].0]));
+                    let coordinates = if x.joint == FREE_ROOT {
+                        [0.0; 3] // no joint: the body is the whole mark
+                    } else {
+                        [x.coordinate, x.more[0].0, x.more[1].0]
+                    };
+                    t.marks.push(mark(b, coordinates));
                 }
                 if let Some(e) = self.constraints.at_mut(x.joint as usize) {
                     match &mut e.kind {
@@ -593,6 +620,18 @@ impl World {
     /// Bodies the reduced path stepped this step.
     pub(super) fn reduced_body_count(&self) -> u32 {
         self.scratch.reduced.results.len() as u32
+    }
+}
+
+/// Whether a kept tree's floating root (if any) is still within `CHART_LIMIT` of where its
+/// chart was centred.
+fn chart_centred(t: &CachedTree) -> bool {
+    match t.plan.first() {
+        Some(p) if p.free => {
+            let turns = t.first_link[0] + 3..t.first_link[0] + 6;
+            t.q[turns].iter().all(|a| a.abs() < CHART_LIMIT)
+        }
+        _ => true,
     }
 }
 

@@ -2,7 +2,7 @@
 //! bits as the world it was taken of, so their coordinates, rates and geometry travel with it.
 //! Drives are not saved: every step reads them from the joints again.
 
-use super::{CachedTree, LinkPlan, Mark};
+use super::{CachedTree, LinkPlan, Mark, FREE_ROOT};
 use crate::articulation::{TreeJointKind, TreeLink};
 use crate::error::{KeaError, KeaResult};
 use crate::world::constraint_entry::ConstraintKind;
@@ -171,10 +171,15 @@ impl World {
             tree.qd = s.qd;
             tree.marks = s.marks;
             let r = &mut self.scratch.reduced;
-            if r.tree_of.len() <= s.base_joint as usize {
-                r.tree_of.resize(s.base_joint as usize + 1, 0);
+            let (map, key) = if s.base_joint == FREE_ROOT {
+                (&mut r.floating_of, tree.plan[0].body as usize)
+            } else {
+                (&mut r.tree_of, s.base_joint as usize)
+            };
+            if map.len() <= key {
+                map.resize(key + 1, 0);
             }
-            r.tree_of[s.base_joint as usize] = r.trees.len() as u32;
+            map[key] = r.trees.len() as u32;
             r.trees.push(tree);
         }
         Ok(())
@@ -197,6 +202,8 @@ impl World {
                     .plan
                     .planar
                     .is_some_and(|m| m.iter().all(|x| x.is_finite()));
+                // A floating root: three travels and three turns, the first five massless.
+                let free = k == 0 && l.plan.free && s.base_joint == FREE_ROOT;
                 let extra = follow(k);
                 let geometry = SavedGeometry {
                     slider: l.slider,
@@ -206,17 +213,29 @@ impl World {
                     mass: l.mass,
                     inertia: l.inertia,
                 };
-                geometry.valid(planar)
+                geometry.valid(planar || free)
                     && l.plan.at.is_finite()
                     && l.plan.rate.is_finite()
                     && !l.plan.ball
                     && (l.plan.planar.is_none() || planar)
-                    && (extra == 0 || (planar && extra <= 2))
+                    && l.plan.free == free
+                    && match extra {
+                        0 => !free,
+                        5 => free,
+                        _ => planar && extra <= 2,
+                    }
             });
         if !finite {
             return Err("a number is not finite or out of range");
         }
         for (k, l) in s.links.iter().enumerate() {
+            if l.plan.free {
+                // Held by no joint: its body must be there, and nothing else is checked.
+                self.bodies
+                    .at(l.plan.body as usize)
+                    .ok_or("a body is gone")?;
+                continue;
+            }
             let joint = if k == 0 { s.base_joint } else { l.plan.joint };
             let entry = self
                 .constraints
