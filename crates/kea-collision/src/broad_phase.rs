@@ -391,3 +391,12 @@ mod tests {
         assert_eq!(found, vec![500]);
     }
 }
+
+impl DynamicTree {
+    /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
+    pub(crate) fn copy_from(&mut self, other: &Self) {
+        self.nodes.clone_from(&other.nodes);
+        self.free.clone_from(&other.free);
+        self.root = other.root;
+    }
+}

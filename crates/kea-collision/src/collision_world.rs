@@ -69,7 +69,7 @@ impl Default for ContactStrategy {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CollisionWorld {
     pub(crate) slots: Vec<Slot>,
-    free: Vec<u32>,
+    pub(crate) free: Vec<u32>,
     /// The material table that gives each pair's contact parameters.
     pub materials: MaterialTable,
     /// Contact points kept per manifold.
@@ -97,7 +97,7 @@ pub struct CollisionWorld {
     /// The world's joint revision the jointed pairs were read at (`None`: read them, as after
     /// a change of which joints may collide).
     #[cfg_attr(feature = "serde", serde(skip))]
-    jointed_revision: Option<u64>,
+    pub(crate) jointed_revision: Option<u64>,
     pub(crate) new_pairs: Vec<(u32, u32)>,
     /// The narrow phase's chunks of pairs: what each wants this step.
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -109,12 +109,12 @@ pub struct CollisionWorld {
     pub(crate) pending_events: Vec<ContactEvent>,
     /// Body pairs joined by an enabled joint, sorted; rebuilt each update, and last update's.
     pub(crate) jointed: Vec<(BodyHandle, BodyHandle)>,
-    previously_jointed: Vec<(BodyHandle, BodyHandle)>,
+    pub(crate) previously_jointed: Vec<(BodyHandle, BodyHandle)>,
     /// Joints whose bodies may still collide.
-    colliding_joints: Vec<ConstraintHandle>,
+    pub(crate) colliding_joints: Vec<ConstraintHandle>,
     /// Body pairs that never collide, as if jointed (sorted; [`CollisionWorld::exclude_pair`]).
     #[cfg_attr(feature = "serde", serde(default))]
-    excluded: Vec<(BodyHandle, BodyHandle)>,
+    pub(crate) excluded: Vec<(BodyHandle, BodyHandle)>,
     /// What the last update did.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) stats: CollisionStats,
@@ -122,7 +122,7 @@ pub struct CollisionWorld {
     pub(crate) failed_pairs: Vec<(ColliderHandle, ColliderHandle)>,
     /// The strategy and margin the pairs' manifolds were generated with: a change makes every
     /// manifold be generated anew.
-    generated_with: (ContactStrategy, Real),
+    pub(crate) generated_with: (ContactStrategy, Real),
 }
 
 /// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than

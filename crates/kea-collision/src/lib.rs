@@ -45,6 +45,7 @@ mod shape;
 mod shape_recipe;
 #[cfg(feature = "serde")]
 mod snapshot;
+mod state_copy;
 mod sync;
 mod tessellate;
 

@@ -351,3 +351,12 @@ fn surface_params(a: &Surface, b: &Surface) -> ContactParams {
         slide: [0.0; 2],
     }
 }
+
+impl MaterialTable {
+    /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
+    pub(crate) fn copy_from(&mut self, other: &Self) {
+        self.surfaces.clone_from(&other.surfaces);
+        self.pairs.clone_from(&other.pairs);
+        self.revision = other.revision;
+    }
+}

@@ -204,3 +204,13 @@ impl Generated {
         }
     }
 }
+
+impl Pairs {
+    /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
+    pub(crate) fn copy_from(&mut self, other: &Self) {
+        self.slots.clone_from(&other.slots);
+        self.free.clone_from(&other.free);
+        self.free_spilled.clone_from(&other.free_spilled);
+        self.map.clone_from(&other.map);
+    }
+}

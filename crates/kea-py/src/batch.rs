@@ -112,7 +112,8 @@ impl PyBatch {
             return Err(crate::convert::no_such("indices", i, n));
         }
         for i in indices {
-            self.worlds[i].clone_from(&self.template);
+            // The template's state into the world's own buffers: no allocation.
+            self.worlds[i].copy_state_from(&self.template);
         }
         Ok(())
     }

@@ -182,6 +182,19 @@ impl<T, H: HandleKind> Arena<T, H> {
         Ok(arena)
     }
 
+    /// Becomes a copy of `other` (its slots, free list and capacity), reusing this arena's
+    /// buffers.
+    pub(crate) fn copy_from(&mut self, other: &Self)
+    where
+        T: Clone,
+    {
+        self.world = other.world;
+        self.slots.clone_from(&other.slots);
+        self.free.clone_from(&other.free);
+        self.len = other.len;
+        self.capacity = other.capacity;
+    }
+
     pub(crate) fn capacity(&self) -> usize {
         self.capacity
     }

@@ -555,3 +555,82 @@ fn many_steps_at_once_give_the_bits_of_single_steps_reactions_included() {
         .to_string()
         .contains("steps"));
 }
+
+/// The model/data split of batches: one worker world steps several worlds' states in turn
+/// (each taken in, stepped, given back to a world that only holds it), and each comes out on
+/// the bits of the same world stepped on its own — bodies, joints' reactions and contacts —
+/// on the hopping quadruped (contacts coming and going, a floating tree kept and re-centred)
+/// and a planar hopper, with their controls set on the held states between calls.
+#[test]
+fn a_worker_world_steps_other_worlds_states_on_their_bits() {
+    let options = kea3d::robot::MjcfOptions::default();
+    for (xml, name, n) in [(QUADRUPED, "quadruped.xml", 8), (HOPPER, "hopper.xml", 1)] {
+        let mut base = PhysicsWorld::new();
+        let robot = base.load_mjcf_str(xml, name, &options).unwrap();
+        let h = robot.timestep().unwrap_or(0.005);
+        let mut alone: Vec<PhysicsWorld> = (0..3).map(|_| base.clone()).collect();
+        let mut held: Vec<PhysicsWorld> = (0..3)
+            .map(|_| {
+                let mut w = PhysicsWorld::new();
+                w.copy_state_only(&base);
+                w
+            })
+            .collect();
+        let mut worker = PhysicsWorld::new();
+        let reactions = |w: &PhysicsWorld| -> Vec<u64> {
+            robot
+                .joints()
+                .iter()
+                .filter_map(|j| j.raw)
+                .flat_map(|j| w.dynamics().constraint_reaction(j).unwrap())
+                .flat_map(|r| [r.force, r.torque])
+                .flat_map(|v| v.to_array())
+                .map(bits)
+                .collect()
+        };
+        let mut touching = 0;
+        for call in 0..60 {
+            for i in 0..3 {
+                let u: Vec<Real> = (0..n)
+                    .map(|j| (0.5 * (call as Real * 0.2 + (i + j) as Real)).sin())
+                    .collect();
+                robot.set_controls(&mut alone[i], &u).unwrap();
+                alone[i].step_many(h, 5).unwrap();
+                robot.set_controls(&mut held[i], &u).unwrap();
+                worker.copy_state_from(&held[i]);
+                worker.step_many(h, 5).unwrap();
+                held[i].copy_state_only(&worker);
+                let what = format!("{name}, world {i}, call {call}");
+                assert_eq!(state_hash(&held[i]), state_hash(&alone[i]), "{what}");
+                assert_eq!(reactions(&held[i]), reactions(&alone[i]), "{what}");
+                let contacts = |w: &PhysicsWorld| w.dynamics().contacts().count();
+                assert_eq!(contacts(&held[i]), contacts(&alone[i]), "{what}");
+                touching += usize::from(contacts(&alone[i]) > 0);
+            }
+        }
+        assert!(
+            touching > 30,
+            "{name}: they touch the floor ({touching} of 180)"
+        );
+    }
+}
+
+/// A planar hopper of our own: a root on two slides and a hinge, a leg, a floor.
+const HOPPER: &str = r#"<mujoco><compiler angle="degree"/>
+  <option timestep="0.005"/>
+  <default><joint armature="0.1" damping="0.5" limited="true"/></default>
+  <worldbody>
+    <geom type="plane" size="5 5 0.1"/>
+    <body name="torso" pos="0 0 0.9">
+      <joint name="x" type="slide" axis="1 0 0" limited="false" armature="0" damping="0"/>
+      <joint name="z" type="slide" axis="0 0 1" limited="false" armature="0" damping="0"/>
+      <joint name="pitch" type="hinge" axis="0 1 0" limited="false" armature="0" damping="0"/>
+      <geom type="capsule" size="0.05 0.2"/>
+      <body name="thigh" pos="0 0 -0.2">
+        <joint name="hip" type="hinge" axis="0 -1 0" range="-150 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><motor joint="hip" gear="30" ctrlrange="-1 1"/></actuator>
+</mujoco>"#;

@@ -334,6 +334,25 @@ impl ArticulatedTree {
         self.tendon.tendons.clear();
     }
 
+    /// Becomes `other`'s links, gravity and integrator (what a kept tree is between steps),
+    /// reusing this tree's buffers; with `workspace`, its step's scratch sized for them as
+    /// [`ArticulatedTree::refill`] sizes it (a worker that steps), else left as it is (a copy
+    /// that only holds the tree).
+    pub(crate) fn copy_model_from(&mut self, other: &ArticulatedTree, workspace: bool) {
+        if workspace {
+            self.refill(other.links.iter().copied(), other.gravity);
+        } else {
+            self.links.clone_from(&other.links);
+            self.parents.clone_from(&other.parents);
+            self.motion.clone_from(&other.motion);
+            self.gravity = other.gravity;
+            self.placed_valid = false;
+            self.contact.clear();
+            self.tendon.tendons.clear();
+        }
+        self.integrator = other.integrator;
+    }
+
     /// The integrator the steps use.
     #[must_use]
     pub fn integrator(&self) -> Integrator {

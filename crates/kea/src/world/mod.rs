@@ -23,6 +23,7 @@ mod sketch;
 mod sleep;
 #[cfg(feature = "serde")]
 mod snapshot;
+mod state_copy;
 mod step;
 mod step_size;
 mod tendons;

@@ -4,6 +4,7 @@ mod attach;
 mod bodies;
 mod pipeline;
 mod snapshot;
+mod state_copy;
 
 use crate::body::BodyType;
 use crate::collider::ColliderMass;

@@ -36,6 +36,7 @@ mod build;
 mod contacts;
 mod convert;
 mod frames;
+mod kept;
 mod qualify;
 #[cfg(feature = "serde")]
 mod saved;

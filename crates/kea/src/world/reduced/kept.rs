@@ -1,0 +1,46 @@
+//! Kept trees copied between worlds (`World::copy_state_from`): what a kept tree is between
+//! steps — its plan, links, coordinates, rates and marks — without its step's scratch.
+
+use super::{CachedTree, ReducedScratch};
+
+impl ReducedScratch {
+    /// Becomes `other`'s kept trees (and the caches found by joint revision, which are
+    /// unique to a world's joints), reusing this scratch's trees; `workspace`: this one steps,
+    /// so each tree's step scratch is sized.
+    pub(in crate::world) fn copy_kept_from(&mut self, other: &ReducedScratch, workspace: bool) {
+        let n = other.trees.len();
+        if self.trees.len() > n {
+            self.trees.truncate(n);
+        }
+        while self.trees.len() < n {
+            self.trees.push(CachedTree::default());
+        }
+        for (t, o) in self.trees.iter_mut().zip(&other.trees) {
+            t.copy_kept_from(o, workspace);
+        }
+        self.tree_of.clone_from(&other.tree_of);
+        self.floating_of.clone_from(&other.floating_of);
+        self.candidates = other.candidates;
+        self.alone = other.alone;
+    }
+}
+
+impl CachedTree {
+    fn copy_kept_from(&mut self, o: &CachedTree, workspace: bool) {
+        self.base_joint = o.base_joint;
+        self.revision = o.revision;
+        self.plan.clone_from(&o.plan);
+        self.link_of.clone_from(&o.link_of);
+        self.first_link.clone_from(&o.first_link);
+        self.rebuilt_each_step = o.rebuilt_each_step;
+        self.kick.clone_from(&o.kick);
+        self.q.clone_from(&o.q);
+        self.qd.clone_from(&o.qd);
+        self.marks.clone_from(&o.marks);
+        self.stepped = false;
+        // A stale tree (revision 0) is built again before use: its links need not travel.
+        if o.revision != 0 {
+            self.tree.copy_model_from(&o.tree, workspace);
+        }
+    }
+}

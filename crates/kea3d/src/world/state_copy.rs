@@ -1,0 +1,60 @@
+//! A physics world's state copied into another without its step scratch: what a batch's hot
+//! worker world takes in before it steps a world, and gives back after (the model/data
+//! split; `kea::World::copy_state_from` and `CollisionWorld::copy_state_from` do the two
+//! layers). Buffers are reused: once the worker has held a world as big, a copy allocates
+//! nothing (a named scene's names, which a step does not change, are compared first and
+//! copied only when they differ).
+
+use super::{BodyMeta, PhysicsWorld};
+
+impl PhysicsWorld {
+    /// Makes this world `other` as it is now — its dynamics and collision layers (see
+    /// [`kea::World::copy_state_from`]) and the facade's records — keeping this world's step
+    /// scratch: stepping it then gives the bits stepping `other` would.
+    pub fn copy_state_from(&mut self, other: &PhysicsWorld) {
+        self.copy_records(other);
+        self.dynamics.copy_state_from(&other.dynamics);
+    }
+
+    /// [`PhysicsWorld::copy_state_from`] into a world that only holds a state (a batch's
+    /// world between steps): its kept trees' step scratch is not sized.
+    pub fn copy_state_only(&mut self, other: &PhysicsWorld) {
+        self.copy_records(other);
+        self.dynamics.copy_state_only(&other.dynamics);
+    }
+
+    fn copy_records(&mut self, other: &PhysicsWorld) {
+        self.collision.copy_state_from(&other.collision);
+        if self.meta.len() != other.meta.len() {
+            self.meta.resize(other.meta.len(), None);
+        }
+        for (m, o) in self.meta.iter_mut().zip(&other.meta) {
+            match (m.as_mut(), o) {
+                (Some(m), Some(o)) => m.copy_from(o),
+                _ => m.clone_from(o),
+            }
+        }
+        self.surfaces.clone_from(&other.surfaces);
+        self.driven.clone_from(&other.driven);
+        self.paths.clone_from(&other.paths);
+        if self.names != other.names {
+            self.names.clone_from(&other.names);
+        }
+        if self.joint_names != other.joint_names {
+            self.joint_names.clone_from(&other.joint_names);
+        }
+    }
+}
+
+impl BodyMeta {
+    fn copy_from(&mut self, other: &BodyMeta) {
+        self.handle = other.handle;
+        self.kind = other.kind;
+        self.explicit_mass = other.explicit_mass;
+        self.explicit_inertia = other.explicit_inertia;
+        self.explicit_com = other.explicit_com;
+        self.local_com = other.local_com;
+        self.colliders.clone_from(&other.colliders);
+        self.target = other.target;
+    }
+}
