@@ -71,6 +71,31 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         world.step(1.0 / 240.0).unwrap();
     });
     assert_eq!(n, 0, "{n} allocations in warm robot steps");
+    // Another world's state copied in and out (a batch's reset, a worker's swap) once warm.
+    let mut other = world.clone();
+    for k in 0..60 {
+        robot
+            .set_controls(&mut other, &controls[(k + 1) % 4])
+            .unwrap();
+        other.step(1.0 / 240.0).unwrap();
+    }
+    let mut worker = world.clone();
+    for _ in 0..2 {
+        worker.copy_state_from(&other);
+        worker.step(1.0 / 240.0).unwrap();
+        worker.copy_state_from(&world);
+        worker.step(1.0 / 240.0).unwrap();
+    }
+    let n = allocations_in(|| {
+        for _ in 0..10 {
+            worker.copy_state_from(&other);
+            worker.step(1.0 / 240.0).unwrap();
+            other.copy_state_only(&worker);
+            worker.copy_state_from(&world);
+            worker.step(1.0 / 240.0).unwrap();
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations copying warm worlds' states");
     // Those steps were in reduced coordinates, with the contacts solved in joint space.
     let stats = world.step(1.0 / 240.0).unwrap();
     assert_eq!(stats.reduced_trees, 1, "the hopper is one reduced tree");

@@ -34,7 +34,7 @@ pub struct TendonTerm {
 }
 
 /// A fixed tendon (module docs): its terms, spring, damper and range.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FixedTendon {
     /// At least one.
@@ -50,6 +50,29 @@ pub struct FixedTendon {
     pub range: Option<[Real; 2]>,
     /// The range's soft model (MuJoCo's `solreflimit`, `solimplimit`, `margin`).
     pub soft: SoftLimit,
+}
+
+impl Clone for FixedTendon {
+    fn clone(&self) -> Self {
+        Self {
+            terms: self.terms.clone(),
+            stiffness: self.stiffness,
+            damping: self.damping,
+            spring_length: self.spring_length,
+            range: self.range,
+            soft: self.soft,
+        }
+    }
+
+    /// Reuses this tendon's terms (a world's state copied into another allocates nothing).
+    fn clone_from(&mut self, source: &Self) {
+        self.terms.clone_from(&source.terms);
+        self.stiffness = source.stiffness;
+        self.damping = source.damping;
+        self.spring_length = source.spring_length;
+        self.range = source.range;
+        self.soft = source.soft;
+    }
 }
 
 impl Default for FixedTendon {
