@@ -356,6 +356,15 @@ impl DynamicTree {
     }
 }
 
+impl DynamicTree {
+    /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
+    pub(crate) fn copy_from(&mut self, other: &Self) {
+        self.nodes.clone_from(&other.nodes);
+        self.free.clone_from(&other.free);
+        self.root = other.root;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -389,14 +398,5 @@ mod tests {
         found.clear();
         t.query(&unit(5000.5, 5000.5), |i| found.push(i));
         assert_eq!(found, vec![500]);
-    }
-}
-
-impl DynamicTree {
-    /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
-    pub(crate) fn copy_from(&mut self, other: &Self) {
-        self.nodes.clone_from(&other.nodes);
-        self.free.clone_from(&other.free);
-        self.root = other.root;
     }
 }
