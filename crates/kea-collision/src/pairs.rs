@@ -206,6 +206,11 @@ impl Generated {
 }
 
 impl Pairs {
+    /// Asks for the pairs' cache lines (`CollisionWorld::prefetch`).
+    pub(crate) fn prefetch(&self) {
+        kea::prefetch::slice(&self.slots);
+    }
+
     /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
     pub(crate) fn copy_from(&mut self, other: &Self) {
         self.slots.clone_from(&other.slots);

@@ -5,6 +5,16 @@
 use crate::collision_world::CollisionWorld;
 
 impl CollisionWorld {
+    /// Asks the processor for the cache lines an update reads first: the colliders, the
+    /// pairs and the broad phase's nodes (see [`kea::World::prefetch`]). A hint: nothing
+    /// changes.
+    pub fn prefetch(&self) {
+        kea::prefetch::slice(std::slice::from_ref(self));
+        kea::prefetch::slice(&self.slots);
+        self.pairs.prefetch();
+        kea::prefetch::slice(&self.still);
+    }
+
     /// Makes this collision world `other` as it is now — colliders, materials, pairs and
     /// their manifolds, the broad phase, events and read-outs — reusing this world's buffers
     /// and keeping its narrow-phase workers. Updating it then gives the contacts `other`'s

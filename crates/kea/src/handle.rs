@@ -195,6 +195,11 @@ impl<T, H: HandleKind> Arena<T, H> {
         self.capacity = other.capacity;
     }
 
+    /// Asks for the cache lines of the slots (`prefetch`).
+    pub(crate) fn prefetch(&self) {
+        crate::prefetch::slice(&self.slots);
+    }
+
     pub(crate) fn capacity(&self) -> usize {
         self.capacity
     }

@@ -29,6 +29,7 @@ pub mod constraint;
 pub mod error;
 mod handle;
 pub mod math;
+pub mod prefetch;
 pub mod solver;
 pub mod threads;
 pub mod timing;

@@ -120,6 +120,17 @@ impl ContactState {
         self.force.clear();
     }
 
+    /// Asks for the cache lines an evaluation's contacts read (`crate::prefetch`).
+    pub(super) fn prefetch(&self) {
+        use crate::prefetch::slice;
+        slice(&self.contacts);
+        slice(&self.origin);
+        slice(&self.force);
+        slice(&self.rot);
+        slice(&self.pos);
+        slice(&self.lcp.state);
+    }
+
     /// Whether the tree has no contact.
     pub(super) fn is_empty(&self) -> bool {
         self.contacts.is_empty()

@@ -353,6 +353,32 @@ impl ArticulatedTree {
         self.integrator = other.integrator;
     }
 
+    /// Asks for the cache lines its step reads first (`crate::prefetch`).
+    pub(crate) fn prefetch(&self) {
+        use crate::prefetch::slice;
+        slice(&self.links);
+        slice(&self.parents);
+        slice(&self.motion);
+        slice(&self.rot);
+        slice(&self.pos);
+        slice(&self.vel);
+        slice(&self.acc);
+        slice(&self.force);
+        slice(&self.composite);
+        slice(&self.h);
+        slice(&self.rhs);
+        slice(&self.external);
+        slice(&self.frames);
+        slice(&self.placed);
+        slice(&self.rate0);
+        slice(&self.q_start);
+        slice(&self.stage_q);
+        slice(&self.stage_v);
+        slice(&self.offset);
+        slice(&self.impulse);
+        self.contact.prefetch();
+    }
+
     /// The integrator the steps use.
     #[must_use]
     pub fn integrator(&self) -> Integrator {

@@ -44,3 +44,25 @@ impl CachedTree {
         }
     }
 }
+
+impl ReducedScratch {
+    /// Asks for the cache lines of the kept trees a step reads first (`crate::prefetch`).
+    pub(in crate::world) fn prefetch(&self) {
+        use crate::prefetch::slice;
+        slice(&self.trees);
+        for t in &self.trees {
+            slice(&t.plan);
+            slice(&t.link_of);
+            slice(&t.first_link);
+            slice(&t.q);
+            slice(&t.qd);
+            slice(&t.q_next);
+            slice(&t.qd_next);
+            slice(&t.marks);
+            t.tree.prefetch();
+        }
+        slice(&self.tree_of);
+        slice(&self.reduced);
+        slice(&self.tau);
+    }
+}
