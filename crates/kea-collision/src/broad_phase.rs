@@ -357,6 +357,11 @@ impl DynamicTree {
 }
 
 impl DynamicTree {
+    /// Asks for the nodes' cache lines (`CollisionWorld::prefetch`).
+    pub(crate) fn prefetch(&self) {
+        kea::prefetch::slice(&self.nodes);
+    }
+
     /// Becomes a copy of `other`, reusing this one's buffers (`state_copy.rs`).
     pub(crate) fn copy_from(&mut self, other: &Self) {
         self.nodes.clone_from(&other.nodes);

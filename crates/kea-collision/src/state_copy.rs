@@ -12,7 +12,9 @@ impl CollisionWorld {
         kea::prefetch::slice(std::slice::from_ref(self));
         kea::prefetch::slice(&self.slots);
         self.pairs.prefetch();
+        self.tree.prefetch();
         kea::prefetch::slice(&self.still);
+        kea::prefetch::slice(&self.jointed);
     }
 
     /// Makes this collision world `other` as it is now — colliders, materials, pairs and

@@ -5,7 +5,7 @@
 
 /// Bytes of one slice asked for at most (the start of a long buffer is what a step of a
 /// small world reads first).
-const MAX_BYTES: usize = 4096;
+const MAX_BYTES: usize = 16384;
 
 /// Asks for the cache lines of `s` (up to [`MAX_BYTES`]).
 #[inline]

@@ -128,7 +128,14 @@ impl ContactState {
         slice(&self.force);
         slice(&self.rot);
         slice(&self.pos);
-        slice(&self.lcp.state);
+        slice(&self.rows);
+        slice(&self.jw);
+        slice(&self.point);
+        let s = &self.lcp;
+        for v in [&s.a, &s.b, &s.lo, &s.hi, &s.f, &s.w, &s.jw, &s.reg, &s.push] {
+            slice(v);
+        }
+        slice(&s.state);
     }
 
     /// Whether the tree has no contact.

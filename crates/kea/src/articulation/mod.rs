@@ -376,6 +376,11 @@ impl ArticulatedTree {
         slice(&self.stage_v);
         slice(&self.offset);
         slice(&self.impulse);
+        slice(&self.inverse);
+        slice(&self.column);
+        slice(&self.sum_a);
+        slice(&self.sum_v);
+        slice(&self.soft_rows);
         self.contact.prefetch();
     }
 
