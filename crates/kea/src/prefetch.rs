@@ -7,7 +7,7 @@
 /// small world reads first).
 const MAX_BYTES: usize = 16384;
 
-/// Asks for the cache lines of `s` (up to [`MAX_BYTES`]).
+/// Asks for the cache lines of `s` (its first 16 KB).
 #[inline]
 pub fn slice<T>(s: &[T]) {
     let bytes = std::mem::size_of_val(s).min(MAX_BYTES);
