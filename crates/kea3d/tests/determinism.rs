@@ -63,6 +63,19 @@ fn state_hash(scene: &PhysicsWorld) -> u64 {
     h
 }
 
+/// The bits of every joint's reactions on its two bodies, in the robot's joint order.
+fn reaction_bits(robot: &kea3d::robot::Robot, w: &PhysicsWorld) -> Vec<u64> {
+    robot
+        .joints()
+        .iter()
+        .filter_map(|j| j.raw)
+        .flat_map(|j| w.dynamics().constraint_reaction(j).unwrap())
+        .flat_map(|r| [r.force, r.torque])
+        .flat_map(|v| v.to_array())
+        .map(bits)
+        .collect()
+}
+
 /// The scene's islands as lists of body handles, asleep or not.
 fn island_lists(scene: &PhysicsWorld) -> Vec<(bool, Vec<kea::BodyHandle>)> {
     let mut list = kea::IslandList::default();
@@ -511,17 +524,7 @@ fn many_steps_at_once_give_the_bits_of_single_steps_reactions_included() {
         .unwrap();
     let h = robot.timestep().unwrap();
     let mut many = one.clone();
-    let reactions = |w: &PhysicsWorld| -> Vec<u64> {
-        robot
-            .joints()
-            .iter()
-            .filter_map(|j| j.raw)
-            .flat_map(|j| w.dynamics().constraint_reaction(j).unwrap())
-            .flat_map(|r| [r.force, r.torque])
-            .flat_map(|v| v.to_array())
-            .map(bits)
-            .collect()
-    };
+    let reactions = |w: &PhysicsWorld| reaction_bits(&robot, w);
     let mut touching = 0;
     for k in 0..40 {
         let u: Vec<Real> = (0..8)
@@ -577,17 +580,7 @@ fn a_worker_world_steps_other_worlds_states_on_their_bits() {
             })
             .collect();
         let mut worker = PhysicsWorld::new();
-        let reactions = |w: &PhysicsWorld| -> Vec<u64> {
-            robot
-                .joints()
-                .iter()
-                .filter_map(|j| j.raw)
-                .flat_map(|j| w.dynamics().constraint_reaction(j).unwrap())
-                .flat_map(|r| [r.force, r.torque])
-                .flat_map(|v| v.to_array())
-                .map(bits)
-                .collect()
-        };
+        let reactions = |w: &PhysicsWorld| reaction_bits(&robot, w);
         let mut touching = 0;
         for call in 0..60 {
             for i in 0..3 {

@@ -20,7 +20,7 @@
 //! of the accelerations (the four stages of Runge–Kutta each), and the force a contact
 //! passes in a step is the integrator's weighted mean of its evaluations'.
 
-use super::soft_limits::impedance;
+use super::soft_limits::{impedance, reference_gains};
 use super::{ArticulatedTree, TreeJointKind};
 use crate::error::{KeaError, KeaResult};
 use crate::math::wide;
@@ -246,12 +246,7 @@ impl ArticulatedTree {
         let n = self.len();
         let model = self.contact.model;
         let margin = wide(model.margin);
-        let tau = wide(model.solref[0]).max(2.0 * step);
-        let (zeta, dmax) = (wide(model.solref[1]), wide(model.solimp[1]));
-        let (b, k_stiff) = (
-            2.0 / (dmax * tau),
-            1.0 / (dmax * dmax * tau * tau * zeta * zeta),
-        );
+        let (b, k_stiff) = reference_gains(&model, step);
         let mut jw = std::mem::take(&mut self.contact.jw);
         let mut point = std::mem::take(&mut self.contact.point);
         let mut rows = std::mem::take(&mut self.contact.rows);

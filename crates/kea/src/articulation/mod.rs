@@ -39,7 +39,8 @@ mod tendons;
 
 pub use contacts::TreeContact;
 pub use integrate::Integrator;
-pub(crate) use soft_limits::impedance;
+pub(crate) use soft_limits::{impedance, reference_gains};
+pub(crate) use tendons::stretch;
 pub(crate) use tendons::TreeTendon;
 
 /// How a joint of the tree moves.

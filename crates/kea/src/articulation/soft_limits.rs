@@ -31,6 +31,17 @@ fn general_power(base: f64, e: f64) -> f64 {
     base.powf(e)
 }
 
+/// MuJoCo's reference gains of soft model `s` at step `step`: `b = 2 / (d_max τ)` and
+/// `k = 1 / (d_max² τ² ζ²)`, the time constant τ at least two steps.
+pub(crate) fn reference_gains(s: &SoftLimit, step: f64) -> (f64, f64) {
+    let tau = wide(s.solref[0]).max(2.0 * step);
+    let (zeta, dmax) = (wide(s.solref[1]), wide(s.solimp[1]));
+    (
+        2.0 / (dmax * tau),
+        1.0 / (dmax * dmax * tau * tau * zeta * zeta),
+    )
+}
+
 /// MuJoCo's impedance at distance `x` past the margin.
 pub(crate) fn impedance(s: &SoftLimit, x: f64) -> f64 {
     let [dmin, dmax, width, mid, power] = s.solimp.map(wide);
@@ -66,12 +77,7 @@ impl ArticulatedTree {
                 continue;
             };
             let margin = wide(s.margin);
-            let tau = wide(s.solref[0]).max(2.0 * step);
-            let (zeta, dmax) = (wide(s.solref[1]), wide(s.solimp[1]));
-            let (b, k) = (
-                2.0 / (dmax * tau),
-                1.0 / (dmax * dmax * tau * tau * zeta * zeta),
-            );
+            let (b, k) = reference_gains(&s, step);
             for (sign, distance) in [(1.0, q[i] - lo), (-1.0, hi - q[i])] {
                 if distance >= margin {
                     continue;

@@ -12,7 +12,7 @@
 //!   `−b J q̇ − k·imp(x)·x` and regulariser `(1 − imp)/imp · J H'⁻¹ Jᵀ` — solved exactly with
 //!   the stops and the contacts (`solve_rows_exactly`).
 
-use super::soft_limits::impedance;
+use super::soft_limits::{impedance, reference_gains};
 use super::ArticulatedTree;
 use crate::math::wide;
 use crate::SoftLimit;
@@ -92,15 +92,7 @@ impl ArticulatedTree {
                 continue;
             }
             let (length, rate) = s.length(t, q, qd);
-            let (lo, hi) = x.spring;
-            let stretch = if length > hi {
-                length - hi
-            } else if length < lo {
-                length - lo
-            } else {
-                0.0
-            };
-            let f = -x.stiffness * stretch - x.damping * rate;
+            let f = -x.stiffness * stretch(length, x.spring) - x.damping * rate;
             for &(i, c) in s.terms(t) {
                 rhs[i] += c * f;
             }
@@ -118,12 +110,7 @@ impl ArticulatedTree {
             };
             let soft = &x.soft;
             let margin = wide(soft.margin);
-            let tau = wide(soft.solref[0]).max(2.0 * step);
-            let (zeta, dmax) = (wide(soft.solref[1]), wide(soft.solimp[1]));
-            let (b, k) = (
-                2.0 / (dmax * tau),
-                1.0 / (dmax * dmax * tau * tau * zeta * zeta),
-            );
+            let (b, k) = reference_gains(soft, step);
             let (length, rate) = s.length(t, q, qd);
             for (sign, distance) in [(1.0, length - lo), (-1.0, hi - length)] {
                 if distance >= margin {
@@ -145,5 +132,16 @@ impl ArticulatedTree {
     /// Whether the tree has tendons.
     pub(super) fn has_tendons(&self) -> bool {
         !self.tendon.tendons.is_empty()
+    }
+}
+
+/// How far `length` is past the spring's rest band `[lo, hi]` (negative below it, 0 inside).
+pub(crate) fn stretch(length: f64, (lo, hi): (f64, f64)) -> f64 {
+    if length > hi {
+        length - hi
+    } else if length < lo {
+        length - lo
+    } else {
+        0.0
     }
 }

@@ -297,23 +297,13 @@ impl World {
     /// Tendon `t`'s force along its length on the maximal path this step (module docs).
     fn maximal_tendon_force(&self, t: &FixedTendon, dt: Real) -> Option<Real> {
         let (length, rate) = self.length_of(t)?;
-        let [lo, hi] = t.spring_length;
-        let stretch = if length > hi {
-            length - hi
-        } else if length < lo {
-            length - lo
-        } else {
-            0.0
-        };
+        let [lo, hi] = t.spring_length.map(wide);
+        let stretch = crate::articulation::stretch(wide(length), (lo, hi)) as Real;
         let mut f = -t.stiffness * stretch - t.damping * rate;
         if let Some([low, high]) = t.range {
             let s = &t.soft;
-            let tau = s.solref[0].max(2.0 * dt);
-            let (zeta, dmax) = (s.solref[1], s.solimp[1]);
-            let (b, k) = (
-                2.0 / (dmax * tau),
-                1.0 / (dmax * dmax * tau * tau * zeta * zeta),
-            );
+            let (b, k) = crate::articulation::reference_gains(s, wide(dt));
+            let (b, k) = (b as Real, k as Real);
             let mobility: Real = t
                 .terms
                 .iter()

@@ -89,6 +89,40 @@ struct SavedLink {
     inertia: DMat3,
 }
 
+impl SavedLink {
+    /// A plan entry and its first tree link's geometry (the format keeps them side by side).
+    fn new(plan: LinkPlan, g: SavedGeometry) -> Self {
+        let SavedGeometry {
+            slider,
+            origin,
+            axis,
+            anchor,
+            mass,
+            inertia,
+        } = g;
+        Self {
+            plan,
+            slider,
+            origin,
+            axis,
+            anchor,
+            mass,
+            inertia,
+        }
+    }
+
+    fn geometry(&self) -> SavedGeometry {
+        SavedGeometry {
+            slider: self.slider,
+            origin: self.origin,
+            axis: self.axis,
+            anchor: self.anchor,
+            mass: self.mass,
+            inertia: self.inertia,
+        }
+    }
+}
+
 impl World {
     /// The kept trees that the next step would step again.
     pub(crate) fn saved_trees(&self) -> Vec<SavedTree> {
@@ -106,15 +140,7 @@ impl World {
                         .zip(&t.first_link)
                         .map(|(p, &first)| {
                             let l = &links[first];
-                            SavedLink {
-                                plan: *p,
-                                slider: l.kind == TreeJointKind::Slider,
-                                origin: l.origin,
-                                axis: l.axis,
-                                anchor: l.anchor,
-                                mass: l.mass,
-                                inertia: l.inertia,
-                            }
+                            SavedLink::new(*p, SavedGeometry::of(l))
                         })
                         .collect(),
                     more: (0..t.plan.len())
@@ -147,14 +173,7 @@ impl World {
             let mut more = s.more.iter().peekable();
             for (k, l) in s.links.iter().enumerate() {
                 tree.first_link.push(links.len());
-                let first = SavedGeometry {
-                    slider: l.slider,
-                    origin: l.origin,
-                    axis: l.axis,
-                    anchor: l.anchor,
-                    mass: l.mass,
-                    inertia: l.inertia,
-                };
+                let first = l.geometry();
                 let parent = l.plan.parent.map(|p| tree.link_of[p as usize]);
                 links.push(first.link(parent));
                 while let Some((_, g)) = more.next_if(|(entry, _)| *entry == k) {
@@ -205,14 +224,7 @@ impl World {
                 // A floating root: three travels and three turns, the first five massless.
                 let free = k == 0 && l.plan.free && s.base_joint == FREE_ROOT;
                 let extra = follow(k);
-                let geometry = SavedGeometry {
-                    slider: l.slider,
-                    origin: l.origin,
-                    axis: l.axis,
-                    anchor: l.anchor,
-                    mass: l.mass,
-                    inertia: l.inertia,
-                };
+                let geometry = l.geometry();
                 geometry.valid(planar || free)
                     && l.plan.at.is_finite()
                     && l.plan.rate.is_finite()
