@@ -1,10 +1,10 @@
 //! Driving a loaded robot: the file's actuators fed one control each (MuJoCo's `ctrl`), or a
 //! force per joint coordinate.
 
-use super::build::{coordinate_limit, kea_sign};
+use super::build::coordinate_limit;
 use super::mjcf_actuators::{ActuatorKind, ActuatorSpec};
 use super::model::{check_vector, Robot};
-use super::spec::JointType;
+use super::spec::{kea_sign, JointType};
 use crate::{PhysicsWorld, Result};
 use kea::{Actuator, KeaError, Real};
 

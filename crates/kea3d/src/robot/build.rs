@@ -5,7 +5,7 @@
 use super::colliders::{collider, collision_filters, placement, shape_of};
 use super::mjcf_pairs::PairMaterials;
 use super::model::{Robot, RobotJoint, RobotLink};
-use super::spec::{Coordinate, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec};
+use super::spec::{kea_sign, GeomSpec, Inertial, JointSpec, JointType, Pose, RobotSpec};
 use super::xml::above;
 use super::ImportError;
 use crate::{Body, Joint, PhysicsWorld};
@@ -502,19 +502,6 @@ fn make_joint(
         }
     }
     Ok(Some(raw))
-}
-
-/// +1, or −1 where Kea's coordinate `k` of a joint runs against the file's: a planar joint's
-/// second travel is Kea's `normal × first` (the normal being the turn's axis), which the file's
-/// second slide may point against.
-pub(crate) fn kea_sign(kind: JointType, coords: &[Coordinate], k: usize) -> Real {
-    if kind == JointType::Planar && k == 1 {
-        let second = coords[2].axis.cross(coords[0].axis);
-        if second.dot(coords[1].axis) < 0.0 {
-            return -1.0;
-        }
-    }
-    1.0
 }
 
 /// The limit of coordinate `k` of a joint, where it has one.

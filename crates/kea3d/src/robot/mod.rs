@@ -54,10 +54,9 @@ mod xml;
 pub use actuator::UNCAPPED_MOTOR_FORCE;
 pub use error::ImportError;
 pub use mjcf_actuators::{ActuatorKind, ActuatorSpec};
-pub use model::{Robot, RobotJoint, RobotLink};
+pub use model::{Robot, RobotJoint, RobotLink, RobotTendon};
 pub use readouts::LinkState;
 pub use spec::{JointType, Pose};
-pub use tendons::RobotTendon;
 
 use crate::PhysicsWorld;
 use kea::{Quat, Vec3};

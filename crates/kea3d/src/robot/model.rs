@@ -72,6 +72,17 @@ impl RobotJoint {
     }
 }
 
+/// A tendon of a loaded robot.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RobotTendon {
+    /// Its name in the file.
+    pub name: String,
+    /// The world's tendon.
+    pub handle: kea::TendonHandle,
+    /// The file's length where Kea's is 0 (`Σ c·ref`).
+    pub offset: Real,
+}
+
 /// A robot loaded into a [`PhysicsWorld`]: see [`PhysicsWorld::load_urdf`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Robot {
@@ -89,7 +100,7 @@ pub struct Robot {
     pub(crate) timestep: Option<Real>,
     /// Its fixed tendons (`tendons.rs`).
     #[serde(default)]
-    pub(crate) tendons: Vec<super::tendons::RobotTendon>,
+    pub(crate) tendons: Vec<RobotTendon>,
 }
 
 impl Robot {

@@ -323,3 +323,16 @@ impl RobotSpec {
 
 /// Name of the world link.
 pub(crate) const WORLD: &str = "world";
+
+/// +1, or −1 where Kea's coordinate `k` of a joint runs against the file's: a planar joint's
+/// second travel is Kea's `normal × first` (the normal being the turn's axis), which the file's
+/// second slide may point against.
+pub(crate) fn kea_sign(kind: JointType, coords: &[Coordinate], k: usize) -> Real {
+    if kind == JointType::Planar && k == 1 {
+        let second = coords[2].axis.cross(coords[0].axis);
+        if second.dot(coords[1].axis) < 0.0 {
+            return -1.0;
+        }
+    }
+    1.0
+}

@@ -7,24 +7,12 @@
 //! lengths, range) less the offset `Σ c·ref`; MuJoCo's default spring length, the length at
 //! the joints' `springref`, is `Σ c·(springref − ref)` in Kea's.
 
-use super::build::kea_sign;
-use super::model::{Robot, RobotJoint};
-use super::spec::RobotSpec;
+use super::model::{Robot, RobotJoint, RobotTendon};
+use super::spec::{kea_sign, RobotSpec};
 use super::ImportError;
 use crate::PhysicsWorld;
-use kea::{FixedTendon, Real, TendonHandle, TendonTerm};
+use kea::{FixedTendon, Real, TendonTerm};
 use std::path::Path;
-
-/// A tendon of a loaded robot.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct RobotTendon {
-    /// Its name in the file.
-    pub name: String,
-    /// The world's tendon.
-    pub handle: TendonHandle,
-    /// The file's length where Kea's is 0 (`Σ c·ref`).
-    pub offset: Real,
-}
 
 /// Adds `spec`'s tendons to `world` over the robot's `joints`.
 pub(super) fn insert_tendons(
