@@ -323,6 +323,27 @@ impl PyWorld {
             .collect())
     }
 
+    /// The robot's fixed tendons that act, by name in the file's order (force-free ones are
+    /// only reported in `skipped()`).
+    fn tendon_names(&self) -> PyResult<Vec<String>> {
+        Ok(self
+            .robot()?
+            .tendons()
+            .iter()
+            .map(|t| t.name.clone())
+            .collect())
+    }
+
+    /// Each acting tendon's length in the file's units (MuJoCo's `ten_length`) and its rate,
+    /// after the last step, as a list of (length, rate).
+    fn tendon_lengths(&self) -> PyResult<Vec<(f64, f64)>> {
+        let lengths = py(self.robot()?.tendon_lengths(&self.inner))?;
+        Ok(lengths
+            .into_iter()
+            .map(|(l, v)| (f64::from(l), f64::from(v)))
+            .collect())
+    }
+
     /// The control range of each actuator, as an (actuators, 2) list of (low, high); ±inf
     /// where unlimited.
     fn control_ranges(&self) -> PyResult<Vec<(f64, f64)>> {

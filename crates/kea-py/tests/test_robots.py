@@ -289,3 +289,29 @@ def test_an_mjcf_files_option_sets_the_step_and_integrator_and_follows_mujoco():
     assert worst < 0.01, worst
     w.integrator = "euler"
     assert w.integrator == "euler"
+
+
+TENDON_ARM = """<mujoco><option timestep="0.002"/>
+  <worldbody><body name="a" pos="0 0 1"><joint name="j1" type="hinge" axis="0 1 0"/>
+    <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+    <body name="b" pos="0.4 0 0"><joint name="j2" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.04"/></body></body></worldbody>
+  <tendon>
+    <fixed name="held" range="-0.3 0.3"><joint joint="j1" coef="0.5"/><joint joint="j2" coef="1"/></fixed>
+    <fixed name="idle"><joint joint="j1"/></fixed>
+  </tendon></mujoco>"""
+
+
+def test_a_robots_tendons_read_their_lengths_in_the_files_units(tmp_path):
+    path = tmp_path / "arm.xml"
+    path.write_text(TENDON_ARM)
+    arm = kea.World.from_mjcf(str(path))
+    assert arm.tendon_names() == ["held"]  # the force-free one is only reported
+    assert any("idle" in line for line in arm.skipped())
+    arm.step(0.002, steps=500)
+    q = arm.joint_positions()
+    (length, rate), = arm.tendon_lengths()
+    assert length == pytest.approx(0.5 * q[0] + q[1], abs=1e-5)
+    # Hanging from the horizontal, the arm folds until the range holds it (soft: a little past).
+    assert -0.33 < length < 0.33
+    assert math.isfinite(rate)
