@@ -234,8 +234,8 @@ impl ArticulatedTree {
     /// Factorises `H'` (left in `h` by `assemble`) in place, leaf to root with no fill
     /// (`solver::sparse::joint_space`).
     pub(super) fn factor_h(&mut self) -> KeaResult<()> {
-        let (n, parents) = (self.len(), &self.parents);
-        joint_space::factor(&mut self.h, n, |k| parents[k]).map_err(|k| KeaError::Inconsistent {
+        let n = self.len();
+        joint_space::factor(&mut self.h, n, &self.ancestry).map_err(|k| KeaError::Inconsistent {
             arg: "links",
             reason: format!(
                 "the tree's joint-space inertia is not positive definite (coordinate {k})"
@@ -245,22 +245,19 @@ impl ArticulatedTree {
 
     /// Solves `H' x = b` with the factor [`Self::factor_h`] left in `h`; `b` becomes `x`.
     pub(super) fn solve_h(&self, b: &mut [f64]) {
-        let parents = &self.parents;
-        joint_space::solve(&self.h, self.len(), |k| parents[k], b);
+        joint_space::solve(&self.h, self.len(), &self.ancestry, b);
     }
 
     /// `b ← L⁻ᵀ b` with `H' = Lᵀ L` (the factor in `h`): for rows `J`, `J H'⁻¹ Jᵀ` is the
     /// Gram matrix of their halves.
     pub(super) fn half_solve_h(&self, b: &mut [f64]) {
-        let parents = &self.parents;
-        joint_space::solve_transposed(&self.h, self.len(), |k| parents[k], b);
+        joint_space::solve_transposed(&self.h, self.len(), &self.ancestry, b);
     }
 
     /// [`Self::half_solve_h`] for a `b` that is zero off the path from link `leaf` to the
     /// root (one link's point Jacobian): only the path is visited.
     pub(super) fn half_solve_h_path(&self, leaf: usize, b: &mut [f64]) {
-        let parents = &self.parents;
-        joint_space::solve_transposed_path(&self.h, self.len(), |k| parents[k], leaf, b);
+        joint_space::solve_transposed_path(&self.h, self.len(), &self.ancestry, leaf, b);
     }
 }
 

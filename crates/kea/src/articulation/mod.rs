@@ -143,6 +143,8 @@ pub struct ArticulatedTree {
     /// Each link's parent and joint motion subspace (its link's coordinates), read from the
     /// links when they are set: the factorisations and recursions walk them compactly.
     parents: Vec<Option<usize>>,
+    /// Each link's ancestors, flat, for the joint-space factor's loops.
+    ancestry: crate::solver::sparse::joint_space::Ancestry,
     motion: Vec<[DVec3; 2]>,
     /// Gravity in the base's frame, m/s².
     gravity: DVec3,
@@ -243,12 +245,17 @@ impl ArticulatedTree {
             }
         }
         let n = links.len();
-        let (parents, motion) = (
+        let (parents, motion): (Vec<Option<usize>>, _) = (
             links.iter().map(|l| l.parent).collect(),
             links.iter().map(TreeLink::subspace).collect(),
         );
         Ok(Self {
             links,
+            ancestry: {
+                let mut a = crate::solver::sparse::joint_space::Ancestry::default();
+                a.refill(&parents);
+                a
+            },
             parents,
             motion,
             gravity,
@@ -298,6 +305,7 @@ impl ArticulatedTree {
         self.links.extend(links);
         self.parents.clear();
         self.parents.extend(self.links.iter().map(|l| l.parent));
+        self.ancestry.refill(&self.parents);
         self.motion.clear();
         self.motion
             .extend(self.links.iter().map(TreeLink::subspace));
@@ -345,6 +353,7 @@ impl ArticulatedTree {
         } else {
             self.links.clone_from(&other.links);
             self.parents.clone_from(&other.parents);
+            self.ancestry.clone_from(&other.ancestry);
             self.motion.clone_from(&other.motion);
             self.gravity = other.gravity;
             self.placed_valid = false;

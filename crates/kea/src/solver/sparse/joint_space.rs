@@ -18,11 +18,7 @@
 /// its reciprocal; `parent(k)` is coordinate `k`'s
 /// parent (below `k`), `None` at the root. On a pivot not clearly positive, returns the
 /// coordinate it belongs to.
-pub(crate) fn factor(
-    h: &mut [f64],
-    n: usize,
-    parent: impl Fn(usize) -> Option<usize>,
-) -> Result<(), usize> {
+pub(crate) fn factor(h: &mut [f64], n: usize, tree: &Ancestry) -> Result<(), usize> {
     for k in (0..n).rev() {
         let d = h[k * n + k];
         if d.is_nan() || d <= 0.0 {
@@ -32,45 +28,37 @@ pub(crate) fn factor(
         // divide.
         let inv = 1.0 / d.sqrt();
         h[k * n + k] = inv;
-        let mut i = parent(k);
-        while let Some(a) = i {
-            h[k * n + a] *= inv;
-            i = parent(a);
+        let above = tree.of(k);
+        for &a in above {
+            h[k * n + a as usize] *= inv;
         }
-        let mut i = parent(k);
-        while let Some(a) = i {
+        for (x, &a) in above.iter().enumerate() {
+            let a = a as usize;
             let lka = h[k * n + a];
-            let mut j = Some(a);
-            while let Some(b) = j {
+            // `a` and its own ancestors: the rest of `k`'s list from `a` on.
+            for &b in &above[x..] {
+                let b = b as usize;
                 h[a * n + b] -= lka * h[k * n + b];
-                j = parent(b);
             }
-            i = parent(a);
         }
     }
     Ok(())
 }
 
 /// Solves `Lᵀ L x = b` with the factor [`factor`] left in `l`; `b` is overwritten by `x`.
-pub(crate) fn solve(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
-    solve_transposed(l, n, &parent, b);
-    solve_factor(l, n, &parent, b);
+pub(crate) fn solve(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
+    solve_transposed(l, n, tree, b);
+    solve_factor(l, n, tree, b);
 }
 
 /// The first half of [`solve`]: `Lᵀ y = b`, leaf to root, `b` becoming `y` (so that
 /// `bᵀ (LᵀL)⁻¹ c` is the dot of the two halves).
-pub(crate) fn solve_transposed(
-    l: &[f64],
-    n: usize,
-    parent: impl Fn(usize) -> Option<usize>,
-    b: &mut [f64],
-) {
+pub(crate) fn solve_transposed(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
     for k in (0..n).rev() {
         b[k] *= l[k * n + k];
-        let mut i = parent(k);
-        while let Some(a) = i {
+        for &a in tree.of(k) {
+            let a = a as usize;
             b[a] -= l[k * n + a] * b[k];
-            i = parent(a);
         }
     }
 }
@@ -80,31 +68,61 @@ pub(crate) fn solve_transposed(
 pub(crate) fn solve_transposed_path(
     l: &[f64],
     n: usize,
-    parent: impl Fn(usize) -> Option<usize>,
+    tree: &Ancestry,
     leaf: usize,
     b: &mut [f64],
 ) {
-    let mut k = Some(leaf);
-    while let Some(kk) = k {
+    let path = tree.of(leaf);
+    for x in 0..=path.len() {
+        let kk = if x == 0 { leaf } else { path[x - 1] as usize };
         b[kk] *= l[kk * n + kk];
-        let mut i = parent(kk);
-        while let Some(a) = i {
+        for &a in &path[x..] {
+            let a = a as usize;
             b[a] -= l[kk * n + a] * b[kk];
-            i = parent(a);
         }
-        k = parent(kk);
     }
 }
 
 /// The second half of [`solve`]: `L x = y`, root to leaf, `b` becoming `x`.
-fn solve_factor(l: &[f64], n: usize, parent: impl Fn(usize) -> Option<usize>, b: &mut [f64]) {
+fn solve_factor(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
     for k in 0..n {
-        let mut i = parent(k);
-        while let Some(a) = i {
+        for &a in tree.of(k) {
+            let a = a as usize;
             b[k] -= l[k * n + a] * b[a];
-            i = parent(a);
         }
         b[k] *= l[k * n + k];
+    }
+}
+
+/// Each coordinate's ancestors, nearest first, in one flat list: the factor's loops run over
+/// slices instead of chasing parents one load at a time.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Ancestry {
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Ancestry {
+    /// The ancestry of a tree whose coordinate `k` has parent `parents[k]` (below `k`),
+    /// reusing this one's buffers.
+    pub(crate) fn refill(&mut self, parents: &[Option<usize>]) {
+        self.start.clear();
+        self.list.clear();
+        for k in 0..parents.len() {
+            self.start.push(self.list.len() as u32);
+            let mut i = parents[k];
+            while let Some(a) = i {
+                self.list.push(a as u32);
+                i = parents[a];
+            }
+        }
+        self.start.push(self.list.len() as u32);
+    }
+
+    /// Coordinate `k`'s ancestors, nearest first.
+    #[inline]
+    pub(crate) fn of(&self, k: usize) -> &[u32] {
+        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
     }
 }
 
@@ -157,7 +175,9 @@ mod tests {
                 .map(|i| (0..n).map(|j| h[i * n + j] * x_true[j]).sum())
                 .collect();
             let mut l = h.clone();
-            factor(&mut l, n, |k| parent[k]).unwrap();
+            let mut tree = Ancestry::default();
+            tree.refill(&parent);
+            factor(&mut l, n, &tree).unwrap();
             // No fill: entries off every path to the root stay as they were (zero).
             for i in 0..n {
                 for j in 0..i {
@@ -172,7 +192,7 @@ mod tests {
                     }
                 }
             }
-            solve(&l, n, |k| parent[k], &mut b);
+            solve(&l, n, &tree, &mut b);
             for i in 0..n {
                 assert!(
                     (b[i] - x_true[i]).abs() < 1e-9 * (1.0 + x_true[i].abs()),
