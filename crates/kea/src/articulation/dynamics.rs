@@ -1,6 +1,7 @@
-//! The tree's dynamics: spatial algebra, placing the links at `q`, forward kinematics, the
-//! joint-space inertia by composite rigid bodies, Newton–Euler, and the solve for `q̈` by
-//! Cholesky (the module docs of [`super`] give the math).
+//! The tree's dynamics: spatial algebra, placing the links at `q`, forward kinematics,
+//! Newton–Euler in link coordinates (the joint reactions), and the solve for `q̈` by Cholesky
+//! (the module docs of [`super`] give the math; the joint-space inertia and the bias forces
+//! are worked out in one frame, `base_frame.rs`).
 
 use super::ArticulatedTree;
 use super::TreeJointKind;
@@ -35,10 +36,6 @@ fn motion_to_child(e: &DMat3, r: DVec3, [w, v]: [DVec3; 2]) -> [DVec3; 2] {
 fn force_to_parent(e: &DMat3, r: DVec3, [n, f]: [DVec3; 2]) -> [DVec3; 2] {
     let (n, f) = (e.transpose() * n, e.transpose() * f);
     [n + r.cross(f), f]
-}
-
-fn dot([a, b]: [DVec3; 2], [c, d]: [DVec3; 2]) -> f64 {
-    a.dot(c) + b.dot(d)
 }
 
 impl ArticulatedTree {
@@ -80,6 +77,7 @@ impl ArticulatedTree {
         self.placed.clear();
         self.placed.extend_from_slice(q);
         self.placed_valid = true;
+        self.base.valid = false;
         for (i, (l, &qi)) in self.links.iter().zip(q).enumerate() {
             let (t, r) = l.origin;
             let (joint_t, joint_r) = match l.kind {
@@ -92,59 +90,6 @@ impl ArticulatedTree {
             let rotation = r * joint_r;
             self.pos[i] = t + r * joint_t;
             self.rot[i] = DMat3::from_quat(rotation).transpose();
-        }
-    }
-
-    /// The joint-space inertia `H(q)` (row-major, `len × len`) by composite rigid bodies,
-    /// armature included; `place` must have run.
-    fn mass_matrix(&mut self) {
-        let n = self.len();
-        // Links on different branches couple through nothing: their entries stay 0 (the
-        // factor of the last step sits here).
-        self.h.iter_mut().for_each(|x| *x = 0.0);
-        for (i, l) in self.links.iter().enumerate() {
-            self.composite[i] = (l.mass, l.com, l.inertia);
-        }
-        for i in (0..n).rev() {
-            if let Some(p) = self.links[i].parent {
-                let (m, c, ic) = self.composite[i];
-                let e = self.rot[i];
-                // Into the parent's coordinates, then summed about the common centre.
-                let c_p = self.pos[i] + e.transpose() * c;
-                let ic_p = e.transpose() * ic * e;
-                let (mp, cp, icp) = self.composite[p];
-                let total = mp + m;
-                let centre = (cp * mp + c_p * m) / total;
-                let shift = |mass: f64, d: DVec3| {
-                    (DMat3::IDENTITY * d.length_squared()
-                        - DMat3::from_cols(d * d.x, d * d.y, d * d.z))
-                        * mass
-                };
-                let inertia = icp + shift(mp, cp - centre) + ic_p + shift(m, c_p - centre);
-                self.composite[p] = (total, centre, inertia);
-            }
-        }
-        for i in 0..n {
-            let (m, c, ic) = self.composite[i];
-            let si = self.subspace(i);
-            let mut f = inertia_times(m, c, &ic, si);
-            self.h[i * n + i] = dot(f, si) + self.links[i].armature;
-            let mut j = i;
-            while let Some(p) = self.links[j].parent {
-                f = force_to_parent(&self.rot[j], self.pos[j], f);
-                j = p;
-                let v = dot(f, self.subspace(j));
-                self.h[i * n + j] = v;
-                self.h[j * n + i] = v;
-            }
-        }
-    }
-
-    /// The bias forces `c(q, q̇)` into `out` by recursive Newton–Euler; `place` must have run.
-    pub(super) fn bias_into(&mut self, qd: &[f64], out: &mut [f64]) {
-        self.newton_euler(qd, None);
-        for (i, o) in out.iter_mut().enumerate().take(self.len()) {
-            *o = dot(self.force[i], self.subspace(i));
         }
     }
 

@@ -30,6 +30,7 @@ use crate::error::{KeaError, KeaResult};
 use glam::{DMat3, DQuat, DVec3};
 use impulses::CoordinateRow;
 
+mod base_frame;
 mod contacts;
 mod dynamics;
 mod impulses;
@@ -149,13 +150,14 @@ pub struct ArticulatedTree {
     /// Gravity in the base's frame, m/s².
     gravity: DVec3,
     // Scratch, reused every call: per link its transform from the parent (E, r), spatial
-    // velocity and acceleration, force, composite inertia.
+    // velocity and acceleration, force (also the one frame's, `base_frame.rs`).
     rot: Vec<DMat3>,
     pos: Vec<DVec3>,
     vel: Vec<[DVec3; 2]>,
     acc: Vec<[DVec3; 2]>,
     force: Vec<[DVec3; 2]>,
-    composite: Vec<(f64, DVec3, DMat3)>,
+    /// The links in one frame, for the joint-space inertia and the bias forces.
+    base: base_frame::BaseFrame,
     h: Vec<f64>,
     rhs: Vec<f64>,
     /// `H'⁻¹`, row-major, for the constraint solve.
@@ -264,7 +266,11 @@ impl ArticulatedTree {
             vel: vec![[DVec3::ZERO; 2]; n],
             acc: vec![[DVec3::ZERO; 2]; n],
             force: vec![[DVec3::ZERO; 2]; n],
-            composite: vec![(0.0, DVec3::ZERO, DMat3::ZERO); n],
+            base: {
+                let mut b = base_frame::BaseFrame::default();
+                b.resize(n);
+                b
+            },
             h: vec![0.0; n * n],
             rhs: vec![0.0; n],
             inverse: vec![0.0; n * n],
@@ -317,7 +323,7 @@ impl ArticulatedTree {
         self.vel.resize(n, [DVec3::ZERO; 2]);
         self.acc.resize(n, [DVec3::ZERO; 2]);
         self.force.resize(n, [DVec3::ZERO; 2]);
-        self.composite.resize(n, (0.0, DVec3::ZERO, DMat3::ZERO));
+        self.base.resize(n);
         self.h.resize(n * n, 0.0);
         self.rhs.resize(n, 0.0);
         self.inverse.resize(n * n, 0.0);
@@ -357,6 +363,7 @@ impl ArticulatedTree {
             self.motion.clone_from(&other.motion);
             self.gravity = other.gravity;
             self.placed_valid = false;
+            self.base.valid = false;
             self.contact.clear();
             self.tendon.tendons.clear();
         }
@@ -374,7 +381,7 @@ impl ArticulatedTree {
         slice(&self.vel);
         slice(&self.acc);
         slice(&self.force);
-        slice(&self.composite);
+        self.base.prefetch();
         slice(&self.h);
         slice(&self.rhs);
         slice(&self.external);
