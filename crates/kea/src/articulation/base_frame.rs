@@ -140,15 +140,12 @@ impl ArticulatedTree {
         b.valid = true;
     }
 
-    /// The joint-space inertia `H(q)` (row-major, `len × len`) by composite rigid bodies,
+    /// The joint-space inertia `H(q)` (packed, `solver::sparse::joint_space`) by composite rigid bodies,
     /// armature included: `H_ij = S_jᵀ I^c_i S_i` for `j` on the path from `i` to the root;
     /// `place` must have run.
     pub(super) fn mass_matrix(&mut self) {
         self.place_in_base_frame();
         let n = self.len();
-        // Links on different branches couple through nothing: their entries stay 0 (the
-        // factor of the last step sits here).
-        self.h.iter_mut().for_each(|x| *x = 0.0);
         let b = &mut self.base;
         b.composite.copy_from_slice(&b.inertia);
         for i in (0..n).rev() {
@@ -160,12 +157,10 @@ impl ArticulatedTree {
         for i in 0..n {
             let s = b.motion[i];
             let f = b.composite[i].times(s);
-            self.h[i * n + i] = dot(f, s) + self.links[i].armature;
-            for &j in self.ancestry.of(i) {
-                let j = j as usize;
-                let v = dot(f, b.motion[j]);
-                self.h[i * n + j] = v;
-                self.h[j * n + i] = v;
+            self.h[i] = dot(f, s) + self.links[i].armature;
+            let row = self.ancestry.packed_row(i);
+            for (&j, h) in self.ancestry.of(i).iter().zip(&mut self.h[row]) {
+                *h = dot(f, b.motion[j as usize]);
             }
         }
     }
@@ -225,6 +220,7 @@ impl ArticulatedTree {
 mod tests {
     use super::super::{ArticulatedTree, TreeJointKind, TreeLink};
     use crate::solver::sparse::factor::tests::rnd;
+    use crate::solver::sparse::joint_space;
     use glam::{DMat3, DQuat, DVec3};
 
     fn vec3(seed: &mut u64) -> DVec3 {
@@ -299,9 +295,11 @@ mod tests {
             }
             t.mass_matrix();
             // The kinetic energy of the links' own motions, ½ q̇ᵀ (H − armature) q̇.
+            let mut dense = vec![0.0; n * n];
+            joint_space::add_to_dense(&t.h, &t.ancestry, &mut dense);
             let quadratic: f64 = (0..n)
                 .flat_map(|i| (0..n).map(move |j| (i, j)))
-                .map(|(i, j)| qd[i] * qd[j] * (t.h[i * n + j] - if i == j { 0.01 } else { 0.0 }))
+                .map(|(i, j)| qd[i] * qd[j] * (dense[i * n + j] - if i == j { 0.01 } else { 0.0 }))
                 .sum();
             t.forward(&q, &qd);
             let energy: f64 = (0..n)
@@ -322,9 +320,11 @@ mod tests {
                 let mut unit = vec![0.0; n];
                 unit[j] = 1.0;
                 let column = link_newton_euler(&mut t, &rest, Some(&unit));
+                let mut dense = vec![0.0; n * n];
+                joint_space::add_to_dense(&t.h, &t.ancestry, &mut dense);
                 for i in 0..n {
                     let expected = column[i] - at_rest[i] + if i == j { 0.01 } else { 0.0 };
-                    let got = t.h[i * n + j];
+                    let got = dense[i * n + j];
                     assert!(
                         (got - expected).abs() < 1e-10 * scale.max(1.0),
                         "H {n} ({i}, {j}): {got} vs {expected}"

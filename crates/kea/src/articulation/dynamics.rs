@@ -151,14 +151,13 @@ impl ArticulatedTree {
     /// `H' = H + diag(h d) + servo terms` into `h` and the right side `τ − c − d q̇ + servo`
     /// into `rhs`, at `q`, `qd`.
     pub(super) fn assemble(&mut self, q: &[f64], qd: &[f64], tau: &[f64], h: f64, rhs: &mut [f64]) {
-        let n = self.len();
         self.place(q);
         self.mass_matrix();
         self.bias_into(qd, rhs);
         for (i, l) in self.links.iter().enumerate() {
             let d = l.damping;
             rhs[i] = tau[i] - rhs[i] - d * qd[i];
-            self.h[i * n + i] += h * d;
+            self.h[i] += h * d;
             if let Some((rest, k)) = l.spring {
                 rhs[i] += k * (rest - q[i]);
             }
@@ -166,7 +165,7 @@ impl ArticulatedTree {
             // q̈ terms join H', the rest the right side.
             if let Some((target, rate, kp, kv)) = l.servo {
                 rhs[i] += kp * (target - q[i]) - (kp * h + kv) * qd[i] + kv * rate;
-                self.h[i * n + i] += h * h * kp + h * kv;
+                self.h[i] += h * h * kp + h * kv;
             }
         }
         if self.has_tendons() {
@@ -179,8 +178,7 @@ impl ArticulatedTree {
     /// Factorises `H'` (left in `h` by `assemble`) in place, leaf to root with no fill
     /// (`solver::sparse::joint_space`).
     pub(super) fn factor_h(&mut self) -> KeaResult<()> {
-        let n = self.len();
-        joint_space::factor(&mut self.h, n, &self.ancestry).map_err(|k| KeaError::Inconsistent {
+        joint_space::factor(&mut self.h, &self.ancestry).map_err(|k| KeaError::Inconsistent {
             arg: "links",
             reason: format!(
                 "the tree's joint-space inertia is not positive definite (coordinate {k})"
@@ -190,19 +188,19 @@ impl ArticulatedTree {
 
     /// Solves `H' x = b` with the factor [`Self::factor_h`] left in `h`; `b` becomes `x`.
     pub(super) fn solve_h(&self, b: &mut [f64]) {
-        joint_space::solve(&self.h, self.len(), &self.ancestry, b);
+        joint_space::solve(&self.h, &self.ancestry, b);
     }
 
     /// `b ← L⁻ᵀ b` with `H' = Lᵀ L` (the factor in `h`): for rows `J`, `J H'⁻¹ Jᵀ` is the
     /// Gram matrix of their halves.
     pub(super) fn half_solve_h(&self, b: &mut [f64]) {
-        joint_space::solve_transposed(&self.h, self.len(), &self.ancestry, b);
+        joint_space::solve_transposed(&self.h, &self.ancestry, b);
     }
 
     /// [`Self::half_solve_h`] for a `b` that is zero off the path from link `leaf` to the
     /// root (one link's point Jacobian): only the path is visited.
     pub(super) fn half_solve_h_path(&self, leaf: usize, b: &mut [f64]) {
-        joint_space::solve_transposed_path(&self.h, self.len(), &self.ancestry, leaf, b);
+        joint_space::solve_transposed_path(&self.h, &self.ancestry, leaf, b);
     }
 }
 

@@ -16,6 +16,7 @@
 use super::dynamics::lu_solve;
 use super::ArticulatedTree;
 use crate::error::KeaResult;
+use crate::solver::sparse::joint_space;
 
 /// How the reduced-coordinate path integrates a tree over a step (module docs of
 /// `articulation::integrate`); [`crate::WorldSettings::integrator`] picks it for a world.
@@ -167,9 +168,7 @@ impl ArticulatedTree {
             }
         }
         self.assemble(q, qd, tau, h, qdd);
-        for (x, hij) in m.iter_mut().zip(&self.h) {
-            *x += hij;
-        }
+        joint_space::add_to_dense(&self.h, &self.ancestry, &mut m);
         let solved = lu_solve(&mut m, n, qdd);
         self.stage_q = plus;
         self.sum_a = minus;

@@ -158,6 +158,7 @@ pub struct ArticulatedTree {
     force: Vec<[DVec3; 2]>,
     /// The links in one frame, for the joint-space inertia and the bias forces.
     base: base_frame::BaseFrame,
+    /// `H'` and then its factor, packed (`solver::sparse::joint_space`).
     h: Vec<f64>,
     rhs: Vec<f64>,
     /// `H'⁻¹`, row-major, for the constraint solve.
@@ -251,13 +252,12 @@ impl ArticulatedTree {
             links.iter().map(|l| l.parent).collect(),
             links.iter().map(TreeLink::subspace).collect(),
         );
+        let mut ancestry = crate::solver::sparse::joint_space::Ancestry::default();
+        ancestry.refill(&parents);
         Ok(Self {
             links,
-            ancestry: {
-                let mut a = crate::solver::sparse::joint_space::Ancestry::default();
-                a.refill(&parents);
-                a
-            },
+            h: vec![0.0; ancestry.packed_len()],
+            ancestry,
             parents,
             motion,
             gravity,
@@ -271,7 +271,6 @@ impl ArticulatedTree {
                 b.resize(n);
                 b
             },
-            h: vec![0.0; n * n],
             rhs: vec![0.0; n],
             inverse: vec![0.0; n * n],
             column: vec![0.0; n],
@@ -324,7 +323,7 @@ impl ArticulatedTree {
         self.acc.resize(n, [DVec3::ZERO; 2]);
         self.force.resize(n, [DVec3::ZERO; 2]);
         self.base.resize(n);
-        self.h.resize(n * n, 0.0);
+        self.h.resize(self.ancestry.packed_len(), 0.0);
         self.rhs.resize(n, 0.0);
         self.inverse.resize(n * n, 0.0);
         self.column.resize(n, 0.0);

@@ -10,35 +10,40 @@
 //! coordinates of their depth squared, against `n³/3` for a dense Cholesky — a legged robot's
 //! 30 coordinates on branches 6 deep cost ~1,000 multiplications rather than 9,000.
 //!
-//! Storage is the dense row-major `n × n` matrix: only the lower triangle's entries on a path
-//! to the root are read or written (the caller keeps the others zero).
+//! Storage is packed ([`Ancestry::packed_len`] numbers): each coordinate's diagonal, then
+//! each coordinate's entries against its ancestors in [`Ancestry::of`]'s order. Coordinate
+//! `k`'s ancestors from `a` on are `a`'s own ancestors, so row `a` lines up with the tail of
+//! row `k`: the factor's updates run over contiguous slices (as MuJoCo's sparse `qLD`).
 
-/// Factorises `h` (`n × n`, row-major, symmetric positive definite with the tree's sparsity)
-/// in place into the `L` of `H = Lᵀ L`, in its lower triangle, each diagonal entry held as
-/// its reciprocal; `parent(k)` is coordinate `k`'s
-/// parent (below `k`), `None` at the root. On a pivot not clearly positive, returns the
-/// coordinate it belongs to.
-pub(crate) fn factor(h: &mut [f64], n: usize, tree: &Ancestry) -> Result<(), usize> {
+use std::ops::Range;
+
+/// Factorises `h` (packed, symmetric positive definite) in place into the `L` of
+/// `H = Lᵀ L`, each diagonal entry held as its reciprocal. On a pivot not clearly positive,
+/// returns the coordinate it belongs to.
+pub(crate) fn factor(h: &mut [f64], tree: &Ancestry) -> Result<(), usize> {
+    let n = tree.len();
+    let (diag, off) = h.split_at_mut(n);
     for k in (0..n).rev() {
-        let d = h[k * n + k];
+        let d = diag[k];
         if d.is_nan() || d <= 0.0 {
             return Err(k);
         }
         // The pivot is kept as its reciprocal: the solves' serial chains multiply instead of
         // divide.
         let inv = 1.0 / d.sqrt();
-        h[k * n + k] = inv;
-        let above = tree.of(k);
-        for &a in above {
-            h[k * n + a as usize] *= inv;
-        }
-        for (x, &a) in above.iter().enumerate() {
+        diag[k] = inv;
+        let at = tree.start[k] as usize;
+        let (before, from_k) = off.split_at_mut(at);
+        let row_k = &mut from_k[..tree.start[k + 1] as usize - at];
+        row_k.iter_mut().for_each(|x| *x *= inv);
+        for (x, &a) in tree.of(k).iter().enumerate() {
             let a = a as usize;
-            let lka = h[k * n + a];
-            // `a` and its own ancestors: the rest of `k`'s list from `a` on.
-            for &b in &above[x..] {
-                let b = b as usize;
-                h[a * n + b] -= lka * h[k * n + b];
+            let lka = row_k[x];
+            diag[a] -= lka * lka;
+            // `a`'s own ancestors: the rest of `k`'s row after `a`.
+            let row_a = &mut before[tree.start[a] as usize..tree.start[a + 1] as usize];
+            for (y, lkb) in row_a.iter_mut().zip(&row_k[x + 1..]) {
+                *y -= lka * lkb;
             }
         }
     }
@@ -46,51 +51,58 @@ pub(crate) fn factor(h: &mut [f64], n: usize, tree: &Ancestry) -> Result<(), usi
 }
 
 /// Solves `Lᵀ L x = b` with the factor [`factor`] left in `l`; `b` is overwritten by `x`.
-pub(crate) fn solve(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
-    solve_transposed(l, n, tree, b);
-    solve_factor(l, n, tree, b);
+pub(crate) fn solve(l: &[f64], tree: &Ancestry, b: &mut [f64]) {
+    solve_transposed(l, tree, b);
+    solve_factor(l, tree, b);
 }
 
 /// The first half of [`solve`]: `Lᵀ y = b`, leaf to root, `b` becoming `y` (so that
 /// `bᵀ (LᵀL)⁻¹ c` is the dot of the two halves).
-pub(crate) fn solve_transposed(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
-    for k in (0..n).rev() {
-        b[k] *= l[k * n + k];
-        for &a in tree.of(k) {
-            let a = a as usize;
-            b[a] -= l[k * n + a] * b[k];
+pub(crate) fn solve_transposed(l: &[f64], tree: &Ancestry, b: &mut [f64]) {
+    for k in (0..tree.len()).rev() {
+        b[k] *= l[k];
+        let bk = b[k];
+        for (&a, lka) in tree.of(k).iter().zip(&l[tree.packed_row(k)]) {
+            b[a as usize] -= lka * bk;
         }
     }
 }
 
 /// [`solve_transposed`] for a `b` that is zero but on the path from `leaf` to the root (a
 /// point's Jacobian on one link): only that path is visited, leaf to root.
-pub(crate) fn solve_transposed_path(
-    l: &[f64],
-    n: usize,
-    tree: &Ancestry,
-    leaf: usize,
-    b: &mut [f64],
-) {
+pub(crate) fn solve_transposed_path(l: &[f64], tree: &Ancestry, leaf: usize, b: &mut [f64]) {
     let path = tree.of(leaf);
     for x in 0..=path.len() {
-        let kk = if x == 0 { leaf } else { path[x - 1] as usize };
-        b[kk] *= l[kk * n + kk];
-        for &a in &path[x..] {
-            let a = a as usize;
-            b[a] -= l[kk * n + a] * b[kk];
+        let k = if x == 0 { leaf } else { path[x - 1] as usize };
+        b[k] *= l[k];
+        let bk = b[k];
+        for (&a, lka) in path[x..].iter().zip(&l[tree.packed_row(k)]) {
+            b[a as usize] -= lka * bk;
         }
     }
 }
 
 /// The second half of [`solve`]: `L x = y`, root to leaf, `b` becoming `x`.
-fn solve_factor(l: &[f64], n: usize, tree: &Ancestry, b: &mut [f64]) {
-    for k in 0..n {
-        for &a in tree.of(k) {
-            let a = a as usize;
-            b[k] -= l[k * n + a] * b[a];
+fn solve_factor(l: &[f64], tree: &Ancestry, b: &mut [f64]) {
+    for k in 0..tree.len() {
+        let mut s = b[k];
+        for (&a, lka) in tree.of(k).iter().zip(&l[tree.packed_row(k)]) {
+            s -= lka * b[a as usize];
         }
-        b[k] *= l[k * n + k];
+        b[k] = s * l[k];
+    }
+}
+
+/// Adds the packed symmetric `h` into the dense row-major `dense` (`n × n`).
+pub(crate) fn add_to_dense(h: &[f64], tree: &Ancestry, dense: &mut [f64]) {
+    let n = tree.len();
+    for k in 0..n {
+        dense[k * n + k] += h[k];
+        for (&a, v) in tree.of(k).iter().zip(&h[tree.packed_row(k)]) {
+            let a = a as usize;
+            dense[k * n + a] += v;
+            dense[a * n + k] += v;
+        }
     }
 }
 
@@ -135,6 +147,25 @@ impl Ancestry {
             }
         }
         self.start.push(self.list.len() as u32);
+    }
+
+    /// Number of coordinates.
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+
+    /// Numbers in a packed matrix of the tree (module docs).
+    pub(crate) fn packed_len(&self) -> usize {
+        self.len() + self.list.len()
+    }
+
+    /// Where coordinate `k`'s entries against its ancestors lie in a packed matrix, in
+    /// [`Ancestry::of`]'s order (its diagonal is entry `k`).
+    #[inline]
+    pub(crate) fn packed_row(&self, k: usize) -> Range<usize> {
+        let n = self.len();
+        n + self.start[k] as usize..n + self.start[k + 1] as usize
     }
 
     /// Coordinate `k`'s ancestors, nearest first.
@@ -192,25 +223,21 @@ mod tests {
             let mut b: Vec<f64> = (0..n)
                 .map(|i| (0..n).map(|j| h[i * n + j] * x_true[j]).sum())
                 .collect();
-            let mut l = h.clone();
             let mut tree = Ancestry::default();
             tree.refill(&parent);
-            factor(&mut l, n, &tree).unwrap();
-            // No fill: entries off every path to the root stay as they were (zero).
-            for i in 0..n {
-                for j in 0..i {
-                    let mut on_path = false;
-                    let mut c = parent[i];
-                    while let Some(k) = c {
-                        on_path |= k == j;
-                        c = parent[k];
-                    }
-                    if !on_path {
-                        assert_eq!(l[i * n + j], 0.0, "case {case}: fill at ({i}, {j})");
-                    }
+            // Packed, then unpacked: `H` has the tree's sparsity (nothing off its paths).
+            let mut l = vec![0.0; tree.packed_len()];
+            for k in 0..n {
+                l[k] = h[k * n + k];
+                for (&a, v) in tree.of(k).iter().zip(&mut l[tree.packed_row(k)]) {
+                    *v = h[k * n + a as usize];
                 }
             }
-            solve(&l, n, &tree, &mut b);
+            let mut dense = vec![0.0; n * n];
+            add_to_dense(&l, &tree, &mut dense);
+            assert_eq!(dense, h, "case {case}: packed and back");
+            factor(&mut l, &tree).unwrap();
+            solve(&l, &tree, &mut b);
             for i in 0..n {
                 assert!(
                     (b[i] - x_true[i]).abs() < 1e-9 * (1.0 + x_true[i].abs()),
@@ -224,10 +251,10 @@ mod tests {
 
     #[test]
     fn a_matrix_not_positive_definite_is_refused_with_its_coordinate() {
-        // A chain of two with a zero pivot at the leaf.
-        let mut h = vec![1.0, 0.0, 0.0, 0.0];
+        // A chain of two with a zero pivot at the leaf (packed: diagonals 1 and 0, H₁₀ = 0).
+        let mut h = vec![1.0, 0.0, 0.0];
         let mut tree = Ancestry::default();
         tree.refill(&[None, Some(0)]);
-        assert_eq!(factor(&mut h, 2, &tree), Err(1));
+        assert_eq!(factor(&mut h, &tree), Err(1));
     }
 }
