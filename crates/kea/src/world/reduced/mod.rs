@@ -226,7 +226,7 @@ impl World {
         let limit = self.settings.routing.max_reduced_links;
         if self.settings.routing.mode != SolverMode::Hybrid
             || limit == 0
-            || !self.has_reducible_joints()
+            || !(self.has_reducible_joints() || self.lone_bodies_reduce())
         {
             self.forget_unstepped_trees();
             return 0;

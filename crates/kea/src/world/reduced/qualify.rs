@@ -29,13 +29,14 @@ impl World {
         self.group_links();
         self.count_sets();
         let floating = self.settings.reduced_free_trees;
+        let fewest = if self.lone_bodies_reduce() { 1 } else { 2 };
         let r = &mut self.scratch.reduced;
         r.roots.clear();
         for slot in 0..r.links.len() as u32 {
             let i = slot as usize;
-            // Held to a base by one joint, or (floating) by none, with a joint at least.
-            let held =
-                r.base_joints[i] == 1 || (floating && r.base_joints[i] == 0 && r.links[i] > 1);
+            // Held to a base by one joint, or (floating) by none.
+            let held = r.base_joints[i] == 1
+                || (floating && r.base_joints[i] == 0 && r.links[i] >= fewest);
             let qualifies = r.links[i] > 0
                 && r.sets.find(slot) == slot
                 && !r.set_blocked[i]
@@ -46,6 +47,15 @@ impl World {
                 r.roots.push(slot);
             }
         }
+    }
+
+    /// Whether a floating body with no joint is a tree of its own: where floating trees are
+    /// reduced and the step is Runge–Kutta's. The free-body path integrates by semi-implicit
+    /// Euler, so a file asking for RK4 (MuJoCo's free joint) would not get it; under Euler that
+    /// path is the closer to MuJoCo's free joint.
+    pub(super) fn lone_bodies_reduce(&self) -> bool {
+        self.settings.reduced_free_trees
+            && self.settings.integrator == crate::Integrator::RungeKutta4
     }
 
     /// Whether any joint could be part of a tree (cached by joint revision).
