@@ -30,6 +30,7 @@ use crate::error::{KeaError, KeaResult};
 use glam::{DMat3, DQuat, DVec3};
 use impulses::CoordinateRow;
 
+mod ball_charts;
 mod base_frame;
 mod contacts;
 mod dynamics;
@@ -196,6 +197,9 @@ pub struct ArticulatedTree {
     tendon: tendons::TendonState,
     /// The applied wrenches while the reactions' pass adds the contacts' to them.
     external_kept: Vec<[DVec3; 2]>,
+    /// The first link of each ball joint's (or floating root's) three hinges
+    /// (`ball_charts.rs`).
+    charts: Vec<usize>,
 }
 
 impl ArticulatedTree {
@@ -254,6 +258,8 @@ impl ArticulatedTree {
         );
         let mut ancestry = crate::solver::sparse::joint_space::Ancestry::default();
         ancestry.refill(&parents);
+        let mut charts = Vec::new();
+        ball_charts::find_charts(&links, &mut charts);
         Ok(Self {
             links,
             h: vec![0.0; ancestry.packed_len()],
@@ -294,6 +300,7 @@ impl ArticulatedTree {
             contact: contacts::ContactState::default(),
             tendon: tendons::TendonState::default(),
             external_kept: Vec::with_capacity(n),
+            charts,
         })
     }
 
@@ -311,6 +318,7 @@ impl ArticulatedTree {
         self.parents.clear();
         self.parents.extend(self.links.iter().map(|l| l.parent));
         self.ancestry.refill(&self.parents);
+        ball_charts::find_charts(&self.links, &mut self.charts);
         self.motion.clear();
         self.motion
             .extend(self.links.iter().map(TreeLink::subspace));
@@ -359,6 +367,7 @@ impl ArticulatedTree {
             self.links.clone_from(&other.links);
             self.parents.clone_from(&other.parents);
             self.ancestry.clone_from(&other.ancestry);
+            self.charts.clone_from(&other.charts);
             self.motion.clone_from(&other.motion);
             self.gravity = other.gravity;
             self.placed_valid = false;
@@ -562,6 +571,9 @@ impl ArticulatedTree {
                 std::mem::swap(&mut self.external, &mut self.external_kept);
                 self.rate0 = rate0;
                 self.q_start = q_start;
+            }
+            if self.integrator != Integrator::RungeKutta4 {
+                self.turn_charts_as_mujoco(q, qd, h);
             }
         }
         self.rhs = qdd;

@@ -49,13 +49,11 @@ impl World {
         }
     }
 
-    /// Whether a floating body with no joint is a tree of its own: where floating trees are
-    /// reduced and the step is Runge–Kutta's. The free-body path integrates by semi-implicit
-    /// Euler, so a file asking for RK4 (MuJoCo's free joint) would not get it; under Euler that
-    /// path is the closer to MuJoCo's free joint.
+    /// Whether a floating body with no joint is a tree of its own: wherever floating trees
+    /// are reduced (MJCF's free joints), so that it steps as MuJoCo steps a free joint, by the
+    /// world's integrator (the free-body path's is its own semi-implicit Euler).
     pub(super) fn lone_bodies_reduce(&self) -> bool {
         self.settings.reduced_free_trees
-            && self.settings.integrator == crate::Integrator::RungeKutta4
     }
 
     /// Whether any joint could be part of a tree (cached by joint revision).
