@@ -39,6 +39,46 @@ fn swing_gap(
     swing_gap_at(world, robot, file, q0, v0, steps, Some(DT), usize::MAX)
 }
 
+/// MuJoCo's `qpos` every `every` steps of `dt` (`None`: the file's) from `q0`, `v0` (none:
+/// zero), contacts off.
+fn mujoco_swing(
+    file: &str,
+    dt: Option<f64>,
+    steps: usize,
+    every: usize,
+    q0: &[f64],
+    v0: &[f64],
+) -> Option<Vec<Vec<f64>>> {
+    let mut args = vec![
+        "swing".to_string(),
+        file.to_string(),
+        dt.map_or("file".to_string(), |dt| dt.to_string()),
+        steps.to_string(),
+        every.to_string(),
+        csv(q0),
+    ];
+    if !v0.is_empty() {
+        args.push(csv(v0));
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let reference = reference::run(&args)?;
+    Some(
+        reference["q"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(reference::numbers)
+            .collect(),
+    )
+}
+
+/// A fresh folder for this test process's model files.
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kea-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// [`swing_gap`] at steps of `dt`, or (`None`) at the file's own timestep in both engines.
 /// Spells out a swing as the reference script takes it.
 #[allow(clippy::too_many_arguments)]
@@ -53,25 +93,7 @@ fn swing_gap_at(
     compared: usize,
 ) -> Option<f64> {
     let every = (steps / 10).max(1);
-    let mut args = vec![
-        "swing".to_string(),
-        file.to_string(),
-        dt.map_or("file".to_string(), |dt| dt.to_string()),
-        steps.to_string(),
-        every.to_string(),
-        csv(q0),
-    ];
-    if !v0.is_empty() {
-        args.push(csv(v0));
-    }
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let reference = reference::run(&args)?;
-    let q_ref: Vec<Vec<f64>> = reference["q"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(reference::numbers)
-        .collect();
+    let q_ref = mujoco_swing(file, dt, steps, every, q0, v0)?;
     let to_real = |x: &[f64]| x.iter().map(|&v| v as Real).collect::<Vec<Real>>();
     robot.set_joint_positions(world, &to_real(q0)).unwrap();
     if !v0.is_empty() {
@@ -598,8 +620,7 @@ fn fixed_tendons_act_as_in_mujoco() {
     if dirs().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("kea-tendon-arm-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("tendon-arm");
     for integrator in ["RK4", "Euler"] {
         let file = dir.join(format!("tendon_arm_{integrator}.xml"));
         std::fs::write(&file, tendon_arm(integrator)).unwrap();
@@ -685,8 +706,7 @@ fn a_floating_body_tumbles_as_in_mujoco() {
     if dirs().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("kea-tumbler-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("tumbler");
     let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -0.7, 1.1);
     let bend = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.2, 0.5, -0.3);
     for integrator in ["RK4", "Euler"] {
@@ -711,25 +731,8 @@ fn a_floating_body_tumbles_as_in_mujoco() {
                 }
                 _ => {}
             }
-            let steps = 1000;
-            let every = 50;
-            let args = [
-                "swing".to_string(),
-                file.to_str().unwrap().to_string(),
-                "file".to_string(),
-                steps.to_string(),
-                every.to_string(),
-                csv(&q0),
-                csv(&v0),
-            ];
-            let args: Vec<&str> = args.iter().map(String::as_str).collect();
-            let reference = reference::run(&args).unwrap();
-            let q_ref: Vec<Vec<f64>> = reference["q"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(reference::numbers)
-                .collect();
+            let (steps, every) = (1000, 50);
+            let q_ref = mujoco_swing(file.to_str().unwrap(), None, steps, every, &q0, &v0).unwrap();
             let real = |x: &[f64]| x.iter().map(|&v| v as Real).collect::<Vec<Real>>();
             robot.set_joint_positions(&mut world, &real(&q0)).unwrap();
             robot.set_joint_velocities(&mut world, &real(&v0)).unwrap();
