@@ -297,7 +297,8 @@ impl PyWorld {
         Ok(self.robot()?.velocity_count())
     }
 
-    /// The step the model's file asks for, s (MJCF's `option timestep`), or None.
+    /// The step the model asks for, s: MJCF's `option timestep` (MuJoCo's default, 0.002 s,
+    /// where the file names none), or None (URDF).
     #[getter]
     fn timestep(&self) -> PyResult<Option<f64>> {
         Ok(self.robot()?.timestep().map(f64::from))

@@ -317,7 +317,8 @@ impl PyWorld {
     }
 
     /// Steps the world `steps` times by `dt` seconds, with the GIL released. Without `dt`,
-    /// the step its robot's file asks for (MJCF's `option timestep`), else 1/60 s.
+    /// the step its robot's model asks for (MJCF's `option timestep`, MuJoCo's 0.002 s where
+    /// the file names none), else 1/60 s.
     #[pyo3(signature = (dt = None, steps = 1))]
     fn step(&mut self, py_: Python<'_>, dt: Option<f64>, steps: usize) -> PyResult<()> {
         let file_step = self.robot.as_ref().and_then(|r| r.timestep());

@@ -778,3 +778,23 @@ fn a_floating_body_tumbles_as_in_mujoco() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Harder variants on files no one here wrote: Gymnasium's standing-up humanoid (lying at
+/// its start), and pybullet_data's lone free bodies (a box, a capsule on its end, a cylinder
+/// on its side: floating trees of one body) dropped on their planes, each falling and
+/// resting as MuJoCo's does.
+#[test]
+fn more_robot_files_collapse_as_in_mujoco() {
+    let Some((pybullet, assets)) = dirs() else {
+        return;
+    };
+    let mjcf = pybullet.join("mjcf");
+    for (file, seconds) in [
+        (assets.join("humanoidstandup.xml"), 2.0),
+        (mjcf.join("hello_mjcf.xml"), 2.0),
+        (mjcf.join("capsule.xml"), 2.0),
+        (mjcf.join("cylinder_fromtoX.xml"), 2.0),
+    ] {
+        collapse_as_in_mujoco(&file, seconds);
+    }
+}

@@ -34,7 +34,8 @@ pub(crate) fn read(
 ) -> Result<MjcfOption, ImportError> {
     let mut out = MjcfOption {
         gravity: Vec3::new(0.0, 0.0, -9.81),
-        timestep: None,
+        // MuJoCo's defaults where the file names none.
+        timestep: Some(0.002),
         integrator: Integrator::Euler,
     };
     for o in children(root, "option") {

@@ -139,7 +139,8 @@ impl Robot {
         }
     }
 
-    /// The step the file asks for, s (MJCF's `option timestep`), if it gives one.
+    /// The step the model asks for, s: MJCF's `option timestep` (MuJoCo's default, 0.002 s,
+    /// where the file names none); `None` for URDF, which has no step.
     #[must_use]
     pub fn timestep(&self) -> Option<Real> {
         self.timestep
