@@ -572,7 +572,7 @@ impl ArticulatedTree {
                 self.rate0 = rate0;
                 self.q_start = q_start;
             }
-            if self.integrator != Integrator::RungeKutta4 {
+            if self.integrator == Integrator::Euler {
                 self.turn_charts_as_mujoco(q, qd, h);
             }
         }
