@@ -103,7 +103,15 @@ impl ArticulatedTree {
                     - std::f64::consts::PI
             };
             let end = [near(a, q[k]), near(b, q[k + 1]), near(c, q[k + 2])];
+            // At the chart's singular turn (b = ±π/2: x and z aligned) its rates are not
+            // defined: the chart's own step stands (the world re-centres the chart next).
+            if end[1].cos().abs() < 1e-6 {
+                continue;
+            }
             let rates = chart_rates(end, w);
+            if !(end.iter().chain(&rates).all(|x| x.is_finite())) {
+                continue;
+            }
             q[r.clone()].copy_from_slice(&end);
             qd[r].copy_from_slice(&rates);
         }

@@ -49,11 +49,16 @@ impl World {
         }
     }
 
-    /// Whether a floating body with no joint is a tree of its own: wherever floating trees
-    /// are reduced (MJCF's free joints), so that it steps as MuJoCo steps a free joint, by the
-    /// world's integrator (the free-body path's is its own semi-implicit Euler).
+    /// Whether a floating body with no joint is a tree of its own: where floating trees are
+    /// reduced (MJCF's free joints) and the step is Runge–Kutta's, so that a file asking for
+    /// RK4 gets it (the free-body path integrates by semi-implicit Euler). Under Euler the
+    /// free-body path stays: its gyroscopic step is implicit, so a fast spin stays bounded
+    /// (as under MuJoCo's `implicitfast`, which Kea's Euler also stands for), where an
+    /// explicit one — a tree's under Euler, and MuJoCo's Euler — runs away (50 rad/s at
+    /// 240 Hz does).
     pub(super) fn lone_bodies_reduce(&self) -> bool {
         self.settings.reduced_free_trees
+            && self.settings.integrator == crate::Integrator::RungeKutta4
     }
 
     /// Whether any joint could be part of a tree (cached by joint revision).
