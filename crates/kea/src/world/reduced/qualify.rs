@@ -49,16 +49,15 @@ impl World {
         }
     }
 
-    /// Whether a floating body with no joint is a tree of its own: where floating trees are
-    /// reduced (MJCF's free joints) and the step is Runge–Kutta's, so that a file asking for
-    /// RK4 gets it (the free-body path integrates by semi-implicit Euler). Under Euler the
-    /// free-body path stays: its gyroscopic step is implicit, so a fast spin stays bounded
-    /// (as under MuJoCo's `implicitfast`, which Kea's Euler also stands for), where an
-    /// explicit one — a tree's under Euler, and MuJoCo's Euler — runs away (50 rad/s at
-    /// 240 Hz does).
+    /// Whether a floating body with no joint is a tree of its own: wherever floating trees
+    /// are reduced (MJCF's free joints), so that it steps as MuJoCo steps a free joint — by the
+    /// world's integrator, with MuJoCo's soft contacts. (On the free-body path a file asking
+    /// for RK4 got semi-implicit Euler, and pybullet_data's box dropped on its end toppled
+    /// where MuJoCo's stands.) Under Euler its gyroscopic term is then explicit, as in
+    /// MuJoCo's Euler: a spin of 50 rad/s at 240 Hz runs away there as in MuJoCo, and is
+    /// quarantined.
     pub(super) fn lone_bodies_reduce(&self) -> bool {
         self.settings.reduced_free_trees
-            && self.settings.integrator == crate::Integrator::RungeKutta4
     }
 
     /// Whether any joint could be part of a tree (cached by joint revision).
