@@ -481,6 +481,7 @@ impl Sandbox {
             9 => w.update_settings(|s| {
                 s.reduced_contacts = (rng.below(2) == 0).then(kea::SoftLimit::default);
                 s.reduced_free_trees = rng.below(2) == 0;
+                s.reduced_lone_bodies = rng.below(2) == 0;
             }),
             10 => {
                 let integrator = [

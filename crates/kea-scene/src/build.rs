@@ -144,6 +144,7 @@ fn settings_of(w: &WorldSpec, d: &kea::WorldSettings) -> Result<kea::WorldSettin
         // Robots loaded from MJCF set it; a scene's own bodies take no contact model.
         reduced_contacts: d.reduced_contacts,
         reduced_free_trees: d.reduced_free_trees,
+        reduced_lone_bodies: d.reduced_lone_bodies,
         speed_limits: w.speed_limits.map_or(d.speed_limits, |s| kea::SpeedLimits {
             linear: s.linear,
             angular: s.angular,

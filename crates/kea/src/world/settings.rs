@@ -76,6 +76,15 @@ pub struct WorldSettings {
     /// first. An MJCF file whose root has a free joint sets it.
     #[cfg_attr(feature = "serde", serde(default))]
     pub reduced_free_trees: bool,
+    /// With [`WorldSettings::reduced_free_trees`], a floating body with no joint is a tree of
+    /// its own too (default false), stepped by [`WorldSettings::integrator`] and, touching
+    /// the static world, with [`WorldSettings::reduced_contacts`] — as MuJoCo steps a free
+    /// joint. Under Euler its gyroscopic term is then explicit, as in MuJoCo's Euler (a fast
+    /// spin runs away there, and is quarantined); off, the free-body path's is implicit. An
+    /// MJCF file sets it unless it asks for `implicitfast`, whose free bodies MuJoCo keeps
+    /// bounded.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub reduced_lone_bodies: bool,
     /// Whether steps time their stages ([`crate::StepStats`]'s `time_*` fields; default true).
     /// Off, they read zero and no clock is read: worth it for small worlds stepped many times
     /// whose statistics nobody reads (see [`crate::timing`]). Results are the same bits
@@ -101,6 +110,7 @@ impl Default for WorldSettings {
             integrator: Integrator::RungeKutta4,
             reduced_contacts: None,
             reduced_free_trees: false,
+            reduced_lone_bodies: false,
             step_timing: true,
         }
     }

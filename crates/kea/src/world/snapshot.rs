@@ -55,6 +55,9 @@ pub struct WorldSnapshot {
     /// Whether floating trees are reduced (absent in older snapshots: no).
     #[serde(default)]
     reduced_free_trees: bool,
+    /// Whether lone floating bodies are reduced (absent in older snapshots: no).
+    #[serde(default)]
+    reduced_lone_bodies: bool,
     quarantine: Vec<QuarantineEvent>,
     /// Last step's λ (joints' warm starts, through each constraint's `last_rows`).
     lambda: Vec<Real>,
@@ -114,6 +117,7 @@ impl World {
             integrator: self.settings.integrator,
             reduced_contacts: self.settings.reduced_contacts,
             reduced_free_trees: self.settings.reduced_free_trees,
+            reduced_lone_bodies: self.settings.reduced_lone_bodies,
             quarantine: self.quarantine.clone(),
             lambda: s.lambda.clone(),
             contact_lambda: s.contact_lambda.clone(),
@@ -164,6 +168,7 @@ impl World {
                 integrator: snapshot.integrator,
                 reduced_contacts: snapshot.reduced_contacts,
                 reduced_free_trees: snapshot.reduced_free_trees,
+                reduced_lone_bodies: snapshot.reduced_lone_bodies,
                 step_timing: true,
             },
         })?;

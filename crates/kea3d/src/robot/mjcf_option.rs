@@ -18,6 +18,10 @@ pub(crate) struct MjcfOption {
     pub timestep: Option<Real>,
     /// Its integrator (MuJoCo's default: Euler).
     pub integrator: Integrator,
+    /// Whether it asked for `implicitfast` (Kea's Euler, but its lone free bodies stay on the
+    /// free-body path, whose implicit gyroscopic step keeps a fast spin bounded as MuJoCo's
+    /// `implicitfast` does).
+    pub implicitfast: bool,
 }
 
 /// Attributes Kea reads, or that change nothing it steps.
@@ -37,6 +41,7 @@ pub(crate) fn read(
         // MuJoCo's defaults where the file names none.
         timestep: Some(0.002),
         integrator: Integrator::Euler,
+        implicitfast: false,
     };
     for o in children(root, "option") {
         if let Some(g) = src.vec3(o, "gravity")? {
@@ -49,6 +54,7 @@ pub(crate) fn read(
             out.timestep = Some(t);
         }
         if let Some(name) = o.attribute("integrator") {
+            out.implicitfast = name == "implicitfast";
             out.integrator = Integrator::from_mujoco(name).ok_or_else(|| {
                 src.error(
                     o,

@@ -151,7 +151,8 @@ impl PhysicsWorld {
     /// `solref`/`solimp` the contact model of trees in reduced coordinates
     /// ([`kea::WorldSettings::reduced_contacts`]: a robot on a fixed or planar base stays
     /// reduced while it touches the ground), floating roots reduced too
-    /// ([`kea::WorldSettings::reduced_free_trees`]), and its
+    /// ([`kea::WorldSettings::reduced_free_trees`]; lone free bodies too,
+    /// [`kea::WorldSettings::reduced_lone_bodies`], unless it asks for `implicitfast`), and its
     /// `timestep` is the robot's [`Robot::timestep`]; options Kea does not model are named in
     /// [`Robot::skipped`]. On error, which names the file, line and element, nothing is
     /// added.
@@ -184,6 +185,7 @@ impl PhysicsWorld {
                 s.integrator = option.integrator;
                 s.reduced_contacts = Some(contact);
                 s.reduced_free_trees = true;
+                s.reduced_lone_bodies = !option.implicitfast;
             })
             .map_err(|source| ImportError::World {
                 file: path.to_path_buf(),

@@ -49,15 +49,10 @@ impl World {
         }
     }
 
-    /// Whether a floating body with no joint is a tree of its own: wherever floating trees
-    /// are reduced (MJCF's free joints), so that it steps as MuJoCo steps a free joint — by the
-    /// world's integrator, with MuJoCo's soft contacts. (On the free-body path a file asking
-    /// for RK4 got semi-implicit Euler, and pybullet_data's box dropped on its end toppled
-    /// where MuJoCo's stands.) Under Euler its gyroscopic term is then explicit, as in
-    /// MuJoCo's Euler: a spin of 50 rad/s at 240 Hz runs away there as in MuJoCo, and is
-    /// quarantined.
+    /// Whether a floating body with no joint is a tree of its own
+    /// ([`crate::WorldSettings::reduced_lone_bodies`]).
     pub(super) fn lone_bodies_reduce(&self) -> bool {
-        self.settings.reduced_free_trees
+        self.settings.reduced_free_trees && self.settings.reduced_lone_bodies
     }
 
     /// Whether any joint could be part of a tree (cached by joint revision).
