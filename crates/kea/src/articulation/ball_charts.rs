@@ -34,10 +34,8 @@ fn columns(b: f64, c: f64) -> (DVec3, DVec3) {
 /// `J̇(q, q̇) q̇`, at constant rates.
 fn rates_turning([_, b, c]: [f64; 3], [da, db, dc]: [f64; 3]) -> DVec3 {
     let (first, second) = columns(b, c);
-    let unturn_z = DQuat::from_rotation_z(-c);
-    let along = first * da + second * db;
-    -DVec3::Z.cross(along) * dc
-        - unturn_z * DVec3::Y.cross(DQuat::from_rotation_y(-b) * DVec3::X) * (db * da)
+    // `Rz(c)ᵀ (y × Ry(b)ᵀ x)`, a turn of a cross product, is the cross of the turned pair.
+    -DVec3::Z.cross(first * da + second * db) * dc - second.cross(first) * (db * da)
 }
 
 /// `J(q)⁻¹ ω` (the chart is regular for `|b| < π/2`).

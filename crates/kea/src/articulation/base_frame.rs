@@ -8,6 +8,7 @@
 //! Spatial vectors here are Plücker coordinates at the point `o`: a motion `[ω; v]` with `v`
 //! the velocity of the body point at `o`, a force `[n; f]` with `n` the moment about `o`.
 
+use super::dynamics::{cross_force, cross_motion};
 use super::ArticulatedTree;
 use glam::{DMat3, DVec3};
 
@@ -182,19 +183,16 @@ impl ArticulatedTree {
             };
             let v = [v_parent[0] + joint[0], v_parent[1] + joint[1]];
             // The subspace turns with its link: d/dt (S q̇) = v × S q̇ at constant q̇.
-            let a = [
-                a_parent[0] + v[0].cross(joint[0]),
-                a_parent[1] + v[0].cross(joint[1]) + v[1].cross(joint[0]),
-            ];
+            let turning = cross_motion(v, joint);
+            let a = [a_parent[0] + turning[0], a_parent[1] + turning[1]];
             self.vel[i] = v;
             self.acc[i] = a;
             let mut f = [DVec3::ZERO; 2];
             if self.links[i].mass > 0.0 {
                 let inertia = &b.inertia[i];
                 let ia = inertia.times(a);
-                let [l, p] = inertia.times(v);
-                // v ×* (I v)
-                f = [ia[0] + v[0].cross(l) + v[1].cross(p), ia[1] + v[0].cross(p)];
+                let g = cross_force(v, inertia.times(v));
+                f = [ia[0] + g[0], ia[1] + g[1]];
             }
             let [tn, tf] = self.external[i];
             if tn != DVec3::ZERO || tf != DVec3::ZERO {

@@ -17,12 +17,12 @@ fn inertia_times(m: f64, c: DVec3, ic: &DMat3, [w, v]: [DVec3; 2]) -> [DVec3; 2]
 }
 
 /// `v ×* f` for a motion `v` and a force `f`.
-fn cross_force([w, v]: [DVec3; 2], [n, f]: [DVec3; 2]) -> [DVec3; 2] {
+pub(super) fn cross_force([w, v]: [DVec3; 2], [n, f]: [DVec3; 2]) -> [DVec3; 2] {
     [w.cross(n) + v.cross(f), w.cross(f)]
 }
 
 /// `v × m` for motions.
-fn cross_motion([w, v]: [DVec3; 2], [w2, v2]: [DVec3; 2]) -> [DVec3; 2] {
+pub(super) fn cross_motion([w, v]: [DVec3; 2], [w2, v2]: [DVec3; 2]) -> [DVec3; 2] {
     [w.cross(w2), w.cross(v2) + v.cross(w2)]
 }
 

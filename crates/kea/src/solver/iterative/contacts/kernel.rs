@@ -232,12 +232,10 @@ pub(crate) fn solve<F: FloatW>(
     // A manifold's points in one order on even substeps and the reverse on odd ones: solved
     // always first to last, the first corners of a face landing flat took most of the impact
     // and left a moment that tipped a tall box over (`kea3d/tests/landing.rs`).
-    let order: &mut dyn Iterator<Item = &mut PointLanes<F>> = if (k.substep as usize) % 2 == 1 {
-        &mut c.p.iter_mut().take(c.points as usize).rev()
-    } else {
-        &mut c.p.iter_mut().take(c.points as usize)
-    };
-    for p in order {
+    let count = c.points as usize;
+    let reverse = (k.substep as usize) % 2 == 1;
+    for j in 0..count {
+        let p = &mut c.p[if reverse { count - 1 - j } else { j }];
         let ra = p.r_a.load();
         let rb = p.r_b.load();
         let s = F::load(&p.base_separation) + moved + na.dot(ra) - nb.dot(rb);
