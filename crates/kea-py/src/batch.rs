@@ -1,6 +1,14 @@
 //! `kea.Batch`: N copies of one world stepped on all cores with the GIL released, their
 //! states, actions and observations as (N, …) numpy arrays that each world reads or writes
 //! in place.
+//!
+//! The model/data split: each of the N worlds holds only its state (what a snapshot holds:
+//! bodies, joints, contacts, kept trees' coordinates, the clock), and one hot worker world
+//! per thread, made from the batch's world, holds the step's scratch (the solver's
+//! workspace, the narrow phase's workers, each kept tree's factor and recursions). To step
+//! a world, a worker trades states with it (`PhysicsWorld::swap_state`: buffers change
+//! hands, nothing is copied), steps, and trades back. A world's memory is its state alone,
+//! and the scratch, sized once per thread, stays in that thread's cache.
 
 use crate::convert::{any_block, bad, block, matrix, py, py_err, real};
 use crate::queries;
@@ -19,7 +27,10 @@ use rayon::prelude::*;
 #[pyclass(name = "Batch", module = "kea")]
 pub struct PyBatch {
     pub(crate) template: PhysicsWorld,
+    /// Each world's state (a world that never steps itself: no step scratch).
     pub(crate) worlds: Vec<PhysicsWorld>,
+    /// One worker per thread of the pool, by thread index: what steps the worlds.
+    workers: Vec<std::sync::Mutex<PhysicsWorld>>,
     /// The robot every world holds, when the batch was made from a robot's world.
     pub(crate) robot: Option<kea3d::robot::Robot>,
     bodies: Vec<BodyHandle>,
@@ -82,8 +93,14 @@ impl PyBatch {
         // Nobody reads a batch world's stage times: skip the clock (same bits either way).
         let mut template = world.inner.clone();
         template.set_step_timing(false);
+        let mut holder = template.clone();
+        holder.trim_to_state();
+        let workers = (0..pool.current_num_threads())
+            .map(|_| std::sync::Mutex::new(template.clone()))
+            .collect();
         Ok(Self {
-            worlds: vec![template.clone(); n],
+            worlds: vec![holder; n],
+            workers,
             template,
             bodies: world.bodies.clone(),
             joints: world.joints.clone(),
@@ -98,19 +115,27 @@ impl PyBatch {
         let dt = real(dt);
         // Worlds in runs of `RUN`, each asking for the next one's memory while it steps.
         const RUN: usize = 16;
-        let (pool, worlds) = (&self.pool, &mut self.worlds);
+        let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
                     .par_chunks_mut(RUN)
                     .enumerate()
                     .try_for_each(|(c, run)| {
+                        let thread = rayon::current_thread_index().unwrap_or(0);
+                        // Each thread has its own worker: the lock is never contended.
+                        let mut worker = workers[thread % workers.len()]
+                            .lock()
+                            .unwrap_or_else(std::sync::PoisonError::into_inner);
                         for k in 0..run.len() {
                             if let Some(next) = run.get(k + 1) {
                                 next.prefetch();
                             }
-                            crate::world::step_many(&mut run[k], dt, steps)
-                                .map_err(|e| (c * RUN + k, e))?;
+                            worker.swap_state(&mut run[k]);
+                            let stepped = crate::world::step_many(&mut worker, dt, steps);
+                            // Back to the world whatever the step did: as stepping it in place.
+                            worker.swap_state(&mut run[k]);
+                            stepped.map_err(|e| (c * RUN + k, e))?;
                         }
                         Ok(())
                     })
@@ -129,7 +154,7 @@ impl PyBatch {
         }
         for i in indices {
             // The template's state into the world's own buffers: no allocation.
-            self.worlds[i].copy_state_from(&self.template);
+            self.worlds[i].copy_state_only(&self.template);
         }
         Ok(())
     }
@@ -298,7 +323,10 @@ impl PyBatch {
             .worlds
             .get(index)
             .ok_or_else(|| crate::convert::no_such("index", index, self.worlds.len()))?;
-        let mut out = PyWorld::from_physics(w.clone());
+        // A world that steps on its own: the batch's world with this one's state.
+        let mut whole = self.template.clone();
+        whole.copy_state_from(w);
+        let mut out = PyWorld::from_physics(whole);
         out.bodies.clone_from(&self.bodies);
         out.joints.clone_from(&self.joints);
         out.robot.clone_from(&self.robot);

@@ -315,3 +315,35 @@ def test_a_robots_tendons_read_their_lengths_in_the_files_units(tmp_path):
     # Hanging from the horizontal, the arm folds until the range holds it (soft: a little past).
     assert -0.33 < length < 0.33
     assert math.isfinite(rate)
+
+
+@needs_gym_assets
+@pytest.mark.parametrize("model", ["ant.xml", "humanoid.xml"])
+def test_legged_robot_batches_step_each_world_on_its_own_bits(model):
+    """A batch's worlds hold only their states, and a worker per thread steps them: every
+    world must still come out on the bits of the same world stepped alone, with its own
+    controls, on one thread and on two, touching the floor, and a world taken out of the
+    batch must go on stepping as the lone world does."""
+    template = kea.World.from_mjcf(os.path.join(GYM_ASSETS, model))
+    n, dt = 5, template.timestep
+    rng = np.random.default_rng(7)
+    controls = rng.uniform(-0.4, 0.4, size=(12, n, len(template.actuator_names())))
+    alone = [template.copy() for _ in range(n)]
+    batches = [kea.Batch(template, n, threads=t) for t in (1, 2)]
+    for u in controls:
+        for batch in batches:
+            batch.set_controls(u)
+            batch.step(dt, 5)
+        for i, w in enumerate(alone):
+            w.set_controls(u[i])
+            w.step(dt, 5)
+    for batch in batches:
+        states = batch.state()
+        for i, w in enumerate(alone):
+            assert np.array_equal(states[i], w.state()), (model, batch.threads, i)
+            assert np.array_equal(batch.joint_positions()[i], w.joint_positions())
+    assert all(len(w.contact_points()["depth"]) > 0 for w in alone), "they touch the floor"
+    out = batches[1].world(3)
+    out.step(dt, 20)
+    alone[3].step(dt, 20)
+    assert np.array_equal(out.state(), alone[3].state())

@@ -564,10 +564,15 @@ fn many_steps_at_once_give_the_bits_of_single_steps_reactions_included() {
 /// the bits of the same world stepped on its own — bodies, joints' reactions and contacts —
 /// on the hopping quadruped (contacts coming and going, a floating tree kept and re-centred)
 /// and a planar hopper, with their controls set on the held states between calls.
+///
+/// Twice: the worker copying each state in and out (`copy_state_from`), and trading states
+/// with each world (`swap_state`, what `kea.Batch` does); after the trades, each held world
+/// also steps on its own (its kept trees size the scratch they gave away) on the same bits.
 #[test]
 fn a_worker_world_steps_other_worlds_states_on_their_bits() {
     let options = kea3d::robot::MjcfOptions::default();
-    for (xml, name, n) in [(QUADRUPED, "quadruped.xml", 8), (HOPPER, "hopper.xml", 1)] {
+    let cases = [(QUADRUPED, "quadruped.xml", 8), (HOPPER, "hopper.xml", 1)];
+    for ((xml, name, n), swap) in cases.into_iter().flat_map(|c| [(c, false), (c, true)]) {
         let mut base = PhysicsWorld::new();
         let robot = base.load_mjcf_str(xml, name, &options).unwrap();
         let h = robot.timestep().unwrap_or(0.005);
@@ -590,10 +595,16 @@ fn a_worker_world_steps_other_worlds_states_on_their_bits() {
                 robot.set_controls(&mut alone[i], &u).unwrap();
                 alone[i].step_many(h, 5).unwrap();
                 robot.set_controls(&mut held[i], &u).unwrap();
-                worker.copy_state_from(&held[i]);
-                worker.step_many(h, 5).unwrap();
-                held[i].copy_state_only(&worker);
-                let what = format!("{name}, world {i}, call {call}");
+                if swap {
+                    worker.swap_state(&mut held[i]);
+                    worker.step_many(h, 5).unwrap();
+                    worker.swap_state(&mut held[i]);
+                } else {
+                    worker.copy_state_from(&held[i]);
+                    worker.step_many(h, 5).unwrap();
+                    held[i].copy_state_only(&worker);
+                }
+                let what = format!("{name}, world {i}, call {call}, swap {swap}");
                 assert_eq!(state_hash(&held[i]), state_hash(&alone[i]), "{what}");
                 assert_eq!(reactions(&held[i]), reactions(&alone[i]), "{what}");
                 let contacts = |w: &PhysicsWorld| w.dynamics().contacts().count();
@@ -605,6 +616,13 @@ fn a_worker_world_steps_other_worlds_states_on_their_bits() {
             touching > 30,
             "{name}: they touch the floor ({touching} of 180)"
         );
+        for (i, (own, alone)) in held.iter_mut().zip(&mut alone).enumerate() {
+            own.step_many(h, 5).unwrap();
+            alone.step_many(h, 5).unwrap();
+            let what = format!("{name}, world {i} on its own, swap {swap}");
+            assert_eq!(state_hash(own), state_hash(alone), "{what}");
+            assert_eq!(reactions(own), reactions(alone), "{what}");
+        }
     }
 }
 

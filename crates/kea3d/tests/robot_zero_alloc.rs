@@ -96,6 +96,31 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         }
     });
     assert_eq!(n, 0, "{n} allocations copying warm worlds' states");
+    // A batch's way: worlds that hold only their states (trimmed of the step's scratch),
+    // traded into one worker, stepped there and traded back.
+    let mut held = [world.clone(), other.clone()];
+    for h in &mut held {
+        h.trim_to_state();
+    }
+    let trade = |worker: &mut PhysicsWorld, held: &mut [PhysicsWorld; 2]| {
+        for h in held.iter_mut() {
+            worker.swap_state(h);
+            worker.step(1.0 / 240.0).unwrap();
+            worker.swap_state(h);
+        }
+    };
+    for _ in 0..3 {
+        trade(&mut worker, &mut held);
+    }
+    let n = allocations_in(|| {
+        for _ in 0..10 {
+            trade(&mut worker, &mut held);
+        }
+    });
+    assert_eq!(
+        n, 0,
+        "{n} allocations stepping warm held states in a worker"
+    );
     // Those steps were in reduced coordinates, with the contacts solved in joint space.
     let stats = world.step(1.0 / 240.0).unwrap();
     assert_eq!(stats.reduced_trees, 1, "the hopper is one reduced tree");

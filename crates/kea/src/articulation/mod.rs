@@ -200,6 +200,9 @@ pub struct ArticulatedTree {
     /// The first link of each ball joint's (or floating root's) three hinges
     /// (`ball_charts.rs`).
     charts: Vec<usize>,
+    /// Its step's scratch is sized for its links (false after it gave a worker its scratch
+    /// for another tree's links: [`ArticulatedTree::swap_model`]).
+    scratch_stale: bool,
 }
 
 impl ArticulatedTree {
@@ -301,6 +304,7 @@ impl ArticulatedTree {
             tendon: tendons::TendonState::default(),
             external_kept: Vec::with_capacity(n),
             charts,
+            scratch_stale: false,
         })
     }
 
@@ -324,6 +328,27 @@ impl ArticulatedTree {
             .extend(self.links.iter().map(TreeLink::subspace));
         self.placed_valid = false;
         self.gravity = gravity;
+        self.size_workspace();
+        self.external.clear();
+        self.external.resize(self.links.len(), [DVec3::ZERO; 2]);
+        self.contact.clear();
+        self.tendon.tendons.clear();
+    }
+
+    /// Sizes the step's scratch for its links if a swap left it sized for others: what a
+    /// world that holds a batch's state does before it steps on its own.
+    pub(crate) fn ensure_workspace(&mut self) {
+        if self.scratch_stale {
+            self.size_workspace();
+            self.external.clear();
+            self.external.resize(self.links.len(), [DVec3::ZERO; 2]);
+        }
+    }
+
+    /// Sizes the step's scratch for the links it holds (no allocation once it has held a
+    /// tree as big).
+    fn size_workspace(&mut self) {
+        self.scratch_stale = false;
         let n = self.links.len();
         self.rot.resize(n, DMat3::IDENTITY);
         self.pos.resize(n, DVec3::ZERO);
@@ -336,7 +361,6 @@ impl ArticulatedTree {
         self.inverse.resize(n * n, 0.0);
         self.column.resize(n, 0.0);
         self.impulse.resize(n, 0.0);
-        self.external.clear();
         self.external.resize(n, [DVec3::ZERO; 2]);
         self.rate0.resize(n, 0.0);
         self.frames.resize(n, (DVec3::ZERO, DQuat::IDENTITY));
@@ -352,8 +376,6 @@ impl ArticulatedTree {
         }
         self.lu.resize(n * n, 0.0);
         self.soft_rows.reserve(2 * n);
-        self.contact.clear();
-        self.tendon.tendons.clear();
     }
 
     /// Becomes `other`'s links, gravity and integrator (what a kept tree is between steps),
@@ -374,8 +396,34 @@ impl ArticulatedTree {
             self.base.valid = false;
             self.contact.clear();
             self.tendon.tendons.clear();
+            self.scratch_stale = true;
         }
         self.integrator = other.integrator;
+    }
+
+    /// Trades links, gravity and integrator with `other` (what a kept tree is between steps),
+    /// each keeping its own step scratch: a batch's worker takes a world's tree in, steps
+    /// it, and gives it back, with no copy. This tree's scratch is sized for the links it
+    /// takes; both forget what they had placed, and the contact and tendon sets their last
+    /// evaluations started from (a step finds the same sets without them: see
+    /// [`ArticulatedTree::copy_model_from`]).
+    pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
+        std::mem::swap(&mut self.links, &mut other.links);
+        std::mem::swap(&mut self.parents, &mut other.parents);
+        std::mem::swap(&mut self.ancestry, &mut other.ancestry);
+        std::mem::swap(&mut self.charts, &mut other.charts);
+        std::mem::swap(&mut self.motion, &mut other.motion);
+        std::mem::swap(&mut self.gravity, &mut other.gravity);
+        std::mem::swap(&mut self.integrator, &mut other.integrator);
+        for t in [&mut *self, other] {
+            t.placed_valid = false;
+            t.base.valid = false;
+            t.contact.clear();
+            t.tendon.tendons.clear();
+        }
+        other.scratch_stale = true;
+        self.scratch_stale = true;
+        self.ensure_workspace();
     }
 
     /// Asks for the cache lines its step reads first (`crate::prefetch`).

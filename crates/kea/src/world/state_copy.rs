@@ -68,3 +68,60 @@ impl World {
         s.reduced.copy_kept_from(&o.reduced, workspace);
     }
 }
+
+impl World {
+    /// Trades states with `other` — everything [`World::copy_state_from`] copies — each
+    /// keeping its own step scratch, with no copy: a batch's hot worker takes a world's
+    /// state in, steps it, and gives it back (the model/data split: the worker's scratch,
+    /// sized once, serves every world, and each world keeps only its state). Stepping this
+    /// world then gives the bits stepping `other` would have given; `other` holds this
+    /// world's former state and can step it too (its kept trees size their scratch first).
+    pub fn swap_state(&mut self, other: &mut World) {
+        use std::mem::swap;
+        swap(&mut self.id, &mut other.id);
+        swap(&mut self.bodies, &mut other.bodies);
+        swap(&mut self.constraints, &mut other.constraints);
+        swap(&mut self.constraint_bodies, &mut other.constraint_bodies);
+        swap(&mut self.tree_joint_slots, &mut other.tree_joint_slots);
+        swap(&mut self.joint_revision, &mut other.joint_revision);
+        swap(&mut self.settings, &mut other.settings);
+        swap(&mut self.max_island_rows, &mut other.max_island_rows);
+        swap(&mut self.quarantine, &mut other.quarantine);
+        swap(&mut self.quarantine_roots, &mut other.quarantine_roots);
+        swap(&mut self.tendons, &mut other.tendons);
+        swap(&mut self.time, &mut other.time);
+        swap(&mut self.steps, &mut other.steps);
+        let (s, o) = (&mut self.scratch, &mut other.scratch);
+        swap(&mut s.lambda, &mut o.lambda);
+        swap(&mut s.contact_lambda, &mut o.contact_lambda);
+        swap(&mut s.contact_rows, &mut o.contact_rows);
+        swap(&mut s.contact_reactions, &mut o.contact_reactions);
+        swap(&mut s.broken, &mut o.broken);
+        swap(&mut s.written, &mut o.written);
+        s.reduced.swap_kept(&mut o.reduced);
+    }
+}
+
+impl World {
+    /// Drops the step's scratch (the solver's workspace, the step's arrays, each kept tree's
+    /// factor and recursions) and keeps the state: what a world that only holds a state
+    /// between steps needs (a batch's world, stepped by a worker through
+    /// [`World::swap_state`]). It still steps on the same bits; its first step sizes the
+    /// scratch again, and allocates.
+    pub fn trim_to_state(&mut self) {
+        use std::mem::take;
+        let s = &mut self.scratch;
+        let mut lean = super::StepScratch {
+            lambda: take(&mut s.lambda),
+            contact_lambda: take(&mut s.contact_lambda),
+            contact_rows: take(&mut s.contact_rows),
+            contact_reactions: take(&mut s.contact_reactions),
+            broken: take(&mut s.broken),
+            written: take(&mut s.written),
+            ..Default::default()
+        };
+        lean.reduced.swap_kept(&mut s.reduced);
+        *s = lean;
+        self.solver = Default::default();
+    }
+}

@@ -23,6 +23,33 @@ impl PhysicsWorld {
         self.dynamics.copy_state_only(&other.dynamics);
     }
 
+    /// Trades states with `other` — its dynamics and collision layers (see
+    /// [`kea::World::swap_state`]) and the facade's records — each keeping its own step
+    /// scratch, with no copy. A batch's hot worker takes a world's state in with it, steps,
+    /// and gives it back: the worker's scratch, sized once, serves every world of the batch,
+    /// and each world keeps only its state. Stepping either world then gives the bits
+    /// stepping the other would have given.
+    pub fn swap_state(&mut self, other: &mut PhysicsWorld) {
+        use std::mem::swap;
+        self.dynamics.swap_state(&mut other.dynamics);
+        self.collision.swap_state(&mut other.collision);
+        swap(&mut self.meta, &mut other.meta);
+        swap(&mut self.surfaces, &mut other.surfaces);
+        swap(&mut self.driven, &mut other.driven);
+        swap(&mut self.paths, &mut other.paths);
+        swap(&mut self.names, &mut other.names);
+        swap(&mut self.joint_names, &mut other.joint_names);
+    }
+
+    /// Drops the step's scratch of both layers and keeps the state (see
+    /// [`kea::World::trim_to_state`]): a batch's worlds hold only their states this way,
+    /// and the workers that step them hold the scratch. It still steps on the same bits;
+    /// its first step sizes the scratch again, and allocates.
+    pub fn trim_to_state(&mut self) {
+        self.dynamics.trim_to_state();
+        self.collision.trim_to_state();
+    }
+
     /// Asks the processor for the cache lines a step of this world reads first (its
     /// dynamics and collision layers' buffers, see [`kea::World::prefetch`]): a batch asks
     /// for the next world's while it steps this one. A hint: nothing changes.

@@ -1,5 +1,6 @@
-//! Kept trees copied between worlds (`World::copy_state_from`): what a kept tree is between
-//! steps — its plan, links, coordinates, rates and marks — without its step's scratch.
+//! Kept trees copied or traded between worlds (`World::copy_state_from`,
+//! `World::swap_state`): what a kept tree is between steps — its plan, links, coordinates,
+//! rates and marks — without its step's scratch.
 
 use super::{CachedTree, ReducedScratch};
 
@@ -25,7 +26,48 @@ impl ReducedScratch {
     }
 }
 
+impl ReducedScratch {
+    /// Trades kept trees with `other` (and the caches found by joint revision), each keeping
+    /// its trees' step scratch: this one's are sized for the trees it takes.
+    pub(in crate::world) fn swap_kept(&mut self, other: &mut ReducedScratch) {
+        let (mine, theirs) = (self.trees.len(), other.trees.len());
+        let n = mine.max(theirs);
+        for trees in [&mut self.trees, &mut other.trees] {
+            while trees.len() < n {
+                trees.push(CachedTree::default());
+            }
+        }
+        for (t, o) in self.trees.iter_mut().zip(&mut other.trees) {
+            t.swap_kept(o);
+        }
+        // Each side keeps as many trees as the other had (the padding was empty defaults).
+        self.trees.truncate(theirs);
+        other.trees.truncate(mine);
+        std::mem::swap(&mut self.tree_of, &mut other.tree_of);
+        std::mem::swap(&mut self.floating_of, &mut other.floating_of);
+        std::mem::swap(&mut self.candidates, &mut other.candidates);
+        std::mem::swap(&mut self.alone, &mut other.alone);
+    }
+}
+
 impl CachedTree {
+    fn swap_kept(&mut self, o: &mut CachedTree) {
+        use std::mem::swap;
+        swap(&mut self.base_joint, &mut o.base_joint);
+        swap(&mut self.revision, &mut o.revision);
+        swap(&mut self.plan, &mut o.plan);
+        swap(&mut self.link_of, &mut o.link_of);
+        swap(&mut self.first_link, &mut o.first_link);
+        swap(&mut self.rebuilt_each_step, &mut o.rebuilt_each_step);
+        swap(&mut self.kick, &mut o.kick);
+        swap(&mut self.q, &mut o.q);
+        swap(&mut self.qd, &mut o.qd);
+        swap(&mut self.marks, &mut o.marks);
+        self.stepped = false;
+        o.stepped = false;
+        self.tree.swap_model(&mut o.tree);
+    }
+
     fn copy_kept_from(&mut self, o: &CachedTree, workspace: bool) {
         self.base_joint = o.base_joint;
         self.revision = o.revision;

@@ -413,6 +413,7 @@ impl World {
         let r = &mut self.scratch.reduced;
         let t = &mut r.trees[index];
         let (bodies, constraints) = (&self.bodies, &self.constraints);
+        t.tree.ensure_workspace();
         t.tree.set_gravity(gravity);
         t.tree.set_integrator(self.settings.integrator);
         r.tau.clear();

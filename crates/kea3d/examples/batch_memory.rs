@@ -1,0 +1,73 @@
+//! What one world of a batch costs in memory: a robot world stepped as a whole world (its
+//! state and its step's scratch), against the same world trimmed to its state and stepped by
+//! a worker that trades states with it (`PhysicsWorld::swap_state`, what `kea.Batch` does).
+//! Bytes are those a clone allocates (a world's heap, as N worlds of a batch would hold it).
+//!
+//! `cargo run --profile bench-lto -p kea3d --example batch_memory -- robot.xml [steps]`
+
+use kea3d::prelude::*;
+use kea3d::robot::MjcfOptions;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The system allocator, counting the bytes it hands out.
+struct Counting;
+
+static ALLOCATED: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call goes to the system allocator unchanged; only a counter is added.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATED.fetch_add(layout.size(), Ordering::Relaxed);
+        // SAFETY: the caller's contract is passed on.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: the caller's contract is passed on.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Bytes a clone of `world` allocates.
+fn bytes(world: &PhysicsWorld) -> usize {
+    let before = ALLOCATED.load(Ordering::Relaxed);
+    let copy = world.clone();
+    let after = ALLOCATED.load(Ordering::Relaxed);
+    drop(copy);
+    after - before
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let Some(path) = args.next() else {
+        eprintln!("usage: batch_memory ROBOT.xml [steps]");
+        std::process::exit(2);
+    };
+    let steps: usize = args.next().map_or(Ok(500), |s| s.parse())?;
+    let mut whole = PhysicsWorld::new();
+    whole.set_gravity([0.0, 0.0, -9.81])?;
+    let robot = whole.load_mjcf(&path, &MjcfOptions::default())?;
+    let h = robot.timestep().unwrap_or(0.002);
+    let mut held = whole.clone();
+    held.trim_to_state();
+    let mut worker = whole.clone();
+    for _ in 0..steps {
+        whole.step(h)?;
+        worker.swap_state(&mut held);
+        worker.step(h)?;
+        worker.swap_state(&mut held);
+    }
+    println!(
+        "{}: after {steps} steps, a whole world {} bytes; a world holding its state {} bytes \
+         (a worker per thread: {} bytes)",
+        robot.name(),
+        bytes(&whole),
+        bytes(&held),
+        bytes(&worker)
+    );
+    Ok(())
+}
