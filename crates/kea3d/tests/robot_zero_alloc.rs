@@ -54,6 +54,7 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         .dynamics_mut()
         .update_settings(|s| s.world_substeps = 2)
         .unwrap();
+    let template = world.clone();
     let controls: Vec<Vec<Real>> = (0..4).map(|k| vec![0.3 * k as Real, -0.2, 0.1]).collect();
     let motors = vec![0.0 as Real; robot.velocity_count()];
     let caps = vec![10.0 as Real; robot.velocity_count()];
@@ -97,12 +98,15 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
     });
     assert_eq!(n, 0, "{n} allocations copying warm worlds' states");
     // A batch's way: worlds that hold only their states (trimmed of the step's scratch),
-    // traded into one worker, stepped there and traded back.
-    let mut held = [world.clone(), other.clone()];
+    // traded into one worker, stepped there and traded back; as `kea.Batch` makes them, from
+    // a world not yet stepped (no kept tree), so the worker and the worlds it trades with
+    // hold different numbers of trees at first.
+    let mut worker = template.clone();
+    let mut held = [template.clone(), template.clone(), other.clone()];
     for h in &mut held {
         h.trim_to_state();
     }
-    let trade = |worker: &mut PhysicsWorld, held: &mut [PhysicsWorld; 2]| {
+    let trade = |worker: &mut PhysicsWorld, held: &mut [PhysicsWorld; 3]| {
         for h in held.iter_mut() {
             worker.swap_state(h);
             worker.step(1.0 / 240.0).unwrap();

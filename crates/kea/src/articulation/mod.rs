@@ -203,6 +203,8 @@ pub struct ArticulatedTree {
     /// Its step's scratch is sized for its links (false after it gave a worker its scratch
     /// for another tree's links: [`ArticulatedTree::swap_model`]).
     scratch_stale: bool,
+    /// The links and packed factor length its step's scratch was last sized for.
+    workspace_shape: (usize, usize),
 }
 
 impl ArticulatedTree {
@@ -263,9 +265,10 @@ impl ArticulatedTree {
         ancestry.refill(&parents);
         let mut charts = Vec::new();
         ball_charts::find_charts(&links, &mut charts);
+        let ancestry_len = ancestry.packed_len();
         Ok(Self {
             links,
-            h: vec![0.0; ancestry.packed_len()],
+            h: vec![0.0; ancestry_len],
             ancestry,
             parents,
             motion,
@@ -305,6 +308,7 @@ impl ArticulatedTree {
             external_kept: Vec::with_capacity(n),
             charts,
             scratch_stale: false,
+            workspace_shape: (n, ancestry_len),
         })
     }
 
@@ -339,7 +343,11 @@ impl ArticulatedTree {
     /// world that holds a batch's state does before it steps on its own.
     pub(crate) fn ensure_workspace(&mut self) {
         if self.scratch_stale {
-            self.size_workspace();
+            if self.workspace_shape == (self.links.len(), self.ancestry.packed_len()) {
+                self.scratch_stale = false; // sized for a tree of this shape already
+            } else {
+                self.size_workspace();
+            }
             self.external.clear();
             self.external.resize(self.links.len(), [DVec3::ZERO; 2]);
         }
@@ -350,6 +358,7 @@ impl ArticulatedTree {
     fn size_workspace(&mut self) {
         self.scratch_stale = false;
         let n = self.links.len();
+        self.workspace_shape = (n, self.ancestry.packed_len());
         self.rot.resize(n, DMat3::IDENTITY);
         self.pos.resize(n, DVec3::ZERO);
         self.vel.resize(n, [DVec3::ZERO; 2]);

@@ -31,18 +31,23 @@ impl ReducedScratch {
     /// its trees' step scratch: this one's are sized for the trees it takes.
     pub(in crate::world) fn swap_kept(&mut self, other: &mut ReducedScratch) {
         let (mine, theirs) = (self.trees.len(), other.trees.len());
-        let n = mine.max(theirs);
-        for trees in [&mut self.trees, &mut other.trees] {
-            while trees.len() < n {
-                trees.push(CachedTree::default());
+        // Each side takes as many trees as the other had, from its spares first: a worker
+        // keeps its trees' scratch whatever the counts of the worlds it trades with.
+        for (side, want) in [(&mut *self, theirs), (&mut *other, mine)] {
+            while side.trees.len() < want {
+                let spare = side.spare_trees.pop().unwrap_or_default();
+                side.trees.push(spare);
             }
         }
         for (t, o) in self.trees.iter_mut().zip(&mut other.trees) {
             t.swap_kept(o);
         }
-        // Each side keeps as many trees as the other had (the padding was empty defaults).
-        self.trees.truncate(theirs);
-        other.trees.truncate(mine);
+        for (side, keep) in [(&mut *self, theirs), (&mut *other, mine)] {
+            while side.trees.len() > keep {
+                let spare = side.trees.pop().expect("more trees than kept");
+                side.spare_trees.push(spare);
+            }
+        }
         std::mem::swap(&mut self.tree_of, &mut other.tree_of);
         std::mem::swap(&mut self.floating_of, &mut other.floating_of);
         std::mem::swap(&mut self.candidates, &mut other.candidates);

@@ -183,6 +183,9 @@ pub(super) struct ReducedScratch {
     /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
     /// the kept floating tree it is the root of.
     trees: Vec<CachedTree>,
+    /// Trees a trade of states left over (`kept.rs`), with their step scratch, for the next
+    /// trade to take before making new ones.
+    spare_trees: Vec<CachedTree>,
     tree_of: Vec<u32>,
     floating_of: Vec<u32>,
     tau: Vec<f64>,
@@ -352,7 +355,8 @@ impl World {
         let index = match r.trees.iter().position(|t| t.revision == 0 && !t.stepped) {
             Some(i) => i,
             None => {
-                r.trees.push(CachedTree::default());
+                let spare = r.spare_trees.pop().unwrap_or_default();
+                r.trees.push(spare);
                 r.trees.len() - 1
             }
         };
