@@ -75,6 +75,20 @@ pub(crate) struct PairState {
     /// Most points per manifold for this pair's materials (0: the world's strategy).
     #[cfg_attr(feature = "serde", serde(default))]
     pub max_points: u8,
+    /// The slot was made with room for several manifolds, or its pair once held more than
+    /// one: a freed slot goes back to the list of such slots. Kept as state, not read from
+    /// the heap room (which a clone or a snapshot does not carry), so that a copied world
+    /// reuses the same slots as the original and steps on the same bits.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub roomy: bool,
+}
+
+impl PairState {
+    /// Adds a manifold, marking the slot roomy once it holds more than one.
+    pub(crate) fn push_manifold(&mut self, m: PairManifold) {
+        self.manifolds.push(m);
+        self.roomy |= self.manifolds.len() > 1;
+    }
 }
 
 /// Manifolds a pre-made multi-manifold slot has room for.
@@ -110,7 +124,10 @@ impl Pairs {
     /// that may have several (a compound's, a mesh's).
     pub(crate) fn reserve_multi(&mut self, n: usize) {
         for _ in 0..n {
-            let mut p = PairState::default();
+            let mut p = PairState {
+                roomy: true,
+                ..PairState::default()
+            };
             p.manifolds.reserve_exact(MULTI_MANIFOLDS);
             self.free_spilled.push(self.slots.len() as u32);
             self.slots.push(p);
@@ -160,7 +177,7 @@ impl Pairs {
         p.alive = false;
         p.manifolds.clear();
         self.map.remove(&p.colliders);
-        if p.manifolds.spilled() {
+        if p.roomy {
             self.free_spilled.push(slot);
         } else {
             self.free.push(slot);

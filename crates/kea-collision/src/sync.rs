@@ -197,7 +197,7 @@ impl ContactFound<'_> {
             }
             m.seen = true;
         } else {
-            p.manifolds.push(PairManifold {
+            p.push_manifold(PairManifold {
                 cache: self.cache.unwrap_or_default(),
                 handle,
                 seen: true,

@@ -11,7 +11,10 @@
 //!   with the seed and operation if one takes more than ten times the bound);
 //! - **refused calls that changed state**: a state fingerprint is taken before each call and
 //!   compared after a refusal;
-//! - **poisoned worlds**: a NaN or infinity in any body after an accepted call.
+//! - **poisoned worlds**: a NaN or infinity in any body after an accepted call;
+//! - **traded steps that differ**: a step taken by a worker world that trades states with
+//!   the world (as `kea.Batch` steps) must give what the same step of a copy taken in place
+//!   gives, to the bit (checked after the operation, outside its timing).
 //!
 //! CI runs [`run`] for a fixed number of operations on fixed seeds (`tests/ci.rs`); a long run
 //! is `cargo run --release -p kea-fuzz -- --seeds 100 --ops 10000` (10⁶ operations).
@@ -43,6 +46,8 @@ pub struct Report {
     pub refused_but_changed: u64,
     /// Accepted calls after which some body held a NaN or infinity.
     pub poisoned: u64,
+    /// Traded steps whose outcome or snapshot differed from the same step taken in place.
+    pub traded_differs: u64,
     /// The slowest operation, and its name.
     pub slowest: (Duration, &'static str),
     /// The first few problems, each with its seed and operation number.
@@ -58,6 +63,7 @@ impl Report {
             && self.slow == 0
             && self.refused_but_changed == 0
             && self.poisoned == 0
+            && self.traded_differs == 0
     }
 
     fn problem(&mut self, mut text: String) {
@@ -78,6 +84,7 @@ impl Report {
         self.slow += other.slow;
         self.refused_but_changed += other.refused_but_changed;
         self.poisoned += other.poisoned;
+        self.traded_differs += other.traded_differs;
         if other.slowest.0 > self.slowest.0 {
             self.slowest = other.slowest;
         }
@@ -227,6 +234,21 @@ pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
                 continue;
             }
         };
+        match catch_unwind(AssertUnwindSafe(|| sandbox.verify_traded_step())) {
+            Ok(None) => {}
+            Ok(Some(why)) => {
+                report.traded_differs += 1;
+                report.problem(format!("seed {seed} op {n} {name}: {why}"));
+            }
+            Err(_) => {
+                report.escaped_panics += 1;
+                report.problem(format!(
+                    "seed {seed} op {n}: panic escaped checking a traded step"
+                ));
+                sandbox = Sandbox::new(&mut rng);
+                continue;
+            }
+        }
         let caught = PANICS.load(Ordering::SeqCst) - panics_before;
         if caught > 0 {
             report.caught_panics += caught;

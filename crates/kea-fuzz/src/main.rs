@@ -36,7 +36,7 @@ fn main() -> std::process::ExitCode {
     let started = std::time::Instant::now();
     let report = kea_fuzz::run(first..first + seeds, ops, Duration::from_millis(bound));
     println!(
-        "{} operations ({} refused) in {:.1} s: {} panics escaped, {} caught inside Kea, {} slower than {bound} ms, {} refused calls changed the world, {} poisoned worlds; slowest {:?} ({})",
+        "{} operations ({} refused) in {:.1} s: {} panics escaped, {} caught inside Kea, {} slower than {bound} ms, {} refused calls changed the world, {} poisoned worlds, {} traded steps differed; slowest {:?} ({})",
         report.operations,
         report.refused,
         started.elapsed().as_secs_f64(),
@@ -45,6 +45,7 @@ fn main() -> std::process::ExitCode {
         report.slow,
         report.refused_but_changed,
         report.poisoned,
+        report.traded_differs,
         report.slowest.0,
         report.slowest.1
     );

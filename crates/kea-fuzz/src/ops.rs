@@ -18,6 +18,11 @@ pub struct Sandbox {
     joints: Vec<ConstraintHandle>,
     colliders: Vec<ColliderHandle>,
     tendons: Vec<kea::TendonHandle>,
+    /// A world that steps this one's state by trading states with it (a batch's worker).
+    worker: PhysicsWorld,
+    /// After a traded step: a copy of the world from before it, the step, and what the
+    /// trade answered, for [`Sandbox::verify_traded_step`].
+    traded: Option<(PhysicsWorld, Real, Outcome)>,
 }
 
 /// What an operation did: accepted, refused, or (for a query) answered.
@@ -47,6 +52,8 @@ impl Sandbox {
             joints: Vec::new(),
             colliders: vec![ground],
             tendons: Vec::new(),
+            worker: PhysicsWorld::new(),
+            traded: None,
         }
     }
 
@@ -439,7 +446,42 @@ impl Sandbox {
             8 => rng.range(0.2, 10.0),
             _ => rng.odd(),
         };
-        self.physics.step(dt).map(drop).map_err(err)
+        match rng.below(12) {
+            0 => self.step_traded(dt),
+            1 => {
+                // A world that holds only its state (a batch's) steps on its own too.
+                self.physics.trim_to_state();
+                self.physics.step(dt).map(drop).map_err(err)
+            }
+            _ => self.physics.step(dt).map(drop).map_err(err),
+        }
+    }
+
+    /// A step taken by the worker, which trades states with this world, steps, and trades
+    /// back (what `kea.Batch` does); a copy from before it is kept for
+    /// [`Sandbox::verify_traded_step`].
+    fn step_traded(&mut self, dt: Real) -> Outcome {
+        let before = self.physics.clone();
+        self.worker.swap_state(&mut self.physics);
+        let traded = self.worker.step(dt).map(drop).map_err(err);
+        self.worker.swap_state(&mut self.physics);
+        self.traded = Some((before, dt, traded.clone()));
+        traded
+    }
+
+    /// After a traded step, takes the same step in place on the copy from before it: both
+    /// must accept or refuse alike and leave the same bits (their snapshots). `None` if they
+    /// agree (or no traded step is pending), else what differed.
+    pub fn verify_traded_step(&mut self) -> Option<String> {
+        let (mut alone, dt, traded) = self.traded.take()?;
+        let direct = alone.step(dt).map(drop).map_err(err);
+        let bits = |w: &PhysicsWorld| w.snapshot().ok().and_then(|s| s.to_binary().ok());
+        (direct != traded || bits(&alone) != bits(&self.physics)).then(|| {
+            format!(
+                "a step traded into a worker differs from the same step in place (dt {dt}): \
+                 {direct:?} in place, {traded:?} traded"
+            )
+        })
     }
 
     fn settings(&mut self, rng: &mut Rng) -> Outcome {

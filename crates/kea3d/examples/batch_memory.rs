@@ -3,10 +3,11 @@
 //! a worker that trades states with it (`PhysicsWorld::swap_state`, what `kea.Batch` does).
 //! Bytes are those a clone allocates (a world's heap, as N worlds of a batch would hold it).
 //!
-//! `cargo run --profile bench-lto -p kea3d --example batch_memory -- robot.xml [steps]`
+//! `cargo run --profile bench-lto -p kea3d --example batch_memory -- robot.xml|robot.urdf
+//! [steps] [--fixed-base]`
 
 use kea3d::prelude::*;
-use kea3d::robot::MjcfOptions;
+use kea3d::robot::{MjcfOptions, UrdfOptions};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -42,15 +43,24 @@ fn bytes(world: &PhysicsWorld) -> usize {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let Some(path) = args.next() else {
-        eprintln!("usage: batch_memory ROBOT.xml [steps]");
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut words = args.iter().filter(|a| !a.starts_with("--"));
+    let Some(path) = words.next() else {
+        eprintln!("usage: batch_memory ROBOT.xml|ROBOT.urdf [steps] [--fixed-base]");
         std::process::exit(2);
     };
-    let steps: usize = args.next().map_or(Ok(500), |s| s.parse())?;
+    let steps: usize = words.next().map_or(Ok(500), |s| s.parse())?;
     let mut whole = PhysicsWorld::new();
     whole.set_gravity([0.0, 0.0, -9.81])?;
-    let robot = whole.load_mjcf(&path, &MjcfOptions::default())?;
+    let robot = if path.ends_with(".urdf") {
+        let options = UrdfOptions {
+            fixed_base: args.iter().any(|a| a == "--fixed-base"),
+            ..UrdfOptions::default()
+        };
+        whole.load_urdf(path, &options)?
+    } else {
+        whole.load_mjcf(path, &MjcfOptions::default())?
+    };
     let h = robot.timestep().unwrap_or(0.002);
     let mut held = whole.clone();
     held.trim_to_state();
