@@ -23,64 +23,63 @@ impl CollisionWorld {
     /// and keeping its narrow-phase workers. Updating it then gives the contacts `other`'s
     /// update would.
     pub fn copy_state_from(&mut self, other: &CollisionWorld) {
-        self.slots.clone_from(&other.slots);
-        self.free.clone_from(&other.free);
-        self.materials.copy_from(&other.materials);
-        self.strategy = other.strategy;
-        self.margin = other.margin;
-        self.touch_distance = other.touch_distance;
-        self.pairs.copy_from(&other.pairs);
-        self.tree.copy_from(&other.tree);
-        self.moved.clone_from(&other.moved);
-        self.still.clone_from(&other.still);
-        self.last_dt = other.last_dt;
-        self.jointed_changed = other.jointed_changed;
-        self.jointed_revision = other.jointed_revision;
-        self.new_pairs.clone_from(&other.new_pairs);
-        self.events.clone_from(&other.events);
-        self.pending_events.clone_from(&other.pending_events);
-        self.jointed.clone_from(&other.jointed);
-        self.previously_jointed
-            .clone_from(&other.previously_jointed);
-        self.colliding_joints.clone_from(&other.colliding_joints);
-        self.excluded.clone_from(&other.excluded);
-        self.stats = other.stats;
-        self.failed_pairs.clone_from(&other.failed_pairs);
-        self.generated_with = other.generated_with;
+        let (a, b) = (self, other);
+        macro_rules! copy {
+            ($f:ident) => {
+                a.$f.clone_from(&b.$f)
+            };
+        }
+        each_state_field!(copy);
+        a.materials.copy_from(&b.materials);
+        a.pairs.copy_from(&b.pairs);
+        a.tree.copy_from(&b.tree);
     }
-}
 
-impl CollisionWorld {
     /// Trades states with `other` — everything [`CollisionWorld::copy_state_from`] copies —
     /// each keeping its narrow-phase workers, with no copy (a batch's hot worker, see
     /// `kea::World::swap_state`).
     pub fn swap_state(&mut self, other: &mut CollisionWorld) {
-        use std::mem::swap;
-        swap(&mut self.slots, &mut other.slots);
-        swap(&mut self.free, &mut other.free);
-        swap(&mut self.materials, &mut other.materials);
-        swap(&mut self.strategy, &mut other.strategy);
-        swap(&mut self.margin, &mut other.margin);
-        swap(&mut self.touch_distance, &mut other.touch_distance);
-        swap(&mut self.pairs, &mut other.pairs);
-        swap(&mut self.tree, &mut other.tree);
-        swap(&mut self.moved, &mut other.moved);
-        swap(&mut self.still, &mut other.still);
-        swap(&mut self.last_dt, &mut other.last_dt);
-        swap(&mut self.jointed_changed, &mut other.jointed_changed);
-        swap(&mut self.jointed_revision, &mut other.jointed_revision);
-        swap(&mut self.new_pairs, &mut other.new_pairs);
-        swap(&mut self.events, &mut other.events);
-        swap(&mut self.pending_events, &mut other.pending_events);
-        swap(&mut self.jointed, &mut other.jointed);
-        swap(&mut self.previously_jointed, &mut other.previously_jointed);
-        swap(&mut self.colliding_joints, &mut other.colliding_joints);
-        swap(&mut self.excluded, &mut other.excluded);
-        swap(&mut self.stats, &mut other.stats);
-        swap(&mut self.failed_pairs, &mut other.failed_pairs);
-        swap(&mut self.generated_with, &mut other.generated_with);
+        let (a, b) = (self, other);
+        macro_rules! trade {
+            ($f:ident) => {
+                std::mem::swap(&mut a.$f, &mut b.$f)
+            };
+        }
+        each_state_field!(trade);
+        std::mem::swap(&mut a.materials, &mut b.materials);
+        std::mem::swap(&mut a.pairs, &mut b.pairs);
+        std::mem::swap(&mut a.tree, &mut b.tree);
     }
 }
+
+/// Calls `$m!(field)` for every field of a collision world that is its state, but for the
+/// materials, the pairs and the broad phase, which copy their own way: the one list that
+/// copying and trading states follow.
+macro_rules! each_state_field {
+    ($m:ident) => {
+        $m!(slots);
+        $m!(free);
+        $m!(strategy);
+        $m!(margin);
+        $m!(touch_distance);
+        $m!(moved);
+        $m!(still);
+        $m!(last_dt);
+        $m!(jointed_changed);
+        $m!(jointed_revision);
+        $m!(new_pairs);
+        $m!(events);
+        $m!(pending_events);
+        $m!(jointed);
+        $m!(previously_jointed);
+        $m!(colliding_joints);
+        $m!(excluded);
+        $m!(stats);
+        $m!(failed_pairs);
+        $m!(generated_with);
+    };
+}
+use each_state_field;
 
 impl CollisionWorld {
     /// Drops the narrow phase's workers (scratch) and keeps the state (see

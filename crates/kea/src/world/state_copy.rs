@@ -45,29 +45,59 @@ impl World {
     }
 
     fn copy_state(&mut self, other: &World, workspace: bool) {
-        self.id = other.id;
-        self.bodies.copy_from(&other.bodies);
-        self.constraints.copy_from(&other.constraints);
-        self.constraint_bodies.clone_from(&other.constraint_bodies);
-        self.tree_joint_slots.clone_from(&other.tree_joint_slots);
-        self.joint_revision = other.joint_revision;
-        self.settings.clone_from(&other.settings);
-        self.max_island_rows = other.max_island_rows;
-        self.quarantine.clone_from(&other.quarantine);
-        self.quarantine_roots.clone_from(&other.quarantine_roots);
-        self.tendons.clone_from(&other.tendons);
-        self.time = other.time;
-        self.steps = other.steps;
-        let (s, o) = (&mut self.scratch, &other.scratch);
-        s.lambda.clone_from(&o.lambda);
-        s.contact_lambda.clone_from(&o.contact_lambda);
-        s.contact_rows.clone_from(&o.contact_rows);
-        s.contact_reactions.clone_from(&o.contact_reactions);
-        s.broken.clone_from(&o.broken);
-        s.written.clone_from(&o.written);
-        s.reduced.copy_kept_from(&o.reduced, workspace);
+        let (a, b) = (self, other);
+        macro_rules! copy {
+            ($f:ident) => {
+                a.$f.clone_from(&b.$f)
+            };
+        }
+        macro_rules! copy_scratch {
+            ($f:ident) => {
+                a.scratch.$f.clone_from(&b.scratch.$f)
+            };
+        }
+        each_state_field!(copy);
+        each_scratch_state_field!(copy_scratch);
+        a.bodies.copy_from(&b.bodies);
+        a.constraints.copy_from(&b.constraints);
+        a.scratch
+            .reduced
+            .copy_kept_from(&b.scratch.reduced, workspace);
     }
 }
+
+/// Calls `$m!(field)` for every field of a world that is its state (what a snapshot holds),
+/// but for the arenas of bodies and constraints and the kept trees, which each move their
+/// own way: the one list that copying, trading and trimming states all follow.
+macro_rules! each_state_field {
+    ($m:ident) => {
+        $m!(id);
+        $m!(constraint_bodies);
+        $m!(tree_joint_slots);
+        $m!(joint_revision);
+        $m!(settings);
+        $m!(max_island_rows);
+        $m!(quarantine);
+        $m!(quarantine_roots);
+        $m!(tendons);
+        $m!(time);
+        $m!(steps);
+    };
+}
+
+/// Calls `$m!(field)` for every field of the step's scratch that is state: the last step's
+/// forces and what it broke and wrote, which read-outs and the next warm start use.
+macro_rules! each_scratch_state_field {
+    ($m:ident) => {
+        $m!(lambda);
+        $m!(contact_lambda);
+        $m!(contact_rows);
+        $m!(contact_reactions);
+        $m!(broken);
+        $m!(written);
+    };
+}
+use {each_scratch_state_field, each_state_field};
 
 impl World {
     /// Trades states with `other` — everything [`World::copy_state_from`] copies — each
@@ -77,28 +107,22 @@ impl World {
     /// world then gives the bits stepping `other` would have given; `other` holds this
     /// world's former state and can step it too (its kept trees size their scratch first).
     pub fn swap_state(&mut self, other: &mut World) {
-        use std::mem::swap;
-        swap(&mut self.id, &mut other.id);
-        swap(&mut self.bodies, &mut other.bodies);
-        swap(&mut self.constraints, &mut other.constraints);
-        swap(&mut self.constraint_bodies, &mut other.constraint_bodies);
-        swap(&mut self.tree_joint_slots, &mut other.tree_joint_slots);
-        swap(&mut self.joint_revision, &mut other.joint_revision);
-        swap(&mut self.settings, &mut other.settings);
-        swap(&mut self.max_island_rows, &mut other.max_island_rows);
-        swap(&mut self.quarantine, &mut other.quarantine);
-        swap(&mut self.quarantine_roots, &mut other.quarantine_roots);
-        swap(&mut self.tendons, &mut other.tendons);
-        swap(&mut self.time, &mut other.time);
-        swap(&mut self.steps, &mut other.steps);
-        let (s, o) = (&mut self.scratch, &mut other.scratch);
-        swap(&mut s.lambda, &mut o.lambda);
-        swap(&mut s.contact_lambda, &mut o.contact_lambda);
-        swap(&mut s.contact_rows, &mut o.contact_rows);
-        swap(&mut s.contact_reactions, &mut o.contact_reactions);
-        swap(&mut s.broken, &mut o.broken);
-        swap(&mut s.written, &mut o.written);
-        s.reduced.swap_kept(&mut o.reduced);
+        let (a, b) = (self, other);
+        macro_rules! trade {
+            ($f:ident) => {
+                std::mem::swap(&mut a.$f, &mut b.$f)
+            };
+        }
+        macro_rules! trade_scratch {
+            ($f:ident) => {
+                std::mem::swap(&mut a.scratch.$f, &mut b.scratch.$f)
+            };
+        }
+        each_state_field!(trade);
+        each_scratch_state_field!(trade_scratch);
+        std::mem::swap(&mut a.bodies, &mut b.bodies);
+        std::mem::swap(&mut a.constraints, &mut b.constraints);
+        a.scratch.reduced.swap_kept(&mut b.scratch.reduced);
     }
 }
 
@@ -109,17 +133,14 @@ impl World {
     /// [`World::swap_state`]). It still steps on the same bits; its first step sizes the
     /// scratch again, and allocates.
     pub fn trim_to_state(&mut self) {
-        use std::mem::take;
+        let mut lean = super::StepScratch::default();
         let s = &mut self.scratch;
-        let mut lean = super::StepScratch {
-            lambda: take(&mut s.lambda),
-            contact_lambda: take(&mut s.contact_lambda),
-            contact_rows: take(&mut s.contact_rows),
-            contact_reactions: take(&mut s.contact_reactions),
-            broken: take(&mut s.broken),
-            written: take(&mut s.written),
-            ..Default::default()
-        };
+        macro_rules! keep {
+            ($f:ident) => {
+                std::mem::swap(&mut lean.$f, &mut s.$f)
+            };
+        }
+        each_scratch_state_field!(keep);
         lean.reduced.swap_kept(&mut s.reduced);
         *s = lean;
         self.solver = Default::default();
