@@ -19,6 +19,7 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
+use std::sync::PoisonError;
 
 /// A batch of worlds made from one: stepped in parallel, read and written as arrays.
 ///
@@ -29,8 +30,10 @@ pub struct PyBatch {
     pub(crate) template: PhysicsWorld,
     /// Each world's state (a world that never steps itself: no step scratch).
     pub(crate) worlds: Vec<PhysicsWorld>,
-    /// One worker per thread of the pool, by thread index: what steps the worlds.
-    workers: Vec<std::sync::Mutex<PhysicsWorld>>,
+    /// The workers that step the worlds, one per thread of the pool: a run of worlds takes
+    /// one and gives it back (taken, not bound to a thread, so that a thread that picks up
+    /// another run while it waits inside a step never waits for its own worker).
+    workers: std::sync::Mutex<Vec<PhysicsWorld>>,
     /// The robot every world holds, when the batch was made from a robot's world.
     pub(crate) robot: Option<kea3d::robot::Robot>,
     bodies: Vec<BodyHandle>,
@@ -96,8 +99,9 @@ impl PyBatch {
         let mut holder = template.clone();
         holder.trim_to_state();
         let workers = (0..pool.current_num_threads())
-            .map(|_| std::sync::Mutex::new(template.clone()))
-            .collect();
+            .map(|_| template.clone())
+            .collect::<Vec<_>>()
+            .into();
         Ok(Self {
             worlds: vec![holder; n],
             workers,
@@ -116,28 +120,18 @@ impl PyBatch {
         // Worlds in runs of `RUN`, each asking for the next one's memory while it steps.
         const RUN: usize = 16;
         let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
+        let template = &self.template;
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
                     .par_chunks_mut(RUN)
                     .enumerate()
                     .try_for_each(|(c, run)| {
-                        let thread = rayon::current_thread_index().unwrap_or(0);
-                        // Each thread has its own worker: the lock is never contended.
-                        let mut worker = workers[thread % workers.len()]
-                            .lock()
-                            .unwrap_or_else(std::sync::PoisonError::into_inner);
-                        for k in 0..run.len() {
-                            if let Some(next) = run.get(k + 1) {
-                                next.prefetch();
-                            }
-                            worker.swap_state(&mut run[k]);
-                            let stepped = crate::world::step_many(&mut worker, dt, steps);
-                            // Back to the world whatever the step did: as stepping it in place.
-                            worker.swap_state(&mut run[k]);
-                            stepped.map_err(|e| (c * RUN + k, e))?;
-                        }
-                        Ok(())
+                        let take = || workers.lock().unwrap_or_else(PoisonError::into_inner);
+                        let mut worker = take().pop().unwrap_or_else(|| template.clone());
+                        let stepped = step_run(&mut worker, run, dt, steps);
+                        take().push(worker);
+                        stepped.map_err(|(k, e)| (c * RUN + k, e))
                     })
             })
         });
@@ -354,6 +348,27 @@ impl PyBatch {
     fn __len__(&self) -> usize {
         self.worlds.len()
     }
+}
+
+/// Steps each world of `run` `steps` times by `dt` in `worker`, which trades states with
+/// it, steps, and trades back whatever the step did (as stepping it in place); the first
+/// error comes back with the world's place in the run.
+fn step_run(
+    worker: &mut PhysicsWorld,
+    run: &mut [PhysicsWorld],
+    dt: kea3d::Real,
+    steps: usize,
+) -> Result<(), (usize, kea3d::Error)> {
+    for k in 0..run.len() {
+        if let Some(next) = run.get(k + 1) {
+            next.prefetch();
+        }
+        worker.swap_state(&mut run[k]);
+        let stepped = crate::world::step_many(worker, dt, steps);
+        worker.swap_state(&mut run[k]);
+        stepped.map_err(|e| (k, e))?;
+    }
+    Ok(())
 }
 
 /// An error of world `i`, as the exception it maps to, naming the world.
