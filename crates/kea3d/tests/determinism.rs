@@ -697,3 +697,56 @@ fn a_clone_reuses_pair_slots_as_the_original_after_a_mesh_pair_goes() {
     );
     assert_eq!(state_hash(&world), state_hash(&copy));
 }
+
+/// A batch's way across different worlds: one worker steps every demo scene's held states
+/// in turn (two of each, the second pushed apart from the first at every step), trading
+/// states with each, and every world comes out on the bits of the same world stepped alone
+/// at every step: nothing the worker keeps from one world's step (the solver's orders and
+/// factors, the narrow phase's caches, kept trees) changes another's.
+#[test]
+fn one_worker_steps_every_demo_scenes_states_in_turn_on_their_bits() {
+    let mut alone = Vec::new();
+    let mut names = Vec::new();
+    for (name, scene) in demo_scenes() {
+        let world = PhysicsWorld::from_scene(build(&scene).unwrap());
+        for copy in 0..2 {
+            alone.push(world.clone());
+            names.push(format!("{name} #{copy}"));
+        }
+    }
+    let mut held: Vec<PhysicsWorld> = alone
+        .iter()
+        .map(|w| {
+            let mut h = w.clone();
+            h.trim_to_state();
+            h
+        })
+        .collect();
+    let mut worker = PhysicsWorld::new();
+    for step in 0..STEPS {
+        for i in 0..alone.len() {
+            // The second copy of each scene is pushed: the worlds a worker steps part ways.
+            let push = |w: &mut PhysicsWorld| {
+                let body = w.body_handles().nth(step % 3);
+                if let Some(h) = body {
+                    let f = 0.5 * (step as Real * 0.7 + i as Real).sin();
+                    w.add_force(h, [f, 0.3 * f, -f]).unwrap();
+                }
+            };
+            if i % 2 == 1 {
+                push(&mut alone[i]);
+                push(&mut held[i]);
+            }
+            alone[i].step(DT).unwrap();
+            worker.swap_state(&mut held[i]);
+            worker.step(DT).unwrap();
+            worker.swap_state(&mut held[i]);
+            assert_eq!(
+                state_hash(&held[i]),
+                state_hash(&alone[i]),
+                "{} at step {step}",
+                names[i]
+            );
+        }
+    }
+}
