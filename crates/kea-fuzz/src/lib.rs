@@ -212,7 +212,7 @@ pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
     let (started_ms, done) = watchdog(seed, bound, epoch);
     for n in 0..ops {
         if rng.chance(0.002) {
-            sandbox = Sandbox::new(&mut rng);
+            sandbox = sandbox.renew(&mut rng);
         }
         let before = fingerprint(&sandbox);
         let panics_before = PANICS.load(Ordering::SeqCst);
@@ -230,7 +230,7 @@ pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
             Err(_) => {
                 report.escaped_panics += 1;
                 report.problem(format!("seed {seed} op {n}: panic escaped"));
-                sandbox = Sandbox::new(&mut rng);
+                sandbox = sandbox.renew(&mut rng);
                 continue;
             }
         };
@@ -245,7 +245,7 @@ pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
                 report.problem(format!(
                     "seed {seed} op {n}: panic escaped checking a traded step"
                 ));
-                sandbox = Sandbox::new(&mut rng);
+                sandbox = sandbox.renew(&mut rng);
                 continue;
             }
         }
@@ -276,7 +276,7 @@ pub fn run_seed(seed: u64, ops: u64, bound: Duration) -> Report {
                     report.problem(format!(
                         "seed {seed} op {n} {name}: accepted, and a body is now NaN"
                     ));
-                    sandbox = Sandbox::new(&mut rng);
+                    sandbox = sandbox.renew(&mut rng);
                 }
             }
         }

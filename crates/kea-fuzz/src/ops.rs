@@ -57,6 +57,16 @@ impl Sandbox {
         }
     }
 
+    /// A fresh world ([`Sandbox::new`]) that keeps this one's worker, so that the worker
+    /// goes on to step other worlds' states, as a batch's worker steps many worlds.
+    #[must_use]
+    pub fn renew(self, rng: &mut Rng) -> Self {
+        Self {
+            worker: self.worker,
+            ..Self::new(rng)
+        }
+    }
+
     /// The dynamics layer.
     pub fn world(&self) -> &World {
         self.physics.dynamics()
