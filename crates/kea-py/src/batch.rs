@@ -19,7 +19,7 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use std::sync::PoisonError;
+use std::sync::{Mutex, TryLockError};
 
 /// A batch of worlds made from one: stepped in parallel, read and written as arrays.
 ///
@@ -30,10 +30,11 @@ pub struct PyBatch {
     pub(crate) template: PhysicsWorld,
     /// Each world's state (a world that never steps itself: no step scratch).
     pub(crate) worlds: Vec<PhysicsWorld>,
-    /// The workers that step the worlds, one per thread of the pool: a run of worlds takes
-    /// one and gives it back (taken, not bound to a thread, so that a thread that picks up
-    /// another run while it waits inside a step never waits for its own worker).
-    workers: std::sync::Mutex<Vec<PhysicsWorld>>,
+    /// The workers that step the worlds, one per thread of the pool, by thread index (its
+    /// scratch stays in that core's cache). A thread whose worker is busy — it picked up
+    /// another run while it waits inside a step — steps that run in a worker of its own
+    /// making rather than wait for itself.
+    workers: Vec<Mutex<PhysicsWorld>>,
     /// The robot every world holds, when the batch was made from a robot's world.
     pub(crate) robot: Option<kea3d::robot::Robot>,
     bodies: Vec<BodyHandle>,
@@ -99,9 +100,8 @@ impl PyBatch {
         let mut holder = template.clone();
         holder.trim_to_state();
         let workers = (0..pool.current_num_threads())
-            .map(|_| template.clone())
-            .collect::<Vec<_>>()
-            .into();
+            .map(|_| Mutex::new(template.clone()))
+            .collect();
         Ok(Self {
             worlds: vec![holder; n],
             workers,
@@ -127,10 +127,16 @@ impl PyBatch {
                     .par_chunks_mut(RUN)
                     .enumerate()
                     .try_for_each(|(c, run)| {
-                        let take = || workers.lock().unwrap_or_else(PoisonError::into_inner);
-                        let mut worker = take().pop().unwrap_or_else(|| template.clone());
-                        let stepped = step_run(&mut worker, run, dt, steps);
-                        take().push(worker);
+                        let thread = rayon::current_thread_index().unwrap_or(0);
+                        let stepped = match workers[thread % workers.len()].try_lock() {
+                            Ok(mut worker) => step_run(&mut worker, run, dt, steps),
+                            Err(TryLockError::Poisoned(p)) => {
+                                step_run(&mut p.into_inner(), run, dt, steps)
+                            }
+                            Err(TryLockError::WouldBlock) => {
+                                step_run(&mut template.clone(), run, dt, steps)
+                            }
+                        };
                         stepped.map_err(|(k, e)| (c * RUN + k, e))
                     })
             })

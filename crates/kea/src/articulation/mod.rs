@@ -200,8 +200,9 @@ pub struct ArticulatedTree {
     /// The first link of each ball joint's (or floating root's) three hinges
     /// (`ball_charts.rs`).
     charts: Vec<usize>,
-    /// Its step's scratch is sized for its links (false after it gave a worker its scratch
-    /// for another tree's links: [`ArticulatedTree::swap_model`]).
+    /// Its step's scratch may be sized for another tree's links (after a trade,
+    /// [`ArticulatedTree::swap_model`], or a copy without workspace): sized again, if it
+    /// must be, before it steps ([`ArticulatedTree::ensure_workspace`]).
     scratch_stale: bool,
     /// The links and packed factor length its step's scratch was last sized for.
     workspace_shape: (usize, usize),
