@@ -333,15 +333,15 @@ impl ArticulatedTree {
             .extend(self.links.iter().map(TreeLink::subspace));
         self.placed_valid = false;
         self.gravity = gravity;
-        self.size_workspace();
-        self.external.clear();
-        self.external.resize(self.links.len(), [DVec3::ZERO; 2]);
+        self.scratch_stale = true;
+        self.ensure_workspace();
         self.contact.clear();
         self.tendon.tendons.clear();
     }
 
-    /// Sizes the step's scratch for its links if a swap left it sized for others: what a
-    /// world that holds a batch's state does before it steps on its own.
+    /// Sizes the step's scratch for its links if new links or a trade left it sized for
+    /// others (what a world that holds a batch's state does before it steps on its own), and
+    /// clears the applied wrenches.
     pub(crate) fn ensure_workspace(&mut self) {
         if self.scratch_stale {
             if self.workspace_shape == (self.links.len(), self.ancestry.packed_len()) {

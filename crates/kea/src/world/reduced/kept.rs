@@ -9,81 +9,105 @@ impl ReducedScratch {
     /// unique to a world's joints), reusing this scratch's trees; `workspace`: this one steps,
     /// so each tree's step scratch is sized.
     pub(in crate::world) fn copy_kept_from(&mut self, other: &ReducedScratch, workspace: bool) {
-        let n = other.trees.len();
-        if self.trees.len() > n {
-            self.trees.truncate(n);
-        }
-        while self.trees.len() < n {
-            self.trees.push(CachedTree::default());
-        }
+        self.hold_trees(other.trees.len());
         for (t, o) in self.trees.iter_mut().zip(&other.trees) {
             t.copy_kept_from(o, workspace);
         }
-        self.tree_of.clone_from(&other.tree_of);
-        self.floating_of.clone_from(&other.floating_of);
-        self.candidates = other.candidates;
-        self.alone = other.alone;
+        let (a, b) = (self, other);
+        macro_rules! copy {
+            ($f:ident) => {
+                a.$f.clone_from(&b.$f)
+            };
+        }
+        each_kept_cache!(copy);
     }
-}
 
-impl ReducedScratch {
     /// Trades kept trees with `other` (and the caches found by joint revision), each keeping
     /// its trees' step scratch: this one's are sized for the trees it takes.
     pub(in crate::world) fn swap_kept(&mut self, other: &mut ReducedScratch) {
         let (mine, theirs) = (self.trees.len(), other.trees.len());
-        // Each side takes as many trees as the other had, from its spares first: a worker
-        // keeps its trees' scratch whatever the counts of the worlds it trades with.
-        for (side, want) in [(&mut *self, theirs), (&mut *other, mine)] {
-            while side.trees.len() < want {
-                let spare = side.spare_trees.pop().unwrap_or_default();
-                side.trees.push(spare);
-            }
-        }
+        self.hold_trees(mine.max(theirs));
+        other.hold_trees(mine.max(theirs));
         for (t, o) in self.trees.iter_mut().zip(&mut other.trees) {
             t.swap_kept(o);
         }
-        for (side, keep) in [(&mut *self, theirs), (&mut *other, mine)] {
-            while side.trees.len() > keep {
-                let spare = side.trees.pop().expect("more trees than kept");
-                side.spare_trees.push(spare);
-            }
+        self.hold_trees(theirs);
+        other.hold_trees(mine);
+        let (a, b) = (self, other);
+        macro_rules! trade {
+            ($f:ident) => {
+                std::mem::swap(&mut a.$f, &mut b.$f)
+            };
         }
-        std::mem::swap(&mut self.tree_of, &mut other.tree_of);
-        std::mem::swap(&mut self.floating_of, &mut other.floating_of);
-        std::mem::swap(&mut self.candidates, &mut other.candidates);
-        std::mem::swap(&mut self.alone, &mut other.alone);
+        each_kept_cache!(trade);
+    }
+
+    /// Holds `n` trees: more taken from the spares first (with the step scratch they keep),
+    /// fewer by putting the last ones among the spares, so that a worker trading with
+    /// worlds of other tree counts keeps its trees' scratch.
+    pub(super) fn hold_trees(&mut self, n: usize) {
+        while self.trees.len() < n {
+            let spare = self.spare_trees.pop().unwrap_or_default();
+            self.trees.push(spare);
+        }
+        while self.trees.len() > n {
+            let spare = self.trees.pop().expect("more trees than held");
+            self.spare_trees.push(spare);
+        }
     }
 }
 
+/// Calls `$m!(field)` for the reduced path's caches that travel with the kept trees: each
+/// joint's and root body's tree, and what the last step found of the world's joints.
+macro_rules! each_kept_cache {
+    ($m:ident) => {
+        $m!(tree_of);
+        $m!(floating_of);
+        $m!(candidates);
+        $m!(alone);
+    };
+}
+
+/// Calls `$m!(field)` for every field of a kept tree that travels with it, but for its
+/// articulated tree, whose links move and whose scratch stays.
+macro_rules! each_kept_field {
+    ($m:ident) => {
+        $m!(base_joint);
+        $m!(revision);
+        $m!(plan);
+        $m!(link_of);
+        $m!(first_link);
+        $m!(rebuilt_each_step);
+        $m!(kick);
+        $m!(q);
+        $m!(qd);
+        $m!(marks);
+    };
+}
+use each_kept_cache;
+
 impl CachedTree {
     fn swap_kept(&mut self, o: &mut CachedTree) {
-        use std::mem::swap;
-        swap(&mut self.base_joint, &mut o.base_joint);
-        swap(&mut self.revision, &mut o.revision);
-        swap(&mut self.plan, &mut o.plan);
-        swap(&mut self.link_of, &mut o.link_of);
-        swap(&mut self.first_link, &mut o.first_link);
-        swap(&mut self.rebuilt_each_step, &mut o.rebuilt_each_step);
-        swap(&mut self.kick, &mut o.kick);
-        swap(&mut self.q, &mut o.q);
-        swap(&mut self.qd, &mut o.qd);
-        swap(&mut self.marks, &mut o.marks);
+        let a = &mut *self;
+        macro_rules! trade {
+            ($f:ident) => {
+                std::mem::swap(&mut a.$f, &mut o.$f)
+            };
+        }
+        each_kept_field!(trade);
         self.stepped = false;
         o.stepped = false;
         self.tree.swap_model(&mut o.tree);
     }
 
     fn copy_kept_from(&mut self, o: &CachedTree, workspace: bool) {
-        self.base_joint = o.base_joint;
-        self.revision = o.revision;
-        self.plan.clone_from(&o.plan);
-        self.link_of.clone_from(&o.link_of);
-        self.first_link.clone_from(&o.first_link);
-        self.rebuilt_each_step = o.rebuilt_each_step;
-        self.kick.clone_from(&o.kick);
-        self.q.clone_from(&o.q);
-        self.qd.clone_from(&o.qd);
-        self.marks.clone_from(&o.marks);
+        let a = &mut *self;
+        macro_rules! copy {
+            ($f:ident) => {
+                a.$f.clone_from(&o.$f)
+            };
+        }
+        each_kept_field!(copy);
         self.stepped = false;
         // A stale tree (revision 0) is built again before use: its links need not travel.
         if o.revision != 0 {

@@ -355,8 +355,7 @@ impl World {
         let index = match r.trees.iter().position(|t| t.revision == 0 && !t.stepped) {
             Some(i) => i,
             None => {
-                let spare = r.spare_trees.pop().unwrap_or_default();
-                r.trees.push(spare);
+                r.hold_trees(r.trees.len() + 1);
                 r.trees.len() - 1
             }
         };
