@@ -39,7 +39,7 @@ pub struct PyBatch {
     pub(crate) robot: Option<kea3d::robot::Robot>,
     bodies: Vec<BodyHandle>,
     pub(crate) joints: Vec<JointEntry>,
-    pool: rayon::ThreadPool,
+    pub(crate) pool: rayon::ThreadPool,
 }
 
 impl PyBatch {

@@ -31,12 +31,15 @@ impl PyBatch {
     {
         let n = self.worlds.len();
         let mut out = vec![0.0; n * width];
-        let worlds = &self.worlds;
+        // On the batch's own threads (as stepping), not rayon's global pool.
+        let (pool, worlds) = (&self.pool, &self.worlds);
         py(py_.detach(|| {
-            worlds
-                .par_iter()
-                .zip(out.par_chunks_mut(width.max(1)))
-                .try_for_each(|(w, row)| read(w, row))
+            pool.install(|| {
+                worlds
+                    .par_iter()
+                    .zip(out.par_chunks_mut(width.max(1)))
+                    .try_for_each(|(w, row)| read(w, row))
+            })
         }))?;
         PyArray1::from_vec(py_, out).reshape([n, width])
     }

@@ -66,6 +66,57 @@ def test_reset_puts_chosen_worlds_back():
         batch.reset([3])
 
 
+def test_a_closed_loop_reads_and_drives_what_each_world_holds():
+    """A learning loop's set-step-read: what the loop reads must be what each world holds
+    (as a copy taken out shows it), at every step; motors set before a copy is taken out
+    or before a reset act as they would on a world of its own."""
+    n, steps = 4, 6
+    template = cart_pole_world()
+    speeds = np.random.default_rng(3).uniform(-3, 3, (steps, n))
+    batch = kea.Batch(template, n, threads=2)
+    alone = [template.copy() for _ in range(n)]
+    motors = np.zeros((n, 2))
+    for k in range(steps):
+        motors[:, 0] = speeds[k]
+        batch.set_motors(motors)
+        batch.step(0.01, 2)
+        states, (pos, vel) = batch.state(), batch.joint_state()
+        for i, w in enumerate(alone):
+            w.set_motor(0, speeds[k, i])
+            w.step(0.01, 2)
+            assert np.array_equal(states[i], w.state()), (k, i)
+            assert np.array_equal(batch.world(i).state(), w.state()), (k, i)
+        # Forces change no state before the step: the read-outs still hold.
+        batch.apply_forces(np.zeros((n, 2, 3)))
+        assert np.array_equal(batch.state(), states)
+        assert np.array_equal(batch.joint_state()[0], pos)
+    # Setting the states changes what the next read sees.
+    moved = batch.state()
+    moved[:, 0, 0] += 0.25
+    batch.set_state(moved)
+    after = batch.state()
+    assert np.allclose(after, moved, rtol=0, atol=1e-6)  # to the build's precision
+    assert all(np.array_equal(after[i], batch.world(i).state()) for i in range(n))
+    for i, w in enumerate(alone):
+        w.set_state(moved[i])
+    # A copy taken out after set_motors carries the motors.
+    motors[:, 0] = 2.5
+    batch.set_motors(motors)
+    out = batch.world(1)
+    alone[1].set_motor(0, 2.5)
+    out.step(0.01, 3)
+    alone[1].step(0.01, 3)
+    assert np.array_equal(out.state(), alone[1].state())
+    # A reset after set_motors puts the worlds back to the batch's world, motors and all.
+    motors[:, 0] = -1.5
+    batch.set_motors(motors)
+    batch.reset()
+    batch.step(0.01, 4)
+    fresh = template.copy()
+    fresh.step(0.01, 4)
+    assert np.array_equal(batch.state()[2], fresh.state())
+
+
 def test_batch_refuses_bad_arrays_by_name():
     batch = kea.Batch(cart_pole_world(), 2)
     with pytest.raises(ValueError, match="forces"):

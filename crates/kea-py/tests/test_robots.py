@@ -330,18 +330,20 @@ def test_legged_robot_batches_step_each_world_on_its_own_bits(model):
     controls = rng.uniform(-0.4, 0.4, size=(12, n, len(template.actuator_names())))
     alone = [template.copy() for _ in range(n)]
     batches = [kea.Batch(template, n, threads=t) for t in (1, 2)]
-    for u in controls:
-        for batch in batches:
-            batch.set_controls(u)
-            batch.step(dt, 5)
+    for k, u in enumerate(controls):
         for i, w in enumerate(alone):
             w.set_controls(u[i])
             w.step(dt, 5)
-    for batch in batches:
-        states = batch.state()
-        for i, w in enumerate(alone):
-            assert np.array_equal(states[i], w.state()), (model, batch.threads, i)
-            assert np.array_equal(batch.joint_positions()[i], w.joint_positions())
+        for batch in batches:
+            batch.set_controls(u)
+            batch.step(dt, 5)
+            # Read every step, as a learning loop does.
+            states, q, v = batch.state(), batch.joint_positions(), batch.joint_velocities()
+            for i, w in enumerate(alone):
+                at = (model, batch.threads, k, i)
+                assert np.array_equal(states[i], w.state()), at
+                assert np.array_equal(q[i], w.joint_positions()), at
+                assert np.array_equal(v[i], w.joint_velocities()), at
     assert all(len(w.contact_points()["depth"]) > 0 for w in alone), "they touch the floor"
     out = batches[1].world(3)
     out.step(dt, 20)
