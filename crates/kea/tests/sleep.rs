@@ -187,3 +187,58 @@ fn no_partition_gives_the_same_answer_in_one_island() {
         );
     }
 }
+
+#[test]
+fn sleeping_islands_cost_no_body_and_wake_alone() {
+    // Two boxes resting apart: two islands. Once both sleep a step simulates nothing; a force
+    // under the wake threshold wakes nothing and is cleared; a push wakes its own island only;
+    // a body destroyed while asleep leaves the other's island as it was.
+    let (mut world, a) = resting_box_world(DemMode::PartitionAutoDisable);
+    let b = world
+        .create_body(&BodyDef {
+            position: Vec3::new(3.0, HALF.y + 0.01, 0.0),
+            inertia: inertia::solid_box(1.0, HALF).unwrap(),
+            ..Default::default()
+        })
+        .unwrap();
+    let mut contacts = Vec::new();
+    let mut step = |world: &mut World, bodies: &[kea::BodyHandle]| {
+        clear_contacts(world, &mut contacts);
+        for &x in bodies {
+            ground(world, x, &mut contacts);
+        }
+        world.step(H).unwrap()
+    };
+    let mut stats = step(&mut world, &[a, b]);
+    for _ in 0..240 {
+        if stats.sleeping_bodies == 2 {
+            break;
+        }
+        stats = step(&mut world, &[a, b]);
+    }
+    assert_eq!(stats.sleeping_bodies, 2, "both boxes fall asleep");
+    let stats = step(&mut world, &[a, b]);
+    assert_eq!((stats.bodies, stats.constraints), (0, 0), "nothing simulated");
+    world
+        .body_mut(b)
+        .unwrap()
+        .add_force(Vec3::new(0.0, 0.0, 1.0e-4))
+        .unwrap();
+    let stats = step(&mut world, &[a, b]);
+    assert_eq!(stats.bodies, 0, "a force under the threshold wakes nothing");
+    assert_eq!(world.body(b).unwrap().force(), Vec3::ZERO, "and the step clears it");
+    world
+        .body_mut(b)
+        .unwrap()
+        .add_force(Vec3::new(5.0, 0.0, 0.0))
+        .unwrap();
+    let stats = step(&mut world, &[a, b]);
+    assert_eq!((stats.bodies, stats.sleeping_bodies), (1, 1), "the push wakes b alone");
+    assert!(!world.body(b).unwrap().is_sleeping() && world.body(a).unwrap().is_sleeping());
+    assert!(world.body(b).unwrap().linear_velocity().x > 0.0, "and moves it");
+    assert_eq!(world.body(b).unwrap().force(), Vec3::ZERO);
+    step(&mut world, &[b]); // a's contacts go before a does
+    world.destroy_body(a).unwrap();
+    let stats = step(&mut world, &[b]);
+    assert_eq!((stats.bodies, stats.sleeping_bodies), (1, 0));
+}

@@ -143,6 +143,7 @@ impl World {
         for b in bodies.into_iter().flatten() {
             if let Ok(body) = self.bodies.get_mut(b) {
                 body.wake();
+                self.awake.touch_body(b);
             }
         }
     }

@@ -62,6 +62,7 @@ impl World {
     pub fn joint_error(&mut self) -> Real {
         let params = self.solver_params(1.0 / 60.0);
         self.scratch.wake.clear(); // the next step plans its own waking
+        self.awake.refresh(&self.bodies);
         self.collect_bodies();
         self.gather_rows(&params);
         let s = &self.scratch;
@@ -100,7 +101,13 @@ impl World {
         self.scratch.unwritable.clear();
         self.scratch.contacts.clear();
         self.scratch.contact_constraint.clear();
-        for slot in 0..self.constraint_bodies.len() {
+        // A constraint takes part only with a simulated body: none, none to look at.
+        let scanned = if self.scratch.solver_bodies.is_empty() {
+            0
+        } else {
+            self.constraint_bodies.len()
+        };
+        for slot in 0..scanned {
             // Through the dense index: a constraint with no body in the solver (both asleep,
             // disabled or static) is passed without reading its entry.
             let [a, b] = self.constraint_bodies[slot];

@@ -7,6 +7,7 @@
 //! ahead of time. Worlds are
 //! independent: create as many as you like, and handles of one are rejected by the others.
 
+mod awake;
 mod constraint_entry;
 mod constraint_index;
 mod constraints;
@@ -184,6 +185,8 @@ pub struct World {
     tendons: Vec<Option<FixedTendon>>,
     time: f64,
     steps: u64,
+    /// The awake bodies' slots, kept as bodies change (`awake.rs`).
+    awake: awake::AwakeSet,
 }
 
 impl std::fmt::Debug for World {
@@ -271,6 +274,7 @@ impl World {
             tendons: Vec::new(),
             time: 0.0,
             steps: 0,
+            awake: awake::AwakeSet::stale(),
         })
     }
 
@@ -313,7 +317,9 @@ impl World {
     /// Creates a body (the guide's `MdtBodyCreate` + setters). Errors name the bad field.
     pub fn create_body(&mut self, def: &BodyDef) -> KeaResult<BodyHandle> {
         let body = Body::from_def(def)?;
-        self.bodies.insert(body)
+        let h = self.bodies.insert(body)?;
+        self.awake.touch_body(h);
+        Ok(h)
     }
 
     /// Destroys a body and every constraint attached to it.
@@ -333,6 +339,7 @@ impl World {
             }
         }
         self.bodies.remove(h)?;
+        self.awake.touch_body(h);
         Ok(())
     }
 
@@ -343,7 +350,10 @@ impl World {
 
     /// A body, to change through its validating setters.
     pub fn body_mut(&mut self, h: BodyHandle) -> KeaResult<&mut Body> {
-        self.bodies.get_mut(h)
+        let body = self.bodies.get_mut(h)?;
+        // Its flags or forces may change: the awake set looks at it again.
+        self.awake.touch_body(h);
+        Ok(body)
     }
 
     /// Number of bodies.

@@ -85,6 +85,7 @@ impl World {
                         b.quarantined = false;
                         b.enabled = true;
                         b.wake();
+                        self.awake.touch_body(h);
                         released += 1;
                     }
                 }
@@ -226,6 +227,7 @@ impl World {
             sb.angular_acceleration = Vec3::ZERO;
             body.enabled = false;
             body.quarantined = true;
+            self.awake.touch(slot as u32);
             quarantined += 1;
             let handle = self.bodies.handle_at(slot).expect("occupied slot");
             // The island's reason is its first troubled body's (NonFinite when only a force

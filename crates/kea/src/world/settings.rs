@@ -185,6 +185,7 @@ impl World {
                     b.wake();
                 }
             }
+            self.awake.touch_all();
         }
         Ok(())
     }

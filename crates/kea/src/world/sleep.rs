@@ -91,6 +91,7 @@ impl World {
     /// Wakes a body and, at the next step, its whole island.
     pub fn wake_body(&mut self, h: BodyHandle) -> KeaResult<()> {
         self.bodies.get_mut(h)?.wake();
+        self.awake.touch_body(h);
         Ok(())
     }
 
@@ -112,11 +113,18 @@ impl World {
                 && (b.linear_velocity != Vec3::ZERO || b.angular_velocity != Vec3::ZERO);
             b.enabled && (!b.sleeping || pushed || driven)
         };
-        if !(0..n).any(|slot| self.bodies.at(slot).is_some_and(active)) {
+        // Only awake bodies and bodies touched since the last step can be active: a body
+        // asleep and untouched has no velocity (sleeping zeroes it) and no force.
+        let any_active = !self.awake.slots().is_empty()
+            || self
+                .awake
+                .touched()
+                .iter()
+                .any(|&slot| self.bodies.at(slot as usize).is_some_and(active));
+        if !any_active {
             // All asleep and unpushed: nothing wakes, nothing to group (a sleeping pile costs
-            // a pass over its bodies, not over its contacts).
+            // nothing per body).
             s.wake.clear();
-            s.wake.resize(n, false);
             return;
         }
         for slot in 0..self.constraints.slot_count() {
@@ -163,6 +171,7 @@ impl World {
             if self.scratch.wake[slot] {
                 if let Some(b) = self.bodies.at_mut(slot) {
                     b.wake();
+                    self.awake.touch(slot as u32);
                 }
             }
         }
@@ -178,6 +187,7 @@ impl World {
                 for b in c.bodies.into_iter().flatten() {
                     if let Ok(body) = self.bodies.get_mut(b) {
                         body.wake();
+                        self.awake.touch_body(b);
                     }
                 }
             }
@@ -187,19 +197,22 @@ impl World {
     /// After a step: accumulates each awake body's resting time and disables islands whose
     /// every body has rested for the alive window. Uses the grouping of [`World::wake_islands`].
     pub(super) fn disable_resting_islands(&mut self, dt: Real) {
+        // The bodies this step woke are awake now.
+        self.awake.refresh(&self.bodies);
+        if self.awake.slots().is_empty() {
+            return; // nothing awake, nothing to put to sleep
+        }
         let n = self.bodies.slot_count();
         let d = self.settings.dem;
         let s = &mut self.scratch;
         // island_flag now holds the smallest resting time of each island's awake bodies.
         s.island_flag.clear();
         s.island_flag.resize(n, Real::INFINITY);
-        for slot in 0..n {
+        for &slot in self.awake.slots() {
+            let slot = slot as usize;
             let Some(b) = self.bodies.at_mut(slot) else {
                 continue;
             };
-            if !b.enabled || b.sleeping {
-                continue;
-            }
             let resting = b.linear_velocity.length() < d.velocity_threshold
                 && b.angular_velocity.length() < d.angular_velocity_threshold
                 && b.linear_acceleration.length() < d.acceleration_threshold
@@ -208,14 +221,16 @@ impl World {
             let r = s.sleep_sets.find(slot as u32) as usize;
             s.island_flag[r] = s.island_flag[r].min(b.rest_time);
         }
-        for slot in 0..n {
-            let r = s.sleep_sets.find(slot as u32) as usize;
+        for k in 0..self.awake.slots().len() {
+            let slot = self.awake.slots()[k];
+            let r = s.sleep_sets.find(slot) as usize;
             let island_rest = s.island_flag[r];
-            let Some(b) = self.bodies.at_mut(slot) else {
+            let Some(b) = self.bodies.at_mut(slot as usize) else {
                 continue;
             };
-            if b.enabled && !b.sleeping && island_rest >= d.alive_window {
+            if island_rest >= d.alive_window {
                 b.sleep();
+                self.awake.touch(slot);
             }
         }
     }

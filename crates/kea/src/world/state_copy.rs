@@ -82,6 +82,7 @@ macro_rules! each_state_field {
         $m!(tendons);
         $m!(time);
         $m!(steps);
+        $m!(awake);
     };
 }
 

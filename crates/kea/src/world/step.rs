@@ -169,6 +169,7 @@ impl World {
         let t0 = Stamp::now(self.settings.step_timing);
         let params = self.solver_params(dt);
         let auto_disable = self.settings.dem.mode == super::DemMode::PartitionAutoDisable;
+        self.awake.refresh(&self.bodies);
         if auto_disable {
             self.plan_wake();
         } else {
@@ -206,7 +207,8 @@ impl World {
         self.steps += 1;
         let t4 = Stamp::now(self.settings.step_timing);
         let sleeping_bodies = if auto_disable {
-            self.bodies.iter().filter(|(_, b)| b.sleeping).count() as u32
+            self.awake.refresh(&self.bodies);
+            self.awake.asleep()
         } else {
             0
         };
@@ -266,7 +268,19 @@ impl World {
         s.solver_to_slot.clear();
         s.slot_to_solver.clear();
         s.slot_to_solver.resize(self.bodies.slot_count(), u32::MAX);
-        for slot in 0..self.bodies.slot_count() {
+        // The awake set, unless sleeping bodies wake this step (then every slot, in order).
+        let waking = s.wake.iter().any(|&w| w);
+        let count = if waking {
+            self.bodies.slot_count()
+        } else {
+            self.awake.slots().len()
+        };
+        for k in 0..count {
+            let slot = if waking {
+                k
+            } else {
+                self.awake.slots()[k] as usize
+            };
             let Some(b) = self.bodies.at(slot) else {
                 continue;
             };

@@ -26,11 +26,18 @@ impl World {
             b.last_path = sb.last_path;
         }
         // Accumulators are cleared for every body, simulated or not (the guide's rule), after
-        // the step's last substep.
-        for slot in 0..self.bodies.slot_count() {
-            if let Some(b) = self.bodies.at_mut(slot).filter(|_| clear_forces) {
-                b.clear_forces();
+        // the step's last substep: only awake and touched bodies can hold any.
+        if clear_forces {
+            // The step's own changes (waking, quarantine) taken in before the touched list
+            // goes.
+            self.awake.refresh(&self.bodies);
+            let awake = &mut self.awake;
+            for &slot in awake.slots().iter().chain(awake.touched()) {
+                if let Some(b) = self.bodies.at_mut(slot as usize) {
+                    b.clear_forces();
+                }
             }
+            awake.forget_touched();
         }
         // Last step's read-outs go; only the constraints it solved hold any.
         for &slot in &s.written {
