@@ -123,6 +123,28 @@ pub struct CollisionWorld {
     /// The strategy and margin the pairs' manifolds were generated with: a change makes every
     /// manifold be generated anew.
     pub(crate) generated_with: (ContactStrategy, Real),
+    /// Each body's colliders, to find those of the bodies that changed (`awake_colliders.rs`).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) by_body: crate::awake_colliders::BodyColliders,
+    /// The world's `completed_steps` at the last update (`None`: look at every collider).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) bodies_seen_at: Option<u64>,
+    /// The colliders this update looks at, ascending (when the world can tell).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) changed: Vec<u32>,
+    /// Every collider is still this update (static, asleep or disabled).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) all_still: bool,
+    /// Live pairs the last narrow phase left not at rest (`None`: not known, as after a
+    /// restore).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) unrest: Option<u32>,
+    /// This update's narrow phase had nothing to do (see `narrow_pass.rs`).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) quiet: bool,
+    /// The events were made by a quiet update: the next quiet one makes the same.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) events_quiet: bool,
 }
 
 /// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than
@@ -169,6 +191,13 @@ impl CollisionWorld {
             stats: CollisionStats::default(),
             failed_pairs: Vec::new(),
             generated_with: (ContactStrategy::default(), 0.01),
+            by_body: Default::default(),
+            bodies_seen_at: None,
+            changed: Vec::new(),
+            all_still: false,
+            unrest: None,
+            quiet: false,
+            events_quiet: false,
         }
     }
 
@@ -218,6 +247,7 @@ impl CollisionWorld {
             local_box,
         };
         self.moved.push(index);
+        self.by_body.invalidate();
         let index = match self.free.pop() {
             Some(i) => {
                 self.slots[i as usize].collider = Some(collider);
@@ -329,6 +359,21 @@ impl CollisionWorld {
         Ok(())
     }
 
+    /// Removes every collider on `body` (a body about to be destroyed), destroying their
+    /// contacts in `world`, so that nothing refers to the body once it is gone (a snapshot
+    /// taken before the next update included).
+    pub fn remove_colliders_of(&mut self, world: &mut World, body: BodyHandle) {
+        for i in 0..self.slots.len() as u32 {
+            let on_body = self.slots[i as usize]
+                .collider
+                .as_ref()
+                .is_some_and(|c| c.def.body == Some(body));
+            if on_body {
+                self.forget_collider(world, i);
+            }
+        }
+    }
+
     /// Drops collider slot `index`: its pairs (destroying their contacts, an `Ended` event
     /// for those touching), its leaf, and the slot itself.
     fn forget_collider(&mut self, world: &mut World, index: u32) {
@@ -354,6 +399,7 @@ impl CollisionWorld {
         if let Some(c) = slot.collider.take() {
             self.tree.remove(c.leaf);
         }
+        self.by_body.invalidate();
         slot.generation = slot.generation.wrapping_add(1);
         self.free.push(index);
     }
@@ -446,9 +492,13 @@ impl CollisionWorld {
                 p.generated_at = None;
             }
         }
-        self.drop_colliders_of_destroyed_bodies(world);
+        // Only the colliders of bodies that changed since the last update, when the world
+        // can tell which (a sleeping pile's cost nothing).
+        let incremental = self.list_changed_colliders(world);
+        self.drop_colliders_of_destroyed_bodies(world, incremental);
         self.collect_jointed_pairs(world);
-        self.update_bounds(world, dt);
+        self.update_bounds(world, dt, incremental);
+        self.bodies_seen_at = Some(world.completed_steps());
         self.find_new_pairs();
         let t1 = Stamp::now(world.settings().step_timing);
         self.narrow_phase(dt);
@@ -470,8 +520,20 @@ impl CollisionWorld {
             })
     }
 
-    fn drop_colliders_of_destroyed_bodies(&mut self, world: &mut World) {
-        for i in 0..self.slots.len() as u32 {
+    /// Forgets the colliders whose body is gone: among the changed colliders when
+    /// `incremental` (a destroyed body is a changed one), else among all.
+    fn drop_colliders_of_destroyed_bodies(&mut self, world: &mut World, incremental: bool) {
+        let count = if incremental {
+            self.changed.len()
+        } else {
+            self.slots.len()
+        };
+        for k in 0..count {
+            let i = if incremental {
+                self.changed[k]
+            } else {
+                k as u32
+            };
             let gone = self.slots[i as usize]
                 .collider
                 .as_ref()

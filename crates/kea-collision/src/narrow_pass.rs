@@ -13,6 +13,20 @@ impl CollisionWorld {
     /// Fills the workers with the manifolds of every pair that can move this step and with
     /// the pairs to forget, chunk by chunk (on all cores with the `parallel` feature).
     pub(crate) fn narrow_phase(&mut self, dt: Real) {
+        // Nothing moves, no pair is new or unsettled, the filter is as it was: every pair
+        // rests again, and a pass over them would find nothing (a sleeping pile).
+        self.quiet = self.all_still
+            && !self.jointed_changed
+            && self.stats.new_pairs == 0
+            && self.unrest == Some(0);
+        if self.quiet {
+            self.active_workers = 0;
+            self.stats.manifolds = 0;
+            self.stats.reused_manifolds = 0;
+            self.failed_pairs.clear();
+            self.stats.failed_pairs = 0;
+            return;
+        }
         let chunks = self.pairs.slots.len().div_ceil(PAIR_CHUNK);
         if self.workers.len() < chunks {
             self.workers.resize_with(chunks, NarrowWorker::default);
@@ -61,6 +75,7 @@ impl CollisionWorld {
         let workers = &self.workers[..chunks];
         self.stats.manifolds = workers.iter().map(|w| w.manifolds).sum();
         self.stats.reused_manifolds = workers.iter().map(|w| w.reused).sum();
+        self.unrest = Some(workers.iter().map(|w| w.unrest).sum());
         self.failed_pairs.clear();
         for &slot in workers.iter().flat_map(|w| &w.failed) {
             let (a, b) = self.pairs.slots[slot as usize].colliders;

@@ -110,6 +110,8 @@ pub(crate) struct NarrowWorker {
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     pub(crate) manifolds: u32,
     pub(crate) reused: u32,
+    /// Live pairs of the chunk not at rest after this step.
+    pub(crate) unrest: u32,
 }
 
 impl Default for NarrowWorker {
@@ -125,6 +127,7 @@ impl Default for NarrowWorker {
             reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
             manifolds: 0,
             reused: 0,
+            unrest: 0,
         }
     }
 }
@@ -174,6 +177,7 @@ impl NarrowWorker {
         self.failed.clear();
         self.manifolds = 0;
         self.reused = 0;
+        self.unrest = 0;
         for i in 0..pairs.len() {
             // Pairs reach into colliders and manifolds all over memory: fetch a few ahead
             // (not for a pair that stays at rest, which reads neither).
@@ -187,10 +191,14 @@ impl NarrowWorker {
                 }
             }
             let p = &mut pairs[i];
+            if !p.alive {
+                continue;
+            }
             if stays_at_rest(shared, p) {
                 continue;
             }
             self.pair(shared, first + i as u32, p);
+            self.unrest += u32::from(p.alive && !p.resting);
             // A resting pair keeps its manifolds and its touching (the events read `touching`
             // for it); the others' are found anew when the wanted manifolds are applied.
             if !p.resting {

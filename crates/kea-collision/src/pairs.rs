@@ -176,6 +176,11 @@ impl Pairs {
         }
         p.alive = false;
         p.manifolds.clear();
+        // A dead slot's flags as a new pair's: nothing reads them, and no update writes
+        // them, so that worlds that went different ways to the same pairs hold the same.
+        p.resting = false;
+        p.touching = false;
+        p.touching_now = false;
         self.map.remove(&p.colliders);
         if p.roomy {
             self.free_spilled.push(slot);

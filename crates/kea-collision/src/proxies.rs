@@ -12,12 +12,31 @@ use kea::{Real, Vec3, World};
 impl CollisionWorld {
     /// Refreshes the fat box of every collider on a body that moves this step (awake and
     /// enabled), grown by the speculative margin and swept by its motion over `dt`. A
-    /// collider whose box left its fat box gets a new one and is marked moved.
-    pub(crate) fn update_bounds(&mut self, world: &World, dt: Real) {
+    /// collider whose box left its fat box gets a new one and is marked moved. When
+    /// `incremental`, only the changed colliders are looked at (the others are still, as
+    /// they were); in slot order either way, so the broad phase's tree sees the same updates.
+    pub(crate) fn update_bounds(&mut self, world: &World, dt: Real, incremental: bool) {
+        // Empty slots count as still: they are in no pair.
+        let occupied = |s: &[crate::collider::Slot], i: usize| s[i].collider.is_some();
+        self.all_still = true;
+        if incremental {
+            for k in 0..self.changed.len() {
+                let i = self.changed[k] as usize;
+                self.still[i] = self.update_bound(i, world, dt);
+                self.all_still &= self.still[i] || !occupied(&self.slots, i);
+            }
+            #[cfg(debug_assertions)]
+            self.check_left_out(world);
+            return;
+        }
         self.still.clear();
         self.still.resize(self.slots.len(), false);
         for i in 0..self.slots.len() {
             self.still[i] = self.update_bound(i, world, dt);
+            self.all_still &= self.still[i] || !occupied(&self.slots, i);
+        }
+        if !self.by_body.is_valid() {
+            self.by_body.build(&self.slots);
         }
     }
 

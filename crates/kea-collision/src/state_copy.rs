@@ -77,6 +77,12 @@ macro_rules! each_state_field {
         $m!(stats);
         $m!(failed_pairs);
         $m!(generated_with);
+        $m!(by_body);
+        $m!(bodies_seen_at);
+        $m!(all_still);
+        $m!(unrest);
+        $m!(quiet);
+        $m!(events_quiet);
     };
 }
 use each_state_field;

@@ -126,6 +126,13 @@ impl CollisionWorld {
 
     /// Destroys the manifolds no longer generated, and records the pairs' events.
     fn record_events(&mut self, world: &mut World) {
+        // A quiet update after a quiet one: every pair rests as it did, touching as it
+        // did, so the events are the last update's (each touching pair persisting).
+        let same = self.quiet && self.events_quiet && self.pending_events.is_empty();
+        self.events_quiet = self.quiet && self.pending_events.is_empty();
+        if same {
+            return;
+        }
         self.events.clear();
         self.events.append(&mut self.pending_events);
         for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {

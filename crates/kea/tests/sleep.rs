@@ -218,7 +218,11 @@ fn sleeping_islands_cost_no_body_and_wake_alone() {
     }
     assert_eq!(stats.sleeping_bodies, 2, "both boxes fall asleep");
     let stats = step(&mut world, &[a, b]);
-    assert_eq!((stats.bodies, stats.constraints), (0, 0), "nothing simulated");
+    assert_eq!(
+        (stats.bodies, stats.constraints),
+        (0, 0),
+        "nothing simulated"
+    );
     world
         .body_mut(b)
         .unwrap()
@@ -226,16 +230,27 @@ fn sleeping_islands_cost_no_body_and_wake_alone() {
         .unwrap();
     let stats = step(&mut world, &[a, b]);
     assert_eq!(stats.bodies, 0, "a force under the threshold wakes nothing");
-    assert_eq!(world.body(b).unwrap().force(), Vec3::ZERO, "and the step clears it");
+    assert_eq!(
+        world.body(b).unwrap().force(),
+        Vec3::ZERO,
+        "and the step clears it"
+    );
     world
         .body_mut(b)
         .unwrap()
         .add_force(Vec3::new(5.0, 0.0, 0.0))
         .unwrap();
     let stats = step(&mut world, &[a, b]);
-    assert_eq!((stats.bodies, stats.sleeping_bodies), (1, 1), "the push wakes b alone");
+    assert_eq!(
+        (stats.bodies, stats.sleeping_bodies),
+        (1, 1),
+        "the push wakes b alone"
+    );
     assert!(!world.body(b).unwrap().is_sleeping() && world.body(a).unwrap().is_sleeping());
-    assert!(world.body(b).unwrap().linear_velocity().x > 0.0, "and moves it");
+    assert!(
+        world.body(b).unwrap().linear_velocity().x > 0.0,
+        "and moves it"
+    );
     assert_eq!(world.body(b).unwrap().force(), Vec3::ZERO);
     step(&mut world, &[b]); // a's contacts go before a does
     world.destroy_body(a).unwrap();

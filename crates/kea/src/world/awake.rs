@@ -48,6 +48,11 @@ pub(crate) struct AwakeSet {
     touched: Vec<u32>,
     /// Per slot, whether it is in `touched`.
     is_touched: Vec<bool>,
+    /// What `touched` held when forces were last cleared (what a collision layer that
+    /// updates once per step has not yet seen).
+    touched_before: Vec<u32>,
+    /// Steps that cleared the applied forces (completed steps).
+    clears: u64,
     /// The set must be built again from the bodies (a new or restored world).
     stale: bool,
 }
@@ -66,6 +71,8 @@ impl Clone for AwakeSet {
         self.asleep = o.asleep;
         self.touched.clone_from(&o.touched);
         self.is_touched.clone_from(&o.is_touched);
+        self.touched_before.clone_from(&o.touched_before);
+        self.clears = o.clears;
         self.stale = o.stale;
     }
 }
@@ -195,7 +202,31 @@ impl AwakeSet {
         for &slot in &self.touched {
             self.is_touched[slot as usize] = false;
         }
+        std::mem::swap(&mut self.touched, &mut self.touched_before);
         self.touched.clear();
+        self.clears += 1;
+    }
+
+    /// Steps that cleared the applied forces so far.
+    pub(crate) fn clears(&self) -> u64 {
+        self.clears
+    }
+
+    /// Slots of every body that may have changed since the step that made
+    /// [`AwakeSet::clears`] `since` (its flags, pose, velocity or forces, or its existence):
+    /// the awake bodies and those touched since. `None` when that cannot be told — more
+    /// than one step since, or a set to be built again — and every body must be looked at.
+    pub(crate) fn changed_since(&self, since: u64) -> Option<impl Iterator<Item = u32> + '_> {
+        if self.stale || self.clears > since + 1 || self.clears < since {
+            return None;
+        }
+        Some(
+            self.slots
+                .iter()
+                .chain(&self.touched)
+                .chain(&self.touched_before)
+                .copied(),
+        )
     }
 
     /// Where the set differs from what a scan of every body finds, if anywhere (checked in

@@ -374,6 +374,23 @@ impl World {
         }
     }
 
+    /// Steps completed so far (each clears the applied forces), for
+    /// [`World::bodies_changed_since`].
+    #[must_use]
+    pub fn completed_steps(&self) -> u64 {
+        self.awake.clears()
+    }
+
+    /// The slots of every body that may have moved or changed (flags, pose, velocity, forces,
+    /// or destroyed) since [`World::completed_steps`] read `since`: the awake bodies and the
+    /// bodies touched since. Every other body is asleep, disabled or gone, and untouched. A
+    /// collision layer that updates before each step visits only these bodies' colliders.
+    /// `None` when that cannot be told (more than one step since, or a world just restored):
+    /// then every body must be looked at. Slots may repeat.
+    pub fn bodies_changed_since(&self, since: u64) -> Option<impl Iterator<Item = u32> + '_> {
+        self.awake.changed_since(since)
+    }
+
     /// Every body with its handle, in slot order.
     pub fn bodies(&self) -> impl Iterator<Item = (BodyHandle, &Body)> + '_ {
         self.bodies.iter()

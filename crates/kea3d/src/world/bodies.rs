@@ -74,6 +74,8 @@ impl PhysicsWorld {
         for c in colliders {
             self.collision.remove_collider(&mut self.dynamics, c)?;
         }
+        // And any attached to it from outside this world's records (a scene's).
+        self.collision.remove_colliders_of(&mut self.dynamics, h);
         self.dynamics.destroy_body(h)?;
         self.meta[h.index() as usize] = None;
         self.driven.retain(|&d| d != h);
