@@ -123,9 +123,9 @@ pub struct CollisionWorld {
     /// The strategy and margin the pairs' manifolds were generated with: a change makes every
     /// manifold be generated anew.
     pub(crate) generated_with: (ContactStrategy, Real),
-    /// Each body's colliders, to find those of the bodies that changed (`awake_colliders.rs`).
+    /// Each body's colliders, to find those of the bodies that changed (`body_colliders.rs`).
     #[cfg_attr(feature = "serde", serde(skip))]
-    pub(crate) by_body: crate::awake_colliders::BodyColliders,
+    pub(crate) by_body: crate::body_colliders::BodyColliders,
     /// The world's `completed_steps` at the last update (`None`: look at every collider).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) bodies_seen_at: Option<u64>,

@@ -24,7 +24,7 @@
 
 #![warn(missing_docs)]
 
-mod awake_colliders;
+mod body_colliders;
 mod broad_phase;
 mod capacity;
 mod cast_window;

@@ -101,7 +101,6 @@ impl World {
     pub(super) fn plan_wake(&mut self) {
         let n = self.bodies.slot_count();
         let s = &mut self.scratch;
-        s.sleep_sets.reset(n);
         let (ft, tt) = (
             self.settings.dem.force_threshold,
             self.settings.dem.torque_threshold,
@@ -127,6 +126,7 @@ impl World {
             s.wake.clear();
             return;
         }
+        s.sleep_sets.reset(n);
         for slot in 0..self.constraints.slot_count() {
             let Some(c) = self.constraints.at(slot) else {
                 continue;

@@ -1,12 +1,8 @@
-//! Which colliders an update must look at: those of the bodies that may have changed since
-//! the last update (`kea::World::bodies_changed_since`: the awake bodies and the ones
-//! touched), found through an index from body to colliders. A collider of a body asleep or
-//! disabled and untouched since is still as it was, so a sleeping pile's colliders cost an
-//! update nothing.
+//! The colliders of each body, as an index an update uses to find the colliders of the
+//! bodies that changed since the last one (`kea::World::bodies_changed_since`; see
+//! `proxies.rs`).
 
 use crate::collider::Slot;
-use crate::collision_world::CollisionWorld;
-use kea::World;
 
 /// The colliders of each body slot, as offsets into one list (built again when colliders
 /// are added or removed).
@@ -83,49 +79,6 @@ impl BodyColliders {
         match (self.first.get(b), self.first.get(b + 1)) {
             (Some(&lo), Some(&hi)) => &self.list[lo as usize..hi as usize],
             _ => &[],
-        }
-    }
-}
-
-impl CollisionWorld {
-    /// Lists in `self.changed` (ascending) the colliders this update must look at, if the
-    /// world can tell which bodies changed since the last update; returns false when every
-    /// collider must be looked at (the first update, colliders added or removed, a restored
-    /// world, or more than one step since).
-    pub(crate) fn list_changed_colliders(&mut self, world: &World) -> bool {
-        if !self.by_body.is_valid() || self.still.len() != self.slots.len() {
-            return false;
-        }
-        let Some(bodies) = self
-            .bodies_seen_at
-            .and_then(|since| world.bodies_changed_since(since))
-        else {
-            return false;
-        };
-        self.changed.clear();
-        for b in bodies {
-            self.changed.extend_from_slice(self.by_body.of(b));
-        }
-        self.changed.sort_unstable();
-        self.changed.dedup();
-        true
-    }
-
-    /// Checks (debug builds) that every collider left out of this update is still: static, or
-    /// on a body asleep or disabled, and marked still.
-    #[cfg(debug_assertions)]
-    pub(crate) fn check_left_out(&self, world: &World) {
-        for (i, s) in self.slots.iter().enumerate() {
-            let Some(c) = &s.collider else { continue };
-            if self.changed.binary_search(&(i as u32)).is_ok() {
-                continue;
-            }
-            let Some(b) = c.def.body else { continue };
-            let body = world.body(b).expect("a destroyed body is a changed one");
-            assert!(
-                (body.is_sleeping() || !body.is_enabled()) && self.still[i],
-                "collider {i} left out of the update, but its body moves"
-            );
         }
     }
 }
