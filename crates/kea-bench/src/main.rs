@@ -73,6 +73,7 @@ fn scenes(quick: bool) -> Vec<Scene> {
         scenes::column(40, s(600)),
         scenes::heavy_light(10, s(600)),
         scenes::sleeping_pyramid(40, s(100)),
+        scenes::sleeping_pyramid_beside_a_pendulum(40, s(100)),
         scenes::chain(100, s(600)),
         scenes::chain(333, s(300)),
         scenes::hanging_chain(333, s(300)),

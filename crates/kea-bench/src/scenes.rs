@@ -158,6 +158,27 @@ pub fn sleeping_pyramid(base: usize, steps: usize) -> Scene {
     s
 }
 
+/// The sleeping pyramid beside something that never sleeps: a ball on a 1.5 m ball joint,
+/// released level, swinging well clear of it. What a sleeping pile costs while the rest of
+/// the world moves (its quality figure is the pendulum's swing, not the pile's).
+pub fn sleeping_pyramid_beside_a_pendulum(base: usize, steps: usize) -> Scene {
+    let mut s = sleeping_pyramid(base, steps);
+    s.name = format!("sleeping pyramid, base {base}, beside a pendulum");
+    let pivot = [base as f32 * 0.5 + 5.0, 3.0, 0.0];
+    s.bodies.push(Body {
+        shape: Shape::Ball(0.25),
+        position: [pivot[0] + 1.5, pivot[1], pivot[2]],
+        density: 1.0,
+    });
+    s.joints.push(Joint {
+        a: None,
+        b: s.bodies.len() - 1,
+        anchor: pivot,
+        kind: JointKind::Ball,
+    });
+    s
+}
+
 /// `count` balls of radius 0.5 in a lattice above a 10 m × 10 m box with 4 walls, falling in:
 /// each layer shifted a little so that they do not stack in columns.
 pub fn balls(count: usize, steps: usize) -> Scene {
