@@ -139,9 +139,6 @@ pub struct CollisionWorld {
     /// restore).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) unrest: Option<u32>,
-    /// This update's narrow phase had nothing to do (see `narrow_pass.rs`).
-    #[cfg_attr(feature = "serde", serde(skip))]
-    pub(crate) quiet: bool,
     /// The events were made by a quiet update: the next quiet one makes the same.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) events_quiet: bool,
@@ -196,7 +193,6 @@ impl CollisionWorld {
             changed: Vec::new(),
             all_still: false,
             unrest: None,
-            quiet: false,
             events_quiet: false,
         }
     }
@@ -501,8 +497,8 @@ impl CollisionWorld {
         self.bodies_seen_at = Some(world.completed_steps());
         self.find_new_pairs();
         let t1 = Stamp::now(world.settings().step_timing);
-        self.narrow_phase(dt);
-        self.apply(world)?;
+        let quiet = self.narrow_phase(dt);
+        self.apply(world, quiet)?;
         self.stats.time_broad_phase = t0.until(t1);
         self.stats.time_narrow_phase = t1.elapsed();
         self.stats.pairs = self.pairs.len() as u32;

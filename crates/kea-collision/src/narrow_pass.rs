@@ -12,20 +12,21 @@ use kea::{Real, MAX_CONTACT_POINTS};
 impl CollisionWorld {
     /// Fills the workers with the manifolds of every pair that can move this step and with
     /// the pairs to forget, chunk by chunk (on all cores with the `parallel` feature).
-    pub(crate) fn narrow_phase(&mut self, dt: Real) {
+    /// Returns whether the update is quiet: nothing to do, and nothing done.
+    pub(crate) fn narrow_phase(&mut self, dt: Real) -> bool {
         // Nothing moves, no pair is new or unsettled, the filter is as it was: every pair
         // rests again, and a pass over them would find nothing (a sleeping pile).
-        self.quiet = self.all_still
+        let quiet = self.all_still
             && !self.jointed_changed
             && self.stats.new_pairs == 0
             && self.unrest == Some(0);
-        if self.quiet {
+        if quiet {
             self.active_workers = 0;
             self.stats.manifolds = 0;
             self.stats.reused_manifolds = 0;
             self.failed_pairs.clear();
             self.stats.failed_pairs = 0;
-            return;
+            return true;
         }
         let chunks = self.pairs.slots.len().div_ceil(PAIR_CHUNK);
         if self.workers.len() < chunks {
@@ -84,5 +85,6 @@ impl CollisionWorld {
             self.failed_pairs.push(pair);
         }
         self.stats.failed_pairs = self.failed_pairs.len() as u32;
+        false
     }
 }

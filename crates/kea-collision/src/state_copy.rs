@@ -81,7 +81,6 @@ macro_rules! each_state_field {
         $m!(bodies_seen_at);
         $m!(all_still);
         $m!(unrest);
-        $m!(quiet);
         $m!(events_quiet);
     };
 }

@@ -14,14 +14,15 @@ impl CollisionWorld {
     /// Writes the wanted manifolds into the world. A new manifold that finds the world's
     /// constraint capacity full is left out (counted in the statistics, and tried again next
     /// step) rather than stopping the world.
-    pub(crate) fn apply(&mut self, world: &mut World) -> CollisionResult<()> {
+    /// `quiet`: the narrow phase had nothing to do (see `narrow_pass.rs`).
+    pub(crate) fn apply(&mut self, world: &mut World, quiet: bool) -> CollisionResult<()> {
         self.stats.dropped_manifolds = 0;
         // The workers stay out of `self` while their findings are applied.
         let workers = std::mem::take(&mut self.workers);
         let applied = self.apply_found(world, &workers[..self.active_workers]);
         self.workers = workers;
         applied?;
-        self.record_events(world);
+        self.record_events(world, quiet);
         if self.stats.dropped_manifolds > 0 {
             log::warn!(
                 "{} contact manifolds left out: the world holds at most {} constraints",
@@ -125,11 +126,11 @@ impl CollisionWorld {
     }
 
     /// Destroys the manifolds no longer generated, and records the pairs' events.
-    fn record_events(&mut self, world: &mut World) {
+    fn record_events(&mut self, world: &mut World, quiet: bool) {
         // A quiet update after a quiet one: every pair rests as it did, touching as it
         // did, so the events are the last update's (each touching pair persisting).
-        let same = self.quiet && self.events_quiet && self.pending_events.is_empty();
-        self.events_quiet = self.quiet && self.pending_events.is_empty();
+        let same = quiet && self.events_quiet && self.pending_events.is_empty();
+        self.events_quiet = quiet && self.pending_events.is_empty();
         if same {
             return;
         }

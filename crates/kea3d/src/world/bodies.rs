@@ -70,11 +70,8 @@ impl PhysicsWorld {
 
     /// Removes a body with its colliders and joints.
     pub fn remove_body(&mut self, h: BodyHandle) -> Result<()> {
-        let colliders: Vec<_> = self.meta(h)?.colliders.iter().map(|c| c.handle).collect();
-        for c in colliders {
-            self.collision.remove_collider(&mut self.dynamics, c)?;
-        }
-        // And any attached to it from outside this world's records (a scene's).
+        self.meta(h)?;
+        // Every collider on it, those its records list and any a scene attached.
         self.collision.remove_colliders_of(&mut self.dynamics, h);
         self.dynamics.destroy_body(h)?;
         self.meta[h.index() as usize] = None;
