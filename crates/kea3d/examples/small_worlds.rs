@@ -4,7 +4,8 @@
 //! stepped one after another on one thread. Prints µs per world step: the figure to profile
 //! (`perf record -g target/release/examples/small_worlds`).
 //!
-//! `cargo run --release -p kea3d --example small_worlds [-- KUKA_URDF]`
+//! `cargo run --release -p kea3d --example small_worlds [-- KUKA_URDF [--euler]]` (`--euler`:
+//! the arm stepped with explicit Euler, as `crates/kea-py/bench/batch_vs_mujoco.py` steps it).
 
 use kea3d::prelude::*;
 use kea3d::robot::UrdfOptions;
@@ -71,8 +72,11 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(200);
-    time("one falling ball", &one_body(), 0.01, steps);
-    time("cart-pole", &cart_pole(), 0.01, steps);
+    // `KEA_ONLY=arm`: the arm alone (a profile of its step with nothing else in it).
+    if std::env::var("KEA_ONLY").as_deref() != Ok("arm") {
+        time("one falling ball", &one_body(), 0.01, steps);
+        time("cart-pole", &cart_pole(), 0.01, steps);
+    }
     if let Some(path) = std::env::args().nth(1) {
         let mut arm = PhysicsWorld::new();
         arm.set_gravity([0.0, 0.0, -9.81]).unwrap();
@@ -84,6 +88,11 @@ fn main() {
         robot
             .set_joint_positions(&mut arm, &[0.4, 0.5, -0.3, -1.1, 0.5, 0.8, 0.2])
             .unwrap();
+        if std::env::args().any(|a| a == "--euler") {
+            arm.dynamics_mut()
+                .update_settings(|s| s.integrator = kea3d::dynamics::Integrator::Euler)
+                .unwrap();
+        }
         arm.set_step_timing(false);
         time("kuka iiwa", &arm, 0.002, steps);
     }

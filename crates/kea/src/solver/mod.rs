@@ -83,7 +83,7 @@ use validate::{validate_inputs, validate_rows};
 pub struct Solver {
     islands: island::Islands,
     exact: exact::ExactWorkspace,
-    iterative: iterative::IterativeWorkspace,
+    iterative: iterative::IterativePass,
     integ: integrate::BodyScratch,
     reports: Vec<IslandReport>,
     /// The most workspace a step has needed so far (`memory_high_water`).
@@ -423,6 +423,34 @@ pub(crate) struct StepArrays<'a> {
     /// them). Row counts and kinds must not depend on the poses for a block to be re-written;
     /// one whose rows change keeps those of the step's start.
     pub(crate) source: Option<&'a dyn RowSource>,
+}
+
+/// The step's arrays read only: what the iterative pass's groups of islands share while each
+/// solves its own (`iterative::IterativePass`).
+#[derive(Clone, Copy)]
+pub(crate) struct StepInputs<'a> {
+    pub(crate) bodies: &'a [SolverBody],
+    pub(crate) blocks: &'a [ConstraintBlock],
+    pub(crate) rows: &'a [Row],
+    pub(crate) contacts: &'a [SolverContact],
+    pub(crate) params: &'a SolverParams,
+    pub(crate) lambda: &'a [Real],
+    pub(crate) source: Option<&'a dyn RowSource>,
+}
+
+impl StepArrays<'_> {
+    /// The arrays to read.
+    pub(crate) fn inputs(&self) -> StepInputs<'_> {
+        StepInputs {
+            bodies: self.bodies,
+            blocks: self.blocks,
+            rows: self.rows,
+            contacts: self.contacts,
+            params: self.params,
+            lambda: self.lambda,
+            source: self.source,
+        }
+    }
 }
 
 impl Solver {

@@ -44,7 +44,8 @@ pub struct SolverStats {
     pub split_rows: u32,
     /// Joint rows of split islands (solved directly).
     pub direct_rows: u32,
-    /// Direct solves of split islands' joints (two per substep).
+    /// Direct solves of split islands' joints (two per substep for each group of islands
+    /// solved on its own).
     pub direct_solves: u32,
     /// Factorisations of those solves.
     pub direct_iterations: u32,

@@ -25,6 +25,7 @@ mod bodies;
 mod contacts;
 mod disjoint;
 mod graph;
+mod pass;
 mod rows;
 mod substep;
 
@@ -33,13 +34,15 @@ use super::integrate::BodyScratch;
 use super::island::Islands;
 use super::sparse::LcpReport;
 use super::wide::SimdLevel;
-use super::{SolverBody, StepArrays};
+use super::{SolverBody, StepArrays, StepInputs};
 use crate::error::{check_positive, KeaError, KeaResult};
 use crate::math::{from_f64, Real};
 use bodies::BodyStates;
 use contacts::{ContactSolver, Stage};
 use rows::JointRows;
 use substep::SubstepPlan;
+
+pub(crate) use pass::IterativePass;
 
 /// Settings of the iterative path. Every field has its unit, normal value and range.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -133,6 +136,8 @@ pub(crate) struct IterativeWorkspace {
     direct: SubstepSystem,
     /// Blocks of the islands solved here, island after island.
     blocks: Vec<u32>,
+    /// The substep of the last solve.
+    hs: Real,
 }
 
 /// What the iterative path did in one step.
@@ -199,11 +204,11 @@ impl IterativeWorkspace {
     fn gather_islands(
         &mut self,
         (islands, split, all): (&[u32], &[bool], &Islands),
-        step: &mut StepArrays<'_>,
-        scratch: &mut BodyScratch,
+        step: &StepInputs<'_>,
+        scratch: &BodyScratch,
         hs: Real,
     ) {
-        let (bodies, params) = (&*step.bodies, step.params);
+        let (bodies, params) = (step.bodies, step.params);
         self.states.begin(bodies.len());
         self.rows.begin();
         self.contacts.begin();
@@ -239,8 +244,8 @@ impl IterativeWorkspace {
 
     /// The rows' forces and reactions, the contacts' forces and the bodies' new states and
     /// constraint forces, written back.
-    fn write_out(&mut self, step: &mut StepArrays<'_>, scratch: &mut BodyScratch, hs: Real) {
-        let (h, params) = (step.params.dt, step.params);
+    pub(crate) fn write_out(&mut self, step: &mut StepArrays<'_>, scratch: &mut BodyScratch) {
+        let (h, params, hs) = (step.params.dt, step.params, self.hs);
         self.rows.write_out(
             &self.states,
             step.blocks,
@@ -342,19 +347,22 @@ impl IterativeWorkspace {
             + rows * 4
     }
 
-    /// Solves the islands `islands` (ids in `all`) together and integrates their bodies; the
-    /// joints of those marked in `split` (one flag per island) are solved directly.
-    /// `step.lambda` holds the rows' warm-start forces on input and their forces on output;
-    /// contacts carry their warm start and get their forces.
+    /// Solves the islands `islands` (ids in `all`) together and integrates their bodies in
+    /// this workspace; the joints of those marked in `split` (one flag per island) are solved
+    /// directly. Reads the step's arrays only: [`IterativeWorkspace::write_out`] then writes
+    /// the rows' forces (`step.lambda` holds their warm start here), the contacts' forces and
+    /// the bodies' new states. Workspaces given islands that share no body can run side by
+    /// side.
     pub(crate) fn solve(
         &mut self,
         (islands, split, all): (&[u32], &[bool], &Islands),
-        step: &mut StepArrays<'_>,
-        scratch: &mut BodyScratch,
+        step: &StepInputs<'_>,
+        scratch: &BodyScratch,
     ) -> IterativeReport {
         let params = step.params;
         let it = &params.iterative;
         let hs = params.dt / it.substeps as Real;
+        self.hs = hs;
         self.gather_islands((islands, split, all), step, scratch, hs);
         let kinds = (self.rows.has_direct(), self.states.has_fast_spin());
         let mut plan = SubstepPlan::new(params, step.blocks, step.source, hs, kinds);
@@ -379,7 +387,6 @@ impl IterativeWorkspace {
         if plan.synchronised(&self.states) {
             self.synchronise(step.bodies, &plan, rows_left, &mut report);
         }
-        self.write_out(step, scratch, hs);
         let (colours, overflow) = self.contacts.colour_stats();
         IterativeReport {
             sweeps: it.substeps * (it.iterations + it.relax_iterations),

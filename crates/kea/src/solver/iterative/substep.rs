@@ -113,7 +113,7 @@ impl IterativeWorkspace {
     /// Every substep of the step, in order; the direct solves are counted in `report`.
     pub(super) fn run_substeps(
         &mut self,
-        bodies: &mut [SolverBody],
+        bodies: &[SolverBody],
         plan: &mut SubstepPlan<'_>,
         report: &mut DirectReport,
     ) {

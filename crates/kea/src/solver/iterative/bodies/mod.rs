@@ -204,10 +204,17 @@ impl BodyStates {
 
     /// Empties the set, keeping only the static world at local index 0.
     pub(crate) fn begin(&mut self, body_count: usize) {
-        for v in [&mut self.global, &mut self.local_of] {
-            v.clear();
+        // Only the entries the last step set are reset: a workspace that solves a few small
+        // islands of a big world costs what they hold, not what the world does.
+        for &g in self.global.iter().skip(1) {
+            if let Some(l) = self.local_of.get_mut(g as usize) {
+                *l = NONE;
+            }
         }
-        self.local_of.resize(body_count, NONE);
+        self.global.clear();
+        if self.local_of.len() < body_count {
+            self.local_of.resize(body_count, NONE);
+        }
         self.vel.clear();
         self.delta.clear();
         self.inv_mass.clear();
