@@ -3,7 +3,10 @@
 //! solves them in groups of its own making, side by side on threads where there are threads.
 //! A ragdoll's motion must not depend on the others beyond the solver's tolerances: each one
 //! here follows the same ragdoll dropped alone, its joints hold, and with the `parallel`
-//! feature every thread count gives the same bits.
+//! feature every thread count gives the same bits. A pile of ragdolls
+//! (`scenes/ragdoll_pile.json`) is one island whose joints are several trees, each solved
+//! directly as a system of its own: its joints hold as well, on the same bits on every
+//! thread count.
 
 use kea::{IslandList, Real, SolverPath};
 use kea3d::PhysicsWorld;
@@ -121,24 +124,74 @@ fn largest_difference(all: &PhysicsWorld, alone: &[PhysicsWorld]) -> Real {
 
 #[cfg(feature = "parallel")]
 #[test]
-fn ragdolls_apart_give_the_same_bits_on_every_thread_count() {
-    let scene = Scene::from_json(&scene_text()).unwrap();
-    let run = || {
-        let mut w = world_of(&scene);
-        for _ in 0..STEPS {
-            w.step(DT).unwrap();
+fn ragdolls_apart_and_piled_give_the_same_bits_on_every_thread_count() {
+    for file in ["ragdolls_apart.json", "ragdoll_pile.json"] {
+        let path = format!("{}/../../scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let run = || {
+            let mut w = world_of(&scene);
+            for _ in 0..STEPS {
+                w.step(DT).unwrap();
+            }
+            positions(&w)
+                .into_iter()
+                .map(|(n, p)| (n, p.map(Real::to_bits)))
+                .collect::<Vec<_>>()
+        };
+        let one = run();
+        for threads in [1, 2, 3, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(pool.install(run), one, "{file}: {threads} threads");
         }
-        positions(&w)
-            .into_iter()
-            .map(|(n, p)| (n, p.map(Real::to_bits)))
-            .collect::<Vec<_>>()
-    };
-    let one = run();
-    for threads in [1, 2, 3, 4] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        assert_eq!(pool.install(run), one, "{threads} threads");
     }
+}
+
+/// `scenes/ragdoll_pile.json`: four ragdolls dropped crosswise onto each other make one
+/// island, whose joints fall into four trees that no joint links (the contacts between the
+/// ragdolls are the contact solver's): the direct solve takes each tree as a system of its
+/// own. The pile must hold its joints as one ragdoll does.
+#[test]
+fn a_pile_of_ragdolls_is_one_island_whose_joints_hold() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/ragdoll_pile.json"
+    );
+    let scene = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut world = world_of(&scene);
+    let pelvises: Vec<_> = (0..4)
+        .map(|i| world.body_by_name(&format!("ragdoll{i}.pelvis")).unwrap())
+        .collect();
+    let mut islands = IslandList::default();
+    let (mut piled_steps, mut worst_gap): (usize, Real) = (0, 0.0);
+    for _ in 0..STEPS {
+        world.step(DT).unwrap();
+        world.dynamics().islands(&mut islands);
+        let first = islands.island_of(pelvises[0]);
+        let together = pelvises
+            .iter()
+            .filter(|&&p| islands.island_of(p) == first)
+            .count();
+        if together >= 3 {
+            let n = islands.bodies(first.unwrap()).len() as u32;
+            assert!(
+                world
+                    .dynamics()
+                    .island_reports()
+                    .iter()
+                    .any(|r| r.path == SolverPath::Split && r.bodies == n),
+                "the pile of {n} bodies was not solved split"
+            );
+            piled_steps += 1;
+        }
+        worst_gap = worst_gap.max(world.dynamics_mut().joint_error());
+    }
+    eprintln!(
+        "three or more ragdolls in one island for {piled_steps} of {STEPS} steps; worst joint gap {:.4} mm",
+        worst_gap * 1e3
+    );
+    assert!(piled_steps > STEPS / 2, "piled for {piled_steps} steps");
+    assert!(worst_gap < 1.0e-3, "a joint opened by {worst_gap} m");
 }

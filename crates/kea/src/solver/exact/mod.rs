@@ -26,6 +26,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod assembly;
+mod components;
 mod contacts;
 mod dense;
 mod project;
@@ -43,7 +44,8 @@ use crate::solver::sparse::pattern::{BlockBodies, PatternCache};
 use crate::solver::sparse::pivoting::{self, FrictionLink, LcpWorkspace, System, Unknowns};
 use crate::solver::sparse::tree::TreeSystem;
 pub(crate) use crate::solver::sparse::{LcpReport, Limits};
-pub(crate) use substep::SubstepSystem;
+pub(crate) use components::ComponentSystems;
+use substep::SubstepSystem;
 
 /// A row's Jacobian and `M⁻¹Jᵀ` in `f64`, linear then angular, per body slot.
 pub(crate) type RowValues = ([DVec3; 4], [DVec3; 4]);

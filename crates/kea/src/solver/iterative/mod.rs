@@ -29,7 +29,7 @@ mod pass;
 mod rows;
 mod substep;
 
-use super::exact::SubstepSystem;
+use super::exact::ComponentSystems;
 use super::integrate::BodyScratch;
 use super::island::Islands;
 use super::sparse::LcpReport;
@@ -133,7 +133,7 @@ pub(crate) struct IterativeWorkspace {
     rows: JointRows,
     contacts: ContactSolver,
     /// The split islands' joint rows as one direct system.
-    direct: SubstepSystem,
+    direct: ComponentSystems,
     /// Blocks of the islands solved here, island after island.
     blocks: Vec<u32>,
     /// The substep of the last solve.

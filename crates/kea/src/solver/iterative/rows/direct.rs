@@ -4,7 +4,8 @@
 //! Each pass computes, for every such row, the same residual a sweep would
 //! (`r = c − bias − J v − e·P`) and solves all of them at once for the impulses that zero it,
 //! within their bounds: `(J M⁻¹ Jᵀ + E)(P_new − P) = r` by the exact path's block-sparse
-//! factorisation and pivoting ([`SubstepSystem`]). A chain or a ragdoll is then as rigid after
+//! factorisation and pivoting, one system per joint-connected component
+//! ([`ComponentSystems`]). A chain or a ragdoll is then as rigid after
 //! each pass as its linearisation allows, however long or heavy-ended, while its contacts
 //! (solved around it by the contact solver) keep their cost. Hard rows are solved rigidly in
 //! both passes (their bias in the biased one only), soft rows as the springs they are.
@@ -12,7 +13,7 @@
 use super::super::bodies::{BodyStates, NONE};
 use super::{JointRows, HARD, UNILATERAL};
 use crate::math::{to_f64, wide, Real, Vec3};
-use crate::solver::exact::SubstepSystem;
+use crate::solver::exact::ComponentSystems;
 use crate::solver::sparse::{LcpReport, Limits};
 
 /// The fraction of a hard equality row's error its biased direct solve removes per substep
@@ -27,7 +28,7 @@ impl JointRows {
 
     /// Writes the direct rows' system at their present linearisation (after gathering or
     /// re-linearising).
-    pub(crate) fn assemble_direct(&mut self, states: &BodyStates, sys: &mut SubstepSystem) {
+    pub(crate) fn assemble_direct(&mut self, states: &BodyStates, sys: &mut ComponentSystems) {
         sys.clear(states.vel.len());
         self.direct_rows.clear();
         self.direct_index.clear();
@@ -109,7 +110,7 @@ impl JointRows {
     /// bounds and guess, `(r, lo, hi, guess)` from `row(self, i)`.
     fn fill_direct(
         &self,
-        sys: &mut SubstepSystem,
+        sys: &mut ComponentSystems,
         row: impl Fn(&Self, usize) -> (f64, f64, f64, f64),
     ) {
         sys.begin_pass();
@@ -124,7 +125,7 @@ impl JointRows {
     pub(crate) fn solve_direct(
         &mut self,
         states: &mut BodyStates,
-        sys: &mut SubstepSystem,
+        sys: &mut ComponentSystems,
         hs: Real,
         use_bias: bool,
         max_speed: Real,
@@ -180,7 +181,7 @@ impl JointRows {
     pub(crate) fn stabilise(
         &mut self,
         states: &mut BodyStates,
-        sys: &mut SubstepSystem,
+        sys: &mut ComponentSystems,
         limits: Limits,
     ) -> LcpReport {
         let n = self.direct_rows.len();
