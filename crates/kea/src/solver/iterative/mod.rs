@@ -184,6 +184,19 @@ impl DirectReport {
         self.capped += u32::from(r.capped && !r.converged);
         self.bounds_moving += u32::from(r.bounds_moving);
     }
+
+    /// Adds another group's direct solves to these (the worst error the larger).
+    pub(crate) fn absorb(&mut self, d: &DirectReport) {
+        self.rows += d.rows;
+        self.solves += d.solves;
+        self.iterations += d.iterations;
+        self.pivots += d.pivots;
+        self.singular += d.singular;
+        self.cycled += d.cycled;
+        self.capped += d.capped;
+        self.bounds_moving += d.bounds_moving;
+        self.worst_error = self.worst_error.max(d.worst_error);
+    }
 }
 
 /// How the joint rows stand at the poses the step reached.

@@ -125,16 +125,7 @@ fn merge(reports: &[IterativeReport]) -> IterativeReport {
         all.colours = all.colours.max(r.colours);
         all.overflow += r.overflow;
         all.lanes = all.lanes.max(r.lanes);
-        let d = &r.direct;
-        direct.rows += d.rows;
-        direct.solves += d.solves;
-        direct.iterations += d.iterations;
-        direct.pivots += d.pivots;
-        direct.singular += d.singular;
-        direct.cycled += d.cycled;
-        direct.capped += d.capped;
-        direct.bounds_moving += d.bounds_moving;
-        direct.worst_error = direct.worst_error.max(d.worst_error);
+        direct.absorb(&r.direct);
     }
     all.direct = direct;
     all
