@@ -19,3 +19,27 @@ pub fn on_pool<R: Send>(bodies: usize, step: impl FnOnce() -> R + Send) -> R {
     let _ = bodies;
     step()
 }
+
+/// `out[i] = f(i, &mut items[i])` for every item: side by side on the pool when the caller is
+/// already on it (a step that hopped, see [`on_pool`]) and there is more than one item, else
+/// one after another. The items must share nothing `f` writes; either way each result is the
+/// one `f` gives, so the bits do not depend on the thread count.
+pub(crate) fn each_side_by_side<T: Send, R: Send>(
+    items: &mut [T],
+    out: &mut [R],
+    f: impl Fn(usize, &mut T) -> R + Sync,
+) {
+    #[cfg(feature = "parallel")]
+    if items.len() > 1 && rayon::current_thread_index().is_some() {
+        use rayon::prelude::*;
+        items
+            .par_iter_mut()
+            .zip(out.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (item, o))| *o = f(i, item));
+        return;
+    }
+    for (i, (item, o)) in items.iter_mut().zip(out.iter_mut()).enumerate() {
+        *o = f(i, item);
+    }
+}

@@ -15,6 +15,7 @@
 
 use super::{LcpReport, Limits, RowValues, SubstepSystem};
 use crate::solver::sparse::pivoting::FrictionLink;
+use crate::threads::each_side_by_side;
 use crate::union_find::UnionFind;
 
 const NONE: u32 = u32::MAX;
@@ -104,7 +105,9 @@ impl ComponentSystems {
             let mine = &rows[start[c] as usize..start[c + 1] as usize];
             sys.assemble(|l| row(mine[l] as usize));
         };
-        each_system(&mut self.systems[..self.used], build);
+        // `()` per system: a Vec of them holds no memory.
+        let mut done = vec![(); self.used];
+        each_side_by_side(&mut self.systems[..self.used], &mut done, build);
     }
 
     /// Numbers the components by their first block and files each row's.
@@ -210,37 +213,9 @@ impl ComponentSystems {
         let used = self.used;
         self.reports.clear();
         self.reports.resize(used, LcpReport::default());
-        let reports = &mut self.reports;
         let systems = &mut self.systems[..used];
-        #[cfg(feature = "parallel")]
-        if used > 1 && rayon::current_thread_index().is_some() {
-            use rayon::prelude::*;
-            systems
-                .par_iter_mut()
-                .zip(reports.par_iter_mut())
-                .for_each(|(sys, r)| *r = sys.solve(limits));
-            return merge(&self.reports);
-        }
-        for (sys, r) in systems.iter_mut().zip(reports.iter_mut()) {
-            *r = sys.solve(limits);
-        }
+        each_side_by_side(systems, &mut self.reports, |_, sys| sys.solve(limits));
         merge(&self.reports)
-    }
-}
-
-/// Runs `f` on every system with its index, side by side on the pool where there is one.
-fn each_system(systems: &mut [SubstepSystem], f: impl Fn(usize, &mut SubstepSystem) + Sync) {
-    #[cfg(feature = "parallel")]
-    if systems.len() > 1 && rayon::current_thread_index().is_some() {
-        use rayon::prelude::*;
-        systems
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(c, sys)| f(c, sys));
-        return;
-    }
-    for (c, sys) in systems.iter_mut().enumerate() {
-        f(c, sys);
     }
 }
 

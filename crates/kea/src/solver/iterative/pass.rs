@@ -75,24 +75,8 @@ impl IterativePass {
             let mine = (&islands[range.clone()], &split[range], all);
             ws.solve(mine, &inputs, shared)
         };
-        let (workspaces, reports) = (&mut self.workspaces[..groups], &mut self.reports);
-        #[cfg(feature = "parallel")]
-        if groups > 1 && rayon::current_thread_index().is_some() {
-            use rayon::prelude::*;
-            workspaces
-                .par_iter_mut()
-                .zip(reports.par_iter_mut())
-                .enumerate()
-                .for_each(|(g, (ws, report))| *report = run(g, ws));
-        } else {
-            for (g, (ws, report)) in workspaces.iter_mut().zip(reports.iter_mut()).enumerate() {
-                *report = run(g, ws);
-            }
-        }
-        #[cfg(not(feature = "parallel"))]
-        for (g, (ws, report)) in workspaces.iter_mut().zip(reports.iter_mut()).enumerate() {
-            *report = run(g, ws);
-        }
+        let workspaces = &mut self.workspaces[..groups];
+        crate::threads::each_side_by_side(workspaces, &mut self.reports, run);
         for ws in &mut self.workspaces[..groups] {
             ws.write_out(step, scratch);
         }
