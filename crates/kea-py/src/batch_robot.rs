@@ -27,18 +27,28 @@ impl PyBatch {
         read: F,
     ) -> PyResult<Bound<'py, PyArray2<f64>>>
     where
-        F: Fn(&PhysicsWorld, &mut [f64]) -> kea3d::Result<()> + Sync + Send,
+        F: Fn(&PhysicsWorld, &mut [Real]) -> kea3d::Result<()> + Sync + Send,
     {
         let n = self.worlds.len();
         let mut out = vec![0.0; n * width];
-        // On the batch's own threads (as stepping), not rayon's global pool.
+        // On the batch's own threads (as stepping), not rayon's global pool; each thread
+        // reads into one buffer of its own, then widens it into the world's row.
         let (pool, worlds) = (&self.pool, &self.worlds);
         py(py_.detach(|| {
             pool.install(|| {
                 worlds
                     .par_iter()
                     .zip(out.par_chunks_mut(width.max(1)))
-                    .try_for_each(|(w, row)| read(w, row))
+                    .try_for_each_init(
+                        || vec![0.0; width],
+                        |values, (w, row)| {
+                            read(w, values)?;
+                            for (o, &v) in row.iter_mut().zip(values.iter()) {
+                                *o = f64::from(v);
+                            }
+                            Ok(())
+                        },
+                    )
             })
         }))?;
         PyArray1::from_vec(py_, out).reshape([n, width])
@@ -69,20 +79,13 @@ impl PyBatch {
     }
 }
 
-fn copy_out(values: Vec<Real>, row: &mut [f64]) {
-    for (o, v) in row.iter_mut().zip(values) {
-        *o = f64::from(v);
-    }
-}
-
 #[pymethods]
 impl PyBatch {
     /// Every world's joint positions, (N, position_count) float64.
     fn joint_positions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
         self.gather(py_, robot.position_count(), |w, row| {
-            copy_out(robot.joint_positions(w)?, row);
-            Ok(())
+            robot.joint_positions_into(w, row)
         })
     }
 
@@ -90,8 +93,7 @@ impl PyBatch {
     fn joint_velocities<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
         self.gather(py_, robot.velocity_count(), |w, row| {
-            copy_out(robot.joint_velocities(w)?, row);
-            Ok(())
+            robot.joint_velocities_into(w, row)
         })
     }
 
@@ -157,7 +159,7 @@ impl PyBatch {
         let local = crate::convert::vec3(point);
         self.gather(py_, 3, |w, row| {
             let p = robot.link_pose(w, index)?.point(local);
-            copy_out(vec![p.x, p.y, p.z], row);
+            row.copy_from_slice(&[p.x, p.y, p.z]);
             Ok(())
         })
     }
@@ -170,12 +172,9 @@ impl PyBatch {
         let flat = self.gather(py_, nj * 6, |w, row| {
             for (j, out) in joints.iter().zip(row.chunks_exact_mut(6)) {
                 let [r, _] = w.dynamics().constraint_reaction(j.raw)?;
-                copy_out(
-                    vec![
-                        r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
-                    ],
-                    out,
-                );
+                out.copy_from_slice(&[
+                    r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
+                ]);
             }
             Ok(())
         })?;

@@ -81,10 +81,25 @@ pub(crate) trait HandleKind: Copy {
     fn from_parts(world: u32, index: u32, generation: u32) -> Self;
 }
 
-#[derive(Clone)]
 struct Slot<T> {
     generation: u32,
     value: Option<T>,
+}
+
+impl<T: Clone> Clone for Slot<T> {
+    fn clone(&self) -> Self {
+        Self {
+            generation: self.generation,
+            value: self.value.clone(),
+        }
+    }
+
+    /// Reuses the value's own buffers (a boxed joint's box), so that copying a warm world's
+    /// state into another allocates nothing.
+    fn clone_from(&mut self, source: &Self) {
+        self.generation = source.generation;
+        self.value.clone_from(&source.value);
+    }
 }
 
 /// An arena's slots and free list, as a snapshot holds them.

@@ -8,7 +8,7 @@
 //! the arm stepped with explicit Euler, as `crates/kea-py/bench/batch_vs_mujoco.py` steps it).
 
 use kea3d::prelude::*;
-use kea3d::robot::UrdfOptions;
+use kea3d::robot::{Robot, UrdfOptions};
 use std::time::Instant;
 
 fn cart_pole() -> PhysicsWorld {
@@ -94,6 +94,52 @@ fn main() {
                 .unwrap();
         }
         arm.set_step_timing(false);
-        time("kuka iiwa", &arm, 0.002, steps);
+        if std::env::var("KEA_WORLDS").is_err() {
+            time("kuka iiwa", &arm, 0.002, steps);
+        }
+        closed_loop("kuka iiwa", &arm, &robot, 0.002, steps);
     }
+}
+
+/// The arm as `kea.Batch` steps it in a closed loop: each world holds only its state, a hot
+/// worker trades states with it, steps five times, trades back, and the joint positions are
+/// read (`KEA_SUBSTEPS` steps per environment step, 5 by default).
+fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, steps: usize) {
+    let substeps: usize = std::env::var("KEA_SUBSTEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5);
+    let mut held = template.clone();
+    held.trim_to_state();
+    let count: usize = std::env::var("KEA_WORLDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1024);
+    let mut worlds = vec![held; count];
+    let mut worker = template.clone();
+    let mut q = vec![0.0; robot.position_count()];
+    let mut env_step = |worlds: &mut [PhysicsWorld]| {
+        for w in worlds.iter_mut() {
+            worker.swap_state(w);
+            for _ in 0..substeps {
+                worker.step(dt).unwrap();
+            }
+            worker.swap_state(w);
+        }
+        for w in worlds.iter() {
+            robot.joint_positions_into(w, &mut q).unwrap();
+        }
+    };
+    env_step(&mut worlds); // warm
+    let env_steps = (steps / substeps).max(1);
+    let start = Instant::now();
+    for _ in 0..env_steps {
+        env_step(&mut worlds);
+    }
+    let per = start.elapsed().as_secs_f64() * 1e6 / (worlds.len() * env_steps * substeps) as f64;
+    println!(
+        "{name}, closed loop: {per:.2} µs per world step ({} worlds × {env_steps} environment \
+         steps of {substeps} steps, each world traded into a worker and its joints read)",
+        worlds.len()
+    );
 }

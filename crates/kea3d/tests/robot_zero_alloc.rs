@@ -13,7 +13,8 @@ static ALLOCATOR: counting::CountingAllocator = counting::CountingAllocator;
 
 #[test]
 fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
-    // A planar hopper-like root, joint dynamics and springs, actuators of every kind, stops,
+    // A planar hopper-like root, joint dynamics and springs, a ball joint with a cone limit
+    // (a boxed joint: copying states reuses its box), actuators of every kind, stops,
     // a fixed tendon with a spring, a damper and a range, contacts with a floor (in joint
     // space: the tree stays reduced), and world substeps:
     // everything a robot adds to a step.
@@ -32,6 +33,10 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
             <body name="shin" pos="0 0 -0.4">
               <joint name="knee" type="hinge" axis="0 -1 0" range="-150 0"/>
               <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.04"/>
+              <body name="foot" pos="0 0 -0.4">
+                <joint name="ankle" type="ball" range="0 30"/>
+                <geom type="sphere" size="0.05" contype="0" conaffinity="0"/>
+              </body>
             </body>
           </body>
         </body>

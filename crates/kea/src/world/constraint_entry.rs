@@ -9,7 +9,7 @@ use crate::math::Real;
 use crate::solver::Reaction;
 
 /// The kinds of constraint a world holds.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 // Contacts stay inline: they are the most numerous entries and come and go every step, so
 // boxing them would allocate in warm steps.
 #[allow(clippy::large_enum_variant)]
@@ -25,12 +25,44 @@ pub(crate) enum ConstraintKind {
     Universal(UniversalJoint),
     Linear1(Linear1),
     Linear2(Linear2),
-    Planar(Planar),
+    // Boxed: a planar joint (three coordinates, each with its limit) is half again as large
+    // as a contact, and would set the size of every slot.
+    Planar(Box<Planar>),
     Path(FixedPath),
     Wheel(Box<CarWheel>),
     /// (A snapshot refuses a world holding one: user code cannot be saved.)
     #[cfg_attr(feature = "serde", serde(skip))]
     Custom(Box<dyn CustomConstraint>),
+}
+
+impl Clone for ConstraintKind {
+    fn clone(&self) -> Self {
+        match self {
+            ConstraintKind::Contact(c) => ConstraintKind::Contact(c.clone()),
+            ConstraintKind::Ball(j) => ConstraintKind::Ball(j.clone()),
+            ConstraintKind::Hinge(j) => ConstraintKind::Hinge(j.clone()),
+            ConstraintKind::Prismatic(j) => ConstraintKind::Prismatic(j.clone()),
+            ConstraintKind::Fixed(j) => ConstraintKind::Fixed(j.clone()),
+            ConstraintKind::Universal(j) => ConstraintKind::Universal(j.clone()),
+            ConstraintKind::Linear1(j) => ConstraintKind::Linear1(j.clone()),
+            ConstraintKind::Linear2(j) => ConstraintKind::Linear2(j.clone()),
+            ConstraintKind::Planar(j) => ConstraintKind::Planar(j.clone()),
+            ConstraintKind::Path(j) => ConstraintKind::Path(j.clone()),
+            ConstraintKind::Wheel(j) => ConstraintKind::Wheel(j.clone()),
+            ConstraintKind::Custom(c) => ConstraintKind::Custom(c.clone()),
+        }
+    }
+
+    /// A boxed joint copied onto one of its kind reuses its box: copying a warm world's
+    /// state into another (a batch's worker) allocates nothing.
+    fn clone_from(&mut self, source: &Self) {
+        match (self, source) {
+            (ConstraintKind::Ball(a), ConstraintKind::Ball(b)) => a.clone_from(b),
+            (ConstraintKind::Planar(a), ConstraintKind::Planar(b)) => a.clone_from(b),
+            (ConstraintKind::Wheel(a), ConstraintKind::Wheel(b)) => a.clone_from(b),
+            (this, source) => *this = source.clone(),
+        }
+    }
 }
 
 impl ConstraintKind {
@@ -96,7 +128,7 @@ impl ConstraintKind {
 }
 
 /// A constraint slot's contents.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(crate) struct ConstraintEntry {
     pub(crate) kind: ConstraintKind,
@@ -111,6 +143,34 @@ pub(crate) struct ConstraintEntry {
     /// Breaking thresholds on the reaction force and torque on body 1 (N, N·m).
     pub(crate) break_force: Option<Real>,
     pub(crate) break_torque: Option<Real>,
+}
+
+impl Clone for ConstraintEntry {
+    fn clone(&self) -> Self {
+        Self {
+            kind: self.kind.clone(),
+            ..*self
+        }
+    }
+
+    /// Copies the kind in place ([`ConstraintKind::clone_from`]): no allocation.
+    fn clone_from(&mut self, source: &Self) {
+        // Every field named, so that a new one cannot be missed.
+        let Self {
+            kind,
+            bodies,
+            enabled,
+            last_rows,
+            reaction,
+            gamma,
+            break_force,
+            break_torque,
+        } = source;
+        self.kind.clone_from(kind);
+        (self.bodies, self.enabled, self.last_rows) = (*bodies, *enabled, *last_rows);
+        (self.reaction, self.gamma) = (*reaction, *gamma);
+        (self.break_force, self.break_torque) = (*break_force, *break_torque);
+    }
 }
 
 impl ConstraintEntry {

@@ -64,7 +64,7 @@ macro_rules! joint_inside {
             ConstraintKind::Universal(j) => j,
             ConstraintKind::Linear1(j) => j,
             ConstraintKind::Linear2(j) => j,
-            ConstraintKind::Planar(j) => j,
+            ConstraintKind::Planar(j) => j.$unbox(),
             ConstraintKind::Path(j) => j,
             ConstraintKind::Wheel(j) => j.$unbox(),
             ConstraintKind::Contact(_) | ConstraintKind::Custom(_) => return None,

@@ -314,7 +314,7 @@ impl Shape {
                 let normal = check_unit("normal", normal)?;
                 let axis = check_unit("axis", axis)?;
                 check_perpendicular("axis", axis, normal, "must be perpendicular to normal")?;
-                ConstraintKind::Planar(Planar::new(ctx, a, normal, axis, rotates))
+                ConstraintKind::Planar(Box::new(Planar::new(ctx, a, normal, axis, rotates)))
             }
             Shape::FixedPath(anchor, fixed) => {
                 let a = check_coordinate("anchor", anchor)?;

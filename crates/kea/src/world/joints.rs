@@ -73,7 +73,7 @@ impl World {
             }
             ConstraintKind::Linear1(_) => ConstraintKind::Linear1(Linear1::new(&ctx, o, Vec3::Y)),
             ConstraintKind::Planar(j) => {
-                ConstraintKind::Planar(Planar::new(&ctx, o, Vec3::Y, Vec3::X, j.rotates))
+                ConstraintKind::Planar(Box::new(Planar::new(&ctx, o, Vec3::Y, Vec3::X, j.rotates)))
             }
             ConstraintKind::Linear2(_) => ConstraintKind::Linear2(Linear2::new(&ctx, o, Vec3::Y)),
             ConstraintKind::Path(j) => {

@@ -217,11 +217,21 @@ impl Robot {
     /// joint — MuJoCo's `qpos` layout.
     pub fn joint_positions(&self, world: &PhysicsWorld) -> Result<Vec<Real>> {
         let mut q = vec![0.0; self.positions];
+        self.joint_positions_into(world, &mut q)?;
+        Ok(q)
+    }
+
+    /// [`Robot::joint_positions`] written into `q`, which must hold
+    /// [`Robot::position_count`] entries: no allocation (a batch reads every world's row in
+    /// place). On an error `q` is partly written.
+    pub fn joint_positions_into(&self, world: &PhysicsWorld, q: &mut [Real]) -> Result<()> {
+        check_len("q", q, self.positions)?;
+        let mut last = None;
         for j in &self.joints {
             let out = &mut q[j.first_position..j.first_position + j.kind.position_count()];
-            self.read_position(world, j, out)?;
+            self.read_position(world, j, out, &mut last)?;
         }
-        Ok(q)
+        Ok(())
     }
 
     /// The joint velocities in the file's joint order (MuJoCo's `qvel`: a free joint's linear
@@ -229,25 +239,51 @@ impl Robot {
     /// relative angular velocity in the child's frame).
     pub fn joint_velocities(&self, world: &PhysicsWorld) -> Result<Vec<Real>> {
         let mut v = vec![0.0; self.velocities];
-        for j in &self.joints {
-            let out = &mut v[j.first_velocity..j.first_velocity + j.kind.velocity_count()];
-            self.read_velocity(world, j, out)?;
-        }
+        self.joint_velocities_into(world, &mut v)?;
         Ok(v)
     }
 
-    /// The parent's frame the child moves in (the child's frame at coordinates 0), and the
-    /// child's frame, in the world now.
-    fn frames(&self, world: &PhysicsWorld, j: &RobotJoint) -> Result<(Pose, Pose)> {
-        let zero = self.link_pose(world, j.parent_link)?.then(&j.origin);
-        Ok((zero, self.link_pose(world, j.child_link)?))
+    /// [`Robot::joint_velocities`] written into `v`, which must hold
+    /// [`Robot::velocity_count`] entries: no allocation. On an error `v` is partly written.
+    pub fn joint_velocities_into(&self, world: &PhysicsWorld, v: &mut [Real]) -> Result<()> {
+        check_len("v", v, self.velocities)?;
+        let mut last = None;
+        for j in &self.joints {
+            let out = &mut v[j.first_velocity..j.first_velocity + j.kind.velocity_count()];
+            self.read_velocity(world, j, out, &mut last)?;
+        }
+        Ok(())
     }
 
-    fn read_position(&self, world: &PhysicsWorld, j: &RobotJoint, out: &mut [Real]) -> Result<()> {
+    /// The parent's frame the child moves in (the child's frame at coordinates 0), and the
+    /// child's frame, in the world now. `last` is the link whose pose was found last, and that
+    /// pose: reused when it is this joint's parent (a chain finds each link's pose once).
+    fn frames(
+        &self,
+        world: &PhysicsWorld,
+        j: &RobotJoint,
+        last: &mut Option<(usize, Pose)>,
+    ) -> Result<(Pose, Pose)> {
+        let parent = match *last {
+            Some((link, pose)) if link == j.parent_link => pose,
+            _ => self.link_pose(world, j.parent_link)?,
+        };
+        let child = self.link_pose(world, j.child_link)?;
+        *last = Some((j.child_link, child));
+        Ok((parent.then(&j.origin), child))
+    }
+
+    fn read_position(
+        &self,
+        world: &PhysicsWorld,
+        j: &RobotJoint,
+        out: &mut [Real],
+        last: &mut Option<(usize, Pose)>,
+    ) -> Result<()> {
         if j.kind == JointType::Fixed {
             return Ok(());
         }
-        let (zero, child) = self.frames(world, j)?;
+        let (zero, child) = self.frames(world, j, last)?;
         let delta = zero.inverse().then(&child);
         match j.kind {
             JointType::Free => {
@@ -306,13 +342,19 @@ impl Robot {
         Ok(())
     }
 
-    fn read_velocity(&self, world: &PhysicsWorld, j: &RobotJoint, out: &mut [Real]) -> Result<()> {
+    fn read_velocity(
+        &self,
+        world: &PhysicsWorld,
+        j: &RobotJoint,
+        out: &mut [Real],
+        last: &mut Option<(usize, Pose)>,
+    ) -> Result<()> {
         if j.kind == JointType::Fixed {
             return Ok(());
         }
         let parent = self.links[j.parent_link].body;
         let child = self.links[j.child_link].body;
-        let (zero, child_frame) = self.frames(world, j)?;
+        let (zero, child_frame) = self.frames(world, j, last)?;
         let (vp, wp, cp) = motion(world, parent)?;
         let (_, wc, _) = motion(world, child)?;
         let anchor = child_frame.point(j.anchor);
@@ -445,7 +487,7 @@ impl Robot {
             let parent = self.links[j.parent_link].body;
             let child = self.links[link].body;
             let (vp, wp, cp) = motion(&staged, parent)?;
-            let (zero, frame) = self.frames(&staged, j)?;
+            let (zero, frame) = self.frames(&staged, j, &mut None)?;
             let com = staged.body(child)?.position();
             let anchor = frame.point(j.anchor);
             let carried = vp + wp.cross(com - cp);
@@ -518,20 +560,26 @@ fn quat_from(q: &[Real], arg: &'static str) -> Result<Quat> {
 
 /// Refuses a vector of the wrong length or with a non-finite entry, naming it.
 pub(crate) fn check_vector(arg: &'static str, x: &[Real], len: usize) -> Result<()> {
+    check_len(arg, x, len)?;
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(KeaError::OutOfRange {
+            arg,
+            value: format!("entry {i} = {}", x[i]),
+            expected: "finite numbers",
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// Checks that `x` has one entry per joint coordinate.
+fn check_len(arg: &'static str, x: &[Real], len: usize) -> Result<()> {
     if x.len() != len {
         return Err(KeaError::OutOfRange {
             arg,
             value: format!("{} entries", x.len()),
             expected:
                 "one entry per joint coordinate (the robot's position_count or velocity_count)",
-        }
-        .into());
-    }
-    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(KeaError::OutOfRange {
-            arg,
-            value: format!("entry {i} = {}", x[i]),
-            expected: "finite numbers",
         }
         .into());
     }
