@@ -86,7 +86,7 @@ impl ArticulatedTree {
     /// Puts each chart where MuJoCo's Euler step would leave it (module docs), from the
     /// step's start (`q_start`, `rate0`) and its end rates `qd`; `q`, `qd` are the end.
     pub(super) fn turn_charts_as_mujoco(&self, q: &mut [f64], qd: &mut [f64], h: f64) {
-        for &k in &self.charts {
+        for &k in &self.model.charts {
             let r = k..k + 3;
             let q0: [f64; 3] = self.q_start[r.clone()].try_into().expect("three");
             let v0: [f64; 3] = self.rate0[r.clone()].try_into().expect("three");

@@ -114,7 +114,7 @@ impl ArticulatedTree {
         let mut centre = DVec3::ZERO;
         for i in 0..n {
             let local = self.rot[i].transpose();
-            let (r, p) = match self.parents[i] {
+            let (r, p) = match self.model.parents[i] {
                 Some(a) => (b.rot[a] * local, b.pos[a] + b.rot[a] * self.pos[i]),
                 None => (local, self.pos[i]),
             };
@@ -125,11 +125,11 @@ impl ArticulatedTree {
         // About a point among the links, not the base's origin: a robot far from it would
         // otherwise carry large, cancelling moments.
         centre /= n.max(1) as f64;
-        for (i, l) in self.links.iter().enumerate() {
+        for (i, l) in self.model.links.iter().enumerate() {
             let r = b.rot[i];
             let d = b.pos[i] - centre;
             b.pos[i] = d;
-            let [w, v] = self.motion[i];
+            let [w, v] = self.model.motion[i];
             let w = r * w;
             b.motion[i] = [w, r * v + d.cross(w)];
             b.inertia[i] = if l.mass > 0.0 {
@@ -150,7 +150,7 @@ impl ArticulatedTree {
         let b = &mut self.base;
         b.composite.copy_from_slice(&b.inertia);
         for i in (0..n).rev() {
-            if let Some(p) = self.parents[i] {
+            if let Some(p) = self.model.parents[i] {
                 let child = b.composite[i];
                 b.composite[p].add(&child);
             }
@@ -158,9 +158,9 @@ impl ArticulatedTree {
         for i in 0..n {
             let s = b.motion[i];
             let f = b.composite[i].times(s);
-            self.h[i] = dot(f, s) + self.links[i].armature;
-            let row = self.ancestry.packed_row(i);
-            for (&j, h) in self.ancestry.of(i).iter().zip(&mut self.h[row]) {
+            self.h[i] = dot(f, s) + self.drives[i].armature;
+            let row = self.model.ancestry.packed_row(i);
+            for (&j, h) in self.model.ancestry.of(i).iter().zip(&mut self.h[row]) {
                 *h = dot(f, b.motion[j as usize]);
             }
         }
@@ -176,7 +176,7 @@ impl ArticulatedTree {
         for (i, &rate) in qd.iter().enumerate().take(n) {
             let s = b.motion[i];
             let joint = [s[0] * rate, s[1] * rate];
-            let (v_parent, a_parent) = match self.parents[i] {
+            let (v_parent, a_parent) = match self.model.parents[i] {
                 Some(p) => (self.vel[p], self.acc[p]),
                 // The base accelerates up at g: gravity on every link, for free.
                 None => ([DVec3::ZERO; 2], [DVec3::ZERO, -self.gravity]),
@@ -188,7 +188,7 @@ impl ArticulatedTree {
             self.vel[i] = v;
             self.acc[i] = a;
             let mut f = [DVec3::ZERO; 2];
-            if self.links[i].mass > 0.0 {
+            if self.model.links[i].mass > 0.0 {
                 let inertia = &b.inertia[i];
                 let ia = inertia.times(a);
                 let g = cross_force(v, inertia.times(v));
@@ -204,7 +204,7 @@ impl ArticulatedTree {
             self.force[i] = f;
         }
         for i in (0..n).rev() {
-            if let Some(p) = self.parents[i] {
+            if let Some(p) = self.model.parents[i] {
                 let f = self.force[i];
                 self.force[p][0] += f[0];
                 self.force[p][1] += f[1];
@@ -259,7 +259,7 @@ mod tests {
         // Massless links as the world builds them (`new` asks a user for masses).
         let gravity = DVec3::new(0.3, -9.8, 1.0);
         let mut tree = ArticulatedTree::empty(gravity);
-        tree.refill(links.into_iter(), gravity);
+        tree.refill(&links, gravity);
         tree
     }
 
@@ -294,7 +294,7 @@ mod tests {
             t.mass_matrix();
             // The kinetic energy of the links' own motions, ½ q̇ᵀ (H − armature) q̇.
             let mut dense = vec![0.0; n * n];
-            joint_space::add_to_dense(&t.h, &t.ancestry, &mut dense);
+            joint_space::add_to_dense(&t.h, &t.model.ancestry, &mut dense);
             let quadratic: f64 = (0..n)
                 .flat_map(|i| (0..n).map(move |j| (i, j)))
                 .map(|(i, j)| qd[i] * qd[j] * (dense[i * n + j] - if i == j { 0.01 } else { 0.0 }))
@@ -302,7 +302,7 @@ mod tests {
             t.forward(&q, &qd);
             let energy: f64 = (0..n)
                 .map(|i| {
-                    let (l, [w, v]) = (&t.links[i], t.velocity(i));
+                    let (l, [w, v]) = (&t.model.links[i], t.velocity(i));
                     let vc = v + w.cross(l.com);
                     0.5 * (l.mass * vc.length_squared() + w.dot(l.inertia * w))
                 })
@@ -319,7 +319,7 @@ mod tests {
                 unit[j] = 1.0;
                 let column = link_newton_euler(&mut t, &rest, Some(&unit));
                 let mut dense = vec![0.0; n * n];
-                joint_space::add_to_dense(&t.h, &t.ancestry, &mut dense);
+                joint_space::add_to_dense(&t.h, &t.model.ancestry, &mut dense);
                 for i in 0..n {
                     let expected = column[i] - at_rest[i] + if i == j { 0.01 } else { 0.0 };
                     let got = dense[i * n + j];

@@ -227,7 +227,7 @@ impl ArticulatedTree {
         s.pos.resize(n, DVec3::ZERO);
         for i in 0..n {
             let local = self.rot[i].transpose();
-            (s.rot[i], s.pos[i]) = match self.links[i].parent {
+            (s.rot[i], s.pos[i]) = match self.model.parents[i] {
                 Some(p) => (s.rot[p] * local, s.pos[p] + s.rot[p] * self.pos[i]),
                 None => (local, self.pos[i]),
             };
@@ -336,7 +336,7 @@ impl ArticulatedTree {
             }
             let mut j = Some(start);
             while let Some(l) = j {
-                let link = &self.links[l];
+                let link = &self.model.links[l];
                 let axis = s.rot[l] * link.axis;
                 let lin = match link.kind {
                     TreeJointKind::Hinge => {

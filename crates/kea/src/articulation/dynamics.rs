@@ -48,7 +48,7 @@ impl ArticulatedTree {
             let local = DQuat::from_mat3(&self.rot[i].transpose());
             let s = self.subspace(i);
             let (e, r) = (self.rot[i], self.pos[i]);
-            let (frame, v_parent) = match self.links[i].parent {
+            let (frame, v_parent) = match self.model.parents[i] {
                 Some(p) => {
                     let (t, rp) = self.frames[p];
                     ((t + rp * r, (rp * local).normalize()), self.vel[p])
@@ -64,7 +64,7 @@ impl ArticulatedTree {
     /// Joint `i`'s motion subspace in its link's coordinates.
     #[inline]
     pub(super) fn subspace(&self, i: usize) -> [DVec3; 2] {
-        self.motion[i]
+        self.model.motion[i]
     }
 
     /// Each link's transform from its parent at `q`: the parent-to-child rotation and the
@@ -78,7 +78,7 @@ impl ArticulatedTree {
         self.placed.extend_from_slice(q);
         self.placed_valid = true;
         self.base.valid = false;
-        for (i, (l, &qi)) in self.links.iter().zip(q).enumerate() {
+        for (i, (l, &qi)) in self.model.links.iter().zip(q).enumerate() {
             let (t, r) = l.origin;
             let (joint_t, joint_r) = match l.kind {
                 TreeJointKind::Hinge => {
@@ -102,7 +102,7 @@ impl ArticulatedTree {
             let s = self.subspace(i);
             let joint = [s[0] * rate, s[1] * rate];
             let (e, r) = (self.rot[i], self.pos[i]);
-            let (v_parent, a_parent) = match self.links[i].parent {
+            let (v_parent, a_parent) = match self.model.parents[i] {
                 Some(p) => (self.vel[p], self.acc[p]),
                 // The base accelerates up at g: gravity on every link, for free.
                 None => ([DVec3::ZERO; 2], [DVec3::ZERO, -self.gravity]),
@@ -114,7 +114,7 @@ impl ArticulatedTree {
             let own = qdd.map_or(0.0, |a| a[i]);
             self.vel[i] = v;
             self.acc[i] = [a_p[0] + c[0] + s[0] * own, a_p[1] + c[1] + s[1] * own];
-            let l = &self.links[i];
+            let l = &self.model.links[i];
             let ia = inertia_times(l.mass, l.com, &l.inertia, self.acc[i]);
             let iv = inertia_times(l.mass, l.com, &l.inertia, v);
             let g = cross_force(v, iv);
@@ -122,7 +122,7 @@ impl ArticulatedTree {
             self.force[i] = [ia[0] + g[0] - tn, ia[1] + g[1] - tf];
         }
         for i in (0..n).rev() {
-            if let Some(p) = self.links[i].parent {
+            if let Some(p) = self.model.parents[i] {
                 let f = force_to_parent(&self.rot[i], self.pos[i], self.force[i]);
                 self.force[p][0] += f[0];
                 self.force[p][1] += f[1];
@@ -154,7 +154,7 @@ impl ArticulatedTree {
         self.place(q);
         self.mass_matrix();
         self.bias_into(qd, rhs);
-        for (i, l) in self.links.iter().enumerate() {
+        for (i, l) in self.drives.iter().enumerate() {
             let d = l.damping;
             rhs[i] = tau[i] - rhs[i] - d * qd[i];
             self.h[i] += h * d;
@@ -178,7 +178,7 @@ impl ArticulatedTree {
     /// Factorises `H'` (left in `h` by `assemble`) in place, leaf to root with no fill
     /// (`solver::sparse::joint_space`).
     pub(super) fn factor_h(&mut self) -> KeaResult<()> {
-        joint_space::factor(&mut self.h, &self.ancestry).map_err(|k| KeaError::Inconsistent {
+        joint_space::factor(&mut self.h, &self.model.ancestry).map_err(|k| KeaError::Inconsistent {
             arg: "links",
             reason: format!(
                 "the tree's joint-space inertia is not positive definite (coordinate {k})"
@@ -188,19 +188,19 @@ impl ArticulatedTree {
 
     /// Solves `H' x = b` with the factor [`Self::factor_h`] left in `h`; `b` becomes `x`.
     pub(super) fn solve_h(&self, b: &mut [f64]) {
-        joint_space::solve(&self.h, &self.ancestry, b);
+        joint_space::solve(&self.h, &self.model.ancestry, b);
     }
 
     /// `b ← L⁻ᵀ b` with `H' = Lᵀ L` (the factor in `h`): for rows `J`, `J H'⁻¹ Jᵀ` is the
     /// Gram matrix of their halves.
     pub(super) fn half_solve_h(&self, b: &mut [f64]) {
-        joint_space::solve_transposed(&self.h, &self.ancestry, b);
+        joint_space::solve_transposed(&self.h, &self.model.ancestry, b);
     }
 
     /// [`Self::half_solve_h`] for a `b` that is zero off the path from link `leaf` to the
     /// root (one link's point Jacobian): only the path is visited.
     pub(super) fn half_solve_h_path(&self, leaf: usize, b: &mut [f64]) {
-        joint_space::solve_transposed_path(&self.h, &self.ancestry, leaf, b);
+        joint_space::solve_transposed_path(&self.h, &self.model.ancestry, leaf, b);
     }
 }
 

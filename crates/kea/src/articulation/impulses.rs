@@ -65,7 +65,7 @@ impl ArticulatedTree {
     /// where it is, a motor moves it at its speed; `settle_rows` then brings the end rate,
     /// the one a user reads, to the same.
     fn coordinate_rows(&mut self, i: usize, qi: f64, rate: f64, offset: f64, h: f64) {
-        let l = self.links[i];
+        let l = self.drives[i];
         let row = |kind: RowKind, target: f64, lo: f64, hi: f64| CoordinateRow {
             coordinate: i,
             kind,

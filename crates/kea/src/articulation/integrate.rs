@@ -168,7 +168,7 @@ impl ArticulatedTree {
             }
         }
         self.assemble(q, qd, tau, h, qdd);
-        joint_space::add_to_dense(&self.h, &self.ancestry, &mut m);
+        joint_space::add_to_dense(&self.h, &self.model.ancestry, &mut m);
         let solved = lu_solve(&mut m, n, qdd);
         self.stage_q = plus;
         self.sum_a = minus;

@@ -36,12 +36,16 @@ mod contacts;
 mod dynamics;
 mod impulses;
 mod integrate;
+mod model;
 mod soft_limits;
 mod tendons;
 
 pub use contacts::TreeContact;
 pub use integrate::Integrator;
+use model::TreeModel;
+pub(crate) use model::{LinkDrive, SharedModels};
 pub(crate) use soft_limits::{impedance, reference_gains};
+use std::sync::Arc;
 pub(crate) use tendons::stretch;
 pub(crate) use tendons::TreeTendon;
 
@@ -141,13 +145,11 @@ impl Default for ArticulatedTree {
 /// A tree of links on a fixed base, in reduced coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArticulatedTree {
-    links: Vec<TreeLink>,
-    /// Each link's parent and joint motion subspace (its link's coordinates), read from the
-    /// links when they are set: the factorisations and recursions walk them compactly.
-    parents: Vec<Option<usize>>,
-    /// Each link's ancestors, flat, for the joint-space factor's loops.
-    ancestry: crate::solver::sparse::joint_space::Ancestry,
-    motion: Vec<[DVec3; 2]>,
+    /// The links' geometry and inertia and what follows from them, shared by the trees of
+    /// the same model (`model.rs`).
+    model: Arc<TreeModel>,
+    /// Each link's joint dynamics, stops and drives: this tree's own.
+    drives: Vec<LinkDrive>,
     /// Gravity in the base's frame, m/s².
     gravity: DVec3,
     // Scratch, reused every call: per link its transform from the parent (E, r), spatial
@@ -197,9 +199,6 @@ pub struct ArticulatedTree {
     tendon: tendons::TendonState,
     /// The applied wrenches while the reactions' pass adds the contacts' to them.
     external_kept: Vec<[DVec3; 2]>,
-    /// The first link of each ball joint's (or floating root's) three hinges
-    /// (`ball_charts.rs`).
-    charts: Vec<usize>,
     /// Its step's scratch may be sized for another tree's links (after a trade,
     /// [`ArticulatedTree::swap_model`], or a copy without workspace): sized again, if it
     /// must be, before it steps ([`ArticulatedTree::ensure_workspace`]).
@@ -258,21 +257,18 @@ impl ArticulatedTree {
             }
         }
         let n = links.len();
-        let (parents, motion): (Vec<Option<usize>>, _) = (
-            links.iter().map(|l| l.parent).collect(),
-            links.iter().map(TreeLink::subspace).collect(),
-        );
-        let mut ancestry = crate::solver::sparse::joint_space::Ancestry::default();
-        ancestry.refill(&parents);
-        let mut charts = Vec::new();
-        ball_charts::find_charts(&links, &mut charts);
-        let ancestry_len = ancestry.packed_len();
+        let model = if links.is_empty() {
+            TreeModel::empty()
+        } else {
+            let mut model = TreeModel::default();
+            model.refill(&links);
+            Arc::new(model)
+        };
+        let ancestry_len = model.ancestry.packed_len();
         Ok(Self {
-            links,
+            drives: links.iter().map(TreeLink::drive).collect(),
             h: vec![0.0; ancestry_len],
-            ancestry,
-            parents,
-            motion,
+            model,
             gravity,
             rot: vec![DMat3::IDENTITY; n],
             pos: vec![DVec3::ZERO; n],
@@ -307,7 +303,6 @@ impl ArticulatedTree {
             contact: contacts::ContactState::default(),
             tendon: tendons::TendonState::default(),
             external_kept: Vec::with_capacity(n),
-            charts,
             scratch_stale: false,
             workspace_shape: (n, ancestry_len),
         })
@@ -321,16 +316,14 @@ impl ArticulatedTree {
     /// Replaces the links (each one's parent before it; trusted: the world derives them from
     /// valid bodies and joints) and the gravity, reusing the scratch: no allocation once the
     /// tree has held as many links. The applied wrenches are cleared.
-    pub(crate) fn refill(&mut self, links: impl Iterator<Item = TreeLink>, gravity: DVec3) {
-        self.links.clear();
-        self.links.extend(links);
-        self.parents.clear();
-        self.parents.extend(self.links.iter().map(|l| l.parent));
-        self.ancestry.refill(&self.parents);
-        ball_charts::find_charts(&self.links, &mut self.charts);
-        self.motion.clear();
-        self.motion
-            .extend(self.links.iter().map(TreeLink::subspace));
+    /// A model of the same geometry is kept as it is (shared or not); another is written in
+    /// place, or copied first if shared (`model.rs`).
+    pub(crate) fn refill(&mut self, links: &[TreeLink], gravity: DVec3) {
+        self.drives.clear();
+        self.drives.extend(links.iter().map(TreeLink::drive));
+        if !self.model.has_geometry_of(links) {
+            Arc::make_mut(&mut self.model).refill(links);
+        }
         self.placed_valid = false;
         self.gravity = gravity;
         self.scratch_stale = true;
@@ -344,13 +337,13 @@ impl ArticulatedTree {
     /// clears the applied wrenches.
     pub(crate) fn ensure_workspace(&mut self) {
         if self.scratch_stale {
-            if self.workspace_shape == (self.links.len(), self.ancestry.packed_len()) {
+            if self.workspace_shape == (self.len(), self.model.ancestry.packed_len()) {
                 self.scratch_stale = false; // sized for a tree of this shape already
             } else {
                 self.size_workspace();
             }
             self.external.clear();
-            self.external.resize(self.links.len(), [DVec3::ZERO; 2]);
+            self.external.resize(self.len(), [DVec3::ZERO; 2]);
         }
     }
 
@@ -358,15 +351,15 @@ impl ArticulatedTree {
     /// tree as big).
     fn size_workspace(&mut self) {
         self.scratch_stale = false;
-        let n = self.links.len();
-        self.workspace_shape = (n, self.ancestry.packed_len());
+        let n = self.len();
+        self.workspace_shape = (n, self.model.ancestry.packed_len());
         self.rot.resize(n, DMat3::IDENTITY);
         self.pos.resize(n, DVec3::ZERO);
         self.vel.resize(n, [DVec3::ZERO; 2]);
         self.acc.resize(n, [DVec3::ZERO; 2]);
         self.force.resize(n, [DVec3::ZERO; 2]);
         self.base.resize(n);
-        self.h.resize(self.ancestry.packed_len(), 0.0);
+        self.h.resize(self.model.ancestry.packed_len(), 0.0);
         self.rhs.resize(n, 0.0);
         self.inverse.resize(n * n, 0.0);
         self.column.resize(n, 0.0);
@@ -393,20 +386,19 @@ impl ArticulatedTree {
     /// [`ArticulatedTree::refill`] sizes it (a worker that steps), else left as it is (a copy
     /// that only holds the tree).
     pub(crate) fn copy_model_from(&mut self, other: &ArticulatedTree, workspace: bool) {
+        // The model is shared, not copied.
+        if !Arc::ptr_eq(&self.model, &other.model) {
+            self.model = Arc::clone(&other.model);
+        }
+        self.drives.clone_from(&other.drives);
+        self.gravity = other.gravity;
+        self.placed_valid = false;
+        self.base.valid = false;
+        self.contact.clear();
+        self.tendon.tendons.clear();
+        self.scratch_stale = true;
         if workspace {
-            self.refill(other.links.iter().copied(), other.gravity);
-        } else {
-            self.links.clone_from(&other.links);
-            self.parents.clone_from(&other.parents);
-            self.ancestry.clone_from(&other.ancestry);
-            self.charts.clone_from(&other.charts);
-            self.motion.clone_from(&other.motion);
-            self.gravity = other.gravity;
-            self.placed_valid = false;
-            self.base.valid = false;
-            self.contact.clear();
-            self.tendon.tendons.clear();
-            self.scratch_stale = true;
+            self.ensure_workspace();
         }
         self.integrator = other.integrator;
     }
@@ -418,11 +410,8 @@ impl ArticulatedTree {
     /// evaluations started from (a step finds the same sets without them: see
     /// [`ArticulatedTree::copy_model_from`]).
     pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
-        std::mem::swap(&mut self.links, &mut other.links);
-        std::mem::swap(&mut self.parents, &mut other.parents);
-        std::mem::swap(&mut self.ancestry, &mut other.ancestry);
-        std::mem::swap(&mut self.charts, &mut other.charts);
-        std::mem::swap(&mut self.motion, &mut other.motion);
+        std::mem::swap(&mut self.model, &mut other.model);
+        std::mem::swap(&mut self.drives, &mut other.drives);
         std::mem::swap(&mut self.gravity, &mut other.gravity);
         std::mem::swap(&mut self.integrator, &mut other.integrator);
         for t in [&mut *self, other] {
@@ -439,9 +428,10 @@ impl ArticulatedTree {
     /// Asks for the cache lines its step reads first (`crate::prefetch`).
     pub(crate) fn prefetch(&self) {
         use crate::prefetch::slice;
-        slice(&self.links);
-        slice(&self.parents);
-        slice(&self.motion);
+        slice(&self.model.links);
+        slice(&self.model.parents);
+        slice(&self.model.motion);
+        slice(&self.drives);
         slice(&self.rot);
         slice(&self.pos);
         slice(&self.vel);
@@ -478,10 +468,10 @@ impl ArticulatedTree {
         self.integrator = integrator;
     }
 
-    /// The links.
+    /// The links' geometry and inertia (their drives are not in these).
     #[cfg(feature = "serde")]
-    pub(crate) fn links(&self) -> &[TreeLink] {
-        &self.links
+    pub(crate) fn link_geometry(&self) -> &[TreeLink] {
+        &self.model.links
     }
 
     /// Sets the gravity, base frame.
@@ -489,10 +479,15 @@ impl ArticulatedTree {
         self.gravity = gravity;
     }
 
-    /// Link `i`, to change its drives (trusted: the world keeps them valid; its geometry —
-    /// parent, kind, origin, axis, anchor — must not change, or placements would be stale).
-    pub(crate) fn link_mut(&mut self, i: usize) -> &mut TreeLink {
-        &mut self.links[i]
+    /// Where its model lives: trees that share one give the same address.
+    #[cfg(test)]
+    pub(crate) fn model_address(&self) -> usize {
+        Arc::as_ptr(&self.model) as usize
+    }
+
+    /// Link `i`'s drives, to change (trusted: the world keeps them valid).
+    pub(crate) fn drive_mut(&mut self, i: usize) -> &mut LinkDrive {
+        &mut self.drives[i]
     }
 
     /// Sets the wrench applied to `link` (its coordinates: torque about its origin, force),
@@ -530,13 +525,13 @@ impl ArticulatedTree {
     /// Number of coordinates.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.links.len()
+        self.drives.len()
     }
 
     /// Whether the tree has no link.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.links.is_empty()
+        self.drives.is_empty()
     }
 
     /// Every link's frame in the base's at `q`: position and rotation (forward kinematics).
@@ -547,7 +542,7 @@ impl ArticulatedTree {
         let mut out: Vec<(DVec3, DQuat)> = Vec::with_capacity(self.len());
         for i in 0..self.len() {
             let local = DQuat::from_mat3(&self.rot[i].transpose());
-            let pose = match self.links[i].parent {
+            let pose = match self.model.parents[i] {
                 Some(p) => {
                     let (t, r) = out[p];
                     (t + r * self.pos[i], (r * local).normalize())

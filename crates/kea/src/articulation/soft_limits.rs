@@ -72,7 +72,7 @@ impl ArticulatedTree {
         let n = self.len();
         self.soft_rows.clear();
         for i in 0..n {
-            let l = &self.links[i];
+            let l = &self.drives[i];
             let (Some(s), Some((lo, hi))) = (l.soft_limit, l.limits) else {
                 continue;
             };

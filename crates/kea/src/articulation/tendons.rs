@@ -81,7 +81,7 @@ impl ArticulatedTree {
         s.tendons.extend_from_slice(tendons);
         s.terms.clear();
         s.terms.extend_from_slice(terms);
-        debug_assert!(terms.iter().all(|&(i, _)| i < self.links.len()));
+        debug_assert!(terms.iter().all(|&(i, _)| i < self.len()));
     }
 
     /// Adds the tendons' springs and dampers at `q`, `qd` to the right side `rhs`.

@@ -38,16 +38,16 @@ pub(crate) enum ConstraintKind {
 impl Clone for ConstraintKind {
     fn clone(&self) -> Self {
         match self {
-            ConstraintKind::Contact(c) => ConstraintKind::Contact(c.clone()),
+            ConstraintKind::Contact(c) => ConstraintKind::Contact(*c),
             ConstraintKind::Ball(j) => ConstraintKind::Ball(j.clone()),
-            ConstraintKind::Hinge(j) => ConstraintKind::Hinge(j.clone()),
-            ConstraintKind::Prismatic(j) => ConstraintKind::Prismatic(j.clone()),
-            ConstraintKind::Fixed(j) => ConstraintKind::Fixed(j.clone()),
-            ConstraintKind::Universal(j) => ConstraintKind::Universal(j.clone()),
-            ConstraintKind::Linear1(j) => ConstraintKind::Linear1(j.clone()),
-            ConstraintKind::Linear2(j) => ConstraintKind::Linear2(j.clone()),
+            ConstraintKind::Hinge(j) => ConstraintKind::Hinge(*j),
+            ConstraintKind::Prismatic(j) => ConstraintKind::Prismatic(*j),
+            ConstraintKind::Fixed(j) => ConstraintKind::Fixed(*j),
+            ConstraintKind::Universal(j) => ConstraintKind::Universal(*j),
+            ConstraintKind::Linear1(j) => ConstraintKind::Linear1(*j),
+            ConstraintKind::Linear2(j) => ConstraintKind::Linear2(*j),
             ConstraintKind::Planar(j) => ConstraintKind::Planar(j.clone()),
-            ConstraintKind::Path(j) => ConstraintKind::Path(j.clone()),
+            ConstraintKind::Path(j) => ConstraintKind::Path(*j),
             ConstraintKind::Wheel(j) => ConstraintKind::Wheel(j.clone()),
             ConstraintKind::Custom(c) => ConstraintKind::Custom(c.clone()),
         }

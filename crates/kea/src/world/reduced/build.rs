@@ -6,7 +6,7 @@ use super::convert::{d3, dm, dq};
 use super::frames::{joint_frame, planar_frame, seen_from};
 use super::qualify::Role;
 use super::{CachedTree, LinkPlan, FREE_ROOT};
-use crate::articulation::{TreeJointKind, TreeLink};
+use crate::articulation::{LinkDrive, TreeJointKind, TreeLink};
 use crate::body::Body;
 use crate::constraint::{Actuator, Limit, RowBody, RowContext};
 use crate::math::{wide, Real};
@@ -143,7 +143,7 @@ impl World {
         }
         cache
             .tree
-            .refill(cache.building.iter().copied(), d3(self.settings.gravity));
+            .refill(&cache.building, d3(self.settings.gravity));
         cache.q.clear();
         cache.q.resize(n, 0.0);
         cache.base_joint = if plan[0].free {
@@ -379,7 +379,7 @@ pub(super) fn limit_of(entry: &ConstraintEntry) -> &Limit {
 
 /// Sets the link's stops, motor, dynamics and servo from the joint's limit, in the tree's
 /// coordinate (`tree = sign · (joint − at)`); returns the actuator's set force in it.
-pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut TreeLink) -> f64 {
+pub(super) fn drive(limit: &Limit, p: &LinkPlan, link: &mut LinkDrive) -> f64 {
     let tree = |x: Real| p.sign * (wide(x) - p.at);
     link.limits = limit.is_limited().then(|| {
         let (lo, hi) = (tree(limit.lower().stop), tree(limit.upper().stop));

@@ -137,3 +137,86 @@ impl ReducedScratch {
         slice(&self.tau);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::constraint::Hinge;
+    use crate::world::joint_handle::JointHandle;
+    use crate::{BodyDef, BodyHandle, JointSpec, Vec3, World};
+
+    /// A three-link arm on hinges from a fixed base (one kept tree): its first joint and its
+    /// last body.
+    fn arm() -> (World, JointHandle<Hinge>, BodyHandle) {
+        let mut w = World::with_capacity(8, 16).unwrap();
+        w.update_settings(|s| s.gravity = Vec3::new(0.0, -9.81, 0.0))
+            .unwrap();
+        let (mut parent, mut first) = (None, None);
+        for k in 0..3 {
+            let x = 0.5 * (k + 1) as crate::Real;
+            let b = w
+                .create_body(&BodyDef {
+                    position: Vec3::new(x, 0.0, 0.0),
+                    ..BodyDef::default()
+                })
+                .unwrap();
+            let anchor = Vec3::new(x - 0.5, 0.0, 0.0);
+            let j = w
+                .create_joint(b, parent, JointSpec::hinge(anchor, Vec3::Z))
+                .unwrap();
+            first.get_or_insert(j);
+            parent = Some(b);
+        }
+        (w, first.unwrap(), parent.unwrap())
+    }
+
+    /// The kept trees' models, by address.
+    fn models(w: &World) -> Vec<usize> {
+        let trees = &w.scratch.reduced.trees;
+        trees.iter().map(|t| t.tree.model_address()).collect()
+    }
+
+    #[test]
+    fn worlds_stepped_by_one_worker_share_their_tree_model_and_step_as_alone() {
+        let (template, first, tip) = arm();
+        let mut held = Vec::new();
+        let mut alone = Vec::new();
+        for k in 0..3 {
+            let mut w = template.clone();
+            w.trim_to_state();
+            // Each world its own motor on the first joint: drives differ, geometry not.
+            first.set_motor(&mut w, k as crate::Real, 200.0).unwrap();
+            alone.push(w.clone());
+            held.push(w);
+        }
+        let mut worker = template.clone();
+        for _ in 0..20 {
+            for w in &mut held {
+                worker.swap_state(w);
+                worker.step(0.01).unwrap();
+                worker.swap_state(w);
+            }
+            for w in &mut alone {
+                w.step(0.01).unwrap();
+            }
+        }
+        let shared = models(&held[0]);
+        assert_eq!(shared.len(), 1, "one kept tree");
+        for (w, a) in held.iter().zip(&alone) {
+            assert_eq!(
+                models(w),
+                shared,
+                "one model for every world the worker stepped"
+            );
+            assert_ne!(models(a), shared, "a world stepped alone built its own");
+            let (b, c) = (w.body(tip).unwrap(), a.body(tip).unwrap());
+            assert_eq!(b.position().to_array(), c.position().to_array());
+            assert_eq!(
+                b.linear_velocity().to_array(),
+                c.linear_velocity().to_array()
+            );
+        }
+        // Their drives stayed their own: the motors turned the arms apart.
+        let tip_of = |w: &World| w.body(tip).unwrap().position();
+        assert!((tip_of(&held[0]) - tip_of(&held[2])).length() > 1e-3);
+    }
+}

@@ -186,6 +186,9 @@ pub(super) struct ReducedScratch {
     /// Trees a trade of states left over (`kept.rs`), with their step scratch, for the next
     /// trade to take before making new ones.
     spare_trees: Vec<CachedTree>,
+    /// Kept trees' models, for the next tree built with the same geometry to share (a
+    /// batch's worker builds every world's robot on one model).
+    shared_models: crate::articulation::SharedModels,
     tree_of: Vec<u32>,
     floating_of: Vec<u32>,
     tau: Vec<f64>,
@@ -362,6 +365,9 @@ impl World {
         let mut tree = std::mem::take(&mut r.trees[index]);
         let built = self.build_tree(root, &mut tree);
         let r = &mut self.scratch.reduced;
+        if built && !tree.rebuilt_each_step {
+            r.shared_models.share(&mut tree.tree);
+        }
         r.trees[index] = tree;
         if !built {
             r.trees[index].revision = 0;
@@ -448,10 +454,10 @@ impl World {
                         ..*p
                     };
                     let limit = j.limit(c).expect("three coordinates");
-                    r.tau[first + c] = drive(limit, &coordinate, t.tree.link_mut(first + c));
+                    r.tau[first + c] = drive(limit, &coordinate, t.tree.drive_mut(first + c));
                 }
             } else if !p.ball {
-                r.tau[link] = drive(limit_of(entry), p, t.tree.link_mut(link));
+                r.tau[link] = drive(limit_of(entry), p, t.tree.drive_mut(link));
             }
         }
         self.tree_tendons(index);

@@ -131,7 +131,7 @@ impl World {
             .iter()
             .filter(|t| t.revision == self.joint_revision && t.marks.len() == t.plan.len())
             .map(|t| {
-                let links = t.tree.links();
+                let links = t.tree.link_geometry();
                 SavedTree {
                     base_joint: t.base_joint,
                     links: t
@@ -181,7 +181,7 @@ impl World {
                 }
                 tree.link_of.push(links.len() - 1);
             }
-            tree.tree.refill(links.into_iter(), DVec3::ZERO);
+            tree.tree.refill(&links, DVec3::ZERO);
             tree.plan = s.links.iter().map(|l| l.plan).collect();
             tree.kick = vec![(DVec3::ZERO, DVec3::ZERO); s.links.len()];
             tree.base_joint = s.base_joint;
