@@ -1,7 +1,9 @@
 //! What one world of a batch costs in memory: a robot world stepped as a whole world (its
-//! state and its step's scratch), against the same world trimmed to its state and stepped by
-//! a worker that trades states with it (`PhysicsWorld::swap_state`, what `kea.Batch` does).
-//! Bytes are those a clone allocates (a world's heap, as N worlds of a batch would hold it).
+//! state and its step's scratch), against the worlds of a batch, which hold only their
+//! states and are stepped by a worker that trades states with each
+//! (`PhysicsWorld::swap_state`, what `kea.Batch` does). A whole world's bytes are those a
+//! clone of it allocates; a batch world's are the heap the batch's worlds hold, live, over
+//! their number (what is shared among them — a robot's articulated model — counted once).
 //!
 //! `cargo run --profile bench-lto -p kea3d --example batch_memory -- robot.xml|robot.urdf
 //! [steps] [--fixed-base]`
@@ -15,6 +17,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 struct Counting;
 
 static ALLOCATED: AtomicUsize = AtomicUsize::new(0);
+static FREED: AtomicUsize = AtomicUsize::new(0);
 
 // SAFETY: every call goes to the system allocator unchanged; only a counter is added.
 unsafe impl GlobalAlloc for Counting {
@@ -25,6 +28,7 @@ unsafe impl GlobalAlloc for Counting {
     }
 
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        FREED.fetch_add(layout.size(), Ordering::Relaxed);
         // SAFETY: the caller's contract is passed on.
         unsafe { System.dealloc(ptr, layout) }
     }
@@ -62,21 +66,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         whole.load_mjcf(path, &MjcfOptions::default())?
     };
     let h = robot.timestep().unwrap_or(0.002);
-    let mut held = whole.clone();
-    held.trim_to_state();
     let mut worker = whole.clone();
+    let live = || ALLOCATED.load(Ordering::Relaxed) - FREED.load(Ordering::Relaxed);
+    const WORLDS: usize = 64;
+    let before = live();
+    let mut held = vec![whole.clone(); WORLDS];
+    for w in &mut held {
+        w.trim_to_state();
+    }
     for _ in 0..steps {
         whole.step(h)?;
-        worker.swap_state(&mut held);
-        worker.step(h)?;
-        worker.swap_state(&mut held);
+        for w in &mut held {
+            worker.swap_state(w);
+            worker.step(h)?;
+            worker.swap_state(w);
+        }
     }
+    let per_world = (live() - before) / WORLDS;
     println!(
-        "{}: after {steps} steps, a whole world {} bytes; a world holding its state {} bytes \
-         (a worker per thread: {} bytes)",
+        "{}: after {steps} steps, a whole world {} bytes; a batch world {per_world} bytes \
+         ({WORLDS} worlds holding their states; a worker per thread: {} bytes)",
         robot.name(),
         bytes(&whole),
-        bytes(&held),
         bytes(&worker)
     );
     Ok(())
