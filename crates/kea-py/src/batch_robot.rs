@@ -46,7 +46,7 @@ impl PyBatch {
                             for (o, &v) in row.iter_mut().zip(values.iter()) {
                                 *o = f64::from(v);
                             }
-                            Ok(())
+                            Ok::<(), kea3d::Error>(())
                         },
                     )
             })
