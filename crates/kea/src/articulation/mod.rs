@@ -336,7 +336,9 @@ impl ArticulatedTree {
     /// others (what a world that holds a batch's state does before it steps on its own), and
     /// clears the applied wrenches.
     pub(crate) fn ensure_workspace(&mut self) {
-        if self.scratch_stale {
+        // An empty tree never steps: a worker that gave its tree back and holds an empty one
+        // keeps its scratch sized for the next world's (no resizing at every trade).
+        if self.scratch_stale && !self.is_empty() {
             if self.workspace_shape == (self.len(), self.model.ancestry.packed_len()) {
                 self.scratch_stale = false; // sized for a tree of this shape already
             } else {
