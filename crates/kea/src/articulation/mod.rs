@@ -336,9 +336,7 @@ impl ArticulatedTree {
     /// others (what a world that holds a batch's state does before it steps on its own), and
     /// clears the applied wrenches.
     pub(crate) fn ensure_workspace(&mut self) {
-        // An empty tree never steps: a worker that gave its tree back and holds an empty one
-        // keeps its scratch sized for the next world's (no resizing at every trade).
-        if self.scratch_stale && !self.is_empty() {
+        if self.scratch_stale {
             if self.workspace_shape == (self.len(), self.model.ancestry.packed_len()) {
                 self.scratch_stale = false; // sized for a tree of this shape already
             } else {
@@ -389,9 +387,7 @@ impl ArticulatedTree {
     /// that only holds the tree).
     pub(crate) fn copy_model_from(&mut self, other: &ArticulatedTree, workspace: bool) {
         // The model is shared, not copied.
-        if !Arc::ptr_eq(&self.model, &other.model) {
-            self.model = Arc::clone(&other.model);
-        }
+        self.model = Arc::clone(&other.model);
         self.drives.clone_from(&other.drives);
         self.gravity = other.gravity;
         self.placed_valid = false;
@@ -407,8 +403,10 @@ impl ArticulatedTree {
 
     /// Trades links, gravity and integrator with `other` (what a kept tree is between steps),
     /// each keeping its own step scratch: a batch's worker takes a world's tree in, steps
-    /// it, and gives it back, with no copy. This tree's scratch is sized for the links it
-    /// takes; both forget what they had placed, and the contact and tendon sets their last
+    /// it, and gives it back, with no copy. Each keeps its scratch as it is, marked stale:
+    /// the world sizes it before the tree's next step (`advance_tree`), so a worker that
+    /// gives a tree back does not resize for the one it holds then. Both forget what they had
+    /// placed, and the contact and tendon sets their last
     /// evaluations started from (a step finds the same sets without them: see
     /// [`ArticulatedTree::copy_model_from`]).
     pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
@@ -424,7 +422,6 @@ impl ArticulatedTree {
         }
         other.scratch_stale = true;
         self.scratch_stale = true;
-        self.ensure_workspace();
     }
 
     /// Asks for the cache lines its step reads first (`crate::prefetch`).
