@@ -4,9 +4,11 @@
 //! (`PhysicsWorld::swap_state`, what `kea.Batch` does). A whole world's bytes are those a
 //! clone of it allocates; a batch world's are the heap the batch's worlds hold, live, over
 //! their number (what is shared among them — a robot's articulated model — counted once).
+//! With `--noise`, each batch world starts from its own pose, as a training batch resets
+//! (every joint coordinate moved by up to ±0.1, Gymnasium's reset noise).
 //!
 //! `cargo run --profile bench-lto -p kea3d --example batch_memory -- robot.xml|robot.urdf
-//! [steps] [--fixed-base]`
+//! [steps] [--fixed-base] [--noise]`
 
 use kea3d::prelude::*;
 use kea3d::robot::{MjcfOptions, UrdfOptions};
@@ -50,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut words = args.iter().filter(|a| !a.starts_with("--"));
     let Some(path) = words.next() else {
-        eprintln!("usage: batch_memory ROBOT.xml|ROBOT.urdf [steps] [--fixed-base]");
+        eprintln!("usage: batch_memory ROBOT.xml|ROBOT.urdf [steps] [--fixed-base] [--noise]");
         std::process::exit(2);
     };
     let steps: usize = words.next().map_or(Ok(500), |s| s.parse())?;
@@ -71,7 +73,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     const WORLDS: usize = 64;
     let before = live();
     let mut held = vec![whole.clone(); WORLDS];
+    let noise = args.iter().any(|a| a == "--noise");
+    let q0 = robot.joint_positions(&whole)?;
+    // A fixed sequence in [-1, 1) (a linear congruential generator): the same worlds each run.
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = move || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
     for w in &mut held {
+        if noise {
+            let q: Vec<Real> = q0.iter().map(|x| x + 0.1 * uniform() as Real).collect();
+            robot.set_joint_positions(w, &q)?;
+        }
         w.trim_to_state();
     }
     for _ in 0..steps {

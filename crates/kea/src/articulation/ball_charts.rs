@@ -68,18 +68,20 @@ fn is_chart(links: &[TreeLink], k: usize) -> bool {
         && three[2].anchor == three[0].anchor
 }
 
-/// The first link of every chart in `links`, into `charts`.
-pub(super) fn find_charts(links: &[TreeLink], charts: &mut Vec<usize>) {
-    charts.clear();
+/// The first link of every chart in `links`, in order.
+pub(super) fn charts(links: &[TreeLink]) -> impl Iterator<Item = usize> + '_ {
     let mut k = 0;
-    while k < links.len() {
-        if is_chart(links, k) {
-            charts.push(k);
-            k += 3;
-        } else {
+    std::iter::from_fn(move || {
+        while k < links.len() {
+            let at = k;
+            if is_chart(links, at) {
+                k += 3;
+                return Some(at);
+            }
             k += 1;
         }
-    }
+        None
+    })
 }
 
 impl ArticulatedTree {

@@ -78,8 +78,14 @@ impl ArticulatedTree {
         self.placed.extend_from_slice(q);
         self.placed_valid = true;
         self.base.valid = false;
-        for (i, (l, &qi)) in self.model.links.iter().zip(q).enumerate() {
-            let (t, r) = l.origin;
+        for (i, ((l, &(t, r)), &qi)) in self
+            .model
+            .links
+            .iter()
+            .zip(&self.origins)
+            .zip(q)
+            .enumerate()
+        {
             let (joint_t, joint_r) = match l.kind {
                 TreeJointKind::Hinge => {
                     let turn = DQuat::from_axis_angle(l.axis, qi);

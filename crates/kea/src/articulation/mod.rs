@@ -150,6 +150,11 @@ pub struct ArticulatedTree {
     model: Arc<TreeModel>,
     /// Each link's joint dynamics, stops and drives: this tree's own.
     drives: Vec<LinkDrive>,
+    /// Each link's frame in its parent's at `q = 0`: this tree's own, as a world measures it
+    /// where the tree's joints hold its bodies when it builds the tree (a floating root's
+    /// place and chart centre, each joint's turn), so that trees built at other poses share
+    /// one model.
+    origins: Vec<(DVec3, DQuat)>,
     /// Gravity in the base's frame, m/s².
     gravity: DVec3,
     // Scratch, reused every call: per link its transform from the parent (E, r), spatial
@@ -267,6 +272,7 @@ impl ArticulatedTree {
         let ancestry_len = model.ancestry.packed_len();
         Ok(Self {
             drives: links.iter().map(TreeLink::drive).collect(),
+            origins: links.iter().map(|l| l.origin).collect(),
             h: vec![0.0; ancestry_len],
             model,
             gravity,
@@ -321,6 +327,8 @@ impl ArticulatedTree {
     pub(crate) fn refill(&mut self, links: &[TreeLink], gravity: DVec3) {
         self.drives.clear();
         self.drives.extend(links.iter().map(TreeLink::drive));
+        self.origins.clear();
+        self.origins.extend(links.iter().map(|l| l.origin));
         if !self.model.has_geometry_of(links) {
             Arc::make_mut(&mut self.model).refill(links);
         }
@@ -389,6 +397,7 @@ impl ArticulatedTree {
         // The model is shared, not copied.
         self.model = Arc::clone(&other.model);
         self.drives.clone_from(&other.drives);
+        self.origins.clone_from(&other.origins);
         self.gravity = other.gravity;
         self.placed_valid = false;
         self.base.valid = false;
@@ -412,6 +421,7 @@ impl ArticulatedTree {
     pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
         std::mem::swap(&mut self.model, &mut other.model);
         std::mem::swap(&mut self.drives, &mut other.drives);
+        std::mem::swap(&mut self.origins, &mut other.origins);
         std::mem::swap(&mut self.gravity, &mut other.gravity);
         std::mem::swap(&mut self.integrator, &mut other.integrator);
         for t in [&mut *self, other] {
@@ -431,6 +441,7 @@ impl ArticulatedTree {
         slice(&self.model.parents);
         slice(&self.model.motion);
         slice(&self.drives);
+        slice(&self.origins);
         slice(&self.rot);
         slice(&self.pos);
         slice(&self.vel);
@@ -467,10 +478,13 @@ impl ArticulatedTree {
         self.integrator = integrator;
     }
 
-    /// The links' geometry and inertia (their drives are not in these).
+    /// Link `i`'s geometry and inertia, its origin included (its drives are not).
     #[cfg(feature = "serde")]
-    pub(crate) fn link_geometry(&self) -> &[TreeLink] {
-        &self.model.links
+    pub(crate) fn link_geometry(&self, i: usize) -> TreeLink {
+        TreeLink {
+            origin: self.origins[i],
+            ..self.model.links[i]
+        }
     }
 
     /// Sets the gravity, base frame.

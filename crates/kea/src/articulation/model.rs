@@ -1,14 +1,18 @@
 //! A tree's model and its drives, apart: the model/data split of the articulated path.
 //!
-//! A tree's links are two things. Their geometry and inertia (parent, joint kind, origin,
-//! axis, anchor, mass, centre, inertia) and what follows from them (parents, ancestry,
-//! motion subspaces, charts) stay as they are while the tree keeps its joints: that is the
+//! A tree's links are three things. Their geometry and inertia (parent, joint kind, axis,
+//! anchor, mass, centre, inertia) and what follows from them (parents, ancestry, motion
+//! subspaces, charts) stay as they are while the tree keeps its joints: that is the
 //! [`TreeModel`], held behind an `Arc` so that many trees of the same model — a batch's
 //! worlds, a world and its clone, a worker and the worlds it steps — hold one copy, which
 //! stays in the cache while a worker steps world after world. Their drives (armature,
 //! damping, stops, motor, friction, springs, servos: [`LinkDrive`]) are each tree's own: a
 //! world writes them from its joints at every step, and each world of a batch drives its
-//! robot its own way.
+//! robot its own way. Their origins (each link's frame in its parent's at `q = 0`) are each
+//! tree's own too: a world measures them where its bodies are when it builds the tree (a
+//! floating root's place and the centre of its turn's chart, each joint's turn), so a
+//! batch's robots, reset to different poses, and a floating robot built again as its chart
+//! is centred again, still share one model.
 //!
 //! Sharing changes no number: a tree shares a model only when its geometry is the same,
 //! bit for bit. A shared model that must change is copied first (`Arc::make_mut`), which
@@ -21,8 +25,8 @@ use glam::DVec3;
 use std::sync::{Arc, LazyLock};
 
 /// What stays constant while a tree keeps its joints: its links' geometry and inertia
-/// (their drives zeroed: a tree reads those from its own [`LinkDrive`]s), and what the
-/// recursions read from them.
+/// (their drives and origins zeroed: a tree reads those from its own [`LinkDrive`]s and
+/// origins), and what the recursions read from them.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub(super) struct TreeModel {
     pub(super) links: Vec<TreeLink>,
@@ -47,7 +51,8 @@ impl TreeModel {
         Arc::clone(&EMPTY)
     }
 
-    /// Whether `links`' geometry is this model's, bit for bit (their drives aside).
+    /// Whether `links`' geometry is this model's, bit for bit (their drives and origins
+    /// aside), charts included (a chart's last two links sit at their parents' frames).
     pub(super) fn has_geometry_of(&self, links: &[TreeLink]) -> bool {
         self.links.len() == links.len()
             && self
@@ -55,6 +60,7 @@ impl TreeModel {
                 .iter()
                 .zip(links)
                 .all(|(m, l)| *m == l.geometry())
+            && ball_charts::charts(links).eq(self.charts.iter().copied())
     }
 
     /// Becomes the model of `links` (each one's parent before it), reusing its buffers.
@@ -64,7 +70,8 @@ impl TreeModel {
         self.parents.clear();
         self.parents.extend(self.links.iter().map(|l| l.parent));
         self.ancestry.refill(&self.parents);
-        ball_charts::find_charts(&self.links, &mut self.charts);
+        self.charts.clear();
+        self.charts.extend(ball_charts::charts(links));
         self.motion.clear();
         self.motion
             .extend(self.links.iter().map(TreeLink::subspace));
@@ -102,10 +109,12 @@ impl TreeLink {
         }
     }
 
-    /// Its geometry and inertia, with the drives of [`TreeLink::default`] (none).
+    /// Its geometry and inertia, with the drives and origin of [`TreeLink::default`] (none,
+    /// and the parent's frame).
     pub(super) fn geometry(&self) -> TreeLink {
         let none = TreeLink::default();
         TreeLink {
+            origin: none.origin,
             armature: none.armature,
             damping: none.damping,
             limits: none.limits,
@@ -136,14 +145,12 @@ impl SharedModels {
     /// Gives `tree` a kept model of its geometry if there is one, or keeps its model for the
     /// trees built after it.
     pub(crate) fn share(&mut self, tree: &mut super::ArticulatedTree) {
-        if tree.is_empty() {
+        // A tree built again on its kept model (a floating root's chart centred again) finds
+        // it by address, with no comparison.
+        if tree.is_empty() || self.models.iter().any(|m| Arc::ptr_eq(m, &tree.model)) {
             return;
         }
-        if let Some(m) = self
-            .models
-            .iter()
-            .find(|m| Arc::ptr_eq(m, &tree.model) || m.links == tree.model.links)
-        {
+        if let Some(m) = self.models.iter().find(|m| ***m == *tree.model) {
             tree.model = Arc::clone(m);
             return;
         }

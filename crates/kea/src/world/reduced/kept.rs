@@ -219,4 +219,104 @@ mod tests {
         let tip_of = |w: &World| w.body(tip).unwrap().position();
         assert!((tip_of(&held[0]) - tip_of(&held[2])).length() > 1e-3);
     }
+
+    /// A floating robot in zero gravity, as an ant's leg: a root and two links on hinges
+    /// about other axes (one floating tree, kept from step to step, built again when its
+    /// root's chart is centred again); its bodies.
+    fn floating_robot() -> (World, [BodyHandle; 3]) {
+        let mut w = World::new(crate::WorldDef {
+            settings: crate::WorldSettings {
+                gravity: Vec3::ZERO,
+                reduced_free_trees: true,
+                ..crate::WorldSettings::default()
+            },
+            ..crate::WorldDef::default()
+        })
+        .unwrap();
+        let body = |w: &mut World, x: Vec3| {
+            w.create_body(&BodyDef {
+                position: x,
+                ..BodyDef::default()
+            })
+            .unwrap()
+        };
+        let a = body(&mut w, Vec3::new(0.0, 1.0, 0.0));
+        let b = body(&mut w, Vec3::new(0.6, 1.0, 0.0));
+        let c = body(&mut w, Vec3::new(1.2, 1.0, 0.0));
+        w.create_joint(
+            b,
+            Some(a),
+            JointSpec::hinge(Vec3::new(0.3, 1.0, 0.0), Vec3::Z),
+        )
+        .unwrap();
+        w.create_joint(
+            c,
+            Some(b),
+            JointSpec::hinge(Vec3::new(0.9, 1.0, 0.0), Vec3::Y),
+        )
+        .unwrap();
+        (w, [a, b, c])
+    }
+
+    #[test]
+    fn floating_robots_at_other_poses_share_one_model_and_step_as_alone() {
+        let (template, bodies) = floating_robot();
+        let mut held = Vec::new();
+        let mut alone = Vec::new();
+        for k in 0..3 {
+            let mut w = template.clone();
+            w.trim_to_state();
+            // Each world tumbles its own way (a rigid turn about the root: the joints allow
+            // it), so each is built at its own pose, and its chart is centred again at its
+            // own times.
+            let spin = Vec3::new(0.4, 2.0 + k as crate::Real, 0.7 * k as crate::Real);
+            let root = w.body(bodies[0]).unwrap().position();
+            for &h in &bodies {
+                let b = w.body_mut(h).unwrap();
+                let v = spin.cross(b.position() - root);
+                b.set_angular_velocity(spin).unwrap();
+                b.set_linear_velocity(v).unwrap();
+            }
+            alone.push(w.clone());
+            held.push(w);
+        }
+        let mut worker = template.clone();
+        let mut first = None;
+        for _ in 0..120 {
+            for w in &mut held {
+                worker.swap_state(w);
+                let stats = worker.step(0.01).unwrap();
+                assert_eq!(stats.reduced_trees, 1, "one floating tree");
+                worker.swap_state(w);
+            }
+            for w in &mut alone {
+                w.step(0.01).unwrap();
+            }
+            first.get_or_insert_with(|| models(&held[0]));
+        }
+        let shared = first.unwrap();
+        assert_eq!(shared.len(), 1, "one kept tree");
+        for (w, a) in held.iter().zip(&alone) {
+            assert_eq!(
+                models(w),
+                shared,
+                "one model for every world, through every centring of its chart"
+            );
+            for &h in &bodies {
+                let (b, c) = (w.body(h).unwrap(), a.body(h).unwrap());
+                assert_eq!(b.position().to_array(), c.position().to_array());
+                assert_eq!(b.orientation().to_array(), c.orientation().to_array());
+                assert_eq!(
+                    b.angular_velocity().to_array(),
+                    c.angular_velocity().to_array()
+                );
+            }
+        }
+        // They tumbled apart: the root turned past where its chart was centred.
+        let turn = |w: &World| w.body(bodies[0]).unwrap().orientation();
+        assert!(turn(&held[0]).angle_between(turn(&held[2])) > 0.5);
+        assert!(
+            turn(&held[0]).angle_between(template.body(bodies[0]).unwrap().orientation()) > 1.0
+        );
+    }
 }

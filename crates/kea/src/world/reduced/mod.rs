@@ -365,6 +365,9 @@ impl World {
         let mut tree = std::mem::take(&mut r.trees[index]);
         let built = self.build_tree(root, &mut tree);
         let r = &mut self.scratch.reduced;
+        // A tree built again every step (a ball joint's) is not shared: a planar root's
+        // travels, measured in its turned link's axes, change its model as it turns, and a
+        // shared model that changes is copied.
         if built && !tree.rebuilt_each_step {
             r.shared_models.share(&mut tree.tree);
         }

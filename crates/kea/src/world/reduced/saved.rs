@@ -130,29 +130,26 @@ impl World {
         r.trees
             .iter()
             .filter(|t| t.revision == self.joint_revision && t.marks.len() == t.plan.len())
-            .map(|t| {
-                let links = t.tree.link_geometry();
-                SavedTree {
-                    base_joint: t.base_joint,
-                    links: t
-                        .plan
-                        .iter()
-                        .zip(&t.first_link)
-                        .map(|(p, &first)| {
-                            let l = &links[first];
-                            SavedLink::new(*p, SavedGeometry::of(l))
-                        })
-                        .collect(),
-                    more: (0..t.plan.len())
-                        .flat_map(|k| {
-                            (t.first_link[k] + 1..=t.link_of[k])
-                                .map(move |i| (k, SavedGeometry::of(&links[i])))
-                        })
-                        .collect(),
-                    q: t.q.clone(),
-                    qd: t.qd.clone(),
-                    marks: t.marks.clone(),
-                }
+            .map(|t| SavedTree {
+                base_joint: t.base_joint,
+                links: t
+                    .plan
+                    .iter()
+                    .zip(&t.first_link)
+                    .map(|(p, &first)| {
+                        let l = t.tree.link_geometry(first);
+                        SavedLink::new(*p, SavedGeometry::of(&l))
+                    })
+                    .collect(),
+                more: (0..t.plan.len())
+                    .flat_map(|k| {
+                        (t.first_link[k] + 1..=t.link_of[k])
+                            .map(move |i| (k, SavedGeometry::of(&t.tree.link_geometry(i))))
+                    })
+                    .collect(),
+                q: t.q.clone(),
+                qd: t.qd.clone(),
+                marks: t.marks.clone(),
             })
             .collect()
     }
