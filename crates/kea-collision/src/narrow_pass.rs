@@ -63,7 +63,7 @@ impl CollisionWorld {
                     .par_chunks_mut(PAIR_CHUNK)
                     .zip(self.workers.par_iter_mut())
                     .enumerate()
-                    .for_each(work);
+                    .for_each_init(kea::float_mode::FlushSubnormals::new, |_, item| work(item));
             }
         } else {
             self.pairs

@@ -172,16 +172,17 @@ pub(crate) fn check_non_negative(arg: &'static str, x: Real) -> KeaResult<Real> 
     }
 }
 
-/// Checks that a real number is finite and > 0.
+/// Checks that a real number is finite and > 0: at least the smallest normal number, since a
+/// step reads subnormal numbers as zero (`crate::float_mode`).
 pub(crate) fn check_positive(arg: &'static str, x: Real) -> KeaResult<Real> {
     check_finite(arg, x)?;
-    if x > 0.0 {
+    if x >= Real::MIN_POSITIVE {
         Ok(x)
     } else {
         Err(KeaError::OutOfRange {
             arg,
             value: format_real(x),
-            expected: "must be > 0",
+            expected: "must be > 0 (and not subnormal: at least the smallest normal number)",
         })
     }
 }

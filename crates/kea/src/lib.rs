@@ -27,6 +27,7 @@ pub mod body;
 pub mod cache;
 pub mod constraint;
 pub mod error;
+pub mod float_mode;
 mod handle;
 pub mod math;
 pub mod prefetch;

@@ -2,6 +2,11 @@
 //! rayon's pool moves onto one of its threads once, so that its parallel sections do not each
 //! wait to be handed over (and rayon's fork-join inside a pool allocates nothing). Without the
 //! feature, or for a small world, or already inside the pool, it runs where it is called.
+//! Work handed to the pool's threads flushes subnormals there as the step does
+//! ([`crate::float_mode`]), so the bits do not depend on which thread did it.
+
+#[cfg(feature = "parallel")]
+use crate::float_mode::FlushSubnormals;
 
 /// With the `parallel` feature, the count of awake bodies from which a step called from outside
 /// rayon's pool moves onto one of its threads: handing a step over costs tens of microseconds, which
@@ -36,7 +41,7 @@ pub(crate) fn each_side_by_side<T: Send, R: Send>(
             .par_iter_mut()
             .zip(out.par_iter_mut())
             .enumerate()
-            .for_each(|(i, (item, o))| *o = f(i, item));
+            .for_each_init(FlushSubnormals::new, |_, (i, (item, o))| *o = f(i, item));
         return;
     }
     for (i, (item, o)) in items.iter_mut().zip(out.iter_mut()).enumerate() {

@@ -208,10 +208,26 @@ fn bad_time_steps() {
         (-0.01, "-0.01"),
         (Real::NAN, "NaN"),
         (Real::INFINITY, "inf"),
+        // Below a nanosecond: a step reads subnormal numbers as zero (`kea::float_mode`).
+        (1e-10, "1e-10"),
+        (
+            Real::MIN_POSITIVE / 4.0,
+            &kea::error::format_real(Real::MIN_POSITIVE / 4.0),
+        ),
     ] {
         let e = w.step(dt).unwrap_err();
         expect_err(&w, &before, e, "dt", shown);
     }
+    // A subnormal mass would be a zero mass in a step: refused by name.
+    let tiny = Real::MIN_POSITIVE / 4.0;
+    assert!(tiny > 0.0 && !tiny.is_normal());
+    let e = w
+        .create_body(&BodyDef {
+            mass: tiny,
+            ..Default::default()
+        })
+        .unwrap_err();
+    expect_err(&w, &before, e, "mass", &kea::error::format_real(tiny));
 }
 
 #[test]

@@ -165,6 +165,7 @@ impl World {
     /// One (sub)step on the calling thread, `dt` checked; the applied forces are cleared after
     /// it when `last`; the reduced trees' joint reactions worked out when `reactions`.
     fn step_here(&mut self, dt: Real, last: bool, reactions: bool) -> KeaResult<StepStats> {
+        let _flush = crate::float_mode::FlushSubnormals::new();
         self.scratch.reduced.reactions = reactions;
         let t0 = Stamp::now(self.settings.step_timing);
         let params = self.solver_params(dt);

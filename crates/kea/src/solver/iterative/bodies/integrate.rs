@@ -55,7 +55,9 @@ impl BodyStates {
                         .zip(self.damping.par_chunks(c))
                         .zip(self.writable.par_chunks(c)),
                 )
-                .for_each(step);
+                .for_each_init(crate::float_mode::FlushSubnormals::new, |_, chunk| {
+                    step(chunk)
+                });
             return;
         }
         step((
@@ -142,6 +144,9 @@ impl<'a> Moving<'a> {
     /// Moves every body by `hs` (see [`BodyStates::integrate_positions`]), on all cores with
     /// the `parallel` feature.
     fn advance(self, bodies: &[SolverBody], hs: Real) {
+        // Each half of the split below may run on another thread (`crate::float_mode`).
+        #[cfg(feature = "parallel")]
+        let _flush = crate::float_mode::FlushSubnormals::new();
         #[cfg(feature = "parallel")]
         if self.global.len() >= 2 * BODY_CHUNK {
             let mid = self.global.len() / 2;

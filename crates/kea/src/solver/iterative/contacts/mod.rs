@@ -159,7 +159,9 @@ fn for_each_chunk<F: FloatW>(
         batches
             .par_chunks_mut(CHUNK)
             .enumerate()
-            .for_each(|(i, chunk)| f(i * CHUNK, chunk));
+            .for_each_init(crate::float_mode::FlushSubnormals::new, |_, (i, chunk)| {
+                f(i * CHUNK, chunk)
+            });
         return;
     }
     f(0, batches);
