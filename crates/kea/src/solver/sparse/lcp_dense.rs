@@ -48,6 +48,9 @@ pub(crate) struct LcpReport {
 #[derive(Debug, Default, Clone)]
 pub(crate) struct LcpWorkspace {
     free: Vec<usize>,
+    /// The held indices away from zero, in order: the only ones the free rows' right side
+    /// reads (most contacts are held at zero).
+    held: Vec<usize>,
     factor: Vec<f64>,
     rhs: Vec<f64>,
 }
@@ -61,19 +64,23 @@ impl LcpWorkspace {
         if self.rhs.len() < n {
             self.rhs.resize(n, 0.0);
         }
-        if self.free.capacity() < n {
-            self.free.reserve(n - self.free.len());
+        for list in [&mut self.free, &mut self.held] {
+            if list.capacity() < n {
+                list.reserve(n - list.len());
+            }
         }
     }
 
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        self.factor.capacity() * 8 + self.rhs.capacity() * 8 + self.free.capacity() * 8
+        self.factor.capacity() * 8
+            + self.rhs.capacity() * 8
+            + (self.free.capacity() + self.held.capacity()) * 8
     }
 
     /// Bytes needed for a problem of `n` unknowns.
     pub(crate) fn bytes_for(n: usize) -> usize {
-        (n * n + n) * 8 + n * 8
+        (n * n + n) * 8 + 2 * n * 8
     }
 }
 
@@ -171,11 +178,20 @@ fn solve_free_block(
         lo, hi, x, state, ..
     } = u;
     ws.free.clear();
+    ws.held.clear();
     for i in 0..n {
-        match state[i] {
-            Bound::Free => ws.free.push(i),
-            Bound::Lower => x[i] = lo[i],
-            Bound::Upper => x[i] = hi[i],
+        let bound = match state[i] {
+            Bound::Free => {
+                ws.free.push(i);
+                continue;
+            }
+            Bound::Lower => lo[i],
+            Bound::Upper => hi[i],
+        };
+        x[i] = bound;
+        // Rows held at a zero bound (most contacts') add nothing to the right side.
+        if bound != 0.0 {
+            ws.held.push(i);
         }
     }
     let m = ws.free.len();
@@ -186,11 +202,8 @@ fn solve_free_block(
     for (k, &i) in ws.free.iter().enumerate() {
         let row = &a[i * n..i * n + n];
         let mut s = b[i];
-        for j in 0..n {
-            // Rows held at a zero bound (most contacts') add nothing.
-            if state[j] != Bound::Free && x[j] != 0.0 {
-                s -= row[j] * x[j];
-            }
+        for &j in &ws.held {
+            s -= row[j] * x[j];
         }
         ws.rhs[k] = s;
     }
@@ -264,24 +277,63 @@ fn cholesky(
 ) -> bool {
     let m = free.len();
     let tiny = 1.0e-13 * diag_max.max(1.0e-300);
-    for i in 0..m {
-        for j in 0..=i {
-            let mut s = a[free[i] * n + free[j]];
-            if i == j {
-                s += shift;
+    // Column by column: each entry is the same sum as row by row (so the same bits), and a
+    // column's rows below the diagonal, which share row `j`'s entries, go four at a time.
+    for j in 0..m {
+        let (above, below) = out[..m * m].split_at_mut((j + 1) * m);
+        let lj = &mut above[j * m..j * m + j + 1];
+        let s = a[free[j] * n + free[j]] + shift - dot_lanes(&lj[..j], &lj[..j]);
+        if s.is_nan() || s <= tiny {
+            return false;
+        }
+        let inv = 1.0 / s.sqrt();
+        lj[j] = inv;
+        let lj = &lj[..j];
+        let aj = free[j];
+        let mut rows = below.chunks_exact_mut(m);
+        let mut i = j + 1;
+        while i + 4 <= m {
+            let [r0, r1, r2, r3] = [(); 4].map(|()| rows.next().expect("rows below"));
+            let dots = dot_lanes_four([&r0[..j], &r1[..j], &r2[..j], &r3[..j]], lj);
+            for (k, r) in [r0, r1, r2, r3].into_iter().enumerate() {
+                r[j] = (a[free[i + k] * n + aj] - dots[k]) * inv;
             }
-            s -= dot_lanes(&out[i * m..i * m + j], &out[j * m..j * m + j]);
-            if i == j {
-                if s.is_nan() || s <= tiny {
-                    return false;
-                }
-                out[i * m + i] = 1.0 / s.sqrt();
-            } else {
-                out[i * m + j] = s * out[j * m + j];
-            }
+            i += 4;
+        }
+        for r in rows {
+            r[j] = (a[free[i] * n + aj] - dot_lanes(&r[..j], lj)) * inv;
+            i += 1;
         }
     }
     true
+}
+
+/// [`dot_lanes`] of four rows with one vector, each the same sum in the same order (so the
+/// same bits), the vector's entries loaded once for the four.
+#[inline]
+fn dot_lanes_four(rows: [&[f64]; 4], b: &[f64]) -> [f64; 4] {
+    let len = b.len();
+    let whole = len - len % 4;
+    let mut s = [[0.0_f64; 4]; 4];
+    for c in (0..whole).step_by(4) {
+        let y = &b[c..c + 4];
+        for (r, row) in rows.iter().enumerate() {
+            let x = &row[c..c + 4];
+            for k in 0..4 {
+                s[r][k] += x[k] * y[k];
+            }
+        }
+    }
+    let mut out = [0.0; 4];
+    for (r, row) in rows.iter().enumerate() {
+        let tail: f64 = row[whole..len]
+            .iter()
+            .zip(&b[whole..len])
+            .map(|(x, y)| x * y)
+            .sum();
+        out[r] = (s[r][0] + s[r][1]) + (s[r][2] + s[r][3]) + tail;
+    }
+    out
 }
 
 #[cfg(test)]
