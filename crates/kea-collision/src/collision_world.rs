@@ -476,6 +476,9 @@ impl CollisionWorld {
 
     /// [`CollisionWorld::update_contacts`] for a step already checked.
     pub fn update_contacts_by(&mut self, world: &mut World, dt: StepSize) -> CollisionResult<()> {
+        // The collision layer's step, flushed as the world's is (`kea::float_mode`): a
+        // collider's pose turns its offset in SIMD lanes, the fourth its material id.
+        let _flush = kea::float_mode::FlushSubnormals::new();
         let dt = dt.seconds();
         // Checked before anything moves: parry asserts on a negative loosening margin, and a
         // refused step must leave the contacts as they were.
@@ -610,15 +613,5 @@ pub(crate) fn collider_pose(world: &World, def: &ColliderDef) -> Pose {
         Some(body) => (body.position(), body.orientation()),
         None => (Vec3::ZERO, Quat::IDENTITY),
     };
-    Pose::from_parts(p + q * offset_of(def), q * def.rotation)
-}
-
-/// A collider's offset, read as exactly its three numbers. A plain read lets the compiler
-/// load sixteen bytes for the SIMD rotation, its fourth lane the collider's material id, and
-/// that id's bits are a subnormal float: every rotation's multiply then took the processor's
-/// slow path for subnormals (a sixth of a half-cheetah's step, all in this one line). The
-/// volatile read loads the three numbers alone, and the fourth lane is zero.
-fn offset_of(def: &ColliderDef) -> Vec3 {
-    // SAFETY: a read of a live, aligned, initialised `Vec3` through a reference.
-    unsafe { std::ptr::read_volatile(&def.offset) }
+    Pose::from_parts(p + q * def.offset, q * def.rotation)
 }

@@ -61,7 +61,8 @@ impl PhysicsWorld {
     /// first stage changes anything: `dt` by the caller, the collision settings here, targets
     /// and paths when they were set.
     fn run_stages(&mut self, dt: StepSize, reactions: bool) -> Result<StepStats> {
-        // Collision and dynamics alike (`kea::float_mode`).
+        // Set once for the substeps' collision and dynamics, whose own guards then only read
+        // the mode (`kea::float_mode`).
         let _flush = kea::float_mode::FlushSubnormals::new();
         self.collision.check_settings()?;
         let n = self.dynamics.settings().world_substeps;
