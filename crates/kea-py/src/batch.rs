@@ -40,6 +40,20 @@ pub struct PyBatch {
     bodies: Vec<BodyHandle>,
     pub(crate) joints: Vec<JointEntry>,
     pub(crate) pool: rayon::ThreadPool,
+    /// A robot batch's joint positions and velocities, read by each worker as it finishes a
+    /// world's step, while the world is still in its cache.
+    pub(crate) observed: Observed,
+}
+
+/// Every world's joint positions and velocities (MuJoCo's `qpos` and `qvel`) as its last
+/// step left them, read in the step by the worker that held the world: a closed loop reads
+/// them after every step, and a second pass over every world would bring each back from
+/// memory. `fresh` until anything but a step changes a world.
+#[derive(Default)]
+pub(crate) struct Observed {
+    pub(crate) q: Vec<kea3d::Real>,
+    pub(crate) v: Vec<kea3d::Real>,
+    pub(crate) fresh: bool,
 }
 
 impl PyBatch {
@@ -49,6 +63,7 @@ impl PyBatch {
     where
         F: Fn(usize, &mut PhysicsWorld) -> kea3d::Result<()> + Sync + Send,
     {
+        self.observed.fresh = false;
         let (pool, worlds) = (&self.pool, &mut self.worlds);
         let result = py_.detach(|| {
             pool.install(|| {
@@ -110,6 +125,7 @@ impl PyBatch {
             joints: world.joints.clone(),
             robot: world.robot.clone(),
             pool,
+            observed: Observed::default(),
         })
     }
 
@@ -119,28 +135,41 @@ impl PyBatch {
         let dt = real(dt);
         // Worlds in runs of `RUN`, each asking for the next one's memory while it steps.
         const RUN: usize = 16;
+        let n = self.worlds.len();
+        let robot = self.robot.as_ref();
+        // A row per world, at least one number wide, so that the rows split as the worlds do.
+        let (nq, nv) = robot.map_or((1, 1), |r| (r.position_count(), r.velocity_count()));
+        let (nq, nv) = (nq.max(1), nv.max(1));
+        let observed = &mut self.observed;
+        observed.fresh = false;
+        observed.q.resize(n * nq, 0.0);
+        observed.v.resize(n * nv, 0.0);
         let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
         let template = &self.template;
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
                     .par_chunks_mut(RUN)
+                    .zip(observed.q.par_chunks_mut(RUN * nq))
+                    .zip(observed.v.par_chunks_mut(RUN * nv))
                     .enumerate()
-                    .try_for_each(|(c, run)| {
+                    .try_for_each(|(c, ((run, q), v))| {
+                        let rows = robot.map(|r| Rows { robot: r, q, v });
                         let thread = rayon::current_thread_index().unwrap_or(0);
                         let stepped = match workers[thread % workers.len()].try_lock() {
-                            Ok(mut worker) => step_run(&mut worker, run, dt, steps),
+                            Ok(mut worker) => step_run(&mut worker, run, rows, dt, steps),
                             Err(TryLockError::Poisoned(p)) => {
-                                step_run(&mut p.into_inner(), run, dt, steps)
+                                step_run(&mut p.into_inner(), run, rows, dt, steps)
                             }
                             Err(TryLockError::WouldBlock) => {
-                                step_run(&mut template.clone(), run, dt, steps)
+                                step_run(&mut template.clone(), run, rows, dt, steps)
                             }
                         };
                         stepped.map_err(|(k, e)| (c * RUN + k, e))
                     })
             })
         });
+        observed.fresh = result.is_ok() && robot.is_some();
         result.map_err(|(i, e)| world_error(py_, i, e))
     }
 
@@ -152,6 +181,7 @@ impl PyBatch {
         if let Some(&i) = indices.iter().find(|&&i| i >= n) {
             return Err(crate::convert::no_such("indices", i, n));
         }
+        self.observed.fresh = false;
         for i in indices {
             // The template's state into the world's own buffers: no allocation.
             self.worlds[i].copy_state_only(&self.template);
@@ -356,12 +386,22 @@ impl PyBatch {
     }
 }
 
+/// A run's rows of the robot's joint positions and velocities (each at least one number
+/// apart), which its worker reads as it finishes each world.
+struct Rows<'a> {
+    robot: &'a kea3d::robot::Robot,
+    q: &'a mut [kea3d::Real],
+    v: &'a mut [kea3d::Real],
+}
+
 /// Steps each world of `run` `steps` times by `dt` in `worker`, which trades states with
-/// it, steps, and trades back whatever the step did (as stepping it in place); the first
-/// error comes back with the world's place in the run.
+/// it, steps, reads the world's `rows` while it holds it, and trades back whatever the step
+/// did (as stepping it in place); the first error comes back with the world's place in the
+/// run.
 fn step_run(
     worker: &mut PhysicsWorld,
     run: &mut [PhysicsWorld],
+    mut rows: Option<Rows<'_>>,
     dt: kea3d::Real,
     steps: usize,
 ) -> Result<(), (usize, kea3d::Error)> {
@@ -370,7 +410,12 @@ fn step_run(
             next.prefetch();
         }
         worker.swap_state(&mut run[k]);
-        let stepped = crate::world::step_many(worker, dt, steps);
+        let mut stepped = crate::world::step_many(worker, dt, steps);
+        if let (Ok(()), Some(r)) = (&stepped, rows.as_mut()) {
+            let (nq, nv) = (r.robot.position_count(), r.robot.velocity_count());
+            let (q, v) = (&mut r.q[k * nq.max(1)..], &mut r.v[k * nv.max(1)..]);
+            stepped = r.robot.joint_state_into(worker, &mut q[..nq], &mut v[..nv]);
+        }
         worker.swap_state(&mut run[k]);
         stepped.map_err(|e| (k, e))?;
     }

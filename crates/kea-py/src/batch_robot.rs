@@ -79,11 +79,35 @@ impl PyBatch {
     }
 }
 
+/// The (n, width) array of the rows a step read into `values`, each at least one number
+/// apart (`batch::Rows`).
+fn rows_of<'py>(
+    py_: Python<'py>,
+    values: &[Real],
+    n: usize,
+    width: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let out: Vec<f64> = values
+        .chunks(width.max(1))
+        .take(n)
+        .flat_map(|row| row[..width].iter().map(|&x| f64::from(x)))
+        .collect();
+    PyArray1::from_vec(py_, out).reshape([n, width])
+}
+
 #[pymethods]
 impl PyBatch {
     /// Every world's joint positions, (N, position_count) float64.
     fn joint_positions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
+        if self.observed.fresh {
+            return rows_of(
+                py_,
+                &self.observed.q,
+                self.worlds.len(),
+                robot.position_count(),
+            );
+        }
         self.gather(py_, robot.position_count(), |w, row| {
             robot.joint_positions_into(w, row)
         })
@@ -92,6 +116,14 @@ impl PyBatch {
     /// Every world's joint velocities, (N, velocity_count) float64.
     fn joint_velocities<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
+        if self.observed.fresh {
+            return rows_of(
+                py_,
+                &self.observed.v,
+                self.worlds.len(),
+                robot.velocity_count(),
+            );
+        }
         self.gather(py_, robot.velocity_count(), |w, row| {
             robot.joint_velocities_into(w, row)
         })

@@ -234,6 +234,18 @@ def test_a_robot_batch_reads_and_writes_joint_vectors_and_controls_per_world():
     batch.step(0.01, 10)
     v = batch.joint_velocities()
     assert v[0, 0] > 0.1 and v[1, 0] < -0.1 and abs(v[2, 0]) < abs(v[0, 0])
+    # A step reads the joint vectors while it holds each world; what it read answers only
+    # until something else changes a world.
+    moved = batch.joint_positions()
+    batch.reset([1])
+    assert np.array_equal(batch.joint_positions()[1], reacher.joint_positions())
+    assert np.array_equal(batch.joint_velocities()[1], reacher.joint_velocities())
+    assert np.array_equal(batch.joint_positions()[0], moved[0])
+    v[0, 0] = 2.5
+    batch.set_joint_velocities(v)
+    assert batch.joint_velocities()[0, 0] == pytest.approx(2.5)
+    batch.step(0.01, 1)
+    assert np.array_equal(batch.joint_positions()[2], batch.world(2).joint_positions())
     # A link's position and a point fixed in it, in every world.
     tips = batch.link_positions("fingertip")
     assert tips.shape == (3, 3)

@@ -70,6 +70,16 @@ impl RobotJoint {
     pub fn efforts(&self) -> Vec<Option<Real>> {
         self.coords.iter().map(|c| c.effort).collect()
     }
+
+    /// Its entries in the joint position vector.
+    fn positions(&self) -> std::ops::Range<usize> {
+        self.first_position..self.first_position + self.kind.position_count()
+    }
+
+    /// Its entries in the joint velocity vector.
+    fn velocities(&self) -> std::ops::Range<usize> {
+        self.first_velocity..self.first_velocity + self.kind.velocity_count()
+    }
 }
 
 /// A tendon of a loaded robot.
@@ -227,11 +237,35 @@ impl Robot {
     pub fn joint_positions_into(&self, world: &PhysicsWorld, q: &mut [Real]) -> Result<()> {
         check_len("q", q, self.positions)?;
         let mut last = None;
-        for j in &self.joints {
-            let out = &mut q[j.first_position..j.first_position + j.kind.position_count()];
-            self.read_position(world, j, out, &mut last)?;
+        for j in self.moving_joints() {
+            let frames = self.frames(world, j, &mut last)?;
+            self.read_position(world, j, frames, &mut q[j.positions()])?;
         }
         Ok(())
+    }
+
+    /// [`Robot::joint_positions_into`] and [`Robot::joint_velocities_into`] in one pass, each
+    /// link's pose found once for both (a batch reads both after every step).
+    pub fn joint_state_into(
+        &self,
+        world: &PhysicsWorld,
+        q: &mut [Real],
+        v: &mut [Real],
+    ) -> Result<()> {
+        check_len("q", q, self.positions)?;
+        check_len("v", v, self.velocities)?;
+        let mut last = None;
+        for j in self.moving_joints() {
+            let frames = self.frames(world, j, &mut last)?;
+            self.read_position(world, j, frames, &mut q[j.positions()])?;
+            self.read_velocity(world, j, frames, &mut v[j.velocities()])?;
+        }
+        Ok(())
+    }
+
+    /// The joints that have coordinates (all but fixed ones), in the file's order.
+    fn moving_joints(&self) -> impl Iterator<Item = &RobotJoint> {
+        self.joints.iter().filter(|j| j.kind != JointType::Fixed)
     }
 
     /// The joint velocities in the file's joint order (MuJoCo's `qvel`: a free joint's linear
@@ -248,9 +282,9 @@ impl Robot {
     pub fn joint_velocities_into(&self, world: &PhysicsWorld, v: &mut [Real]) -> Result<()> {
         check_len("v", v, self.velocities)?;
         let mut last = None;
-        for j in &self.joints {
-            let out = &mut v[j.first_velocity..j.first_velocity + j.kind.velocity_count()];
-            self.read_velocity(world, j, out, &mut last)?;
+        for j in self.moving_joints() {
+            let frames = self.frames(world, j, &mut last)?;
+            self.read_velocity(world, j, frames, &mut v[j.velocities()])?;
         }
         Ok(())
     }
@@ -277,13 +311,9 @@ impl Robot {
         &self,
         world: &PhysicsWorld,
         j: &RobotJoint,
+        (zero, child): (Pose, Pose),
         out: &mut [Real],
-        last: &mut Option<(usize, Pose)>,
     ) -> Result<()> {
-        if j.kind == JointType::Fixed {
-            return Ok(());
-        }
-        let (zero, child) = self.frames(world, j, last)?;
         let delta = zero.inverse().then(&child);
         match j.kind {
             JointType::Free => {
@@ -346,15 +376,11 @@ impl Robot {
         &self,
         world: &PhysicsWorld,
         j: &RobotJoint,
+        (zero, child_frame): (Pose, Pose),
         out: &mut [Real],
-        last: &mut Option<(usize, Pose)>,
     ) -> Result<()> {
-        if j.kind == JointType::Fixed {
-            return Ok(());
-        }
         let parent = self.links[j.parent_link].body;
         let child = self.links[j.child_link].body;
-        let (zero, child_frame) = self.frames(world, j, last)?;
         let (vp, wp, cp) = motion(world, parent)?;
         let (_, wc, _) = motion(world, child)?;
         let anchor = child_frame.point(j.anchor);

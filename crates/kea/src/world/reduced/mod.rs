@@ -181,11 +181,15 @@ pub(super) struct ReducedScratch {
     adjacency: Vec<(u32, u32)>,
     fill: Vec<u32>,
     /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
-    /// the kept floating tree it is the root of.
-    trees: Vec<CachedTree>,
+    /// the kept floating tree it is the root of. Boxed: a trade of states moves trees
+    /// between these lists and a world's, and a tree is over a kilobyte (a batch's closed
+    /// loop copied two each trade, a sixth of its cache misses).
+    #[allow(clippy::vec_box)]
+    trees: Vec<Box<CachedTree>>,
     /// Trees a trade of states left over (`kept.rs`), with their step scratch, for the next
     /// trade to take before making new ones.
-    spare_trees: Vec<CachedTree>,
+    #[allow(clippy::vec_box)]
+    spare_trees: Vec<Box<CachedTree>>,
     /// Kept trees' models, for the next tree built with the same geometry to share (a
     /// batch's worker builds every world's robot on one model).
     shared_models: crate::articulation::SharedModels,
@@ -362,16 +366,20 @@ impl World {
                 r.trees.len() - 1
             }
         };
-        let mut tree = std::mem::take(&mut r.trees[index]);
+        // Taken out while the world builds it (no copy: a box moves), put back in its place.
+        let mut tree = r.trees.swap_remove(index);
         let built = self.build_tree(root, &mut tree);
         let r = &mut self.scratch.reduced;
+        r.trees.push(tree);
+        let last = r.trees.len() - 1;
+        r.trees.swap(index, last);
+        let tree = &mut r.trees[index];
         // A tree built again every step (a ball joint's) is not shared: a planar root's
         // travels, measured in its turned link's axes, change its model as it turns, and a
         // shared model that changes is copied.
         if built && !tree.rebuilt_each_step {
             r.shared_models.share(&mut tree.tree);
         }
-        r.trees[index] = tree;
         if !built {
             r.trees[index].revision = 0;
             return None;

@@ -196,7 +196,7 @@ impl World {
                 map.resize(key + 1, 0);
             }
             map[key] = r.trees.len() as u32;
-            r.trees.push(tree);
+            r.trees.push(Box::new(tree));
         }
         Ok(())
     }
