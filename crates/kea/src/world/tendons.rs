@@ -114,7 +114,7 @@ impl World {
     pub fn add_tendon(&mut self, tendon: FixedTendon) -> KeaResult<TendonHandle> {
         self.check_tendon(&tendon)?;
         self.tendons.push(Some(tendon));
-        self.joint_revision += 1;
+        self.joint_revision = super::constraint_index::next_joint_revision();
         Ok(TendonHandle {
             world: self.id,
             index: self.tendons.len() as u32 - 1,
@@ -130,7 +130,7 @@ impl World {
                 limit.set_tendon_force(0.0);
             }
         }
-        self.joint_revision += 1;
+        self.joint_revision = super::constraint_index::next_joint_revision();
         Ok(())
     }
 

@@ -180,6 +180,10 @@ pub(super) struct ReducedScratch {
     start: Vec<u32>,
     adjacency: Vec<(u32, u32)>,
     fill: Vec<u32>,
+    /// The slots of the joints a tree may take, ascending, as of joint revision
+    /// `joint_slots_of` (`qualify.rs`).
+    joint_slots: Vec<u32>,
+    joint_slots_of: Option<u64>,
     /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
     /// the kept floating tree it is the root of. Boxed: a trade of states moves trees
     /// between these lists and a world's, and a tree is over a kilobyte (a batch's closed

@@ -198,19 +198,20 @@ impl World {
     /// other body), for laying trees out.
     pub(super) fn link_adjacency(&mut self) {
         let n = self.bodies.slot_count();
+        self.list_joint_slots();
         let r = &mut self.scratch.reduced;
         r.start.clear();
         r.start.resize(n + 1, 0);
-        // Joints between links (a contact between two links of a tree joins nothing).
-        let joints = &self.tree_joint_slots;
-        let linked = |r: &ReducedScratch, slot: usize, [a, b]: [u32; 2]| {
-            a != EMPTY
-                && joints.get(slot) == Some(&true)
-                && r.role_of(a) == Role::Link
-                && r.role_of(b) == Role::Link
+        // Joints between links (a contact between two links of a tree joins nothing): only
+        // the joints' slots are read, not every contact's (a tree built every step, a ball
+        // joint's, beside a pile would otherwise scan the pile's contacts every step).
+        let bodies = &self.constraint_bodies;
+        let linked = |r: &ReducedScratch, [a, b]: [u32; 2]| {
+            a != EMPTY && r.role_of(a) == Role::Link && r.role_of(b) == Role::Link
         };
-        for (slot, &pair) in self.constraint_bodies.iter().enumerate() {
-            if linked(r, slot, pair) {
+        for &slot in &r.joint_slots {
+            let pair = bodies[slot as usize];
+            if linked(r, pair) {
                 r.start[pair[0] as usize + 1] += 1;
                 r.start[pair[1] as usize + 1] += 1;
             }
@@ -222,15 +223,31 @@ impl World {
         r.adjacency.resize(r.start[n] as usize, (0, 0));
         r.fill.clear();
         r.fill.extend_from_slice(&r.start[..n]);
-        for (slot, &[a, b]) in self.constraint_bodies.iter().enumerate() {
-            if linked(r, slot, [a, b]) {
+        for k in 0..r.joint_slots.len() {
+            let slot = r.joint_slots[k];
+            let [a, b] = bodies[slot as usize];
+            if linked(r, [a, b]) {
                 for (x, y) in [(a, b), (b, a)] {
                     let k = r.fill[x as usize] as usize;
-                    r.adjacency[k] = (slot as u32, y);
+                    r.adjacency[k] = (slot, y);
                     r.fill[x as usize] += 1;
                 }
             }
         }
+    }
+
+    /// Lists the slots that hold a joint a tree may take, ascending, once per joint revision
+    /// (contacts, which come and go every step, never are one).
+    fn list_joint_slots(&mut self) {
+        let r = &mut self.scratch.reduced;
+        if r.joint_slots_of == Some(self.joint_revision) {
+            return;
+        }
+        r.joint_slots.clear();
+        let slots = self.tree_joint_slots.iter().enumerate();
+        r.joint_slots
+            .extend(slots.filter(|&(_, &joint)| joint).map(|(slot, _)| slot as u32));
+        r.joint_slots_of = Some(self.joint_revision);
     }
 }
 
