@@ -185,6 +185,19 @@ impl AwakeSet {
         &self.slots
     }
 
+    /// Whether slot `slot` holds an enabled body, awake or asleep (after
+    /// [`AwakeSet::refresh`]).
+    pub(crate) fn is_enabled(&self, slot: u32) -> bool {
+        self.seen
+            .get(slot as usize)
+            .is_some_and(|&s| s != Seen::Out)
+    }
+
+    /// Whether slot `slot` holds an enabled body asleep (after [`AwakeSet::refresh`]).
+    pub(crate) fn is_asleep(&self, slot: u32) -> bool {
+        self.seen.get(slot as usize) == Some(&Seen::Asleep)
+    }
+
     /// Enabled bodies asleep (after [`AwakeSet::refresh`]).
     pub(crate) fn asleep(&self) -> u32 {
         self.asleep

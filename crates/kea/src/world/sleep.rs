@@ -12,6 +12,7 @@
 //! away. Disabling a single body inside a moving pile would be wrong, hence
 //! islands.
 
+use super::constraint_index::{EMPTY, NO_BODY};
 use super::World;
 use crate::error::{check_non_negative, KeaResult};
 use crate::handle::BodyHandle;
@@ -126,42 +127,34 @@ impl World {
             s.wake.clear();
             return;
         }
+        // Read from the dense index of constraints' bodies and the awake set's flags, not
+        // from the constraints' and bodies' records: a sleeping pile beside anything awake
+        // has every one of its contacts looked at here, every step.
         s.sleep_sets.reset(n);
-        for slot in 0..self.constraints.slot_count() {
-            let Some(c) = self.constraints.at(slot) else {
-                continue;
-            };
-            if !c.enabled {
-                continue;
-            }
-            if let [Some(a), Some(b)] = c.bodies {
-                let both_enabled = [a, b].iter().all(|h| {
-                    self.bodies
-                        .at(h.index() as usize)
-                        .is_some_and(|b| b.enabled)
-                });
-                if both_enabled {
-                    s.sleep_sets.union(a.index(), b.index());
-                }
+        let awake = &self.awake;
+        for &[a, b] in &self.constraint_bodies {
+            // Disabled constraints (`EMPTY`) and the static world (`NO_BODY`) join nothing.
+            let joins = |x: u32| x != EMPTY && x != NO_BODY && awake.is_enabled(x);
+            if joins(a) && joins(b) {
+                s.sleep_sets.union(a, b);
             }
         }
         s.island_flag.clear();
         s.island_flag.resize(n, 0.0);
-        for slot in 0..n {
-            let Some(b) = self.bodies.at(slot) else {
-                continue;
-            };
-            if active(b) {
-                let r = s.sleep_sets.find(slot as u32) as usize;
+        // Only awake bodies and bodies touched since the last step can be active.
+        for &slot in awake.slots().iter().chain(awake.touched()) {
+            if self.bodies.at(slot as usize).is_some_and(active) {
+                let r = s.sleep_sets.find(slot) as usize;
                 s.island_flag[r] = 1.0;
             }
         }
         s.wake.clear();
         s.wake.resize(n, false);
-        for slot in 0..n {
-            let r = s.sleep_sets.find(slot as u32) as usize;
-            s.wake[slot] =
-                s.island_flag[r] > 0.0 && self.bodies.at(slot).is_some_and(|b| b.sleeping);
+        for slot in 0..n as u32 {
+            if awake.is_asleep(slot) {
+                let r = s.sleep_sets.find(slot) as usize;
+                s.wake[slot as usize] = s.island_flag[r] > 0.0;
+            }
         }
     }
 

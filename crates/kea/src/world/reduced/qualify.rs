@@ -245,8 +245,11 @@ impl World {
         }
         r.joint_slots.clear();
         let slots = self.tree_joint_slots.iter().enumerate();
-        r.joint_slots
-            .extend(slots.filter(|&(_, &joint)| joint).map(|(slot, _)| slot as u32));
+        r.joint_slots.extend(
+            slots
+                .filter(|&(_, &joint)| joint)
+                .map(|(slot, _)| slot as u32),
+        );
         r.joint_slots_of = Some(self.joint_revision);
     }
 }
