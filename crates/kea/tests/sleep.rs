@@ -257,3 +257,78 @@ fn sleeping_islands_cost_no_body_and_wake_alone() {
     let stats = step(&mut world, &[b]);
     assert_eq!((stats.bodies, stats.sleeping_bodies), (1, 0));
 }
+
+#[test]
+fn a_touch_wakes_a_whole_sleeping_island_beside_one_that_never_sleeps() {
+    // Two boxes on the ground joined by a fixed joint (one island) fall asleep while a
+    // pendulum swings elsewhere and never does. Every step then has something awake but
+    // nothing reaching the pair: they stay asleep. A ball landing on one box wakes both —
+    // the other only through the joint.
+    {
+        let (mut world, a) = resting_box_world(DemMode::PartitionAutoDisable);
+        let b = world
+            .create_body(&BodyDef {
+                position: Vec3::new(0.6, HALF.y + 0.01, 0.0),
+                inertia: inertia::solid_box(1.0, HALF).unwrap(),
+                ..Default::default()
+            })
+            .unwrap();
+        let anchor = Vec3::new(0.3, HALF.y + 0.01, 0.0);
+        world
+            .create_joint(a, Some(b), kea::JointSpec::fixed(anchor))
+            .unwrap();
+        let bob = world
+            .create_body(&BodyDef {
+                position: Vec3::new(5.0, 2.0, 0.0),
+                ..Default::default()
+            })
+            .unwrap();
+        world
+            .create_joint(bob, None, kea::JointSpec::ball(Vec3::new(5.0, 3.0, 1.0)))
+            .unwrap();
+        let mut contacts = Vec::new();
+        let mut step = |world: &mut World, extra: Option<kea::BodyHandle>| {
+            clear_contacts(world, &mut contacts);
+            ground(world, a, &mut contacts);
+            ground(world, b, &mut contacts);
+            if let Some(ball) = extra {
+                let c = Contact::new(Vec3::new(0.6, 2.0 * HALF.y, 0.0), Vec3::Y, 0.0).unwrap();
+                contacts.push(world.create_contact(ball, Some(b), c).unwrap());
+            }
+            world.step(H).unwrap()
+        };
+        let asleep = |world: &World| [a, b].map(|x| world.body(x).unwrap().is_sleeping());
+        for _ in 0..300 {
+            step(&mut world, None);
+            if asleep(&world) == [true, true] {
+                break;
+            }
+        }
+        assert_eq!(asleep(&world), [true, true], "the pair falls asleep");
+        for _ in 0..30 {
+            step(&mut world, None);
+            assert_eq!(
+                asleep(&world),
+                [true, true],
+                "nothing awake reaches the pair"
+            );
+            assert!(
+                !world.body(bob).unwrap().is_sleeping(),
+                "the pendulum swings on"
+            );
+        }
+        let ball = world
+            .create_body(&BodyDef {
+                position: Vec3::new(0.6, 2.0 * HALF.y + 0.1, 0.0),
+                linear_velocity: Vec3::new(0.0, -1.0, 0.0),
+                ..Default::default()
+            })
+            .unwrap();
+        step(&mut world, Some(ball));
+        assert_eq!(
+            asleep(&world),
+            [false, false],
+            "the touched box and, through the joint, the other"
+        );
+    }
+}

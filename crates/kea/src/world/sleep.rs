@@ -132,10 +132,34 @@ impl World {
         // has every one of its contacts looked at here, every step.
         s.sleep_sets.reset(n);
         let awake = &self.awake;
+        // Disabled constraints (`EMPTY`), the static world (`NO_BODY`) and disabled bodies
+        // join nothing.
+        let joins = |x: u32| x != EMPTY && x != NO_BODY && awake.is_enabled(x);
+        // A sleeping body wakes only through an active one: itself pushed, or a constraint
+        // to an awake body (the frontier). Without either, the edges among sleeping bodies
+        // join nothing this step needs — it wakes none, and the islands put to sleep after
+        // it are of awake bodies — and are not joined (a sleeping pile costs its index).
+        let bodies = &self.bodies;
+        let mut frontier = awake
+            .touched()
+            .iter()
+            .any(|&slot| awake.is_asleep(slot) && bodies.at(slot as usize).is_some_and(active));
         for &[a, b] in &self.constraint_bodies {
-            // Disabled constraints (`EMPTY`) and the static world (`NO_BODY`) join nothing.
-            let joins = |x: u32| x != EMPTY && x != NO_BODY && awake.is_enabled(x);
             if joins(a) && joins(b) {
+                match (awake.is_asleep(a), awake.is_asleep(b)) {
+                    (false, false) => s.sleep_sets.union(a, b),
+                    (true, true) => {}
+                    _ => frontier = true,
+                }
+            }
+        }
+        s.wake.clear();
+        s.wake.resize(n, false);
+        if !frontier {
+            return;
+        }
+        for &[a, b] in &self.constraint_bodies {
+            if joins(a) && joins(b) && (awake.is_asleep(a) || awake.is_asleep(b)) {
                 s.sleep_sets.union(a, b);
             }
         }
@@ -143,13 +167,11 @@ impl World {
         s.island_flag.resize(n, 0.0);
         // Only awake bodies and bodies touched since the last step can be active.
         for &slot in awake.slots().iter().chain(awake.touched()) {
-            if self.bodies.at(slot as usize).is_some_and(active) {
+            if bodies.at(slot as usize).is_some_and(active) {
                 let r = s.sleep_sets.find(slot) as usize;
                 s.island_flag[r] = 1.0;
             }
         }
-        s.wake.clear();
-        s.wake.resize(n, false);
         for slot in 0..n as u32 {
             if awake.is_asleep(slot) {
                 let r = s.sleep_sets.find(slot) as usize;
