@@ -102,8 +102,9 @@ fn main() {
 }
 
 /// The arm as `kea.Batch` steps it in a closed loop: each world holds only its state, a hot
-/// worker trades states with it, steps five times, trades back, and the joint positions are
-/// read (`KEA_SUBSTEPS` steps per environment step, 5 by default).
+/// worker trades states with it, steps five times, reads its joint positions and velocities
+/// while it holds it, and trades back (`KEA_SUBSTEPS` steps per environment step, 5 by
+/// default).
 fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, steps: usize) {
     let substeps: usize = std::env::var("KEA_SUBSTEPS")
         .ok()
@@ -118,16 +119,15 @@ fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, ste
     let mut worlds = vec![held; count];
     let mut worker = template.clone();
     let mut q = vec![0.0; robot.position_count()];
+    let mut v = vec![0.0; robot.velocity_count()];
     let mut env_step = |worlds: &mut [PhysicsWorld]| {
         for w in worlds.iter_mut() {
             worker.swap_state(w);
             for _ in 0..substeps {
                 worker.step(dt).unwrap();
             }
+            robot.joint_state_into(&worker, &mut q, &mut v).unwrap();
             worker.swap_state(w);
-        }
-        for w in worlds.iter() {
-            robot.joint_positions_into(w, &mut q).unwrap();
         }
     };
     env_step(&mut worlds); // warm
@@ -139,7 +139,7 @@ fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, ste
     let per = start.elapsed().as_secs_f64() * 1e6 / (worlds.len() * env_steps * substeps) as f64;
     println!(
         "{name}, closed loop: {per:.2} µs per world step ({} worlds × {env_steps} environment \
-         steps of {substeps} steps, each world traded into a worker and its joints read)",
+         steps of {substeps} steps, each world traded into a worker, its joints read there)",
         worlds.len()
     );
 }
