@@ -137,9 +137,8 @@ impl PyBatch {
         const RUN: usize = 16;
         let n = self.worlds.len();
         let robot = self.robot.as_ref();
-        // A row per world, at least one number wide, so that the rows split as the worlds do.
-        let (nq, nv) = robot.map_or((1, 1), |r| (r.position_count(), r.velocity_count()));
-        let (nq, nv) = (nq.max(1), nv.max(1));
+        let (nq, nv) = robot.map_or((0, 0), |r| (r.position_count(), r.velocity_count()));
+        let (nq, nv) = (row_stride(nq), row_stride(nv));
         let observed = &mut self.observed;
         observed.fresh = false;
         observed.q.resize(n * nq, 0.0);
@@ -386,8 +385,14 @@ impl PyBatch {
     }
 }
 
-/// A run's rows of the robot's joint positions and velocities (each at least one number
-/// apart), which its worker reads as it finishes each world.
+/// How far apart the step's rows of `width` numbers lie in [`Observed`]: at least one, so
+/// that the rows split into runs as the worlds do even when a robot has no coordinates.
+pub(crate) fn row_stride(width: usize) -> usize {
+    width.max(1)
+}
+
+/// A run's rows of the robot's joint positions and velocities ([`row_stride`] apart), which
+/// its worker reads as it finishes each world.
 struct Rows<'a> {
     robot: &'a kea3d::robot::Robot,
     q: &'a mut [kea3d::Real],
@@ -413,7 +418,10 @@ fn step_run(
         let mut stepped = crate::world::step_many(worker, dt, steps);
         if let (Ok(()), Some(r)) = (&stepped, rows.as_mut()) {
             let (nq, nv) = (r.robot.position_count(), r.robot.velocity_count());
-            let (q, v) = (&mut r.q[k * nq.max(1)..], &mut r.v[k * nv.max(1)..]);
+            let (q, v) = (
+                &mut r.q[k * row_stride(nq)..],
+                &mut r.v[k * row_stride(nv)..],
+            );
             stepped = r.robot.joint_state_into(worker, &mut q[..nq], &mut v[..nv]);
         }
         worker.swap_state(&mut run[k]);

@@ -77,22 +77,30 @@ impl PyBatch {
         let values: Vec<Real> = values.into_iter().map(real).collect();
         self.each(py_, |i, w| write(w, &values[i * width..(i + 1) * width]))
     }
-}
 
-/// The (n, width) array of the rows a step read into `values`, each at least one number
-/// apart (`batch::Rows`).
-fn rows_of<'py>(
-    py_: Python<'py>,
-    values: &[Real],
-    n: usize,
-    width: usize,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let out: Vec<f64> = values
-        .chunks(width.max(1))
-        .take(n)
-        .flat_map(|row| row[..width].iter().map(|&x| f64::from(x)))
-        .collect();
-    PyArray1::from_vec(py_, out).reshape([n, width])
+    /// Every world's `width` numbers as an (N, width) array: the rows the last step read into
+    /// `stepped` while they are fresh, else read from each world by `read`.
+    fn rows_or_gather<'py, F>(
+        &self,
+        py_: Python<'py>,
+        stepped: &[Real],
+        width: usize,
+        read: F,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>>
+    where
+        F: Fn(&PhysicsWorld, &mut [Real]) -> kea3d::Result<()> + Sync + Send,
+    {
+        if !self.observed.fresh {
+            return self.gather(py_, width, read);
+        }
+        let n = self.worlds.len();
+        let out: Vec<f64> = stepped
+            .chunks(crate::batch::row_stride(width))
+            .take(n)
+            .flat_map(|row| row[..width].iter().map(|&x| f64::from(x)))
+            .collect();
+        PyArray1::from_vec(py_, out).reshape([n, width])
+    }
 }
 
 #[pymethods]
@@ -100,15 +108,7 @@ impl PyBatch {
     /// Every world's joint positions, (N, position_count) float64.
     fn joint_positions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
-        if self.observed.fresh {
-            return rows_of(
-                py_,
-                &self.observed.q,
-                self.worlds.len(),
-                robot.position_count(),
-            );
-        }
-        self.gather(py_, robot.position_count(), |w, row| {
+        self.rows_or_gather(py_, &self.observed.q, robot.position_count(), |w, row| {
             robot.joint_positions_into(w, row)
         })
     }
@@ -116,15 +116,7 @@ impl PyBatch {
     /// Every world's joint velocities, (N, velocity_count) float64.
     fn joint_velocities<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
-        if self.observed.fresh {
-            return rows_of(
-                py_,
-                &self.observed.v,
-                self.worlds.len(),
-                robot.velocity_count(),
-            );
-        }
-        self.gather(py_, robot.velocity_count(), |w, row| {
+        self.rows_or_gather(py_, &self.observed.v, robot.velocity_count(), |w, row| {
             robot.joint_velocities_into(w, row)
         })
     }
