@@ -339,6 +339,56 @@ impl<T, H: HandleKind> Arena<T, H> {
         })
     }
 
+    /// Slot `i`'s generation and value (`None` past the last slot): what a held world's
+    /// record keeps of the slots it holds whole.
+    pub(crate) fn raw_slot(&self, i: usize) -> Option<(u32, Option<&T>)> {
+        self.slots.get(i).map(|s| (s.generation, s.value.as_ref()))
+    }
+
+    /// The free list, the live count and the capacity: the arena's shape beside its slots.
+    pub(crate) fn shape(&self) -> (&[u32], usize, usize) {
+        (&self.free, self.len, self.capacity)
+    }
+
+    /// Takes `slot_count` slots (new ones empty, later ones dropped), `free`, `len` and
+    /// `capacity` from a held world's record; the caller then fills the slots that record
+    /// holds (`set_raw_slot`), so that the arena is the one the record was made from.
+    pub(crate) fn take_shape(&mut self, slot_count: usize, free: &[u32], len: usize, capacity: usize)
+    where
+        T: Clone,
+    {
+        self.slots.truncate(slot_count);
+        while self.slots.len() < slot_count {
+            self.slots.push(Slot {
+                generation: 0,
+                value: None,
+            });
+        }
+        self.free.clear();
+        self.free.extend_from_slice(free);
+        self.len = len;
+        self.capacity = capacity;
+    }
+
+    /// Puts `value` (a copy, reusing the slot's buffers) and `generation` in slot `i`, which
+    /// must exist ([`Arena::take_shape`]).
+    pub(crate) fn set_raw_slot(&mut self, i: usize, generation: u32, value: Option<&T>)
+    where
+        T: Clone,
+    {
+        let slot = &mut self.slots[i];
+        slot.generation = generation;
+        match (&mut slot.value, value) {
+            (Some(mine), Some(v)) => mine.clone_from(v),
+            (mine, v) => *mine = v.cloned(),
+        }
+    }
+
+    /// An arena of no slots, for a world whose slots a held record keeps instead.
+    pub(crate) fn emptied(&self) -> Self {
+        Self::new(self.world, 0, self.what)
+    }
+
     /// Approximate bytes reserved by the arena.
     pub(crate) fn reserved_bytes(&self) -> usize {
         self.capacity * (std::mem::size_of::<Slot<T>>() + std::mem::size_of::<u32>())

@@ -54,7 +54,7 @@ pub use solver::{
 };
 pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{
-    CollisionStats, DemMode, DemSettings, FixedTendon, IslandList, JointHandle, JointKind,
+    CollisionStats, DemMode, DemSettings, FixedTendon, IslandList, MotionRecord, JointHandle, JointKind,
     JointRange, JointSketch, JointSpec, OneCoordinate, QuarantineEvent, QuarantineReason,
     SpeedLimits, StepSize, StepStats, TendonHandle, TendonTerm, World, WorldDef, WorldSettings,
     MAX_CAPACITY,

@@ -9,6 +9,7 @@
 
 use kea3d::prelude::*;
 use kea3d::robot::{Robot, UrdfOptions};
+use kea3d::HeldWorld;
 use std::time::Instant;
 
 fn cart_pole() -> PhysicsWorld {
@@ -101,17 +102,16 @@ fn main() {
     }
 }
 
-/// The arm as `kea.Batch` steps it in a closed loop: each world holds only its state, a hot
-/// worker trades states with it, steps five times, reads its joint positions and velocities
-/// while it holds it, and trades back (`KEA_SUBSTEPS` steps per environment step, 5 by
+/// The arm as `kea.Batch` steps it in a closed loop: each world is held as a compact record
+/// beside the model, a hot worker with the model's definitions takes it in, steps five
+/// times, reads its joint positions and velocities while it holds it, and gives it back (`KEA_SUBSTEPS` steps per environment step, 5 by
 /// default).
 fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, steps: usize) {
     let substeps: usize = std::env::var("KEA_SUBSTEPS")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(5);
-    let mut held = template.clone();
-    held.trim_to_state();
+    let held = template.held();
     let count: usize = std::env::var("KEA_WORLDS")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -120,14 +120,18 @@ fn closed_loop(name: &str, template: &PhysicsWorld, robot: &Robot, dt: Real, ste
     let mut worker = template.clone();
     let mut q = vec![0.0; robot.position_count()];
     let mut v = vec![0.0; robot.velocity_count()];
-    let mut env_step = |worlds: &mut [PhysicsWorld]| {
-        for w in worlds.iter_mut() {
-            worker.swap_state(w);
+    let mut env_step = |worlds: &mut [HeldWorld]| {
+        for k in 0..worlds.len() {
+            if let Some(next) = worlds.get(k + 1) {
+                next.prefetch();
+            }
+            let w = &mut worlds[k];
+            worker.enter(w);
             for _ in 0..substeps {
                 worker.step(dt).unwrap();
             }
             robot.joint_state_into(&worker, &mut q, &mut v).unwrap();
-            worker.swap_state(w);
+            worker.leave(w, template);
         }
     };
     env_step(&mut worlds); // warm

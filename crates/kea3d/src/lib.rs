@@ -39,7 +39,7 @@ pub use collider::{Collider, DEFAULT_DENSITY};
 /// dynamics layer's [`kea::JointSpec`]).
 pub use kea::JointSpec as Joint;
 pub use kea::{JointHandle, JointKind};
-pub use world::PhysicsWorld;
+pub use world::{HeldWorld, PhysicsWorld};
 
 /// The dynamics layer (the guide's Kea, Bcl and Mdt): [`kea`] re-exported.
 pub use kea as dynamics;

@@ -363,6 +363,53 @@ pub struct Limit {
     tendon_force: Real,
 }
 
+/// What a step, or a batch's writes, change in a [`Limit`]: its motor and actuator (a
+/// world's actions), the coordinate's last position and velocity, and its tendons' force.
+/// The stops and the joint's dynamics are its definition, which a batch's worlds share
+/// (`crate::world::held`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct LimitMotion {
+    motor: Option<Motor>,
+    actuator: Option<Actuator>,
+    position: Real,
+    velocity: Real,
+    tendon_force: Real,
+}
+
+impl Limit {
+    /// Its [`LimitMotion`].
+    pub(crate) fn motion(&self) -> LimitMotion {
+        // Every field named, so that a new one is sorted into definition or motion.
+        let Limit {
+            limited: _,
+            lower: _,
+            upper: _,
+            motor,
+            dynamics: _,
+            actuator,
+            position,
+            velocity,
+            tendon_force,
+        } = *self;
+        LimitMotion {
+            motor,
+            actuator,
+            position,
+            velocity,
+            tendon_force,
+        }
+    }
+
+    /// Takes `m` in place of its motion; its definition stays.
+    pub(crate) fn set_motion(&mut self, m: &LimitMotion) {
+        self.motor = m.motor;
+        self.actuator = m.actuator;
+        self.position = m.position;
+        self.velocity = m.velocity;
+        self.tendon_force = m.tendon_force;
+    }
+}
+
 impl Limit {
     /// Sets both stops and turns the limits on. Errors if `lower.stop > upper.stop` or a field
     /// is out of range; nothing changes then.

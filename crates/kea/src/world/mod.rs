@@ -12,6 +12,7 @@ mod constraint_entry;
 mod constraint_index;
 mod constraints;
 mod gather;
+mod held;
 mod islands;
 mod joint_frames;
 mod joint_handle;
@@ -30,6 +31,7 @@ mod step_size;
 mod tendons;
 mod write_back;
 
+pub use held::MotionRecord;
 pub use islands::IslandList;
 pub use joint_handle::{JointHandle, JointKind, OneCoordinate};
 pub use joint_spec::JointSpec;

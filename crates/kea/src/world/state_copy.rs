@@ -108,6 +108,14 @@ impl World {
     /// world then gives the bits stepping `other` would have given; `other` holds this
     /// world's former state and can step it too (its kept trees size their scratch first).
     pub fn swap_state(&mut self, other: &mut World) {
+        self.swap_state_but_arenas(other);
+        std::mem::swap(&mut self.bodies, &mut other.bodies);
+        std::mem::swap(&mut self.constraints, &mut other.constraints);
+    }
+
+    /// [`World::swap_state`] but for the arenas of bodies and constraints, which a held
+    /// world's record moves its own way (`held.rs`).
+    pub(super) fn swap_state_but_arenas(&mut self, other: &mut World) {
         let (a, b) = (self, other);
         macro_rules! trade {
             ($f:ident) => {
@@ -121,8 +129,6 @@ impl World {
         }
         each_state_field!(trade);
         each_scratch_state_field!(trade_scratch);
-        std::mem::swap(&mut a.bodies, &mut b.bodies);
-        std::mem::swap(&mut a.constraints, &mut b.constraints);
         a.scratch.reduced.swap_kept(&mut b.scratch.reduced);
     }
 }

@@ -5,6 +5,7 @@ mod bodies;
 mod pipeline;
 mod snapshot;
 mod state_copy;
+pub use state_copy::HeldWorld;
 
 use crate::body::BodyType;
 use crate::collider::ColliderMass;
