@@ -110,3 +110,22 @@ fn a_held_world_whose_joints_part_from_the_models_is_held_whole_from_then_on() {
         }
     }
 }
+
+/// A worker that changes a definition the model holds (here a body's mass) while it holds a
+/// world would change every world it steps after: debug builds refuse it when the world
+/// leaves.
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "changed a definition the model holds")]
+fn a_definition_changed_in_a_worker_is_caught_when_its_world_leaves() {
+    let mut model = PhysicsWorld::new();
+    let robot = model
+        .load_mjcf_str(HOPPER, "hopper.xml", &MjcfOptions::default())
+        .unwrap();
+    let mut held = model.held();
+    let mut worker = model.clone();
+    worker.enter(&mut held);
+    let torso = robot.links()[0].body;
+    worker.dynamics_mut().body_mut(torso).unwrap().set_mass(9.0).unwrap();
+    worker.leave(&mut held, &model);
+}

@@ -289,6 +289,39 @@ impl Compact {
         (self.slot_count, self.len, self.capacity) = (arena.slot_count(), len, capacity);
     }
 
+    /// Whether `w`'s bodies and compact joints have `model`'s definitions (what a worker
+    /// must not change: debug builds check it when a world leaves).
+    fn same_definitions(w: &World, model: &World) -> bool {
+        let bodies = w.bodies.iter().zip(model.bodies.iter()).all(|((_, b), (_, m))| {
+            let mut b = b.clone();
+            BodyMotion::of(m).put(&mut b);
+            b == *m
+        });
+        let joints = (0..model.constraints.slot_count()).all(|s| {
+            let (Some(e), Some(m)) = (w.constraints.at(s), model.constraints.at(s)) else {
+                return true;
+            };
+            let same_entry = (e.bodies, e.gamma) == (m.bodies, m.gamma)
+                && (e.break_force, e.break_torque) == (m.break_force, m.break_torque);
+            same_entry
+                && match (&e.kind, &m.kind) {
+                    (ConstraintKind::Hinge(h), ConstraintKind::Hinge(mh)) => {
+                        let mut h = *h;
+                        h.angle = mh.angle;
+                        h.limit.set_motion(&mh.limit.motion());
+                        h == *mh
+                    }
+                    (ConstraintKind::Prismatic(p), ConstraintKind::Prismatic(mp)) => {
+                        let mut p = *p;
+                        p.limit.set_motion(&mp.limit.motion());
+                        p == *mp
+                    }
+                    _ => true,
+                }
+        });
+        bodies && joints
+    }
+
     /// Puts the recorded motion into `w`, which holds the model's definitions.
     fn put(&self, w: &mut World) {
         for (m, &s) in self.bodies.iter().zip(&self.body_slots) {
@@ -344,7 +377,13 @@ impl World {
     pub fn leave(&mut self, held: &mut World, record: &mut MotionRecord, model: &World) {
         let recorded = record.compact.as_mut().map(|c| c.record(self));
         match recorded {
-            Some(true) => self.swap_state_but_arenas(held),
+            Some(true) => {
+                debug_assert!(
+                    Compact::same_definitions(self, model),
+                    "a held world's worker changed a definition the model holds"
+                );
+                self.swap_state_but_arenas(held);
+            }
             Some(false) => {
                 record.compact = None;
                 held.bodies.copy_from(&self.bodies);

@@ -4,8 +4,9 @@ mod attach;
 mod bodies;
 mod pipeline;
 mod snapshot;
+mod held;
 mod state_copy;
-pub use state_copy::HeldWorld;
+pub use held::HeldWorld;
 
 use crate::body::BodyType;
 use crate::collider::ColliderMass;

@@ -37,8 +37,13 @@ impl PhysicsWorld {
     /// Trades the collision layer's state and the facade's records with `other`: all of a
     /// state but the dynamics layer's.
     fn swap_records(&mut self, other: &mut PhysicsWorld) {
-        use std::mem::swap;
         self.collision.swap_state(&mut other.collision);
+        self.swap_facade(other);
+    }
+
+    /// Trades the facade's records (of bodies, materials, drivers and names) with `other`.
+    pub(super) fn swap_facade(&mut self, other: &mut PhysicsWorld) {
+        use std::mem::swap;
         swap(&mut self.meta, &mut other.meta);
         swap(&mut self.surfaces, &mut other.surfaces);
         swap(&mut self.driven, &mut other.driven);
@@ -99,69 +104,5 @@ impl BodyMeta {
         self.local_com = other.local_com;
         self.colliders.clone_from(&other.colliders);
         self.target = other.target;
-    }
-}
-
-/// A world of a batch, held as a compact record beside the batch's model (the model/data
-/// split): the dynamics layer keeps only what a step or a batch's writes change in its
-/// bodies and joints (`kea::World::hold`), and the rest of its state — contacts and the
-/// collision layer, the clock, the kept trees — as its own buffers. A worker world with the
-/// model's definitions steps, reads and writes it ([`PhysicsWorld::enter`],
-/// [`PhysicsWorld::leave`]).
-#[derive(Clone)]
-pub struct HeldWorld {
-    world: PhysicsWorld,
-    motion: kea::MotionRecord,
-}
-
-impl PhysicsWorld {
-    /// This world's state as a held world (see [`HeldWorld`]), for workers made from this
-    /// world (or a copy of it) to step.
-    #[must_use]
-    pub fn held(&self) -> HeldWorld {
-        let mut world = self.clone();
-        world.collision.trim_to_state();
-        let mut motion = kea::MotionRecord::default();
-        world.dynamics.hold(&mut motion);
-        HeldWorld { world, motion }
-    }
-
-    /// Takes `held` in: this world is then that world, bit for bit, until
-    /// [`PhysicsWorld::leave`]. This world must have the model's definitions (a copy of the
-    /// world `held` was made from) and hold no other held world.
-    pub fn enter(&mut self, held: &mut HeldWorld) {
-        self.dynamics
-            .enter(&mut held.world.dynamics, &held.motion);
-        self.swap_records(&mut held.world);
-    }
-
-    /// Gives `held` back with what changed in it, taking back this world's own state;
-    /// `model` is the world `held` was made from (see `kea::World::leave`).
-    pub fn leave(&mut self, held: &mut HeldWorld, model: &PhysicsWorld) {
-        self.swap_records(&mut held.world);
-        self.dynamics
-            .leave(&mut held.world.dynamics, &mut held.motion, &model.dynamics);
-    }
-}
-
-impl HeldWorld {
-    /// Becomes a copy of `other`, reusing its buffers (a batch's reset: nothing allocated
-    /// once it has held a world as big).
-    pub fn copy_from(&mut self, other: &HeldWorld) {
-        self.world.copy_state_only(&other.world);
-        self.motion.clone_from(&other.motion);
-    }
-
-    /// Whether its bodies and joints are kept beside the model's definitions (else whole:
-    /// its joints no longer match the model's).
-    #[must_use]
-    pub fn is_compact(&self) -> bool {
-        self.motion.is_compact()
-    }
-
-    /// Asks for the cache lines a worker reads first when it takes this world in.
-    pub fn prefetch(&self) {
-        self.world.prefetch();
-        self.motion.prefetch();
     }
 }
