@@ -2,19 +2,22 @@
 //! states, actions and observations as (N, …) numpy arrays that each world reads or writes
 //! in place.
 //!
-//! The model/data split: each of the N worlds holds only its state (what a snapshot holds:
-//! bodies, joints, contacts, kept trees' coordinates, the clock), and one hot worker world
-//! per thread, made from the batch's world, holds the step's scratch (the solver's
-//! workspace, the narrow phase's workers, each kept tree's factor and recursions). To step
-//! a world, a worker trades states with it (`PhysicsWorld::swap_state`: buffers change
-//! hands, nothing is copied), steps, and trades back. A world's memory is its state alone,
-//! and the scratch, sized once per thread, stays in that thread's cache.
+//! The model/data split: the batch's world is its model, and one hot worker world per
+//! thread, made from it, holds the definitions (masses, inertias, joints' frames and stops,
+//! colliders) and the step's scratch (the solver's workspace, the narrow phase's workers,
+//! each kept tree's factor and recursions). Each of the N worlds is held as a compact record
+//! of what its steps change (`kea3d::HeldWorld`: its bodies' and joints' motion, its
+//! contacts, kept trees' coordinates, the clock). To step, read or write a world, a worker
+//! takes it in (`PhysicsWorld::enter`: the record's motion copied into the worker's bodies
+//! and joints, the rest of its buffers traded), does it, and gives it back
+//! (`PhysicsWorld::leave`). A world's memory and the memory a step brings in are its record
+//! alone; definitions and scratch, sized once per thread, stay in that thread's cache.
 
-use crate::convert::{any_block, bad, block, matrix, py, py_err, real};
+use crate::convert::{any_block, bad, block, matrix, py_err, real};
 use crate::queries;
 use crate::state::{self, JointEntry, STATE_WIDTH};
 use crate::world::PyWorld;
-use kea3d::{BodyHandle, PhysicsWorld};
+use kea3d::{BodyHandle, HeldWorld, PhysicsWorld};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
@@ -27,13 +30,16 @@ use std::sync::{Mutex, TryLockError};
 /// threads: each world is stepped by one thread, and worlds share nothing.
 #[pyclass(name = "Batch", module = "kea")]
 pub struct PyBatch {
+    /// The model: every world's definitions, and the world a reset goes back to.
     pub(crate) template: PhysicsWorld,
-    /// Each world's state (a world that never steps itself: no step scratch).
-    pub(crate) worlds: Vec<PhysicsWorld>,
-    /// The workers that step the worlds, one per thread of the pool, by thread index (its
-    /// scratch stays in that core's cache). A thread whose worker is busy — it picked up
-    /// another run while it waits inside a step — steps that run in a worker of its own
-    /// making rather than wait for itself.
+    /// The model's state, held: what a reset copies into a world.
+    start: HeldWorld,
+    /// Each world, held beside the model (`HeldWorld`).
+    pub(crate) worlds: Vec<HeldWorld>,
+    /// The workers that step, read and write the worlds, one per thread of the pool, by
+    /// thread index (its definitions and scratch stay in that core's cache). A thread whose
+    /// worker is busy — it picked up another run while it waits inside a step — uses a
+    /// worker of its own making rather than wait for itself.
     workers: Vec<Mutex<PhysicsWorld>>,
     /// The robot every world holds, when the batch was made from a robot's world.
     pub(crate) robot: Option<kea3d::robot::Robot>,
@@ -57,20 +63,55 @@ pub(crate) struct Observed {
 }
 
 impl PyBatch {
-    /// Runs `f` on every world with its index, on the pool, without the GIL; the first error
-    /// comes back naming its world.
+    /// Runs `f` on every world with its index, on the pool, without the GIL, to change it;
+    /// the first error comes back naming its world.
     pub(crate) fn each<F>(&mut self, py_: Python<'_>, f: F) -> PyResult<()>
     where
         F: Fn(usize, &mut PhysicsWorld) -> kea3d::Result<()> + Sync + Send,
     {
         self.observed.fresh = false;
-        let (pool, worlds) = (&self.pool, &mut self.worlds);
+        let mut none = vec![(); self.worlds.len()];
+        self.visit(py_, &mut none, 1, |i, w, _| f(i, w))
+    }
+
+    /// Runs `f` on every world with its index and its `width` entries of `out` (which has
+    /// `width` per world), on the pool, without the GIL: each world taken into its thread's
+    /// worker, `f` run on it there, and given back. The first error comes back naming its
+    /// world. A reader leaves the world as it was; a writer must call `each`, which marks
+    /// the step's rows stale.
+    pub(crate) fn visit<T, F>(
+        &mut self,
+        py_: Python<'_>,
+        out: &mut [T],
+        width: usize,
+        f: F,
+    ) -> PyResult<()>
+    where
+        T: Send,
+        F: Fn(usize, &mut PhysicsWorld, &mut [T]) -> kea3d::Result<()> + Sync + Send,
+    {
+        let width = width.max(1);
+        let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
+        let template = &self.template;
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
-                    .par_iter_mut()
+                    .par_chunks_mut(RUN)
+                    .zip(out.par_chunks_mut(RUN * width))
                     .enumerate()
-                    .try_for_each(|(i, w)| f(i, w).map_err(|e| (i, e)))
+                    .try_for_each(|(c, (run, rows))| {
+                        with_worker(workers, template, |worker| {
+                            for (k, (held, row)) in
+                                run.iter_mut().zip(rows.chunks_mut(width)).enumerate()
+                            {
+                                worker.enter(held);
+                                let done = f(c * RUN + k, worker, row);
+                                worker.leave(held, template);
+                                done.map_err(|e| (c * RUN + k, e))?;
+                            }
+                            Ok(())
+                        })
+                    })
             })
         });
         result.map_err(|(i, e)| world_error(py_, i, e))
@@ -112,13 +153,13 @@ impl PyBatch {
         // Nobody reads a batch world's stage times: skip the clock (same bits either way).
         let mut template = world.inner.clone();
         template.set_step_timing(false);
-        let mut holder = template.clone();
-        holder.trim_to_state();
+        let start = template.held();
         let workers = (0..pool.current_num_threads())
             .map(|_| Mutex::new(template.clone()))
             .collect();
         Ok(Self {
-            worlds: vec![holder; n],
+            worlds: vec![start.clone(); n],
+            start,
             workers,
             template,
             bodies: world.bodies.clone(),
@@ -133,8 +174,6 @@ impl PyBatch {
     #[pyo3(signature = (dt = 1.0 / 60.0, steps = 1))]
     fn step(&mut self, py_: Python<'_>, dt: f64, steps: usize) -> PyResult<()> {
         let dt = real(dt);
-        // Worlds in runs of `RUN`, each asking for the next one's memory while it steps.
-        const RUN: usize = 16;
         let n = self.worlds.len();
         let robot = self.robot.as_ref();
         let (nq, nv) = robot.map_or((0, 0), |r| (r.position_count(), r.velocity_count()));
@@ -154,17 +193,10 @@ impl PyBatch {
                     .enumerate()
                     .try_for_each(|(c, ((run, q), v))| {
                         let rows = robot.map(|r| Rows { robot: r, q, v });
-                        let thread = rayon::current_thread_index().unwrap_or(0);
-                        let stepped = match workers[thread % workers.len()].try_lock() {
-                            Ok(mut worker) => step_run(&mut worker, run, rows, dt, steps),
-                            Err(TryLockError::Poisoned(p)) => {
-                                step_run(&mut p.into_inner(), run, rows, dt, steps)
-                            }
-                            Err(TryLockError::WouldBlock) => {
-                                step_run(&mut template.clone(), run, rows, dt, steps)
-                            }
-                        };
-                        stepped.map_err(|(k, e)| (c * RUN + k, e))
+                        with_worker(workers, template, |worker| {
+                            step_run(worker, template, run, rows, dt, steps)
+                        })
+                        .map_err(|(k, e)| (c * RUN + k, e))
                     })
             })
         });
@@ -182,8 +214,8 @@ impl PyBatch {
         }
         self.observed.fresh = false;
         for i in indices {
-            // The template's state into the world's own buffers: no allocation.
-            self.worlds[i].copy_state_only(&self.template);
+            // The model's state into the world's own buffers: no allocation.
+            self.worlds[i].copy_from(&self.start);
         }
         Ok(())
     }
@@ -198,17 +230,10 @@ impl PyBatch {
             let out = rw
                 .as_slice_mut()
                 .map_err(|e| bad("state", e, "a contiguous array"))?;
-            let bodies = &self.bodies;
-            let (pool, worlds) = (&self.pool, &self.worlds);
-            let width = (nb * STATE_WIDTH).max(1);
-            py(py_.detach(|| {
-                pool.install(|| {
-                    worlds
-                        .par_iter()
-                        .zip(out.par_chunks_mut(width))
-                        .try_for_each(|(w, rows)| state::read_bodies(w, bodies, rows))
-                })
-            }))?;
+            let bodies = self.bodies.clone();
+            self.visit(py_, out, nb * STATE_WIDTH, |_, w, rows| {
+                state::read_bodies(w, &bodies, rows)
+            })?;
         }
         Ok(array)
     }
@@ -277,20 +302,21 @@ impl PyBatch {
     /// Every world's joint coordinates and rates: two (N, joints) float64 arrays.
     #[allow(clippy::type_complexity)]
     fn joint_state<'py>(
-        &self,
+        &mut self,
         py_: Python<'py>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
         let (n, nj) = (self.worlds.len(), self.joints.len());
-        let mut pos = vec![0.0; n * nj];
-        let mut vel = vec![0.0; n * nj];
-        for (i, w) in self.worlds.iter().enumerate() {
-            let r = i * nj..(i + 1) * nj;
-            py(state::read_joints(
-                w,
-                &self.joints,
-                &mut pos[r.clone()],
-                &mut vel[r],
-            ))?;
+        // Each world's row: its positions, then its velocities.
+        let mut rows = vec![0.0; n * 2 * nj];
+        let joints = self.joints.clone();
+        self.visit(py_, &mut rows, 2 * nj, |_, w, row| {
+            let (p, v) = row.split_at_mut(nj);
+            state::read_joints(w, &joints, p, &mut v[..nj])
+        })?;
+        let (mut pos, mut vel) = (Vec::with_capacity(n * nj), Vec::with_capacity(n * nj));
+        for row in rows.chunks(2 * nj.max(1)).take(n) {
+            pos.extend_from_slice(&row[..nj]);
+            vel.extend_from_slice(&row[nj..2 * nj]);
         }
         Ok((
             PyArray1::from_vec(py_, pos).reshape([n, nj])?,
@@ -303,7 +329,7 @@ impl PyBatch {
     /// (N, rays, 3), (N, rays), as `World.cast_rays` does for one world, in parallel.
     #[pyo3(signature = (origins, directions, max_distance = 100.0))]
     fn cast_rays<'py>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         origins: &Bound<'py, PyAny>,
         directions: &Bound<'py, PyAny>,
@@ -322,40 +348,34 @@ impl PyBatch {
         let d = block("directions", directions, [n, rays, 3])?;
         queries::check_rays(&d, max_distance)?;
         let mut answers = vec![(false, 0.0, [0.0; 3], -1); n * rays];
-        let bodies = &self.bodies;
-        let (pool, worlds) = (&self.pool, &self.worlds);
-        let width = rays.max(1) * 3;
-        py(py_.detach(|| {
-            pool.install(|| {
-                worlds
-                    .par_iter()
-                    .zip(answers.par_chunks_mut(rays.max(1)))
-                    .enumerate()
-                    .try_for_each(|(i, (w, out))| {
-                        queries::cast_rays(
-                            w,
-                            bodies,
-                            &o[i * width..(i + 1) * width],
-                            &d[i * width..(i + 1) * width],
-                            max_distance,
-                            out,
-                        )
-                    })
-            })
-        }))?;
+        let bodies = self.bodies.clone();
+        let width = rays * 3;
+        self.visit(py_, &mut answers, rays, |i, w, out| {
+            queries::cast_rays(
+                w,
+                &bodies,
+                &o[i * width..(i + 1) * width],
+                &d[i * width..(i + 1) * width],
+                max_distance,
+                &mut out[..rays],
+            )
+        })?;
         queries::answers_to_arrays(py_, &answers, &[n, rays])
     }
 
     /// A copy of world `index` as a `kea.World`.
-    fn world(&self, index: usize) -> PyResult<PyWorld> {
-        let w = self
+    fn world(&mut self, index: usize) -> PyResult<PyWorld> {
+        let n = self.worlds.len();
+        let held = self
             .worlds
-            .get(index)
-            .ok_or_else(|| crate::convert::no_such("index", index, self.worlds.len()))?;
-        // A world that steps on its own: the batch's world with this one's state.
+            .get_mut(index)
+            .ok_or_else(|| crate::convert::no_such("index", index, n))?;
+        // A world that steps on its own: the model with this one's state.
         let mut whole = self.template.clone();
-        whole.copy_state_from(w);
-        let mut out = PyWorld::from_physics(whole);
+        whole.enter(held);
+        let copy = whole.clone();
+        whole.leave(held, &self.template);
+        let mut out = PyWorld::from_physics(copy);
         out.bodies.clone_from(&self.bodies);
         out.joints.clone_from(&self.joints);
         out.robot.clone_from(&self.robot);
@@ -399,13 +419,33 @@ struct Rows<'a> {
     v: &'a mut [kea3d::Real],
 }
 
-/// Steps each world of `run` `steps` times by `dt` in `worker`, which trades states with
-/// it, steps, reads the world's `rows` while it holds it, and trades back whatever the step
-/// did (as stepping it in place); the first error comes back with the world's place in the
-/// run.
+/// Worlds in runs of `RUN`, each world's worker asking for the next one's memory while it
+/// steps this one.
+const RUN: usize = 16;
+
+/// Runs `f` with this thread's worker; a thread whose worker is busy (it picked up another
+/// run while it waits inside one) uses a worker of its own making rather than wait for
+/// itself.
+fn with_worker<R>(
+    workers: &[Mutex<PhysicsWorld>],
+    template: &PhysicsWorld,
+    f: impl FnOnce(&mut PhysicsWorld) -> R,
+) -> R {
+    let thread = rayon::current_thread_index().unwrap_or(0);
+    match workers[thread % workers.len()].try_lock() {
+        Ok(mut worker) => f(&mut worker),
+        Err(TryLockError::Poisoned(p)) => f(&mut p.into_inner()),
+        Err(TryLockError::WouldBlock) => f(&mut template.clone()),
+    }
+}
+
+/// Steps each world of `run` `steps` times by `dt` in `worker`, which takes it in, steps,
+/// reads the world's `rows` while it holds it, and gives it back with whatever the step did
+/// (as stepping it in place); the first error comes back with the world's place in the run.
 fn step_run(
     worker: &mut PhysicsWorld,
-    run: &mut [PhysicsWorld],
+    model: &PhysicsWorld,
+    run: &mut [HeldWorld],
     mut rows: Option<Rows<'_>>,
     dt: kea3d::Real,
     steps: usize,
@@ -414,7 +454,7 @@ fn step_run(
         if let Some(next) = run.get(k + 1) {
             next.prefetch();
         }
-        worker.swap_state(&mut run[k]);
+        worker.enter(&mut run[k]);
         let mut stepped = crate::world::step_many(worker, dt, steps);
         if let (Ok(()), Some(r)) = (&stepped, rows.as_mut()) {
             let (nq, nv) = (r.robot.position_count(), r.robot.velocity_count());
@@ -424,7 +464,7 @@ fn step_run(
             );
             stepped = r.robot.joint_state_into(worker, &mut q[..nq], &mut v[..nv]);
         }
-        worker.swap_state(&mut run[k]);
+        worker.leave(&mut run[k], model);
         stepped.map_err(|e| (k, e))?;
     }
     Ok(())

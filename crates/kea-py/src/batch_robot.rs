@@ -2,13 +2,12 @@
 //! joint vectors, controls, motors and link positions as (N, …) arrays, in parallel.
 
 use crate::batch::PyBatch;
-use crate::convert::{py, real};
+use crate::convert::real;
 use kea3d::robot::Robot;
 use kea3d::{PhysicsWorld, Real};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rayon::prelude::*;
 
 impl PyBatch {
     pub(crate) fn robot(&self) -> PyResult<Robot> {
@@ -21,7 +20,7 @@ impl PyBatch {
 
     /// Every world's `width` numbers from `read`, as an (N, width) array.
     fn gather<'py, F>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         width: usize,
         read: F,
@@ -30,27 +29,10 @@ impl PyBatch {
         F: Fn(&PhysicsWorld, &mut [Real]) -> kea3d::Result<()> + Sync + Send,
     {
         let n = self.worlds.len();
-        let mut out = vec![0.0; n * width];
-        // On the batch's own threads (as stepping), not rayon's global pool; each thread
-        // reads into one buffer of its own, then widens it into the world's row.
-        let (pool, worlds) = (&self.pool, &self.worlds);
-        py(py_.detach(|| {
-            pool.install(|| {
-                worlds
-                    .par_iter()
-                    .zip(out.par_chunks_mut(width.max(1)))
-                    .try_for_each_init(
-                        || vec![0.0; width],
-                        |values, (w, row)| {
-                            read(w, values)?;
-                            for (o, &v) in row.iter_mut().zip(values.iter()) {
-                                *o = f64::from(v);
-                            }
-                            Ok::<(), kea3d::Error>(())
-                        },
-                    )
-            })
-        }))?;
+        // Each world reads into its row as the batch's reals, widened after.
+        let mut out: Vec<Real> = vec![0.0; n * width];
+        self.visit(py_, &mut out, width, |_, w, row| read(w, &mut row[..width]))?;
+        let out: Vec<f64> = out.into_iter().map(f64::from).collect();
         PyArray1::from_vec(py_, out).reshape([n, width])
     }
 
@@ -81,7 +63,7 @@ impl PyBatch {
     /// Every world's `width` numbers as an (N, width) array: the rows the last step read into
     /// `stepped` while they are fresh, else read from each world by `read`.
     fn rows_or_gather<'py, F>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         stepped: &[Real],
         width: usize,
@@ -106,19 +88,25 @@ impl PyBatch {
 #[pymethods]
 impl PyBatch {
     /// Every world's joint positions, (N, position_count) float64.
-    fn joint_positions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn joint_positions<'py>(&mut self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
-        self.rows_or_gather(py_, &self.observed.q, robot.position_count(), |w, row| {
+        let stepped = std::mem::take(&mut self.observed.q);
+        let read = self.rows_or_gather(py_, &stepped, robot.position_count(), |w, row| {
             robot.joint_positions_into(w, row)
-        })
+        });
+        self.observed.q = stepped;
+        read
     }
 
     /// Every world's joint velocities, (N, velocity_count) float64.
-    fn joint_velocities<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn joint_velocities<'py>(&mut self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let robot = self.robot()?;
-        self.rows_or_gather(py_, &self.observed.v, robot.velocity_count(), |w, row| {
+        let stepped = std::mem::take(&mut self.observed.v);
+        let read = self.rows_or_gather(py_, &stepped, robot.velocity_count(), |w, row| {
             robot.joint_velocities_into(w, row)
-        })
+        });
+        self.observed.v = stepped;
+        read
     }
 
     /// Re-poses every world's robot to its row of `q` (N, position_count).
@@ -173,7 +161,7 @@ impl PyBatch {
     /// Every world's position of a point fixed in a link (its frame origin by default), (N, 3).
     #[pyo3(signature = (name, point = [0.0; 3]))]
     fn link_positions<'py>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         name: &str,
         point: [f64; 3],
@@ -190,7 +178,10 @@ impl PyBatch {
 
     /// Every world's joint reactions in the last step, (N, joints, 6): force and torque on each
     /// joint's first body, world frame (as `World.joint_reactions`).
-    fn joint_reactions<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+    fn joint_reactions<'py>(
+        &mut self,
+        py_: Python<'py>,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
         let (n, nj) = (self.worlds.len(), self.joints.len());
         let joints = self.joints.clone();
         let flat = self.gather(py_, nj * 6, |w, row| {

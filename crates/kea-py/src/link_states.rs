@@ -10,7 +10,6 @@ use kea3d::{PhysicsWorld, Real};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rayon::prelude::*;
 
 /// Numbers a link's state takes: mass, centre of mass (3), inertia (9), angular and linear
 /// velocity (3 each), contact force and torque (3 each).
@@ -108,7 +107,7 @@ impl PyWorld {
     /// (the layout of `joint_velocities`; MuJoCo's ``qfrc_actuator``): a motor ``gear·u``, a
     /// servo its spring and damper, controls clamped to their ranges and forces to theirs.
     fn actuator_forces<'py>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         controls: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
@@ -125,24 +124,20 @@ impl PyWorld {
 #[pymethods]
 impl PyBatch {
     /// Every world's `World.link_states`, each array with a leading world axis (N, L, …).
-    fn link_states<'py>(&self, py_: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    fn link_states<'py>(&mut self, py_: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let robot = self.robot()?;
         let (n, links) = (self.worlds.len(), robot.links().len());
         let mut flat = vec![0.0; n * links * WIDTH];
-        let worlds = &self.worlds;
-        py(py_.detach(|| {
-            worlds
-                .par_iter()
-                .zip(flat.par_chunks_mut((links * WIDTH).max(1)))
-                .try_for_each_init(Vec::new, |scratch, (w, row)| read(&robot, w, scratch, row))
-        }))?;
+        self.visit(py_, &mut flat, links * WIDTH, |_, w, row| {
+            read(&robot, w, &mut Vec::new(), &mut row[..links * WIDTH])
+        })?;
         dictionary(py_, &[n], links, &flat)
     }
 
     /// Every world's `World.actuator_forces` for its row of `controls` (N, actuators), as an
     /// (N, velocity_count) array.
     fn actuator_forces<'py>(
-        &self,
+        &mut self,
         py_: Python<'py>,
         controls: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
@@ -159,24 +154,17 @@ impl PyBatch {
         }
         let nv = robot.velocity_count();
         let mut out = vec![0.0; n * nv];
-        let worlds = &self.worlds;
-        py(py_.detach(|| {
-            worlds
-                .par_iter()
-                .zip(out.par_chunks_mut(nv.max(1)))
-                .enumerate()
-                .try_for_each(|(i, (w, row))| -> kea3d::Result<()> {
-                    let u: Vec<Real> = values[i * width..(i + 1) * width]
-                        .iter()
-                        .map(|&x| real(x))
-                        .collect();
-                    let f = robot.actuator_forces(w, &u)?;
-                    for (o, x) in row.iter_mut().zip(f) {
-                        *o = f64::from(x);
-                    }
-                    Ok(())
-                })
-        }))?;
+        self.visit(py_, &mut out, nv, |i, w, row| {
+            let u: Vec<Real> = values[i * width..(i + 1) * width]
+                .iter()
+                .map(|&x| real(x))
+                .collect();
+            let f = robot.actuator_forces(w, &u)?;
+            for (o, x) in row.iter_mut().zip(f) {
+                *o = f64::from(x);
+            }
+            Ok(())
+        })?;
         PyArray1::from_vec(py_, out).reshape([n, nv])
     }
 }

@@ -353,8 +353,13 @@ impl<T, H: HandleKind> Arena<T, H> {
     /// Takes `slot_count` slots (new ones empty, later ones dropped), `free`, `len` and
     /// `capacity` from a held world's record; the caller then fills the slots that record
     /// holds (`set_raw_slot`), so that the arena is the one the record was made from.
-    pub(crate) fn take_shape(&mut self, slot_count: usize, free: &[u32], len: usize, capacity: usize)
-    where
+    pub(crate) fn take_shape(
+        &mut self,
+        slot_count: usize,
+        free: &[u32],
+        len: usize,
+        capacity: usize,
+    ) where
         T: Clone,
     {
         self.slots.truncate(slot_count);

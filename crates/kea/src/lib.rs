@@ -54,10 +54,10 @@ pub use solver::{
 };
 pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{
-    CollisionStats, DemMode, DemSettings, FixedTendon, IslandList, MotionRecord, JointHandle, JointKind,
-    JointRange, JointSketch, JointSpec, OneCoordinate, QuarantineEvent, QuarantineReason,
-    SpeedLimits, StepSize, StepStats, TendonHandle, TendonTerm, World, WorldDef, WorldSettings,
-    MAX_CAPACITY,
+    CollisionStats, DemMode, DemSettings, FixedTendon, IslandList, JointHandle, JointKind,
+    JointRange, JointSketch, JointSpec, MotionRecord, OneCoordinate, QuarantineEvent,
+    QuarantineReason, SpeedLimits, StepSize, StepStats, TendonHandle, TendonTerm, World, WorldDef,
+    WorldSettings, MAX_CAPACITY,
 };
 #[cfg(feature = "serde")]
 pub use world::{WorldSnapshot, SNAPSHOT_VERSION as WORLD_SNAPSHOT_VERSION};

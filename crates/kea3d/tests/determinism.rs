@@ -434,7 +434,6 @@ fn a_robot_on_the_ground_in_reduced_coordinates_replays_from_a_snapshot_and_a_cl
     assert_eq!(state(&copy), state(&w));
 }
 
-
 #[test]
 fn a_legged_robot_on_the_ground_replays_bit_for_bit_from_a_snapshot_and_a_clone() {
     let mut original = PhysicsWorld::new();
@@ -599,7 +598,6 @@ fn a_worker_world_steps_other_worlds_states_on_their_bits() {
         }
     }
 }
-
 
 /// A clone steps on the original's bits after a mesh pair goes away: a box resting on one
 /// triangle of a mesh (its pair in a slot made with room for several manifolds, holding one)

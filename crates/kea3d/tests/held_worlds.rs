@@ -68,7 +68,10 @@ fn held_worlds_step_through_one_worker_on_the_bits_of_whole_worlds() {
                 assert!(held[i].is_compact(), "{what}");
             }
         }
-        assert!(touching > 30, "{name}: they touch the floor ({touching} of 180)");
+        assert!(
+            touching > 30,
+            "{name}: they touch the floor ({touching} of 180)"
+        );
         // A reset world is the model again, bit for bit.
         let fresh = model.held();
         held[1].copy_from(&fresh);
@@ -82,7 +85,9 @@ fn held_worlds_step_through_one_worker_on_the_bits_of_whole_worlds() {
 fn a_held_world_whose_joints_part_from_the_models_is_held_whole_from_then_on() {
     let options = MjcfOptions::default();
     let mut model = PhysicsWorld::new();
-    let robot = model.load_mjcf_str(QUADRUPED, "quadruped.xml", &options).unwrap();
+    let robot = model
+        .load_mjcf_str(QUADRUPED, "quadruped.xml", &options)
+        .unwrap();
     let h = robot.timestep().unwrap_or(0.005);
     let knee = robot.joints().iter().rev().find_map(|j| j.raw).unwrap();
     let mut alone: Vec<PhysicsWorld> = (0..2).map(|_| model.clone()).collect();
@@ -96,7 +101,10 @@ fn a_held_world_whose_joints_part_from_the_models_is_held_whole_from_then_on() {
                 worker.enter(&mut held[0]);
                 worker.dynamics_mut().destroy_constraint(knee).unwrap();
                 worker.leave(&mut held[0], &model);
-                assert!(!held[0].is_compact(), "its joints are no longer the model's");
+                assert!(
+                    !held[0].is_compact(),
+                    "its joints are no longer the model's"
+                );
             }
             robot.set_controls(&mut alone[i], &u).ok();
             alone[i].step_many(h, 5).unwrap();
@@ -126,6 +134,11 @@ fn a_definition_changed_in_a_worker_is_caught_when_its_world_leaves() {
     let mut worker = model.clone();
     worker.enter(&mut held);
     let torso = robot.links()[0].body;
-    worker.dynamics_mut().body_mut(torso).unwrap().set_mass(9.0).unwrap();
+    worker
+        .dynamics_mut()
+        .body_mut(torso)
+        .unwrap()
+        .set_mass(9.0)
+        .unwrap();
     worker.leave(&mut held, &model);
 }

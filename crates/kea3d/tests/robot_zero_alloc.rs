@@ -130,6 +130,30 @@ fn a_warm_robot_world_steps_and_takes_its_controls_without_allocating() {
         n, 0,
         "{n} allocations stepping warm held states in a worker"
     );
+    // The same with held worlds, as `kea.Batch` keeps them: compact records beside the
+    // model, taken into a worker with the model's definitions, stepped, given back; contacts
+    // come and go in the records.
+    let mut worker = template.clone();
+    let mut held = [template.held(), template.held(), other.held()];
+    let visit = |worker: &mut PhysicsWorld, held: &mut [kea3d::HeldWorld; 3]| {
+        for h in held.iter_mut() {
+            worker.enter(h);
+            worker.step(1.0 / 240.0).unwrap();
+            worker.leave(h, &template);
+        }
+    };
+    for _ in 0..3 {
+        visit(&mut worker, &mut held);
+    }
+    let n = allocations_in(|| {
+        for _ in 0..10 {
+            visit(&mut worker, &mut held);
+        }
+    });
+    assert_eq!(
+        n, 0,
+        "{n} allocations stepping warm held worlds in a worker"
+    );
     // Those steps were in reduced coordinates, with the contacts solved in joint space.
     let stats = world.step(1.0 / 240.0).unwrap();
     assert_eq!(stats.reduced_trees, 1, "the hopper is one reduced tree");

@@ -240,8 +240,7 @@ impl Compact {
     /// Records `w`'s motion; false if its bodies or joints are no longer laid out as the
     /// model's (nothing it recorded is then of use).
     fn record(&mut self, w: &World) -> bool {
-        if w.bodies.slot_count() != self.body_slot_count || w.bodies.len() != self.bodies.len()
-        {
+        if w.bodies.slot_count() != self.body_slot_count || w.bodies.len() != self.bodies.len() {
             return false;
         }
         for (m, &s) in self.bodies.iter_mut().zip(&self.body_slots) {
@@ -292,11 +291,15 @@ impl Compact {
     /// Whether `w`'s bodies and compact joints have `model`'s definitions (what a worker
     /// must not change: debug builds check it when a world leaves).
     fn same_definitions(w: &World, model: &World) -> bool {
-        let bodies = w.bodies.iter().zip(model.bodies.iter()).all(|((_, b), (_, m))| {
-            let mut b = b.clone();
-            BodyMotion::of(m).put(&mut b);
-            b == *m
-        });
+        let bodies = w
+            .bodies
+            .iter()
+            .zip(model.bodies.iter())
+            .all(|((_, b), (_, m))| {
+                let mut b = b.clone();
+                BodyMotion::of(m).put(&mut b);
+                b == *m
+            });
         let joints = (0..model.constraints.slot_count()).all(|s| {
             let (Some(e), Some(m)) = (w.constraints.at(s), model.constraints.at(s)) else {
                 return true;

@@ -103,7 +103,10 @@ impl HeldWorld {
     fn record_targets(&mut self, w: &PhysicsWorld) {
         self.targets.clear();
         for h in &w.driven {
-            let target = w.meta.get(h.index() as usize).and_then(|m| m.as_ref()?.target);
+            let target = w
+                .meta
+                .get(h.index() as usize)
+                .and_then(|m| m.as_ref()?.target);
             self.targets.push(target);
         }
     }

@@ -2,9 +2,9 @@
 
 mod attach;
 mod bodies;
+mod held;
 mod pipeline;
 mod snapshot;
-mod held;
 mod state_copy;
 pub use held::HeldWorld;
 
