@@ -143,11 +143,24 @@ impl Default for ArticulatedTree {
 }
 
 /// A tree of links on a fixed base, in reduced coordinates.
+///
+/// `repr(C)`, what a batch's worker trades with each world's tree first
+/// ([`ArticulatedTree::swap_model`]): a few cache lines of the world's tree, not its whole.
 #[derive(Debug, Clone, PartialEq)]
+#[repr(C)]
 pub struct ArticulatedTree {
     /// The links' geometry and inertia and what follows from them, shared by the trees of
     /// the same model (`model.rs`).
     model: Arc<TreeModel>,
+    /// Its step's scratch may be sized for another tree's links (after a trade,
+    /// [`ArticulatedTree::swap_model`], or a copy without workspace): sized again, if it
+    /// must be, before it steps ([`ArticulatedTree::ensure_workspace`]).
+    scratch_stale: bool,
+    /// Traded ([`ArticulatedTree::swap_model`]): what it placed, its contact and tendon sets
+    /// are another tree's, forgotten before it steps.
+    traded: bool,
+    /// How a step integrates (default [`Integrator::Euler`] for a tree made on its own).
+    integrator: Integrator,
     /// Each link's joint dynamics, stops and drives: this tree's own.
     drives: Vec<LinkDrive>,
     /// Each link's frame in its parent's at `q = 0`: this tree's own, as a world measures it
@@ -184,8 +197,6 @@ pub struct ArticulatedTree {
     /// The coordinates `rot` and `pos` were placed at, while the links' geometry is unchanged.
     placed: Vec<f64>,
     placed_valid: bool,
-    /// How a step integrates (default [`Integrator::Euler`] for a tree made on its own).
-    integrator: Integrator,
     // Scratch of the integrators: a stage's coordinates and rates, the weighted sums, each
     // coordinate's mean rate less its end rate, the implicit step's matrix, the start.
     stage_q: Vec<f64>,
@@ -204,10 +215,6 @@ pub struct ArticulatedTree {
     tendon: tendons::TendonState,
     /// The applied wrenches while the reactions' pass adds the contacts' to them.
     external_kept: Vec<[DVec3; 2]>,
-    /// Its step's scratch may be sized for another tree's links (after a trade,
-    /// [`ArticulatedTree::swap_model`], or a copy without workspace): sized again, if it
-    /// must be, before it steps ([`ArticulatedTree::ensure_workspace`]).
-    scratch_stale: bool,
     /// The links and packed factor length its step's scratch was last sized for.
     workspace_shape: (usize, usize),
 }
@@ -310,6 +317,7 @@ impl ArticulatedTree {
             tendon: tendons::TendonState::default(),
             external_kept: Vec::with_capacity(n),
             scratch_stale: false,
+            traded: false,
             workspace_shape: (n, ancestry_len),
         })
     }
@@ -344,6 +352,14 @@ impl ArticulatedTree {
     /// others (what a world that holds a batch's state does before it steps on its own), and
     /// clears the applied wrenches.
     pub(crate) fn ensure_workspace(&mut self) {
+        // Sized only: a step writes every drive before it reads one (`swap_model`).
+        self.drives.resize(self.len(), TreeLink::default().drive());
+        if std::mem::take(&mut self.traded) {
+            self.placed_valid = false;
+            self.base.valid = false;
+            self.contact.clear();
+            self.tendon.tendons.clear();
+        }
         if self.scratch_stale {
             if self.workspace_shape == (self.len(), self.model.ancestry.packed_len()) {
                 self.scratch_stale = false; // sized for a tree of this shape already
@@ -419,19 +435,20 @@ impl ArticulatedTree {
     /// evaluations started from (a step finds the same sets without them: see
     /// [`ArticulatedTree::copy_model_from`]).
     pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
+        // Drives do not travel: they are written whole before a step reads them (a kept
+        // tree's from its joints, `advance_tree`; a tree built again every step — a ball
+        // joint's, a floating root's — by its build), so a batch's worker writes its own, in
+        // its cache, and not each world's. Each tree sizes its own before it steps
+        // (`ensure_workspace`).
         std::mem::swap(&mut self.model, &mut other.model);
-        std::mem::swap(&mut self.drives, &mut other.drives);
         std::mem::swap(&mut self.origins, &mut other.origins);
         std::mem::swap(&mut self.gravity, &mut other.gravity);
         std::mem::swap(&mut self.integrator, &mut other.integrator);
+        // Each forgets the rest before its next step (nothing reads it before), so that the
+        // trade writes only these lines of a batch world's tree.
         for t in [&mut *self, other] {
-            t.placed_valid = false;
-            t.base.valid = false;
-            t.contact.clear();
-            t.tendon.tendons.clear();
+            (t.scratch_stale, t.traded) = (true, true);
         }
-        other.scratch_stale = true;
-        self.scratch_stale = true;
     }
 
     /// Asks for the cache lines its step reads first (`crate::prefetch`).
@@ -538,13 +555,13 @@ impl ArticulatedTree {
     /// Number of coordinates.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.drives.len()
+        self.origins.len()
     }
 
     /// Whether the tree has no link.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.drives.is_empty()
+        self.origins.is_empty()
     }
 
     /// Every link's frame in the base's at `q`: position and rotation (forward kinematics).

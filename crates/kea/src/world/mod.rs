@@ -88,7 +88,22 @@ impl Default for WorldDef {
 
 /// Reused per-step buffers, sized from the capacities.
 #[derive(Default, Clone)]
+#[repr(C)]
 struct StepScratch {
+    // `repr(C)`: the state a held world trades first (see `World`).
+    lambda: Vec<Real>,
+    /// Each contact's per-row forces (normal, friction 1, friction 2 per point), where they
+    /// sit in `contact_lambda`, and its reactions, from the last step.
+    contact_lambda: Vec<Real>,
+    contact_rows: Vec<(u32, u32)>,
+    contact_reactions: Vec<[Reaction; 2]>,
+    /// Constraints that broke in the last step.
+    broken: Vec<ConstraintHandle>,
+    /// Slots of the constraints whose read-outs (rows, reactions) the last step wrote: the
+    /// only ones the next step must clear (a sleeping pile's contacts are not visited).
+    written: Vec<u32>,
+    /// The reduced-coordinate path's buffers.
+    reduced: reduced::ReducedScratch,
     solver_bodies: Vec<SolverBody>,
     /// Body slot → solver body index (`u32::MAX` if not simulated this step).
     slot_to_solver: Vec<u32>,
@@ -101,12 +116,6 @@ struct StepScratch {
     /// The enabled contacts of the step, as the solver takes them, and their constraint slots.
     contacts: Vec<SolverContact>,
     contact_constraint: Vec<u32>,
-    /// Each contact's per-row forces (normal, friction 1, friction 2 per point), where they
-    /// sit in `contact_lambda`, and its reactions, from the last step.
-    contact_lambda: Vec<Real>,
-    contact_rows: Vec<(u32, u32)>,
-    contact_reactions: Vec<[Reaction; 2]>,
-    lambda: Vec<Real>,
     /// The previous step's λ, for warm starting the iterative path.
     prev_lambda: Vec<Real>,
     reactions: Vec<[Reaction; 2]>,
@@ -116,11 +125,6 @@ struct StepScratch {
     island_flag: Vec<Real>,
     /// Sleeping bodies (by slot) that this step wakes, committed when it succeeds.
     wake: Vec<bool>,
-    /// Constraints that broke in the last step.
-    broken: Vec<ConstraintHandle>,
-    /// Slots of the constraints whose read-outs (rows, reactions) the last step wrote: the
-    /// only ones the next step must clear (a sleeping pile's contacts are not visited).
-    written: Vec<u32>,
     /// Per tendon: stepped by the reduced path this step.
     tendon_reduced: Vec<bool>,
     /// Joint slots whose rows came out non-finite in this step's gather.
@@ -132,8 +136,6 @@ struct StepScratch {
     /// Islands of the step's solver bodies, and which roots are bad, for quarantine.
     quarantine_sets: crate::union_find::UnionFind,
     quarantine_root: Vec<bool>,
-    /// The reduced-coordinate path's buffers.
-    reduced: reduced::ReducedScratch,
 }
 
 /// A simulated world.
@@ -160,10 +162,19 @@ struct StepScratch {
 /// # Ok::<(), kea::KeaError>(())
 /// ```
 #[derive(Clone)]
+#[repr(C)]
 pub struct World {
+    // `repr(C)`, the state first (what a batch's worker trades with a held world,
+    // `state_copy.rs`), its scratch's state at the head of `scratch`: the trade reads and
+    // writes a few contiguous cache lines of the held world, not lines across its 4 KB.
     id: u32,
-    bodies: Arena<Body, BodyHandle>,
-    constraints: Arena<ConstraintEntry, ConstraintHandle>,
+    /// Changes whenever a joint is made, destroyed, enabled, disabled or re-bodied.
+    joint_revision: u64,
+    time: f64,
+    steps: u64,
+    /// Rows the solver's workspace was reserved for ([`WorldDef::max_island_rows`]).
+    #[cfg_attr(not(feature = "serde"), allow(dead_code))] // kept for snapshots
+    max_island_rows: usize,
     /// Per constraint slot, the slots of its two bodies (`NO_BODY` for the static world), or
     /// `[EMPTY; 2]` for an empty or disabled slot: what a step scans to pass constraints of
     /// sleeping bodies without reading their entries (`constraint_index.rs`).
@@ -171,24 +182,19 @@ pub struct World {
     /// Per constraint slot: a hinge or a prismatic joint (what the reduced path may take), so
     /// that its search passes contacts without reading their entries.
     tree_joint_slots: Vec<bool>,
-    /// Changes whenever a joint is made, destroyed, enabled, disabled or re-bodied.
-    joint_revision: u64,
-    settings: WorldSettings,
-    /// Rows the solver's workspace was reserved for ([`WorldDef::max_island_rows`]).
-    #[cfg_attr(not(feature = "serde"), allow(dead_code))] // kept for snapshots
-    max_island_rows: usize,
     /// Islands quarantined and not yet cleared.
     quarantine: Vec<QuarantineEvent>,
     /// While quarantining: each new event's island root, and whether it has its reason.
     quarantine_roots: Vec<(u32, bool)>,
-    solver: Solver,
-    scratch: StepScratch,
     /// Fixed tendons by index (`None`: removed; `tendons.rs`).
     tendons: Vec<Option<FixedTendon>>,
-    time: f64,
-    steps: u64,
     /// The awake bodies' slots, kept as bodies change (`awake.rs`).
     awake: awake::AwakeSet,
+    settings: WorldSettings,
+    scratch: StepScratch,
+    bodies: Arena<Body, BodyHandle>,
+    constraints: Arena<ConstraintEntry, ConstraintHandle>,
+    solver: Solver,
 }
 
 impl std::fmt::Debug for World {

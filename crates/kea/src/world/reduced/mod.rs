@@ -124,10 +124,20 @@ struct LinkResult {
 }
 
 /// A tree kept from step to step.
+///
+/// `repr(C)`, what travels with a world first (to `tree`, whose own travelling fields lead
+/// it): a batch's worker trades exactly these with each world's tree, so they lie in a few
+/// cache lines of the world's, not across it.
 #[derive(Clone, Default)]
+#[repr(C)]
 struct CachedTree {
     /// The joint that holds it to its base.
     base_joint: u32,
+    /// Stepped in the step in flight.
+    stepped: bool,
+    /// Holds a ball joint or a floating root: built again every step, its chart centred
+    /// (see `build.rs`), never kept.
+    rebuilt_each_step: bool,
     /// The joint revision it was built at; 0: stale (built again before use).
     revision: u64,
     plan: Vec<LinkPlan>,
@@ -135,34 +145,51 @@ struct CachedTree {
     /// the first of its joint's links (a planar joint's first slider).
     link_of: Vec<usize>,
     first_link: Vec<usize>,
-    /// Holds a ball joint or a floating root: built again every step, its chart centred
-    /// (see `build.rs`), never kept.
-    rebuilt_each_step: bool,
     /// Per plan entry, the impulse (world frame) a ball joint gave its body at the joint's
     /// point when the tree was built (its velocity as the joint allows it), and that point
     /// from the body's centre: part of the joint's reaction in the step that follows.
     kick: Vec<(DVec3, DVec3)>,
-    /// Per plan entry, its subtree's net force in the step in flight (scratch).
+    /// Its coordinates and rates now.
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    /// What the last committed step left in each link's body and joint.
+    marks: Vec<Mark>,
+    tree: ArticulatedTree,
+    // Scratch.
+    /// Its coordinates and rates after the step in flight.
+    q_next: Vec<f64>,
+    qd_next: Vec<f64>,
+    /// Per plan entry, its subtree's net force in the step in flight.
     subtree: Vec<DVec3>,
     /// The tree's links while it is built.
     building: Vec<TreeLink>,
-    tree: ArticulatedTree,
-    /// Its coordinates and rates now, and after the step in flight.
-    q: Vec<f64>,
-    qd: Vec<f64>,
-    q_next: Vec<f64>,
-    qd_next: Vec<f64>,
-    /// What the last committed step left in each link's body and joint.
-    marks: Vec<Mark>,
     /// Its results in the step in flight: `results[first..first + plan.len()]`.
     first: usize,
-    /// Stepped in the step in flight.
-    stepped: bool,
 }
 
 /// The reduced path's buffers, reused every step.
 #[derive(Clone, Default)]
+#[repr(C)]
 pub(super) struct ReducedScratch {
+    // `repr(C)`: the kept trees and their caches first, which a held world trades (see
+    // `World`).
+    /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
+    /// the kept floating tree it is the root of. Boxed: a trade of states moves trees
+    /// between these lists and a world's, and a tree is over a kilobyte (a batch's closed
+    /// loop copied two each trade, a sixth of its cache misses).
+    #[allow(clippy::vec_box)]
+    trees: Vec<Box<CachedTree>>,
+    /// Trees a trade of states left over (`kept.rs`), with their step scratch, for the next
+    /// trade to take before making new ones.
+    #[allow(clippy::vec_box)]
+    spare_trees: Vec<Box<CachedTree>>,
+    tree_of: Vec<u32>,
+    floating_of: Vec<u32>,
+    /// The joint revision last looked at, and whether the world then held any hinge or slider.
+    candidates: Option<(u64, bool)>,
+    /// After a step whose trees' joints were every constraint of the world: the joint
+    /// revision and their number.
+    alone: Option<(u64, usize)>,
     /// Per body slot: stepped here this step, so the solver leaves it out.
     pub(super) reduced: Vec<bool>,
     role: Vec<Role>,
@@ -184,28 +211,11 @@ pub(super) struct ReducedScratch {
     /// `joint_slots_of` (`qualify.rs`).
     joint_slots: Vec<u32>,
     joint_slots_of: Option<u64>,
-    /// Kept trees, per joint slot the kept tree it is the base joint of, and per body slot
-    /// the kept floating tree it is the root of. Boxed: a trade of states moves trees
-    /// between these lists and a world's, and a tree is over a kilobyte (a batch's closed
-    /// loop copied two each trade, a sixth of its cache misses).
-    #[allow(clippy::vec_box)]
-    trees: Vec<Box<CachedTree>>,
-    /// Trees a trade of states left over (`kept.rs`), with their step scratch, for the next
-    /// trade to take before making new ones.
-    #[allow(clippy::vec_box)]
-    spare_trees: Vec<Box<CachedTree>>,
     /// Kept trees' models, for the next tree built with the same geometry to share (a
     /// batch's worker builds every world's robot on one model).
     shared_models: crate::articulation::SharedModels,
-    tree_of: Vec<u32>,
-    floating_of: Vec<u32>,
     tau: Vec<f64>,
     results: Vec<LinkResult>,
-    /// The joint revision last looked at, and whether the world then held any hinge or slider.
-    candidates: Option<(u64, bool)>,
-    /// After a step whose trees' joints were every constraint of the world: the joint
-    /// revision and their number.
-    alone: Option<(u64, usize)>,
     /// Per set root, its first body: a floating tree's root link.
     root_body: Vec<u32>,
     /// The trees' contacts in joint space (`contacts.rs`).
