@@ -20,6 +20,20 @@ pub fn slice<T>(s: &[T]) {
     }
 }
 
+/// Asks for the cache lines of the first `len` bytes of `value` (at most its size): the
+/// head of a struct that lays out first what a coming step reads.
+#[inline]
+pub fn head<T>(value: &T, len: usize) {
+    let bytes = len.min(std::mem::size_of::<T>());
+    let start = std::ptr::from_ref(value).cast::<u8>();
+    let mut offset = 0;
+    while offset < bytes {
+        // SAFETY: the address is inside `value` (offset < its size); a prefetch reads nothing.
+        line(unsafe { start.add(offset) });
+        offset += 64;
+    }
+}
+
 #[inline]
 fn line(p: *const u8) {
     #[cfg(target_arch = "x86_64")]

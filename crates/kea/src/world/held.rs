@@ -465,6 +465,24 @@ impl Clone for KindMotion {
     }
 }
 
+impl World {
+    /// Asks for the cache lines a worker reads first when it takes this held world in
+    /// ([`World::enter`]): the state at the head of the world (`repr(C)`, see `World`), the
+    /// buffers it points to, and the kept trees' coordinates. A hint: nothing changes.
+    pub fn prefetch_held(&self) {
+        use crate::prefetch::{head, slice};
+        use std::mem::offset_of;
+        let state = offset_of!(World, scratch)
+            + offset_of!(super::StepScratch, reduced)
+            + offset_of!(super::reduced::ReducedScratch, reduced);
+        head(self, state);
+        slice(&self.constraint_bodies);
+        slice(&self.tree_joint_slots);
+        slice(&self.scratch.lambda);
+        self.scratch.reduced.prefetch_kept();
+    }
+}
+
 impl MotionRecord {
     /// Asks for the cache lines a worker reads first when it takes the record in.
     pub fn prefetch(&self) {

@@ -129,7 +129,12 @@ impl HeldWorld {
     /// Asks for the cache lines a worker reads first when it takes this world in. A hint:
     /// nothing changes.
     pub fn prefetch(&self) {
-        self.world.prefetch();
+        if self.is_compact() {
+            self.world.dynamics.prefetch_held();
+            self.world.collision.prefetch();
+        } else {
+            self.world.prefetch();
+        }
         self.motion.prefetch();
     }
 }

@@ -117,6 +117,23 @@ impl CachedTree {
 }
 
 impl ReducedScratch {
+    /// Asks for the cache lines of what travels with the kept trees (`crate::prefetch`): a
+    /// held world's, which a worker takes in.
+    pub(in crate::world) fn prefetch_kept(&self) {
+        use crate::prefetch::slice;
+        slice(&self.trees);
+        for t in &self.trees {
+            // Its head to the tree's own leading fields (`repr(C)`): what a trade touches.
+            let own = std::mem::offset_of!(CachedTree, tree) + 128;
+            crate::prefetch::head(&**t, own);
+            slice(&t.plan);
+            slice(&t.q);
+            slice(&t.qd);
+            slice(&t.marks);
+        }
+        slice(&self.tree_of);
+    }
+
     /// Asks for the cache lines of the kept trees a step reads first (`crate::prefetch`).
     pub(in crate::world) fn prefetch(&self) {
         use crate::prefetch::slice;
