@@ -54,8 +54,8 @@ pub use solver::{
 };
 pub use threads::PARALLEL_MIN_BODIES;
 pub use world::{
-    CollisionStats, DemMode, DemSettings, FixedTendon, IslandList, JointHandle, JointKind,
-    JointRange, JointSketch, JointSpec, MotionRecord, OneCoordinate, QuarantineEvent,
+    CollisionStats, DemMode, DemSettings, FixedTendon, HeldState, IslandList, JointHandle,
+    JointKind, JointRange, JointSketch, JointSpec, OneCoordinate, QuarantineEvent,
     QuarantineReason, SpeedLimits, StepSize, StepStats, TendonHandle, TendonTerm, World, WorldDef,
     WorldSettings, MAX_CAPACITY,
 };

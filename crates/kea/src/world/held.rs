@@ -19,10 +19,21 @@ use crate::constraint::limit::LimitMotion;
 use crate::math::{Quat, Real, Vec3};
 use crate::solver::{Reaction, SolverPath};
 
-/// What a held world keeps of its bodies and constraints beside the model's definitions
-/// (see the module's text), or nothing: it holds its own.
+/// A world held beside a model (see the module's text): its state without the model's
+/// definitions, made by [`World::held`] and stepped, read and written only through a worker
+/// world with the model's definitions ([`World::enter`], [`World::leave`]).
+#[derive(Clone)]
+pub struct HeldState {
+    /// Its state but for its bodies and constraints, which `motion` keeps (the arenas are
+    /// then empty), or with them when it is held whole.
+    world: World,
+    motion: MotionRecord,
+}
+
+/// What a held world keeps of its bodies and constraints beside the model's definitions,
+/// or nothing: it holds its own.
 #[derive(Clone, Default)]
-pub struct MotionRecord {
+struct MotionRecord {
     compact: Option<Compact>,
 }
 
@@ -346,29 +357,38 @@ impl Compact {
 }
 
 impl World {
-    /// Makes this world a held one (see `held.rs`): `record` takes its bodies' and joints'
-    /// motion, and its arenas of bodies and constraints are dropped. It can then only be
-    /// stepped or read through a worker made from the world it was, or from the same model
-    /// ([`World::enter`]). A held world's step scratch goes too ([`World::trim_to_state`]).
-    pub fn hold(&mut self, record: &mut MotionRecord) {
-        self.trim_to_state();
-        record.compact = Some(Compact::of(self));
-        self.bodies = self.bodies.emptied();
-        self.constraints = self.constraints.emptied();
+    /// This world's state as a held one (see [`HeldState`]): its bodies' and joints' motion
+    /// recorded beside this world's definitions, and the rest of its state but its step
+    /// scratch, for workers made from this world (or a copy of it) to step.
+    #[must_use]
+    pub fn held(&self) -> HeldState {
+        let mut world = self.clone();
+        world.trim_to_state();
+        let motion = MotionRecord {
+            compact: Some(Compact::of(&world)),
+        };
+        world.bodies = world.bodies.emptied();
+        world.constraints = world.constraints.emptied();
+        HeldState { world, motion }
     }
 
-    /// Takes held world `held` in, with its `record`: afterwards this world is that world,
-    /// bit for bit (stepping it, reading it or writing it is stepping, reading or writing
-    /// that world), until [`World::leave`] gives it back. This world must hold the model's
-    /// definitions — a copy of the world `held` was made from with [`World::hold`], or of
-    /// one with the same bodies and joints — and not another held world.
-    pub fn enter(&mut self, held: &mut World, record: &MotionRecord) {
-        match &record.compact {
+    /// Takes `held` in: afterwards this world is that world, bit for bit (stepping it,
+    /// reading it or writing it is stepping, reading or writing that world), until
+    /// [`World::leave`] gives it back. This world must hold the model's definitions — a
+    /// copy of the world `held` was made from, or of one with the same bodies and joints —
+    /// and no other held world.
+    ///
+    /// Between the two, change only what a world's state is (poses, velocities, forces,
+    /// motors, actuators, contacts, the clock), or remove joints (the world is then held
+    /// whole). A definition changed here (a mass, a joint's frames or stops) would be the
+    /// model's for every world this one steps after; debug builds check.
+    pub fn enter(&mut self, held: &mut HeldState) {
+        match &held.motion.compact {
             Some(c) => {
-                self.swap_state_but_arenas(held);
+                self.swap_state_but_arenas(&mut held.world);
                 c.put(self);
             }
-            None => self.swap_state(held),
+            None => self.swap_state(&mut held.world),
         }
     }
 
@@ -377,26 +397,69 @@ impl World {
     /// definitions: if the held world's joints no longer match them (a joint was removed),
     /// it is held whole from now on and this world takes the model's bodies and joints
     /// again.
-    pub fn leave(&mut self, held: &mut World, record: &mut MotionRecord, model: &World) {
-        let recorded = record.compact.as_mut().map(|c| c.record(self));
+    pub fn leave(&mut self, held: &mut HeldState, model: &World) {
+        let recorded = held.motion.compact.as_mut().map(|c| c.record(self));
+        let h = &mut held.world;
         match recorded {
             Some(true) => {
                 debug_assert!(
                     Compact::same_definitions(self, model),
                     "a held world's worker changed a definition the model holds"
                 );
-                self.swap_state_but_arenas(held);
+                self.swap_state_but_arenas(h);
             }
             Some(false) => {
-                record.compact = None;
-                held.bodies.copy_from(&self.bodies);
-                held.constraints.copy_from(&self.constraints);
+                held.motion.compact = None;
+                h.bodies.copy_from(&self.bodies);
+                h.constraints.copy_from(&self.constraints);
                 self.bodies.copy_from(&model.bodies);
                 self.constraints.copy_from(&model.constraints);
-                self.swap_state_but_arenas(held);
+                self.swap_state_but_arenas(h);
             }
-            None => self.swap_state(held),
+            None => self.swap_state(h),
         }
+    }
+}
+
+impl HeldState {
+    /// Becomes a copy of `other`, reusing its buffers (a batch's reset: nothing allocated
+    /// once it has held a world as big).
+    pub fn copy_from(&mut self, other: &HeldState) {
+        self.world.copy_state_only(&other.world);
+        self.motion.clone_from(&other.motion);
+    }
+
+    /// Whether its bodies and joints are kept beside the model's definitions; else it holds
+    /// its own (its joints no longer match the model's).
+    #[must_use]
+    pub fn is_compact(&self) -> bool {
+        self.motion.compact.is_some()
+    }
+
+    /// Asks for the cache lines a worker reads first when it takes this world in: the
+    /// state at the head of the world (`repr(C)`, see `World`), the buffers it points to,
+    /// its kept trees' coordinates and its record (a held-whole world: all of it, as
+    /// [`World::prefetch`]). A hint: nothing changes.
+    pub fn prefetch(&self) {
+        use crate::prefetch::{head, slice};
+        use std::mem::offset_of;
+        let Some(c) = &self.motion.compact else {
+            self.world.prefetch();
+            return;
+        };
+        let w = &self.world;
+        let state = offset_of!(World, scratch)
+            + offset_of!(super::StepScratch, reduced)
+            + offset_of!(super::reduced::ReducedScratch, reduced);
+        head(w, state);
+        slice(&w.constraint_bodies);
+        slice(&w.tree_joint_slots);
+        slice(&w.scratch.lambda);
+        w.scratch.reduced.prefetch_kept();
+        slice(std::slice::from_ref(c));
+        slice(&c.bodies);
+        slice(&c.joints);
+        slice(&c.others);
     }
 }
 
@@ -462,43 +525,5 @@ impl Clone for KindMotion {
             (KindMotion::Whole(mine), KindMotion::Whole(k)) => (**mine).clone_from(k),
             (mine, o) => *mine = o.clone(),
         }
-    }
-}
-
-impl World {
-    /// Asks for the cache lines a worker reads first when it takes this held world in
-    /// ([`World::enter`]): the state at the head of the world (`repr(C)`, see `World`), the
-    /// buffers it points to, and the kept trees' coordinates. A hint: nothing changes.
-    pub fn prefetch_held(&self) {
-        use crate::prefetch::{head, slice};
-        use std::mem::offset_of;
-        let state = offset_of!(World, scratch)
-            + offset_of!(super::StepScratch, reduced)
-            + offset_of!(super::reduced::ReducedScratch, reduced);
-        head(self, state);
-        slice(&self.constraint_bodies);
-        slice(&self.tree_joint_slots);
-        slice(&self.scratch.lambda);
-        self.scratch.reduced.prefetch_kept();
-    }
-}
-
-impl MotionRecord {
-    /// Asks for the cache lines a worker reads first when it takes the record in.
-    pub fn prefetch(&self) {
-        if let Some(c) = &self.compact {
-            use crate::prefetch::slice;
-            slice(std::slice::from_ref(c));
-            slice(&c.bodies);
-            slice(&c.joints);
-            slice(&c.others);
-        }
-    }
-
-    /// Whether it keeps the world's motion beside a model (else the world holds its own
-    /// bodies and constraints).
-    #[must_use]
-    pub fn is_compact(&self) -> bool {
-        self.compact.is_some()
     }
 }

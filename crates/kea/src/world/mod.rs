@@ -31,7 +31,7 @@ mod step_size;
 mod tendons;
 mod write_back;
 
-pub use held::MotionRecord;
+pub use held::HeldState;
 pub use islands::IslandList;
 pub use joint_handle::{JointHandle, JointKind, OneCoordinate};
 pub use joint_spec::JointSpec;

@@ -1,8 +1,8 @@
 //! A batch's world held as a compact record beside the batch's model (the model/data split;
-//! `kea::World::hold` is the dynamics half): its bodies' and joints' definitions and the
+//! `kea::World::held` is the dynamics half): its bodies' and joints' definitions and the
 //! facade's records of them (centres of mass, colliders, names) live once, in the worker
 //! that steps every world; each world keeps what its steps change — the dynamics layer's
-//! motion record, its collision layer (contacts, the broad phase) whole, and its kinematic
+//! held state, its collision layer (contacts, the broad phase) whole, and its kinematic
 //! bodies' targets.
 
 use super::PhysicsWorld;
@@ -19,10 +19,10 @@ use kea::{Quat, Vec3};
 /// model's for every world it steps after; debug builds check.
 #[derive(Clone)]
 pub struct HeldWorld {
-    /// The state the worker trades with: in a compact world, its dynamics layer's arenas
-    /// and the facade's records are empty (the model's serve).
+    /// The collision layer's state, and the facade's records when held whole (else empty:
+    /// the model's serve). Its own dynamics layer is an empty stand-in.
     world: PhysicsWorld,
-    motion: kea::MotionRecord,
+    dynamics: kea::HeldState,
     /// Each position-driven kinematic body's target, in the model's order.
     targets: Vec<Option<(Vec3, Quat)>>,
 }
@@ -32,19 +32,22 @@ impl PhysicsWorld {
     /// world (or a copy of it) to step.
     #[must_use]
     pub fn held(&self) -> HeldWorld {
-        let mut world = self.clone();
-        world.collision.trim_to_state();
-        let mut motion = kea::MotionRecord::default();
-        world.dynamics.hold(&mut motion);
+        // The stand-in for its dynamics layer: as small as a world is, and no scratch.
+        let least = kea::WorldDef {
+            max_bodies: 1,
+            max_constraints: 1,
+            max_island_rows: 1,
+            ..kea::WorldDef::default()
+        };
+        let mut world = PhysicsWorld::with_def(least).expect("the least capacities are valid");
+        world.trim_to_state();
+        world.collision.copy_state_from(&self.collision);
         let mut held = HeldWorld {
-            targets: Vec::new(),
             world,
-            motion,
+            dynamics: self.dynamics.held(),
+            targets: Vec::new(),
         };
         held.record_targets(self);
-        let w = &mut held.world;
-        (w.meta, w.surfaces, w.driven) = Default::default();
-        (w.paths, w.names, w.joint_names) = Default::default();
         held
     }
 
@@ -53,7 +56,7 @@ impl PhysicsWorld {
     /// world `held` was made from) and hold no other held world.
     pub fn enter(&mut self, held: &mut HeldWorld) {
         let compact = held.is_compact();
-        self.dynamics.enter(&mut held.world.dynamics, &held.motion);
+        self.dynamics.enter(&mut held.dynamics);
         self.collision.swap_state(&mut held.world.collision);
         if compact {
             for (&h, target) in self.driven.iter().zip(&held.targets) {
@@ -76,12 +79,12 @@ impl PhysicsWorld {
             held.record_targets(self);
         }
         self.collision.swap_state(&mut held.world.collision);
-        self.dynamics
-            .leave(&mut held.world.dynamics, &mut held.motion, &model.dynamics);
+        self.dynamics.leave(&mut held.dynamics, &model.dynamics);
         if !compact {
             self.swap_facade(&mut held.world);
         } else if !held.is_compact() {
-            // Its dynamics went whole: so do the facade's records.
+            // Its dynamics went whole: so do the facade's records, and this world takes
+            // the model's back.
             let w = &mut held.world;
             w.meta.clone_from(&self.meta);
             w.surfaces.clone_from(&self.surfaces);
@@ -115,7 +118,7 @@ impl HeldWorld {
     /// once it has held a world as big).
     pub fn copy_from(&mut self, other: &HeldWorld) {
         self.world.copy_state_only(&other.world);
-        self.motion.clone_from(&other.motion);
+        self.dynamics.copy_from(&other.dynamics);
         self.targets.clone_from(&other.targets);
     }
 
@@ -123,18 +126,16 @@ impl HeldWorld {
     /// its own (its joints no longer match the model's).
     #[must_use]
     pub fn is_compact(&self) -> bool {
-        self.motion.is_compact()
+        self.dynamics.is_compact()
     }
 
     /// Asks for the cache lines a worker reads first when it takes this world in. A hint:
     /// nothing changes.
     pub fn prefetch(&self) {
-        if self.is_compact() {
-            self.world.dynamics.prefetch_held();
-            self.world.collision.prefetch();
-        } else {
-            self.world.prefetch();
+        self.dynamics.prefetch();
+        self.world.collision.prefetch();
+        if !self.is_compact() {
+            kea::prefetch::slice(&self.world.meta);
         }
-        self.motion.prefetch();
     }
 }
