@@ -71,6 +71,12 @@ fn model() -> Model {
     }
 }
 
+/// The bits of a real, widened (in f32 and f64 alike).
+#[allow(clippy::unnecessary_cast)] // a no-op in f64
+fn bits_of(x: Real) -> u64 {
+    x.to_bits() as u64
+}
+
 /// The bits of every body's pose and velocities and of every joint's reactions.
 fn bits(m: &Model, w: &World) -> Vec<u64> {
     let mut out = Vec::new();
@@ -81,7 +87,7 @@ fn bits(m: &Model, w: &World) -> Vec<u64> {
         for x in [
             p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, a.x, a.y, a.z,
         ] {
-            out.push(f64::from(x).to_bits());
+            out.push(bits_of(x));
         }
     }
     // (A removed joint has none.)
@@ -92,7 +98,7 @@ fn bits(m: &Model, w: &World) -> Vec<u64> {
     {
         for r in r {
             for x in r.force.to_array().into_iter().chain(r.torque.to_array()) {
-                out.push(f64::from(x).to_bits());
+                out.push(bits_of(x));
             }
         }
     }

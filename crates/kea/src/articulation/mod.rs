@@ -145,7 +145,7 @@ impl Default for ArticulatedTree {
 /// A tree of links on a fixed base, in reduced coordinates.
 ///
 /// `repr(C)`, what a batch's worker trades with each world's tree first
-/// ([`ArticulatedTree::swap_model`]): a few cache lines of the world's tree, not its whole.
+/// (`swap_model`): a few cache lines of the world's tree, not its whole.
 #[derive(Debug, Clone, PartialEq)]
 #[repr(C)]
 pub struct ArticulatedTree {
