@@ -49,7 +49,14 @@ pub struct PyBatch {
     /// A robot batch's joint positions and velocities, read by each worker as it finishes a
     /// world's step, while the world is still in its cache.
     pub(crate) observed: Observed,
+    /// Actions set since the last step (motors, controls), in order: applied to each world
+    /// in the step's own visit, after the worker takes it in and before it steps, as
+    /// MuJoCo's `ctrl` is read by its step; any other visit applies them first.
+    pending: Vec<Write>,
 }
+
+/// A write to every world (by index), owned, kept until the batch next visits its worlds.
+pub(crate) type Write = Box<dyn Fn(usize, &mut PhysicsWorld) -> kea3d::Result<()> + Send + Sync>;
 
 /// Every world's joint positions and velocities (MuJoCo's `qpos` and `qvel`) as its last
 /// step left them, read in the step by the worker that held the world: a closed loop reads
@@ -60,6 +67,12 @@ pub(crate) struct Observed {
     pub(crate) q: Vec<kea3d::Real>,
     pub(crate) v: Vec<kea3d::Real>,
     pub(crate) fresh: bool,
+    /// Every world's body states (`Batch.state`'s rows), read in the step when the last
+    /// step was followed by a `state()` (a closed loop that reads them after every step);
+    /// valid while `fresh`, if the last step read them.
+    pub(crate) states: Vec<f64>,
+    pub(crate) states_read: bool,
+    pub(crate) states_valid: bool,
 }
 
 impl PyBatch {
@@ -80,6 +93,41 @@ impl PyBatch {
     /// world. A reader leaves the world as it was; a writer must call `each`, which marks
     /// the step's rows stale.
     pub(crate) fn visit<T, F>(
+        &mut self,
+        py_: Python<'_>,
+        out: &mut [T],
+        width: usize,
+        f: F,
+    ) -> PyResult<()>
+    where
+        T: Send,
+        F: Fn(usize, &mut PhysicsWorld, &mut [T]) -> kea3d::Result<()> + Sync + Send,
+    {
+        self.apply_pending(py_)?;
+        self.visit_now(py_, out, width, f)
+    }
+
+    /// Keeps `write` for every world until the batch next visits them: the step applies it
+    /// in its own visit (an action costs no pass of its own over the worlds). The caller
+    /// has checked its input, so that it cannot fail on any world.
+    pub(crate) fn defer(&mut self, write: Write) {
+        self.observed.fresh = false;
+        self.pending.push(write);
+    }
+
+    /// Applies the pending actions to every world now.
+    fn apply_pending(&mut self, py_: Python<'_>) -> PyResult<()> {
+        if self.pending.is_empty() {
+            return Ok(());
+        }
+        let pending = std::mem::take(&mut self.pending);
+        let mut none = vec![(); self.worlds.len()];
+        self.visit_now(py_, &mut none, 1, |i, w, _| {
+            pending.iter().try_for_each(|write| write(i, w))
+        })
+    }
+
+    fn visit_now<T, F>(
         &mut self,
         py_: Python<'_>,
         out: &mut [T],
@@ -167,6 +215,7 @@ impl PyBatch {
             robot: world.robot.clone(),
             pool,
             observed: Observed::default(),
+            pending: Vec::new(),
         })
     }
 
@@ -182,36 +231,50 @@ impl PyBatch {
         observed.fresh = false;
         observed.q.resize(n * nq, 0.0);
         observed.v.resize(n * nv, 0.0);
+        let nb = self.bodies.len();
+        let want_states = std::mem::take(&mut observed.states_read) && nb > 0;
+        let ns = row_stride(if want_states { nb * STATE_WIDTH } else { 0 });
+        observed.states.resize(n * ns, 0.0);
+        let bodies = self.bodies.as_slice();
         let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
         let template = &self.template;
+        let pending = std::mem::take(&mut self.pending);
+        let pending = pending.as_slice();
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
                     .par_chunks_mut(RUN)
                     .zip(observed.q.par_chunks_mut(RUN * nq))
                     .zip(observed.v.par_chunks_mut(RUN * nv))
+                    .zip(observed.states.par_chunks_mut(RUN * ns))
                     .enumerate()
-                    .try_for_each(|(c, ((run, q), v))| {
-                        let rows = robot.map(|r| Rows { robot: r, q, v });
+                    .try_for_each(|(c, (((run, q), v), states))| {
+                        let rows = Rows {
+                            robot: robot.map(|r| (r, q, v)),
+                            states: want_states.then_some((bodies, states)),
+                        };
                         with_worker(workers, template, |worker| {
-                            step_run(worker, template, run, rows, dt, steps)
+                            let first = c * RUN;
+                            step_run(worker, template, run, first, pending, rows, dt, steps)
                         })
                         .map_err(|(k, e)| (c * RUN + k, e))
                     })
             })
         });
-        observed.fresh = result.is_ok() && robot.is_some();
+        observed.fresh = result.is_ok();
+        observed.states_valid = want_states;
         result.map_err(|(i, e)| world_error(py_, i, e))
     }
 
     /// Puts the chosen worlds (all if None) back to the batch's starting world.
     #[pyo3(signature = (indices = None))]
-    fn reset(&mut self, indices: Option<Vec<usize>>) -> PyResult<()> {
+    fn reset(&mut self, py_: Python<'_>, indices: Option<Vec<usize>>) -> PyResult<()> {
         let n = self.worlds.len();
         let indices = indices.unwrap_or_else(|| (0..n).collect());
         if let Some(&i) = indices.iter().find(|&&i| i >= n) {
             return Err(crate::convert::no_such("indices", i, n));
         }
+        self.apply_pending(py_)?;
         self.observed.fresh = false;
         for i in indices {
             // The model's state into the world's own buffers: no allocation.
@@ -225,11 +288,18 @@ impl PyBatch {
     fn state<'py>(&mut self, py_: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let (n, nb) = (self.worlds.len(), self.bodies.len());
         let array = PyArray3::<f64>::zeros(py_, [n, nb, STATE_WIDTH], false);
+        // The next step reads them for the read that follows it.
+        self.observed.states_read = true;
         {
             let mut rw = array.readwrite();
             let out = rw
                 .as_slice_mut()
                 .map_err(|e| bad("state", e, "a contiguous array"))?;
+            let stepped = &self.observed;
+            if stepped.fresh && stepped.states_valid && self.pending.is_empty() {
+                out.copy_from_slice(&stepped.states[..out.len()]);
+                return Ok(array.clone());
+            }
             let bodies = self.bodies.clone();
             self.visit(py_, out, nb * STATE_WIDTH, |_, w, rows| {
                 state::read_bodies(w, &bodies, rows)
@@ -265,8 +335,9 @@ impl PyBatch {
     }
 
     /// Sets the motor speeds (N, joints) of the joints that have motors; columns of joints
-    /// without a motor must be 0.
-    fn set_motors(&mut self, py_: Python<'_>, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// without a motor must be 0. Checked now; each world takes them as the next step takes
+    /// it in (reads and writes before that see them too).
+    fn set_motors(&mut self, velocities: &Bound<'_, PyAny>) -> PyResult<()> {
         let nj = self.joints.len();
         let (rows, src) = matrix("velocities", velocities, nj)?;
         self.check_rows("velocities", &[rows, nj], &[nj])?;
@@ -281,7 +352,7 @@ impl PyBatch {
             })
             .collect();
         for (k, x) in src.iter().enumerate() {
-            if !x.is_finite() || (!motorised[k % nj.max(1)] && *x != 0.0) {
+            if !real(*x).is_finite() || (!motorised[k % nj.max(1)] && *x != 0.0) {
                 return Err(bad(
                     "velocities",
                     format!("{x} in column {}", k % nj.max(1)),
@@ -289,14 +360,15 @@ impl PyBatch {
                 ));
             }
         }
-        self.each(py_, |i, w| {
+        self.defer(Box::new(move |i, w| {
             for (k, &j) in joints.iter().enumerate() {
                 if motorised[k] {
                     state::drive(w, j, src[i * nj + k])?;
                 }
             }
             Ok(())
-        })
+        }));
+        Ok(())
     }
 
     /// Every world's joint coordinates and rates: two (N, joints) float64 arrays.
@@ -364,7 +436,8 @@ impl PyBatch {
     }
 
     /// A copy of world `index` as a `kea.World`.
-    fn world(&mut self, index: usize) -> PyResult<PyWorld> {
+    fn world(&mut self, py_: Python<'_>, index: usize) -> PyResult<PyWorld> {
+        self.apply_pending(py_)?;
         let n = self.worlds.len();
         let held = self
             .worlds
@@ -414,9 +487,13 @@ pub(crate) fn row_stride(width: usize) -> usize {
 /// A run's rows of the robot's joint positions and velocities ([`row_stride`] apart), which
 /// its worker reads as it finishes each world.
 struct Rows<'a> {
-    robot: &'a kea3d::robot::Robot,
-    q: &'a mut [kea3d::Real],
-    v: &'a mut [kea3d::Real],
+    robot: Option<(
+        &'a kea3d::robot::Robot,
+        &'a mut [kea3d::Real],
+        &'a mut [kea3d::Real],
+    )>,
+    /// The batch's bodies and the run's rows of their states, when the step reads them.
+    states: Option<(&'a [BodyHandle], &'a mut [f64])>,
 }
 
 /// Worlds in runs of `RUN`, each world's worker asking for the next one's memory while it
@@ -439,14 +516,18 @@ fn with_worker<R>(
     }
 }
 
-/// Steps each world of `run` `steps` times by `dt` in `worker`, which takes it in, steps,
-/// reads the world's `rows` while it holds it, and gives it back with whatever the step did
-/// (as stepping it in place); the first error comes back with the world's place in the run.
+/// Steps each world of `run` (world `first` on) `steps` times by `dt` in `worker`, which
+/// takes it in, applies the `pending` actions, steps, reads the world's `rows` while it
+/// holds it, and gives it back with whatever the step did (as stepping it in place); the
+/// first error comes back with the world's place in the run.
+#[allow(clippy::too_many_arguments)]
 fn step_run(
     worker: &mut PhysicsWorld,
     model: &PhysicsWorld,
     run: &mut [HeldWorld],
-    mut rows: Option<Rows<'_>>,
+    first: usize,
+    pending: &[Write],
+    mut rows: Rows<'_>,
     dt: kea3d::Real,
     steps: usize,
 ) -> Result<(), (usize, kea3d::Error)> {
@@ -455,14 +536,20 @@ fn step_run(
             next.prefetch();
         }
         worker.enter(&mut run[k]);
-        let mut stepped = crate::world::step_many(worker, dt, steps);
-        if let (Ok(()), Some(r)) = (&stepped, rows.as_mut()) {
-            let (nq, nv) = (r.robot.position_count(), r.robot.velocity_count());
-            let (q, v) = (
-                &mut r.q[k * row_stride(nq)..],
-                &mut r.v[k * row_stride(nv)..],
-            );
-            stepped = r.robot.joint_state_into(worker, &mut q[..nq], &mut v[..nv]);
+        let mut stepped = pending
+            .iter()
+            .try_for_each(|write| write(first + k, worker));
+        if stepped.is_ok() {
+            stepped = crate::world::step_many(worker, dt, steps);
+        }
+        if let (Ok(()), Some((robot, q, v))) = (&stepped, rows.robot.as_mut()) {
+            let (nq, nv) = (robot.position_count(), robot.velocity_count());
+            let (q, v) = (&mut q[k * row_stride(nq)..], &mut v[k * row_stride(nv)..]);
+            stepped = robot.joint_state_into(worker, &mut q[..nq], &mut v[..nv]);
+        }
+        if let (Ok(()), Some((bodies, states))) = (&stepped, rows.states.as_mut()) {
+            let width = bodies.len() * STATE_WIDTH;
+            stepped = state::read_bodies(worker, bodies, &mut states[k * width..][..width]);
         }
         worker.leave(&mut run[k], model);
         stepped.map_err(|e| (k, e))?;

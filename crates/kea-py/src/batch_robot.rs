@@ -125,16 +125,28 @@ impl PyBatch {
         })
     }
 
-    /// Feeds every world's actuators its row of `controls` (N, actuators).
-    fn set_controls(&mut self, py_: Python<'_>, controls: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Feeds every world's actuators its row of `controls` (N, actuators). Checked now;
+    /// each world takes its row as the next step takes it in (reads and writes before that
+    /// see them too), as MuJoCo's step reads `ctrl`.
+    fn set_controls(&mut self, controls: &Bound<'_, PyAny>) -> PyResult<()> {
         let robot = self.robot()?;
-        self.scatter(
-            py_,
-            "controls",
-            controls,
-            robot.actuators().len(),
-            |w, row| robot.set_controls(w, row),
-        )
+        let width = robot.actuators().len();
+        let (rows, values) = crate::convert::matrix("controls", controls, width)?;
+        if rows != self.worlds.len() {
+            return Err(crate::convert::bad(
+                "controls",
+                format!("{rows} rows"),
+                &format!("{} rows, one per world", self.worlds.len()),
+            ));
+        }
+        let values: Vec<Real> = values.into_iter().map(real).collect();
+        if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+            return Err(crate::convert::bad("controls", x, "finite controls"));
+        }
+        self.defer(Box::new(move |i, w| {
+            robot.set_controls(w, &values[i * width..(i + 1) * width])
+        }));
+        Ok(())
     }
 
     /// Drives every world's joint coordinates at its row of `velocities` (N, velocity_count)

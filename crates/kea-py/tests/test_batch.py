@@ -158,3 +158,27 @@ def test_the_vector_env_balances_for_a_while_and_resets_itself():
         _, _, terminated, truncated, _ = env.step(rng.uniform(-1, 1, (8, 1)))
         ended += int(terminated.sum() + truncated.sum())
     assert ended > 0
+
+
+def test_a_closed_loop_reads_states_from_its_steps_on_the_bits_of_each_world():
+    # After a state() that follows a step, each step reads every world's states while its
+    # worker holds the world; state() answers from them until anything else changes a world.
+    n = 4
+    batch = kea.Batch(cart_pole_world(), n)
+    alone = [cart_pole_world() for _ in range(n)]
+    motors = np.zeros((n, 2))
+    for k in range(12):
+        motors[:, 0] = np.linspace(-2.0, 2.0, n) * np.cos(0.3 * k)
+        batch.set_motors(motors)
+        batch.step(0.01, 2)
+        read = batch.state()
+        for i, w in enumerate(alone):
+            w.set_motor(0, motors[i, 0])
+            w.step(0.01, 2)
+            assert np.array_equal(read[i], w.state()), f"world {i}, step {k}"
+    moved = read.copy()
+    moved[:, 0, 0] += 0.5
+    batch.set_state(moved)
+    assert np.allclose(batch.state(), moved, rtol=0, atol=1e-6)
+    batch.reset([0])
+    assert np.array_equal(batch.state()[0], cart_pole_world().state())

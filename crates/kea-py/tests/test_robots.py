@@ -256,6 +256,15 @@ def test_a_robot_batch_reads_and_writes_joint_vectors_and_controls_per_world():
     assert reactions.shape == (3, batch.joint_count, 6)
     with pytest.raises(ValueError, match="controls"):
         batch.set_controls(np.zeros((3, 5)))
+    # Controls are checked when set (each world takes them when the next step takes it in):
+    # a refused row changes nothing, and a copy taken out carries the last good controls.
+    batch.set_controls(np.array([[0.5, -0.5], [0.0, 0.0], [0.0, 0.0]]))
+    with pytest.raises(ValueError, match="controls"):
+        batch.set_controls(np.array([[np.nan, 0.0], [0.0, 0.0], [0.0, 0.0]]))
+    one = batch.world(0)
+    batch.step(0.01, 5)
+    one.step(0.01, 5)
+    assert np.array_equal(batch.joint_positions()[0], one.joint_positions())
     with pytest.raises(ValueError, match="no robot"):
         kea.Batch(kea.World(), 2).joint_positions()
 
