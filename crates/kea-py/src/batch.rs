@@ -239,7 +239,7 @@ impl PyBatch {
         let (pool, worlds, workers) = (&self.pool, &mut self.worlds, &self.workers);
         let template = &self.template;
         let pending = std::mem::take(&mut self.pending);
-        let pending = pending.as_slice();
+        let actions = pending.as_slice();
         let result = py_.detach(|| {
             pool.install(|| {
                 worlds
@@ -255,7 +255,7 @@ impl PyBatch {
                         };
                         with_worker(workers, template, |worker| {
                             let first = c * RUN;
-                            step_run(worker, template, run, first, pending, rows, dt, steps)
+                            step_run(worker, template, run, first, actions, rows, dt, steps)
                         })
                         .map_err(|(k, e)| (c * RUN + k, e))
                     })
@@ -263,6 +263,11 @@ impl PyBatch {
         });
         observed.fresh = result.is_ok();
         observed.states_valid = want_states;
+        if result.is_err() {
+            // The worlds the failed step did not reach have not taken the actions: they stay
+            // pending (setting a motor or a control twice is setting it once).
+            self.pending = pending;
+        }
         result.map_err(|(i, e)| world_error(py_, i, e))
     }
 
