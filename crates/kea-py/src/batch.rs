@@ -122,9 +122,15 @@ impl PyBatch {
         }
         let pending = std::mem::take(&mut self.pending);
         let mut none = vec![(); self.worlds.len()];
-        self.visit_now(py_, &mut none, 1, |i, w, _| {
+        let applied = self.visit_now(py_, &mut none, 1, |i, w, _| {
             pending.iter().try_for_each(|write| write(i, w))
-        })
+        });
+        if applied.is_err() {
+            // As after a failed step: the worlds not reached take them later (setting a
+            // motor or a control twice is setting it once).
+            self.pending = pending;
+        }
+        applied
     }
 
     fn visit_now<T, F>(

@@ -140,8 +140,16 @@ impl PyBatch {
             ));
         }
         let values: Vec<Real> = values.into_iter().map(real).collect();
-        if let Some(x) = values.iter().find(|x| !x.is_finite()) {
-            return Err(crate::convert::bad("controls", x, "finite controls"));
+        // Checked whole now (as each world's `set_controls` would), so that applying them
+        // in the step cannot fail.
+        for (i, row) in values.chunks(width.max(1)).enumerate().take(rows) {
+            robot.check_controls(&row[..width]).map_err(|e| {
+                crate::convert::bad(
+                    "controls",
+                    format!("row {i}: {e}"),
+                    "controls each actuator takes",
+                )
+            })?;
         }
         self.defer(Box::new(move |i, w| {
             robot.set_controls(w, &values[i * width..(i + 1) * width])

@@ -436,10 +436,10 @@ impl ArticulatedTree {
     /// [`ArticulatedTree::copy_model_from`]).
     pub(crate) fn swap_model(&mut self, other: &mut ArticulatedTree) {
         // Drives do not travel: they are written whole before a step reads them (a kept
-        // tree's from its joints, `advance_tree`; a tree built again every step — a ball
-        // joint's, a floating root's — by its build), so a batch's worker writes its own, in
-        // its cache, and not each world's. Each tree sizes its own before it steps
-        // (`ensure_workspace`).
+        // tree's from its joints, a floating root's links as none, `advance_tree`; a tree
+        // built again every step — a ball joint's — by its build), so a batch's worker
+        // writes its own, in its cache, and not each world's. Each tree sizes its own before
+        // it steps (`ensure_workspace`).
         std::mem::swap(&mut self.model, &mut other.model);
         std::mem::swap(&mut self.origins, &mut other.origins);
         std::mem::swap(&mut self.gravity, &mut other.gravity);
@@ -513,6 +513,11 @@ impl ArticulatedTree {
     #[cfg(test)]
     pub(crate) fn model_address(&self) -> usize {
         Arc::as_ptr(&self.model) as usize
+    }
+
+    /// Link `i` driven by nothing (a floating root's links).
+    pub(crate) fn clear_drive(&mut self, i: usize) {
+        self.drives[i] = TreeLink::default().drive();
     }
 
     /// Link `i`'s drives, to change (trusted: the world keeps them valid).

@@ -32,15 +32,28 @@ pub struct HeldState {
 
 /// What a held world keeps of its bodies and constraints beside the model's definitions,
 /// or nothing: it holds its own.
-#[derive(Clone, Default)]
+#[derive(Default)]
 struct MotionRecord {
     compact: Option<Compact>,
 }
 
+impl Clone for MotionRecord {
+    fn clone(&self) -> Self {
+        MotionRecord {
+            compact: self.compact.clone(),
+        }
+    }
+
+    /// Reuses the record's buffers (a batch's reset allocates nothing once warm).
+    fn clone_from(&mut self, other: &Self) {
+        self.compact.clone_from(&other.compact);
+    }
+}
+
 #[derive(Default)]
 struct Compact {
-    /// Live body slots, ascending, and each one's motion.
-    body_slots: Vec<u32>,
+    /// Live body slots, ascending, with their generations, and each one's motion.
+    body_slots: Vec<(u32, u32)>,
     bodies: Vec<BodyMotion>,
     body_slot_count: usize,
     /// The model's joints, by slot ascending, each with what changes in it.
@@ -224,9 +237,11 @@ impl Compact {
     /// The layout of `w`'s bodies and joints, with their motion now.
     fn of(w: &World) -> Self {
         let mut c = Compact::default();
-        for (h, b) in w.bodies.iter() {
-            c.body_slots.push(h.index());
-            c.bodies.push(BodyMotion::of(b));
+        for s in 0..w.bodies.slot_count() {
+            if let Some((generation, Some(b))) = w.bodies.raw_slot(s) {
+                c.body_slots.push((s as u32, generation));
+                c.bodies.push(BodyMotion::of(b));
+            }
         }
         c.body_slot_count = w.bodies.slot_count();
         for s in 0..w.constraints.slot_count() {
@@ -254,10 +269,10 @@ impl Compact {
         if w.bodies.slot_count() != self.body_slot_count || w.bodies.len() != self.bodies.len() {
             return false;
         }
-        for (m, &s) in self.bodies.iter_mut().zip(&self.body_slots) {
-            match w.bodies.at(s as usize) {
-                Some(b) => *m = BodyMotion::of(b),
-                None => return false,
+        for (m, &(s, generation)) in self.bodies.iter_mut().zip(&self.body_slots) {
+            match w.bodies.raw_slot(s as usize) {
+                Some((g, Some(b))) if g == generation => *m = BodyMotion::of(b),
+                _ => return false,
             }
         }
         for j in &mut self.joints {
@@ -338,7 +353,7 @@ impl Compact {
 
     /// Puts the recorded motion into `w`, which holds the model's definitions.
     fn put(&self, w: &mut World) {
-        for (m, &s) in self.bodies.iter().zip(&self.body_slots) {
+        for (m, &(s, _)) in self.bodies.iter().zip(&self.body_slots) {
             if let Some(b) = w.bodies.at_mut(s as usize) {
                 m.put(b);
             }

@@ -35,17 +35,30 @@ impl Robot {
     /// coordinate to `u / gear`, a velocity servo its rate to `u / gear`. Errors, changing
     /// nothing, on a vector whose length is not the actuator count or with a non-finite entry.
     pub fn set_controls(&self, world: &mut PhysicsWorld, controls: &[Real]) -> Result<()> {
-        check_vector("controls", controls, self.actuators.len())?;
         // Everything checked first, then applied: a refusal changes nothing, and nothing is
         // allocated (a learning loop calls this every step).
-        for (a, &u) in self.actuators.iter().zip(controls) {
-            let (j, _, actuator) = self.actuator_for(a, u)?;
-            actuator.validate()?;
+        self.check_controls(controls)?;
+        for a in &self.actuators {
+            let (j, _) = self.actuated(a).ok_or(KeaError::InvalidState {
+                operation: "set_controls",
+                reason: "an actuator's joint is not in the robot",
+            })?;
             self.check_joint(world, j)?;
         }
         for (a, &u) in self.actuators.iter().zip(controls) {
             let (j, k, actuator) = self.actuator_for(a, u)?;
             self.drive(world, j, k, Some(actuator))?;
+        }
+        Ok(())
+    }
+
+    /// Checks a control vector as [`Robot::set_controls`] does, without a world: its
+    /// length, and each actuator's force or servo it makes (finite, within range). A
+    /// vector it accepts, `set_controls` applies to any world that holds the robot.
+    pub fn check_controls(&self, controls: &[Real]) -> Result<()> {
+        check_vector("controls", controls, self.actuators.len())?;
+        for (a, &u) in self.actuators.iter().zip(controls) {
+            self.actuator_for(a, u)?.2.validate()?;
         }
         Ok(())
     }

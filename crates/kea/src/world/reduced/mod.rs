@@ -463,7 +463,12 @@ impl World {
                 return false;
             }
             if p.free {
-                continue; // a floating root: no joint to drive
+                // A floating root: no joint to drive; its links' drives are none, written
+                // here as every other link's is (a tree's drives do not travel in a trade).
+                for l in t.first_link[k]..=link {
+                    t.tree.clear_drive(l);
+                }
+                continue;
             }
             let entry = constraints
                 .at(p.joint as usize)
