@@ -309,12 +309,12 @@ impl PyBatch {
             let stepped = &self.observed;
             if stepped.fresh && stepped.states_valid && self.pending.is_empty() {
                 out.copy_from_slice(&stepped.states[..out.len()]);
-                return Ok(array.clone());
+            } else {
+                let bodies = self.bodies.clone();
+                self.visit(py_, out, nb * STATE_WIDTH, |_, w, rows| {
+                    state::read_bodies(w, &bodies, rows)
+                })?;
             }
-            let bodies = self.bodies.clone();
-            self.visit(py_, out, nb * STATE_WIDTH, |_, w, rows| {
-                state::read_bodies(w, &bodies, rows)
-            })?;
         }
         Ok(array)
     }

@@ -85,19 +85,8 @@ impl PhysicsWorld {
         } else if !held.is_compact() {
             // Its dynamics went whole: so do the facade's records, and this world takes
             // the model's back.
-            let w = &mut held.world;
-            w.meta.clone_from(&self.meta);
-            w.surfaces.clone_from(&self.surfaces);
-            w.driven.clone_from(&self.driven);
-            w.paths.clone_from(&self.paths);
-            w.names.clone_from(&self.names);
-            w.joint_names.clone_from(&self.joint_names);
-            self.meta.clone_from(&model.meta);
-            self.surfaces.clone_from(&model.surfaces);
-            self.driven.clone_from(&model.driven);
-            self.paths.clone_from(&model.paths);
-            self.names.clone_from(&model.names);
-            self.joint_names.clone_from(&model.joint_names);
+            held.world.copy_facade_from(self);
+            self.copy_facade_from(model);
         }
     }
 }

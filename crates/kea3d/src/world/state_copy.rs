@@ -73,6 +73,12 @@ impl PhysicsWorld {
 
     fn copy_records(&mut self, other: &PhysicsWorld) {
         self.collision.copy_state_from(&other.collision);
+        self.copy_facade_from(other);
+    }
+
+    /// Copies the facade's records (of bodies, materials, drivers and names) from `other`,
+    /// reusing this world's buffers: what [`PhysicsWorld::swap_facade`] trades.
+    pub(super) fn copy_facade_from(&mut self, other: &PhysicsWorld) {
         if self.meta.len() != other.meta.len() {
             self.meta.resize(other.meta.len(), None);
         }
