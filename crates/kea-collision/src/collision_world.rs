@@ -142,6 +142,10 @@ pub struct CollisionWorld {
     /// The events were made by a quiet update: the next quiet one makes the same.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) events_quiet: bool,
+    /// Whether two colliders may pair under the filter (`None`: not known since colliders
+    /// were added or removed or the jointed pairs changed; `pairable.rs`).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) pairable: Option<bool>,
 }
 
 /// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than
@@ -194,6 +198,7 @@ impl CollisionWorld {
             all_still: false,
             unrest: None,
             events_quiet: false,
+            pairable: None,
         }
     }
 
@@ -244,6 +249,7 @@ impl CollisionWorld {
         };
         self.moved.push(index);
         self.by_body.invalidate();
+        self.pairable = None;
         let index = match self.free.pop() {
             Some(i) => {
                 self.slots[i as usize].collider = Some(collider);
@@ -396,6 +402,7 @@ impl CollisionWorld {
             self.tree.remove(c.leaf);
         }
         self.by_body.invalidate();
+        self.pairable = None;
         slot.generation = slot.generation.wrapping_add(1);
         self.free.push(index);
     }
@@ -496,6 +503,10 @@ impl CollisionWorld {
         let incremental = self.list_changed_colliders(world);
         self.drop_colliders_of_destroyed_bodies(world, incremental);
         self.collect_jointed_pairs(world);
+        if self.nothing_to_pair() {
+            self.pass_unpairable();
+            return Ok(());
+        }
         self.update_bounds(world, dt, incremental);
         self.bodies_seen_at = Some(world.completed_steps());
         self.find_new_pairs();
@@ -569,6 +580,7 @@ impl CollisionWorld {
         if !self.jointed_changed {
             return;
         }
+        self.pairable = None;
         for (i, slot) in self.slots.iter().enumerate() {
             let Some(body) = slot.collider.as_ref().and_then(|c| c.def.body) else {
                 continue;

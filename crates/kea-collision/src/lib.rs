@@ -37,6 +37,7 @@ mod manifold_gen;
 mod material;
 mod narrow_pass;
 mod narrow_phase;
+mod pairable;
 mod pairs;
 mod proxies;
 mod query;

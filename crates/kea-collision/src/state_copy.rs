@@ -82,6 +82,7 @@ macro_rules! each_state_field {
         $m!(all_still);
         $m!(unrest);
         $m!(events_quiet);
+        $m!(pairable);
     };
 }
 use each_state_field;

@@ -224,3 +224,70 @@ fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
     assert_eq!(collision.events().len(), 1);
     assert_eq!(collision.events()[0].kind, ContactEventKind::Ended);
 }
+
+/// Two jointed balls are the only colliders: no pair is possible, so the updates pass the
+/// broad and narrow phases by while the balls fly far from where their boxes were last set.
+/// Queries still see them where they are; a ground added later, and the joint removed, find
+/// their pairs at once.
+#[test]
+fn colliders_that_cannot_pair_are_found_again_once_they_can() {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
+    let mut collision = CollisionWorld::new();
+    let s = Shape::sphere(0.5).unwrap();
+    let a = ball(&mut world, Vec3::ZERO);
+    let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
+    let ca = collision
+        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
+        .unwrap();
+    let cb = collision
+        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
+        .unwrap();
+    let joint = world
+        .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(0.45, 0.0, 0.0)))
+        .unwrap();
+    for h in [a, b] {
+        world
+            .body_mut(h)
+            .unwrap()
+            .set_linear_velocity(Vec3::new(0.0, -3.0, 0.0))
+            .unwrap();
+    }
+    // 2 s at 3 m/s: 6 m down, far outside any box set before.
+    for _ in 0..120 {
+        let stats = common::step(&mut collision, &mut world, DT).unwrap();
+        assert_eq!(stats.collision.pairs, 0);
+        assert!(collision.events().is_empty());
+    }
+    let y = world.body(a).unwrap().position().y;
+    assert!((y + 6.0).abs() < 1.0e-3, "fell 6 m: y = {y}");
+    let ray = kea_collision::RayCast::new(Vec3::new(0.0, 10.0, 0.0), Vec3::NEG_Y, 100.0);
+    let hit = collision
+        .cast_ray(&world, &ray, Default::default())
+        .unwrap()
+        .expect("the ball is where it is");
+    assert_eq!(hit.collider, ca);
+    assert!((hit.distance - (10.0 - y - 0.5)).abs() < 1.0e-3);
+
+    // A floor just below: the balls reach it within the step and touch.
+    let floor = collision
+        .add_collider(
+            &world,
+            ColliderDef {
+                offset: Vec3::new(0.0, y - 1.02, 0.0),
+                ..ColliderDef::new(None, Shape::cuboid(Vec3::new(5.0, 0.5, 5.0)).unwrap())
+            },
+        )
+        .unwrap();
+    for _ in 0..3 {
+        common::step(&mut collision, &mut world, DT).unwrap();
+    }
+    assert!(!collision.contacts_between(ca, floor).unwrap().is_empty());
+    assert!(!collision.contacts_between(cb, floor).unwrap().is_empty());
+    assert!(collision.contacts_between(ca, cb).unwrap().is_empty());
+
+    // The joint gone, the overlapping balls are a pair too.
+    world.destroy_constraint(joint).unwrap();
+    common::step(&mut collision, &mut world, DT).unwrap();
+    assert!(!collision.contacts_between(ca, cb).unwrap().is_empty());
+}
