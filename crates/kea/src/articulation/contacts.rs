@@ -151,6 +151,16 @@ impl ArticulatedTree {
     /// distance, a negative friction.
     pub fn set_contacts(&mut self, contacts: &[TreeContact], model: SoftLimit) -> KeaResult<()> {
         model.validate()?;
+        self.set_contacts_by_valid_model(contacts, model)
+    }
+
+    /// [`ArticulatedTree::set_contacts`] with a model already checked (a world's settings are
+    /// checked when set, not at every substep).
+    pub(crate) fn set_contacts_by_valid_model(
+        &mut self,
+        contacts: &[TreeContact],
+        model: SoftLimit,
+    ) -> KeaResult<()> {
         for (k, c) in contacts.iter().enumerate() {
             let bad = |arg: &'static str, value: String, expected: &'static str| {
                 Err(KeaError::OutOfRange {

@@ -246,7 +246,7 @@ impl World {
             bodies: &self.bodies,
             slot_to_solver: &s.slot_to_solver,
         };
-        let solved = self.solver.step_arrays(StepArrays {
+        let solved = self.solver.step_world_arrays(StepArrays {
             bodies: &mut s.solver_bodies,
             blocks: &s.blocks,
             rows: &s.rows,

@@ -496,7 +496,10 @@ impl World {
         let model = self.settings.reduced_contacts.unwrap_or_default();
         r.contacts.gather(&r.trees[index], bodies, constraints);
         let t = &mut r.trees[index];
-        if t.tree.set_contacts(&r.contacts.tree, model).is_err() {
+        if t.tree
+            .set_contacts_by_valid_model(&r.contacts.tree, model)
+            .is_err()
+        {
             return false;
         }
         t.q_next.clone_from(&t.q);
