@@ -77,7 +77,7 @@ pub struct ContactParams {
     /// Contact softness ε (the guide's soft mode), units of inverse mass: around 1e-4 is
     /// barely soft, 0.1–1 visibly springy. `None` (the default) does **not** use the world's
     /// ε: the contact is the world's mass-independent contact spring
-    /// ([`crate::WorldSettings::contact_spring`], 240 Hz, damping ratio 10), so a 1 g and a
+    /// ([`crate::WorldSettings::contact_spring`], 30 Hz, damping ratio 10), so a 1 g and a
     /// 10 t box sink alike. To make every contact harder (the guide's advice to lower ε),
     /// raise that spring's frequency; to soften one contact, give it its own ε here.
     pub softness: Option<Real>,

@@ -23,7 +23,7 @@ pub struct WorldSettings {
     /// Error reduction γ in [0, 1] (see [`crate::solver::SolverParams::gamma`]). Default 0.2.
     pub gamma: Real,
     /// Softness of contacts that have none of their own: a mass-independent spring (see
-    /// [`Spring`]). Default 240 Hz, damping ratio 10 ([`DEFAULT_CONTACT_SPRING`]).
+    /// [`Spring`]). Default 30 Hz, damping ratio 10 ([`DEFAULT_CONTACT_SPRING`]).
     pub contact_spring: Spring,
     /// Pivoting iteration cap per LCP. Default 100.
     pub max_lcp_iterations: u32,
