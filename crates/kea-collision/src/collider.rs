@@ -77,6 +77,19 @@ pub(crate) struct Collider {
     pub(crate) local_box: Option<(Vec3, Vec3)>,
 }
 
+impl Collider {
+    /// Its box in the world at its pose (`local_box` turned, or the shape's own).
+    pub(crate) fn world_box(&self) -> (Vec3, Vec3) {
+        match self.local_box {
+            Some(b) => turned_box(&self.pose, b),
+            None => {
+                let aabb = self.def.shape.shared.compute_aabb(&self.pose);
+                (aabb.mins, aabb.maxs)
+            }
+        }
+    }
+}
+
 /// Hulls and meshes with more points than this take their per-step box from their own.
 const TIGHT_BOX_MAX_POINTS: usize = 32;
 
@@ -94,7 +107,7 @@ pub(crate) fn local_box(shape: &crate::parry::shape::SharedShape) -> Option<(Vec
 }
 
 /// The world box of a shape whose own box is `(centre, half)`, at `pose`.
-pub(crate) fn turned_box(pose: &Pose, (centre, half): (Vec3, Vec3)) -> (Vec3, Vec3) {
+fn turned_box(pose: &Pose, (centre, half): (Vec3, Vec3)) -> (Vec3, Vec3) {
     let r = kea::Mat3::from_quat(pose.rotation);
     let abs = kea::Mat3::from_cols(r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs());
     let c = pose.translation + pose.rotation * centre;

@@ -4,7 +4,7 @@
 
 use crate::broad_phase::{Aabb, DynamicTree};
 use crate::capacity::reserve_total;
-pub(crate) use crate::collider::{handle_of, local_box, turned_box, Collider, Slot, WORLD_BOUND};
+pub(crate) use crate::collider::{handle_of, local_box, Collider, Slot, WORLD_BOUND};
 pub use crate::collider::{ColliderDef, ColliderHandle};
 use crate::error::{check_distance, CollisionError, CollisionResult};
 use crate::events::{ContactEvent, ContactEventKind};
@@ -146,6 +146,11 @@ pub struct CollisionWorld {
     /// were added or removed or the jointed pairs changed; `pairable.rs`).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) pairable: Option<bool>,
+    /// Updates passed the broad phase by (`pairable.rs`): every collider's pose and box are
+    /// as they were then, a sleeping or disabled body's too, and are set again before the
+    /// next update that may pair.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub(crate) bounds_stale: bool,
 }
 
 /// How far a fat box reaches beyond its collider's swept box, m: a collider moving less than
@@ -199,6 +204,7 @@ impl CollisionWorld {
             unrest: None,
             events_quiet: false,
             pairable: None,
+            bounds_stale: false,
         }
     }
 
@@ -506,6 +512,9 @@ impl CollisionWorld {
         if self.nothing_to_pair() {
             self.pass_unpairable();
             return Ok(());
+        }
+        if self.bounds_stale {
+            self.refit_stale_bounds(world);
         }
         self.update_bounds(world, dt, incremental);
         self.bodies_seen_at = Some(world.completed_steps());

@@ -4,8 +4,10 @@
 //! narrow phases: nothing there could find a pair. Queries do not need them: they read each
 //! collider's pose from its body when asked.
 
-use crate::collision_world::CollisionWorld;
+use crate::broad_phase::Aabb;
+use crate::collision_world::{collider_pose, CollisionWorld, FAT_MARGIN};
 use crate::narrow_phase::should_collide;
+use kea::{Vec3, World};
 
 /// Pair tests the search makes before it answers "may pair" unsearched: the answer that
 /// only costs the shortcut, never a contact, in a world of many colliders none of which
@@ -58,6 +60,7 @@ impl CollisionWorld {
     /// events and read-outs are those of an update that found nothing.
     pub(crate) fn pass_unpairable(&mut self) {
         self.bodies_seen_at = None;
+        self.bounds_stale = true;
         self.moved.clear();
         self.events.clear();
         self.events_quiet = false;
@@ -65,6 +68,32 @@ impl CollisionWorld {
         self.unrest = Some(0);
         self.active_workers = 0;
         self.stats = kea::CollisionStats::default();
+    }
+
+    /// After updates that passed the broad phase by: every collider on a body gets its pose
+    /// and a fat box about it again, and looks for pairs. An update skips a sleeping body's
+    /// colliders and keeps a disabled one's box, which would otherwise stay where they were
+    /// when the passing began.
+    pub(crate) fn refit_stale_bounds(&mut self, world: &World) {
+        let margin = self.margin;
+        for i in 0..self.slots.len() {
+            let Some(c) = self.slots[i].collider.as_mut() else {
+                continue;
+            };
+            if c.def.body.is_none_or(|b| world.body(b).is_err()) {
+                continue; // static geometry does not move; a destroyed body's is forgotten
+            }
+            c.pose = collider_pose(world, &c.def);
+            let (lo, hi) = c.world_box();
+            let tight = Aabb {
+                min: lo - Vec3::splat(margin),
+                max: hi + Vec3::splat(margin),
+            };
+            c.fat = tight.grown(FAT_MARGIN);
+            self.tree.update(c.leaf, c.fat);
+            self.moved.push(i as u32);
+        }
+        self.bounds_stale = false;
     }
 
     /// Whether this update may pass the broad and narrow phases by: no two colliders may

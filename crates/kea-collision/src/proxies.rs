@@ -3,7 +3,7 @@
 
 use crate::broad_phase::Aabb;
 use crate::collision_world::{
-    collider_pose, is_multi_manifold, turned_box, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN,
+    collider_pose, is_multi_manifold, CollisionWorld, FAT_LOOKAHEAD, FAT_MARGIN,
 };
 
 use crate::narrow_phase::should_collide;
@@ -61,14 +61,7 @@ impl CollisionWorld {
         if c.still {
             return true;
         }
-        let pose = c.pose;
-        let (lo, hi) = match c.local_box {
-            Some(b) => turned_box(&pose, b),
-            None => {
-                let aabb = c.def.shared_shape().compute_aabb(&pose);
-                (aabb.mins, aabb.maxs)
-            }
-        };
+        let (lo, hi) = c.world_box();
         let (mut min, mut max) = (lo - Vec3::splat(margin), hi + Vec3::splat(margin));
         let sweep = body.linear_velocity() * dt;
         min += sweep.min(Vec3::ZERO);

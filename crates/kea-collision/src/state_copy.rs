@@ -83,6 +83,7 @@ macro_rules! each_state_field {
         $m!(unrest);
         $m!(events_quiet);
         $m!(pairable);
+        $m!(bounds_stale);
     };
 }
 use each_state_field;

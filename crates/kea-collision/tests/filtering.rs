@@ -291,3 +291,48 @@ fn colliders_that_cannot_pair_are_found_again_once_they_can() {
     common::step(&mut collision, &mut world, DT).unwrap();
     assert!(!collision.contacts_between(ca, cb).unwrap().is_empty());
 }
+
+/// A lone ball flies 3 m while it is the only collider (its updates pass the broad phase by),
+/// then is disabled where it is, fixed in place. A second ball thrown at it there must meet
+/// it there: the first ball's box and pose follow it once pairs are possible again, although
+/// an update leaves a disabled body's box alone.
+#[test]
+fn a_body_disabled_after_passed_updates_is_met_where_it_is() {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
+    let mut collision = CollisionWorld::new();
+    let s = Shape::sphere(0.5).unwrap();
+    let a = ball(&mut world, Vec3::ZERO);
+    let ca = collision
+        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
+        .unwrap();
+    world
+        .body_mut(a)
+        .unwrap()
+        .set_linear_velocity(Vec3::new(3.0, 0.0, 0.0))
+        .unwrap();
+    for _ in 0..60 {
+        common::step(&mut collision, &mut world, DT).unwrap();
+    }
+    let at = world.body(a).unwrap().position();
+    assert!((at.x - 3.0).abs() < 1.0e-3, "flew 3 m: {at}");
+    world.body_mut(a).unwrap().set_enabled(false);
+    let b = ball(&mut world, at + Vec3::new(0.0, 1.2, 0.0));
+    world
+        .body_mut(b)
+        .unwrap()
+        .set_linear_velocity(Vec3::new(0.0, -1.0, 0.0))
+        .unwrap();
+    let cb = collision
+        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
+        .unwrap();
+    for _ in 0..30 {
+        common::step(&mut collision, &mut world, DT).unwrap();
+    }
+    assert!(
+        !collision.contacts_between(ca, cb).unwrap().is_empty(),
+        "the thrown ball rests on the disabled one"
+    );
+    let y = world.body(b).unwrap().position().y;
+    assert!((y - (at.y + 1.0)).abs() < 0.02, "stopped on it, not through it: y = {y}");
+}

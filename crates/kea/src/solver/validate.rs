@@ -122,9 +122,19 @@ pub(super) fn validate_rows(
             }
         }
     }
+    validate_row_values(rows)
+}
+
+/// Checks every row's numbers (finite, bounds in order): the part of the check a world's own
+/// arrays keep in release builds, since a row's bounds come from forces the step works out
+/// (a tendon's, a motor's) and a NaN bound would reach a `clamp` that panics.
+pub(super) fn validate_row_values(rows: &[Row]) -> KeaResult<()> {
     for (i, r) in rows.iter().enumerate() {
         if let Some(field) = r.invalid_field() {
-            return inconsistent("rows", format!("row {i} has a bad `{field}`: {r:?}"));
+            return Err(KeaError::Inconsistent {
+                arg: "rows",
+                reason: format!("row {i} has a bad `{field}`: {r:?}"),
+            });
         }
     }
     Ok(())
