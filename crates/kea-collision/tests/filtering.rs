@@ -334,5 +334,8 @@ fn a_body_disabled_after_passed_updates_is_met_where_it_is() {
         "the thrown ball rests on the disabled one"
     );
     let y = world.body(b).unwrap().position().y;
-    assert!((y - (at.y + 1.0)).abs() < 0.02, "stopped on it, not through it: y = {y}");
+    assert!(
+        (y - (at.y + 1.0)).abs() < 0.02,
+        "stopped on it, not through it: y = {y}"
+    );
 }
