@@ -18,6 +18,33 @@ fn ball(world: &mut World, position: Vec3) -> kea::BodyHandle {
         .unwrap()
 }
 
+/// An empty world without gravity, and its collision layer.
+fn weightless() -> (World, CollisionWorld) {
+    let mut world = World::with_capacity(8, 64).unwrap();
+    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
+    (world, CollisionWorld::new())
+}
+
+/// A ball at `position` with its collider (every group, colliding with every group).
+fn ball_with_collider(
+    world: &mut World,
+    collision: &mut CollisionWorld,
+    position: Vec3,
+) -> (kea::BodyHandle, kea_collision::ColliderHandle) {
+    let b = ball(world, position);
+    let def = ColliderDef::new(Some(b), Shape::sphere(0.5).unwrap());
+    (b, collision.add_collider(world, def).unwrap())
+}
+
+/// Sets a body's velocity.
+fn launch(world: &mut World, body: kea::BodyHandle, velocity: Vec3) {
+    world
+        .body_mut(body)
+        .unwrap()
+        .set_linear_velocity(velocity)
+        .unwrap();
+}
+
 #[test]
 fn groups_masks_and_joints_filter_pairs() {
     let mut world = World::with_capacity(8, 64).unwrap();
@@ -41,17 +68,9 @@ fn groups_masks_and_joints_filter_pairs() {
     assert_eq!(world.constraint_count(), 0);
 
     // Same groups, but joined by a ball joint: still no contacts, until allowed.
-    let mut world = World::with_capacity(8, 64).unwrap();
-    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
-    let mut collision = CollisionWorld::new();
-    let a = ball(&mut world, Vec3::ZERO);
-    let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
-    let ca = collision
-        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
-        .unwrap();
-    let cb = collision
-        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
-        .unwrap();
+    let (mut world, mut collision) = weightless();
+    let (a, ca) = ball_with_collider(&mut world, &mut collision, Vec3::ZERO);
+    let (b, cb) = ball_with_collider(&mut world, &mut collision, Vec3::new(0.9, 0.0, 0.0));
     collision.update_contacts(&mut world, DT).unwrap();
     assert_eq!(
         collision.contacts_between(ca, cb).unwrap().len(),
@@ -231,27 +250,14 @@ fn events_begin_and_end_exactly_once_and_impulse_carries_the_weight() {
 /// their pairs at once.
 #[test]
 fn colliders_that_cannot_pair_are_found_again_once_they_can() {
-    let mut world = World::with_capacity(8, 64).unwrap();
-    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
-    let mut collision = CollisionWorld::new();
-    let s = Shape::sphere(0.5).unwrap();
-    let a = ball(&mut world, Vec3::ZERO);
-    let b = ball(&mut world, Vec3::new(0.9, 0.0, 0.0));
-    let ca = collision
-        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
-        .unwrap();
-    let cb = collision
-        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
-        .unwrap();
+    let (mut world, mut collision) = weightless();
+    let (a, ca) = ball_with_collider(&mut world, &mut collision, Vec3::ZERO);
+    let (b, cb) = ball_with_collider(&mut world, &mut collision, Vec3::new(0.9, 0.0, 0.0));
     let joint = world
         .create_joint(a, Some(b), kea::JointSpec::ball(Vec3::new(0.45, 0.0, 0.0)))
         .unwrap();
     for h in [a, b] {
-        world
-            .body_mut(h)
-            .unwrap()
-            .set_linear_velocity(Vec3::new(0.0, -3.0, 0.0))
-            .unwrap();
+        launch(&mut world, h, Vec3::new(0.0, -3.0, 0.0));
     }
     // 2 s at 3 m/s: 6 m down, far outside any box set before.
     for _ in 0..120 {
@@ -298,34 +304,17 @@ fn colliders_that_cannot_pair_are_found_again_once_they_can() {
 /// an update leaves a disabled body's box alone.
 #[test]
 fn a_body_disabled_after_passed_updates_is_met_where_it_is() {
-    let mut world = World::with_capacity(8, 64).unwrap();
-    world.update_settings(|s| s.gravity = Vec3::ZERO).unwrap();
-    let mut collision = CollisionWorld::new();
-    let s = Shape::sphere(0.5).unwrap();
-    let a = ball(&mut world, Vec3::ZERO);
-    let ca = collision
-        .add_collider(&world, ColliderDef::new(Some(a), s.clone()))
-        .unwrap();
-    world
-        .body_mut(a)
-        .unwrap()
-        .set_linear_velocity(Vec3::new(3.0, 0.0, 0.0))
-        .unwrap();
+    let (mut world, mut collision) = weightless();
+    let (a, ca) = ball_with_collider(&mut world, &mut collision, Vec3::ZERO);
+    launch(&mut world, a, Vec3::new(3.0, 0.0, 0.0));
     for _ in 0..60 {
         common::step(&mut collision, &mut world, DT).unwrap();
     }
     let at = world.body(a).unwrap().position();
     assert!((at.x - 3.0).abs() < 1.0e-3, "flew 3 m: {at}");
     world.body_mut(a).unwrap().set_enabled(false);
-    let b = ball(&mut world, at + Vec3::new(0.0, 1.2, 0.0));
-    world
-        .body_mut(b)
-        .unwrap()
-        .set_linear_velocity(Vec3::new(0.0, -1.0, 0.0))
-        .unwrap();
-    let cb = collision
-        .add_collider(&world, ColliderDef::new(Some(b), s.clone()))
-        .unwrap();
+    let (b, cb) = ball_with_collider(&mut world, &mut collision, at + Vec3::new(0.0, 1.2, 0.0));
+    launch(&mut world, b, Vec3::new(0.0, -1.0, 0.0));
     for _ in 0..30 {
         common::step(&mut collision, &mut world, DT).unwrap();
     }
