@@ -193,6 +193,11 @@ impl AwakeSet {
             .is_some_and(|&s| s != Seen::Out)
     }
 
+    /// Whether slot `slot` holds an enabled body awake (after [`AwakeSet::refresh`]).
+    pub(crate) fn is_awake(&self, slot: u32) -> bool {
+        self.seen.get(slot as usize) == Some(&Seen::Awake)
+    }
+
     /// Whether slot `slot` holds an enabled body asleep (after [`AwakeSet::refresh`]).
     pub(crate) fn is_asleep(&self, slot: u32) -> bool {
         self.seen.get(slot as usize) == Some(&Seen::Asleep)

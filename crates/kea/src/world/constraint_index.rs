@@ -35,10 +35,13 @@ impl World {
             self.tree_joint_slots
                 .resize(self.constraint_bodies.len(), false);
         }
+        let old = self.constraint_bodies[slot];
         self.constraint_bodies[slot] = match self.constraints.at(slot) {
             Some(e) if e.enabled => e.bodies.map(|b| b.map_or(NO_BODY, |h| h.index())),
             _ => [EMPTY; 2],
         };
+        self.body_constraints
+            .relink(slot, old, self.constraint_bodies[slot]);
         self.tree_joint_slots[slot] = self.constraints.at(slot).is_some_and(|e| {
             matches!(
                 e.kind,
@@ -58,6 +61,7 @@ impl World {
     pub(super) fn reindex_constraints(&mut self) {
         self.constraint_bodies.clear();
         self.tree_joint_slots.clear();
+        self.body_constraints.clear();
         for slot in 0..self.constraints.slot_count() {
             self.index_constraint(slot, false);
         }

@@ -102,12 +102,21 @@ impl World {
         self.scratch.contacts.clear();
         self.scratch.contact_constraint.clear();
         // A constraint takes part only with a simulated body: none, none to look at.
+        // Without a sleeping body waking, only the constraints of awake bodies (listed).
+        let listed = self.scratch.awake_constraints_listed;
         let scanned = if self.scratch.solver_bodies.is_empty() {
             0
+        } else if listed {
+            self.scratch.awake_constraints.len()
         } else {
             self.constraint_bodies.len()
         };
-        for slot in 0..scanned {
+        for k in 0..scanned {
+            let slot = if listed {
+                self.scratch.awake_constraints[k] as usize
+            } else {
+                k
+            };
             // Through the dense index: a constraint with no body in the solver (both asleep,
             // disabled or static) is passed without reading its entry.
             let [a, b] = self.constraint_bodies[slot];

@@ -8,6 +8,7 @@
 //! independent: create as many as you like, and handles of one are rejected by the others.
 
 mod awake;
+mod body_constraints;
 mod constraint_entry;
 mod constraint_index;
 mod constraints;
@@ -123,6 +124,11 @@ struct StepScratch {
     sleep_sets: crate::union_find::UnionFind,
     /// Per island root: awake flag, then smallest resting time.
     island_flag: Vec<Real>,
+    /// The slots, ascending, of the enabled constraints with an awake body, when
+    /// `awake_constraints_listed` (`World::list_awake_constraints`): the constraints this
+    /// step's passes visit while no sleeping body wakes; else they scan every slot.
+    awake_constraints: Vec<u32>,
+    awake_constraints_listed: bool,
     /// Sleeping bodies (by slot) that this step wakes, committed when it succeeds.
     wake: Vec<bool>,
     /// Per tendon: stepped by the reduced path this step.
@@ -182,6 +188,9 @@ pub struct World {
     /// Per constraint slot: a hinge or a prismatic joint (what the reduced path may take), so
     /// that its search passes contacts without reading their entries.
     tree_joint_slots: Vec<bool>,
+    /// Per body slot, the enabled constraints that touch it (`body_constraints.rs`), kept
+    /// with `constraint_bodies`.
+    body_constraints: body_constraints::BodyConstraints,
     /// Islands quarantined and not yet cleared.
     quarantine: Vec<QuarantineEvent>,
     /// While quarantining: each new event's island root, and whether it has its reason.
@@ -250,6 +259,8 @@ impl World {
             sleep_sets,
             island_flag: Vec::with_capacity(def.max_bodies),
             wake: Vec::with_capacity(def.max_bodies),
+            awake_constraints: Vec::with_capacity(def.max_constraints),
+            awake_constraints_listed: false,
             broken: Vec::with_capacity(def.max_constraints),
             written: Vec::with_capacity(def.max_constraints),
             unwritable: Vec::with_capacity(def.max_constraints),
@@ -266,6 +277,10 @@ impl World {
             constraints: Arena::new(id, def.max_constraints, "constraints"),
             constraint_bodies: Vec::with_capacity(def.max_constraints),
             tree_joint_slots: Vec::with_capacity(def.max_constraints),
+            body_constraints: body_constraints::BodyConstraints::with_capacity(
+                def.max_bodies,
+                def.max_constraints,
+            ),
             joint_revision: constraint_index::next_joint_revision(),
             settings: def.settings,
             max_island_rows: def.max_island_rows,

@@ -144,7 +144,21 @@ impl World {
             .touched()
             .iter()
             .any(|&slot| awake.is_asleep(slot) && bodies.at(slot as usize).is_some_and(active));
-        for &[a, b] in &self.constraint_bodies {
+        // A constraint with no awake body joins two asleep, or nothing: the listed ones
+        // (`list_awake_constraints`) are all this pass needs.
+        let listed = s.awake_constraints_listed;
+        let count = if listed {
+            s.awake_constraints.len()
+        } else {
+            self.constraint_bodies.len()
+        };
+        for k in 0..count {
+            let slot = if listed {
+                s.awake_constraints[k] as usize
+            } else {
+                k
+            };
+            let [a, b] = self.constraint_bodies[slot];
             if joins(a) && joins(b) {
                 match (awake.is_asleep(a), awake.is_asleep(b)) {
                     (false, false) => s.sleep_sets.union(a, b),
@@ -158,6 +172,8 @@ impl World {
         if !frontier {
             return;
         }
+        // Sleeping bodies may wake: this step's passes look at every constraint slot.
+        s.awake_constraints_listed = false;
         for &[a, b] in &self.constraint_bodies {
             if joins(a) && joins(b) && (awake.is_asleep(a) || awake.is_asleep(b)) {
                 s.sleep_sets.union(a, b);

@@ -74,6 +74,7 @@ macro_rules! each_state_field {
         $m!(id);
         $m!(constraint_bodies);
         $m!(tree_joint_slots);
+        $m!(body_constraints);
         $m!(joint_revision);
         $m!(settings);
         $m!(max_island_rows);

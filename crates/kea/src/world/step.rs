@@ -171,6 +171,7 @@ impl World {
         let params = self.solver_params(dt);
         let auto_disable = self.settings.dem.mode == super::DemMode::PartitionAutoDisable;
         self.awake.refresh(&self.bodies);
+        self.list_awake_constraints();
         if auto_disable {
             self.plan_wake();
         } else {

@@ -30,9 +30,14 @@ impl World {
         self.count_sets();
         let floating = self.settings.reduced_free_trees;
         let fewest = if self.lone_bodies_reduce() { 1 } else { 2 };
+        let listed = self.scratch.awake_constraints_listed;
+        let awake = self.awake.slots();
         let r = &mut self.scratch.reduced;
         r.roots.clear();
-        for slot in 0..r.links.len() as u32 {
+        // A set with links has an awake root: while no body wakes, only those are looked at.
+        let count = if listed { awake.len() } else { r.links.len() };
+        for k in 0..count {
+            let slot = if listed { awake[k] } else { k as u32 };
             let i = slot as usize;
             // Held to a base by one joint, or (floating) by none.
             let held = r.base_joints[i] == 1
@@ -73,6 +78,30 @@ impl World {
         let n = self.bodies.slot_count();
         let s = &mut self.scratch;
         s.reduced.role.clear();
+        if s.awake_constraints_listed {
+            // No body wakes: the awake ones may be links, and the bodies their constraints
+            // reach may be bases; the rest touch nothing a tree could take.
+            s.reduced.role.resize(n, Role::Blocked);
+            for &slot in self.awake.slots() {
+                if self.bodies.at(slot as usize).is_some_and(plain) {
+                    s.reduced.role[slot as usize] = Role::Link;
+                }
+            }
+            for &slot in &s.awake_constraints {
+                for x in self.constraint_bodies[slot as usize] {
+                    let base = x < EMPTY
+                        && !self.awake.is_awake(x)
+                        && self
+                            .bodies
+                            .at(x as usize)
+                            .is_some_and(|b| !b.enabled && !b.sleeping);
+                    if base {
+                        s.reduced.role[x as usize] = Role::Base;
+                    }
+                }
+            }
+            return;
+        }
         for slot in 0..n {
             let waking = s.wake.get(slot).copied().unwrap_or(false);
             let role = match self.bodies.at(slot) {
@@ -93,7 +122,17 @@ impl World {
         r.sets.reset(self.bodies.slot_count());
         r.contacts.slots.clear();
         r.contacts.pending.clear();
-        for slot in 0..self.constraint_bodies.len() {
+        // A constraint with no link joins nor blocks anything: while no body wakes, the
+        // awake bodies' constraints (listed) are all there are.
+        let listed = self.scratch.awake_constraints_listed;
+        let listing = &self.scratch.awake_constraints;
+        let count = if listed {
+            listing.len()
+        } else {
+            self.constraint_bodies.len()
+        };
+        for k in 0..count {
+            let slot = if listed { listing[k] as usize } else { k };
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
                 continue;
@@ -159,7 +198,13 @@ impl World {
         r.root_body.resize(n, u32::MAX);
         r.set_blocked.clear();
         r.set_blocked.resize(n, false);
-        for slot in 0..n {
+        // While no body wakes, a body that is not awake is no link and in no set of links
+        // (sets join links only): the awake bodies and their constraints are all there are.
+        let listed = self.scratch.awake_constraints_listed;
+        let awake = self.awake.slots();
+        let count = if listed { awake.len() } else { n };
+        for k in 0..count {
+            let slot = if listed { awake[k] as usize } else { k };
             let root = r.sets.find(slot as u32) as usize;
             match r.role[slot] {
                 Role::Link => {
@@ -170,7 +215,14 @@ impl World {
                 Role::Base => {}
             }
         }
-        for slot in 0..self.constraint_bodies.len() {
+        let listing = &self.scratch.awake_constraints;
+        let count = if listed {
+            listing.len()
+        } else {
+            self.constraint_bodies.len()
+        };
+        for k in 0..count {
+            let slot = if listed { listing[k] as usize } else { k };
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
                 continue;
