@@ -139,6 +139,15 @@ pub struct CollisionWorld {
     /// restore).
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) unrest: Option<u32>,
+    /// Their slots, ascending (while `unrest` is known).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) unrested: Vec<u32>,
+    /// The slots of the pairs this update found, and of the pairs its narrow phase visits
+    /// when it can tell which (`narrow_pass.rs`): scratch.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) found_pairs: Vec<u32>,
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) visited_pairs: Vec<u32>,
     /// The events were made by a quiet update: the next quiet one makes the same.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) events_quiet: bool,
@@ -202,6 +211,9 @@ impl CollisionWorld {
             changed: Vec::new(),
             all_still: false,
             unrest: None,
+            unrested: Vec::new(),
+            found_pairs: Vec::new(),
+            visited_pairs: Vec::new(),
             events_quiet: false,
             pairable: None,
             bounds_stale: false,
@@ -349,6 +361,10 @@ impl CollisionWorld {
         reserve_total(&mut self.previously_jointed, colliders);
         reserve_total(&mut self.moved, colliders);
         reserve_total(&mut self.new_pairs, pairs);
+        reserve_total(&mut self.found_pairs, pairs);
+        reserve_total(&mut self.visited_pairs, pairs);
+        reserve_total(&mut self.unrested, pairs);
+        self.pairs.reserve_lists(colliders, pairs);
         let chunks = pairs.div_ceil(PAIR_CHUNK);
         if self.workers.len() < chunks {
             self.workers.resize_with(chunks, NarrowWorker::default);
@@ -513,14 +529,16 @@ impl CollisionWorld {
             self.pass_unpairable();
             return Ok(());
         }
-        if self.bounds_stale {
+        // After refitting every box, every pair is looked at.
+        let refit = self.bounds_stale;
+        if refit {
             self.refit_stale_bounds(world);
         }
         self.update_bounds(world, dt, incremental);
         self.bodies_seen_at = Some(world.completed_steps());
         self.find_new_pairs();
         let t1 = Stamp::now(world.settings().step_timing);
-        let quiet = self.narrow_phase(dt);
+        let quiet = self.narrow_phase(dt, incremental && !refit);
         self.apply(world, quiet)?;
         self.stats.time_broad_phase = t0.until(t1);
         self.stats.time_narrow_phase = t1.elapsed();

@@ -110,8 +110,10 @@ pub(crate) struct NarrowWorker {
     reduce_scratch: (Vec<(Vec3, Real)>, Vec<usize>),
     pub(crate) manifolds: u32,
     pub(crate) reused: u32,
-    /// Live pairs of the chunk not at rest after this step.
-    pub(crate) unrest: u32,
+    /// Slots of the chunk's live pairs not at rest after this step, ascending.
+    pub(crate) unrested: Vec<u32>,
+    /// Pairs of the chunk that did not stay at rest (were looked at) this step.
+    pub(crate) visited: u32,
 }
 
 impl Default for NarrowWorker {
@@ -127,7 +129,8 @@ impl Default for NarrowWorker {
             reduce_scratch: (Vec::with_capacity(64), Vec::with_capacity(64)),
             manifolds: 0,
             reused: 0,
-            unrest: 0,
+            unrested: Vec::with_capacity(PAIR_CHUNK),
+            visited: 0,
         }
     }
 }
@@ -152,7 +155,7 @@ pub(crate) struct Shared<'a> {
 /// overlap as they did) and the jointed pairs unchanged (so the filter still lets it collide).
 /// The narrow phase would find it resting again; it is passed without reaching into its
 /// colliders (a sleeping pile's pairs cost a flag each).
-fn stays_at_rest(shared: &Shared<'_>, p: &PairState) -> bool {
+pub(crate) fn stays_at_rest(shared: &Shared<'_>, p: &PairState) -> bool {
     let (a, b) = p.colliders;
     p.alive
         && p.resting
@@ -167,17 +170,40 @@ impl NarrowWorker {
         reserve_total(&mut self.wanted, pairs);
         reserve_total(&mut self.generated, pairs);
         reserve_total(&mut self.dropped, pairs);
+        reserve_total(&mut self.unrested, pairs);
     }
 
-    /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
-    pub(crate) fn run(&mut self, shared: &Shared<'_>, first: u32, pairs: &mut [PairState]) {
+    fn begin(&mut self) {
         self.wanted.clear();
         self.generated.clear();
         self.dropped.clear();
         self.failed.clear();
         self.manifolds = 0;
         self.reused = 0;
-        self.unrest = 0;
+        self.unrested.clear();
+        self.visited = 0;
+    }
+
+    /// The narrow phase of the pairs in slots `listed` (ascending) of `pairs`, every other
+    /// pair staying at rest: what [`NarrowWorker::run`] over every slot would find.
+    pub(crate) fn run_listed(
+        &mut self,
+        shared: &Shared<'_>,
+        listed: &[u32],
+        pairs: &mut [PairState],
+    ) {
+        self.begin();
+        for &slot in listed {
+            let p = &mut pairs[slot as usize];
+            if p.alive && !stays_at_rest(shared, p) {
+                self.visit(shared, slot, p);
+            }
+        }
+    }
+
+    /// The narrow phase of the pairs `pairs`, whose first is slot `first`.
+    pub(crate) fn run(&mut self, shared: &Shared<'_>, first: u32, pairs: &mut [PairState]) {
+        self.begin();
         for i in 0..pairs.len() {
             // Pairs reach into colliders and manifolds all over memory: fetch a few ahead
             // (not for a pair that stays at rest, which reads neither).
@@ -197,16 +223,24 @@ impl NarrowWorker {
             if stays_at_rest(shared, p) {
                 continue;
             }
-            self.pair(shared, first + i as u32, p);
-            self.unrest += u32::from(p.alive && !p.resting);
-            // A resting pair keeps its manifolds and its touching (the events read `touching`
-            // for it); the others' are found anew when the wanted manifolds are applied.
-            if !p.resting {
-                for m in &mut p.manifolds {
-                    m.seen = false;
-                }
-                p.touching_now = false;
+            self.visit(shared, first + i as u32, p);
+        }
+    }
+
+    /// Pair `slot`, which does not stay at rest.
+    fn visit(&mut self, shared: &Shared<'_>, slot: u32, p: &mut PairState) {
+        self.visited += 1;
+        self.pair(shared, slot, p);
+        if p.alive && !p.resting {
+            self.unrested.push(slot);
+        }
+        // A resting pair keeps its manifolds and its touching (the events read `touching`
+        // for it); the others' are found anew when the wanted manifolds are applied.
+        if !p.resting {
+            for m in &mut p.manifolds {
+                m.seen = false;
             }
+            p.touching_now = false;
         }
     }
 

@@ -66,6 +66,7 @@ impl CollisionWorld {
         self.events_quiet = false;
         self.failed_pairs.clear();
         self.unrest = Some(0);
+        self.unrested.clear();
         self.active_workers = 0;
         self.stats = kea::CollisionStats::default();
     }

@@ -107,6 +107,12 @@ pub(crate) struct Pairs {
     free_spilled: Vec<u32>,
     #[cfg_attr(feature = "serde", serde(with = "crate::snapshot::pair_map"))]
     map: HashMap<(u32, u32), u32>,
+    /// Each collider's live pairs (items: pair slots; ends: first and second collider),
+    /// while `by_collider_kept`: made on first use (`Pairs::of_collider`), not saved.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    by_collider: kea::edge_lists::EdgeLists,
+    #[cfg_attr(feature = "serde", serde(skip))]
+    by_collider_kept: bool,
 }
 
 impl Pairs {
@@ -118,6 +124,12 @@ impl Pairs {
         if self.map.capacity() < n {
             self.map.reserve(n - self.map.len());
         }
+    }
+
+    /// Reserves room in each collider's list of pairs for `colliders` colliders and
+    /// `pairs` pairs.
+    pub(crate) fn reserve_lists(&mut self, colliders: usize, pairs: usize) {
+        self.by_collider.reserve(colliders, pairs);
     }
 
     /// Makes `n` free slots with heap room for [`MULTI_MANIFOLDS`] manifolds each, for pairs
@@ -165,6 +177,10 @@ impl Pairs {
         p.alive = true;
         p.params_revision = u64::MAX;
         self.map.insert(key, slot);
+        if self.by_collider_kept {
+            self.by_collider.link(slot, 0, key.0);
+            self.by_collider.link(slot, 1, key.1);
+        }
         slot
     }
 
@@ -182,6 +198,10 @@ impl Pairs {
         p.touching = false;
         p.touching_now = false;
         self.map.remove(&p.colliders);
+        if self.by_collider_kept {
+            self.by_collider.unlink(slot, 0, p.colliders.0);
+            self.by_collider.unlink(slot, 1, p.colliders.1);
+        }
         if p.roomy {
             self.free_spilled.push(slot);
         } else {
@@ -201,6 +221,22 @@ impl Pairs {
     /// Number of live pairs.
     pub(crate) fn len(&self) -> usize {
         self.map.len()
+    }
+
+    /// The slots of collider slot `collider`'s live pairs, in no set order (the lists are
+    /// made from the live pairs on first use, then kept as pairs come and go).
+    pub(crate) fn of_collider(&mut self, collider: u32) -> impl Iterator<Item = u32> + '_ {
+        if !self.by_collider_kept {
+            self.by_collider.clear();
+            for (slot, p) in self.slots.iter().enumerate() {
+                if p.alive {
+                    self.by_collider.link(slot as u32, 0, p.colliders.0);
+                    self.by_collider.link(slot as u32, 1, p.colliders.1);
+                }
+            }
+            self.by_collider_kept = true;
+        }
+        self.by_collider.edges(collider).map(|(slot, _)| slot)
     }
 }
 
@@ -239,5 +275,7 @@ impl Pairs {
         self.free.clone_from(&other.free);
         self.free_spilled.clone_from(&other.free_spilled);
         self.map.clone_from(&other.map);
+        self.by_collider.clone_from(&other.by_collider);
+        self.by_collider_kept = other.by_collider_kept;
     }
 }

@@ -106,6 +106,7 @@ impl CollisionWorld {
         self.new_pairs.sort_unstable();
         self.new_pairs.dedup();
         let mut added = 0;
+        self.found_pairs.clear();
         for k in 0..self.new_pairs.len() {
             let key = self.new_pairs[k];
             if self.pairs.find(key).is_some() {
@@ -124,7 +125,8 @@ impl CollisionWorld {
                 continue;
             }
             let multi = is_multi_manifold(&a.def) || is_multi_manifold(&b.def);
-            self.pairs.insert(key, multi);
+            let slot = self.pairs.insert(key, multi);
+            self.found_pairs.push(slot);
             added += 1;
         }
         self.stats.new_pairs = added;

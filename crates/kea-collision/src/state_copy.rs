@@ -81,6 +81,7 @@ macro_rules! each_state_field {
         $m!(bodies_seen_at);
         $m!(all_still);
         $m!(unrest);
+        $m!(unrested);
         $m!(events_quiet);
         $m!(pairable);
         $m!(bounds_stale);

@@ -26,6 +26,7 @@ pub use articulation::Integrator;
 pub mod body;
 pub mod cache;
 pub mod constraint;
+pub mod edge_lists;
 pub mod error;
 pub mod float_mode;
 mod handle;

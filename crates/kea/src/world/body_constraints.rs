@@ -6,41 +6,32 @@
 //! only those an awake body has: a sleeping pile beside a moving body costs nothing per
 //! contact. Box2D v3 threads the same lists through its bodies' contact and joint edges.
 //!
-//! Changing a list is O(1) (a link put in front or cut out); a step's listing is O(awake
-//! bodies' constraints), sorted so that every pass visits them in the order a scan of every
+//! Changing a list is O(1) (`crate::edge_lists`); a step's listing is O(awake bodies'
+//! constraints), sorted so that every pass visits them in the order a scan of every
 //! slot would, and its results are the scan's, bit for bit.
 
 use super::constraint_index::EMPTY;
 use super::World;
 
-/// No edge.
-const NONE: u32 = u32::MAX;
+use crate::edge_lists::EdgeLists;
 
-/// The constraint edges of every body slot. An edge is `2 · constraint slot + side`.
+/// The enabled constraints of every body slot (items: constraint slots; ends: a
+/// constraint's two sides in the index).
 #[derive(Debug, Default)]
 pub(crate) struct BodyConstraints {
-    /// Per body slot: its first edge.
-    first: Vec<u32>,
-    /// Per body slot: how many edges it has.
-    degree: Vec<u32>,
-    /// Per edge: the next and the previous edge of the same body.
-    next: Vec<u32>,
-    prev: Vec<u32>,
+    lists: EdgeLists,
 }
 
 impl Clone for BodyConstraints {
     fn clone(&self) -> Self {
-        let mut out = Self::default();
-        out.clone_from(self);
-        out
+        Self {
+            lists: self.lists.clone(),
+        }
     }
 
-    /// Into this one's own buffers: a batch's worker copies states in at every step.
+    /// Into this one's own buffers (a batch's worker copies states in at every step).
     fn clone_from(&mut self, o: &Self) {
-        self.first.clone_from(&o.first);
-        self.degree.clone_from(&o.degree);
-        self.next.clone_from(&o.next);
-        self.prev.clone_from(&o.prev);
+        self.lists.clone_from(&o.lists);
     }
 }
 
@@ -53,20 +44,14 @@ impl BodyConstraints {
     /// Room for `bodies` bodies and `constraints` constraints before anything allocates.
     pub(crate) fn with_capacity(bodies: usize, constraints: usize) -> Self {
         Self {
-            first: Vec::with_capacity(bodies),
-            degree: Vec::with_capacity(bodies),
-            next: Vec::with_capacity(2 * constraints),
-            prev: Vec::with_capacity(2 * constraints),
+            lists: EdgeLists::with_capacity(bodies, constraints),
         }
     }
 
     /// Forgets every edge.
     #[cfg(feature = "serde")]
     pub(crate) fn clear(&mut self) {
-        self.first.clear();
-        self.degree.clear();
-        self.next.clear();
-        self.prev.clear();
+        self.lists.clear();
     }
 
     /// Moves constraint slot `slot` from the bodies of index entry `old` to those of `new`.
@@ -76,68 +61,32 @@ impl BodyConstraints {
         }
         for (side, body) in old.into_iter().enumerate() {
             if is_body(body) {
-                self.unlink(2 * slot + side, body);
+                self.lists.unlink(slot as u32, side, body);
             }
-        }
-        if self.next.len() < 2 * slot + 2 {
-            self.next.resize(2 * slot + 2, NONE);
-            self.prev.resize(2 * slot + 2, NONE);
         }
         for (side, body) in new.into_iter().enumerate() {
             if is_body(body) {
-                self.link(2 * slot + side, body);
+                self.lists.link(slot as u32, side, body);
             }
         }
-    }
-
-    fn link(&mut self, edge: usize, body: u32) {
-        let b = body as usize;
-        if self.first.len() <= b {
-            self.first.resize(b + 1, NONE);
-            self.degree.resize(b + 1, 0);
-        }
-        let head = self.first[b];
-        self.next[edge] = head;
-        self.prev[edge] = NONE;
-        if head != NONE {
-            self.prev[head as usize] = edge as u32;
-        }
-        self.first[b] = edge as u32;
-        self.degree[b] += 1;
-    }
-
-    fn unlink(&mut self, edge: usize, body: u32) {
-        let b = body as usize;
-        let (prev, next) = (self.prev[edge], self.next[edge]);
-        if prev == NONE {
-            self.first[b] = next;
-        } else {
-            self.next[prev as usize] = next;
-        }
-        if next != NONE {
-            self.prev[next as usize] = prev;
-        }
-        self.degree[b] -= 1;
-        self.next[edge] = NONE;
-        self.prev[edge] = NONE;
     }
 
     /// How many enabled constraints touch body slot `body` (a side each).
     pub(crate) fn degree(&self, body: u32) -> u32 {
-        self.degree.get(body as usize).copied().unwrap_or(0)
+        self.lists.degree(body)
     }
 
     /// The edges of body slot `body`: (constraint slot, side).
     pub(crate) fn edges(&self, body: u32) -> impl Iterator<Item = (u32, usize)> + '_ {
-        let mut e = self.first.get(body as usize).copied().unwrap_or(NONE);
-        std::iter::from_fn(move || {
-            (e != NONE).then(|| {
-                let edge = e;
-                e = self.next[edge as usize];
-                (edge / 2, (edge % 2) as usize)
-            })
-        })
+        self.lists.edges(body)
     }
+}
+
+/// The slots a pass visits: those of `list` when `listed`, else every one below `all`.
+pub(super) fn visited(listed: bool, list: &[u32], all: usize) -> impl Iterator<Item = usize> + '_ {
+    let list = if listed { list } else { &[] };
+    let all = if listed { 0 } else { all };
+    list.iter().map(|&slot| slot as usize).chain(0..all)
 }
 
 /// A step's listing is worth it only while the awake bodies' edges are this share of the

@@ -3,6 +3,7 @@
 //! again at the bodies' present poses, to measure the joints' error and, through
 //! `JointSource`, to re-linearise joints inside the iterative path's substeps.
 
+use super::body_constraints::visited;
 use super::constraint_entry::{ConstraintEntry, ConstraintKind};
 use super::constraint_index::EMPTY;
 use super::World;
@@ -106,17 +107,12 @@ impl World {
         let listed = self.scratch.awake_constraints_listed;
         let scanned = if self.scratch.solver_bodies.is_empty() {
             0
-        } else if listed {
-            self.scratch.awake_constraints.len()
         } else {
             self.constraint_bodies.len()
         };
-        for k in 0..scanned {
-            let slot = if listed {
-                self.scratch.awake_constraints[k] as usize
-            } else {
-                k
-            };
+        let listing = std::mem::take(&mut self.scratch.awake_constraints);
+        let listed = listed && scanned > 0;
+        for slot in visited(listed, &listing, scanned) {
             // Through the dense index: a constraint with no body in the solver (both asleep,
             // disabled or static) is passed without reading its entry.
             let [a, b] = self.constraint_bodies[slot];
@@ -150,6 +146,7 @@ impl World {
                 block_constraint.push(slot as u32);
             }
         }
+        self.scratch.awake_constraints = listing;
         let n = (blocks.len() + self.scratch.contacts.len()) as u32;
         self.scratch.rows = rows;
         self.scratch.blocks = blocks;

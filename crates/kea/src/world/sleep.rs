@@ -12,6 +12,7 @@
 //! away. Disabling a single body inside a moving pile would be wrong, hence
 //! islands.
 
+use super::body_constraints::visited;
 use super::constraint_index::{EMPTY, NO_BODY};
 use super::World;
 use crate::error::{check_non_negative, KeaResult};
@@ -147,17 +148,8 @@ impl World {
         // A constraint with no awake body joins two asleep, or nothing: the listed ones
         // (`list_awake_constraints`) are all this pass needs.
         let listed = s.awake_constraints_listed;
-        let count = if listed {
-            s.awake_constraints.len()
-        } else {
-            self.constraint_bodies.len()
-        };
-        for k in 0..count {
-            let slot = if listed {
-                s.awake_constraints[k] as usize
-            } else {
-                k
-            };
+        let listing = &s.awake_constraints;
+        for slot in visited(listed, listing, self.constraint_bodies.len()) {
             let [a, b] = self.constraint_bodies[slot];
             if joins(a) && joins(b) {
                 match (awake.is_asleep(a), awake.is_asleep(b)) {

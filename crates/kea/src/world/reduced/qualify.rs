@@ -4,6 +4,7 @@
 use super::ReducedScratch;
 use crate::body::Body;
 use crate::constraint::{Actuator, Limit};
+use crate::world::body_constraints::visited;
 use crate::world::constraint_entry::{ConstraintEntry, ConstraintKind};
 use crate::world::constraint_index::{EMPTY, NO_BODY};
 use crate::world::World;
@@ -35,10 +36,8 @@ impl World {
         let r = &mut self.scratch.reduced;
         r.roots.clear();
         // A set with links has an awake root: while no body wakes, only those are looked at.
-        let count = if listed { awake.len() } else { r.links.len() };
-        for k in 0..count {
-            let slot = if listed { awake[k] } else { k as u32 };
-            let i = slot as usize;
+        for i in visited(listed, awake, r.links.len()) {
+            let slot = i as u32;
             // Held to a base by one joint, or (floating) by none.
             let held = r.base_joints[i] == 1
                 || (floating && r.base_joints[i] == 0 && r.links[i] >= fewest);
@@ -126,13 +125,7 @@ impl World {
         // awake bodies' constraints (listed) are all there are.
         let listed = self.scratch.awake_constraints_listed;
         let listing = &self.scratch.awake_constraints;
-        let count = if listed {
-            listing.len()
-        } else {
-            self.constraint_bodies.len()
-        };
-        for k in 0..count {
-            let slot = if listed { listing[k] as usize } else { k };
+        for slot in visited(listed, listing, self.constraint_bodies.len()) {
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
                 continue;
@@ -202,9 +195,7 @@ impl World {
         // (sets join links only): the awake bodies and their constraints are all there are.
         let listed = self.scratch.awake_constraints_listed;
         let awake = self.awake.slots();
-        let count = if listed { awake.len() } else { n };
-        for k in 0..count {
-            let slot = if listed { awake[k] as usize } else { k };
+        for slot in visited(listed, awake, n) {
             let root = r.sets.find(slot as u32) as usize;
             match r.role[slot] {
                 Role::Link => {
@@ -216,13 +207,7 @@ impl World {
             }
         }
         let listing = &self.scratch.awake_constraints;
-        let count = if listed {
-            listing.len()
-        } else {
-            self.constraint_bodies.len()
-        };
-        for k in 0..count {
-            let slot = if listed { listing[k] as usize } else { k };
+        for slot in visited(listed, listing, self.constraint_bodies.len()) {
             let [a, b] = self.constraint_bodies[slot];
             if a == EMPTY {
                 continue;
