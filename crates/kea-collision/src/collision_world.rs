@@ -151,6 +151,9 @@ pub struct CollisionWorld {
     /// The events were made by a quiet update: the next quiet one makes the same.
     #[cfg_attr(feature = "serde", serde(skip))]
     pub(crate) events_quiet: bool,
+    /// What merging the next update's events with these needs (`events.rs`).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub(crate) event_record: crate::events::EventRecord,
     /// Whether two colliders may pair under the filter (`None`: not known since colliders
     /// were added or removed or the jointed pairs changed; `pairable.rs`).
     #[cfg_attr(feature = "serde", serde(skip))]
@@ -215,6 +218,7 @@ impl CollisionWorld {
             found_pairs: Vec::new(),
             visited_pairs: Vec::new(),
             events_quiet: false,
+            event_record: Default::default(),
             pairable: None,
             bounds_stale: false,
         }
@@ -373,6 +377,7 @@ impl CollisionWorld {
             w.reserve(PAIR_CHUNK);
         }
         reserve_total(&mut self.events, pairs);
+        self.event_record.reserve(pairs);
         reserve_total(&mut self.pending_events, pairs);
     }
 
@@ -538,8 +543,8 @@ impl CollisionWorld {
         self.bodies_seen_at = Some(world.completed_steps());
         self.find_new_pairs();
         let t1 = Stamp::now(world.settings().step_timing);
-        let quiet = self.narrow_phase(dt, incremental && !refit);
-        self.apply(world, quiet)?;
+        let (quiet, listed) = self.narrow_phase(dt, incremental && !refit);
+        self.apply(world, quiet, listed)?;
         self.stats.time_broad_phase = t0.until(t1);
         self.stats.time_narrow_phase = t1.elapsed();
         self.stats.pairs = self.pairs.len() as u32;

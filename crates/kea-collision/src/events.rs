@@ -2,8 +2,17 @@
 //! comes within [`CollisionWorld::touch_distance`](crate::CollisionWorld::touch_distance) of
 //! overlap, *persists* while it stays so, and *ends* when none does (or a collider goes away).
 //! Speculative contacts of a pair that is still apart do not count as touching.
+//!
+//! The events are recorded after each update, pending ones (a pair forgotten) first, then one
+//! per touching (or just parted) pair in slot order. A pair the narrow phase passed by rests
+//! as it did: its event is the last one carried on (began → persisted, ended → none). When
+//! the narrow phase listed the pairs it looked at, only those are read; the others' events
+//! are merged in from the last update's, so a sleeping pile beside a moving body costs a copy
+//! of its events, not a visit to its pairs.
 
 use crate::collider::ColliderHandle;
+use crate::collision_world::{handle_of, CollisionWorld};
+use kea::World;
 
 /// What happened to a pair this step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,4 +34,173 @@ pub struct ContactEvent {
     pub kind: ContactEventKind,
     /// The two colliders, in slot order.
     pub colliders: [ColliderHandle; 2],
+}
+
+/// What the recorded events need to be merged with the next update's (`record_events`):
+/// each pair event's slot, and the buffers the next list is built in.
+#[derive(Debug, Default)]
+pub(crate) struct EventRecord {
+    /// Per event after the first `pending` of `CollisionWorld::events`: its pair's slot.
+    slots: Vec<u32>,
+    /// Events at the head of the list that are no pair's (pending ones: a pair forgotten).
+    pending: usize,
+    /// `slots` and `pending` describe `CollisionWorld::events` (not after a restore).
+    kept: bool,
+    spare_events: Vec<ContactEvent>,
+    spare_slots: Vec<u32>,
+}
+
+impl Clone for EventRecord {
+    fn clone(&self) -> Self {
+        let mut out = Self::default();
+        out.clone_from(self);
+        out
+    }
+
+    /// Into this one's own buffers (a batch's worker copies states in at every step).
+    fn clone_from(&mut self, o: &Self) {
+        self.slots.clone_from(&o.slots);
+        self.pending = o.pending;
+        self.kept = o.kept;
+        self.spare_events.clear();
+        self.spare_events.reserve(o.spare_events.capacity());
+        self.spare_slots.clear();
+        self.spare_slots.reserve(o.spare_slots.capacity());
+    }
+}
+
+impl EventRecord {
+    /// Room for `events` events.
+    pub(crate) fn reserve(&mut self, events: usize) {
+        for v in [&mut self.slots, &mut self.spare_slots] {
+            v.reserve(events.saturating_sub(v.len()));
+        }
+        self.spare_events.reserve(events);
+    }
+
+    /// The events no longer match the record (they were cleared).
+    pub(crate) fn forget(&mut self) {
+        self.kept = false;
+    }
+}
+
+impl CollisionWorld {
+    /// Destroys the manifolds no longer generated, and records the pairs' events (`listed`:
+    /// only the pairs in `visited_pairs` may have changed; module docs).
+    pub(crate) fn record_events(&mut self, world: &mut World, quiet: bool, listed: bool) {
+        // A quiet update after a quiet one: every pair rests as it did, touching as it
+        // did, so the events are the last update's (each touching pair persisting).
+        let same = quiet && self.events_quiet && self.pending_events.is_empty();
+        self.events_quiet = quiet && self.pending_events.is_empty();
+        if same {
+            return;
+        }
+        if listed && self.event_record.kept {
+            self.merge_events(world);
+        } else {
+            self.rebuild_events(world);
+        }
+        self.pairs.clear_removed();
+    }
+
+    /// Every live pair's event, read from the pairs.
+    fn rebuild_events(&mut self, world: &mut World) {
+        self.events.clear();
+        self.event_record.slots.clear();
+        self.event_record.pending = self.pending_events.len();
+        self.events.append(&mut self.pending_events);
+        for slot in 0..self.pairs.slots.len() as u32 {
+            if let Some(event) = self.pair_event(world, slot) {
+                self.events.push(event);
+                self.event_record.slots.push(slot);
+            }
+        }
+        self.event_record.kept = true;
+    }
+
+    /// The visited pairs' events read from the pairs, the others' carried on from the last
+    /// update's list, in slot order: what `rebuild_events` would make.
+    fn merge_events(&mut self, world: &mut World) {
+        let r = &mut self.event_record;
+        let mut events = std::mem::take(&mut r.spare_events);
+        let mut slots = std::mem::take(&mut r.spare_slots);
+        let (old_events, old_slots) = (
+            std::mem::take(&mut self.events),
+            std::mem::take(&mut r.slots),
+        );
+        let old_pending = r.pending;
+        let visited = std::mem::take(&mut self.visited_pairs);
+        events.clear();
+        slots.clear();
+        let pending = self.pending_events.len();
+        events.append(&mut self.pending_events);
+        let mut removed = std::mem::take(&mut self.pairs.removed);
+        removed.sort_unstable();
+        let (mut i, mut j) = (0, 0);
+        while i < old_slots.len() || j < visited.len() {
+            let old = old_slots.get(i).copied();
+            let next = visited.get(j).copied();
+            if let Some(slot) = old.filter(|&s| next.is_none_or(|v| s < v)) {
+                // Passed by: touching as it was, or gone (forgotten since).
+                let e = old_events[old_pending + i];
+                i += 1;
+                let gone = removed.binary_search(&slot).is_ok();
+                if !gone && e.kind != ContactEventKind::Ended {
+                    events.push(ContactEvent {
+                        kind: ContactEventKind::Persisted,
+                        colliders: e.colliders,
+                    });
+                    slots.push(slot);
+                }
+                continue;
+            }
+            let slot = next.expect("a visited pair is next");
+            if old == Some(slot) {
+                i += 1;
+            }
+            j += 1;
+            if let Some(event) = self.pair_event(world, slot) {
+                events.push(event);
+                slots.push(slot);
+            }
+        }
+        let r = &mut self.event_record;
+        (r.spare_events, r.spare_slots) = (old_events, old_slots);
+        (self.events, r.slots, r.pending) = (events, slots, pending);
+        self.visited_pairs = visited;
+        self.pairs.removed = removed;
+    }
+
+    /// Pair `slot`'s event this update, if it is live: a pair the narrow phase looked at
+    /// loses the manifolds it did not generate again.
+    fn pair_event(&mut self, world: &mut World, slot: u32) -> Option<ContactEvent> {
+        let p = &mut self.pairs.slots[slot as usize];
+        if !p.alive {
+            return None;
+        }
+        if !p.resting {
+            p.manifolds.retain(|m| {
+                if !m.seen {
+                    let _ = world.destroy_constraint(m.handle); // may be gone with its body
+                }
+                m.seen
+            });
+        }
+        // A resting pair touches as it did (the narrow phase passed it by).
+        let now = if p.resting {
+            p.touching
+        } else {
+            p.touching_now
+        };
+        let kind = match (p.touching, now) {
+            (false, true) => ContactEventKind::Began,
+            (true, true) => ContactEventKind::Persisted,
+            (true, false) => ContactEventKind::Ended,
+            (false, false) => return None,
+        };
+        p.touching = now;
+        let (a, b) = p.colliders;
+        let colliders = [handle_of(&self.slots, a), handle_of(&self.slots, b)];
+        Some(ContactEvent { kind, colliders })
+    }
 }

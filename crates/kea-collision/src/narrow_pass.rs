@@ -21,10 +21,11 @@ use kea::{Real, MAX_CONTACT_POINTS};
 impl CollisionWorld {
     /// Fills the workers with the manifolds of every pair that can move this step and with
     /// the pairs to forget, chunk by chunk (on all cores with the `parallel` feature).
-    /// Returns whether the update is quiet: every pair stayed at rest (nothing looked at,
-    /// nothing done).
-    /// `incremental`: the update looked only at the colliders that changed (`changed`).
-    pub(crate) fn narrow_phase(&mut self, dt: Real, incremental: bool) -> bool {
+    /// Returns whether the update is quiet — every pair stayed at rest (nothing looked at,
+    /// nothing done) — and whether the pairs it may have changed are listed (in
+    /// `visited_pairs`; else any may have). `incremental`: the update looked only at the
+    /// colliders that changed (`changed`).
+    pub(crate) fn narrow_phase(&mut self, dt: Real, incremental: bool) -> (bool, bool) {
         // Nothing moves, no pair is new or unsettled, the filter is as it was: every pair
         // rests again, and a pass over them would find nothing (a sleeping pile).
         let quiet = self.all_still
@@ -37,7 +38,8 @@ impl CollisionWorld {
             self.stats.reused_manifolds = 0;
             self.failed_pairs.clear();
             self.stats.failed_pairs = 0;
-            return true;
+            self.visited_pairs.clear();
+            return (true, true);
         }
         let listed = incremental && self.list_visited_pairs();
         let chunks = if listed {
@@ -115,7 +117,7 @@ impl CollisionWorld {
             self.failed_pairs.push(pair);
         }
         self.stats.failed_pairs = self.failed_pairs.len() as u32;
-        workers.iter().all(|w| w.visited == 0)
+        (workers.iter().all(|w| w.visited == 0), listed)
     }
 }
 

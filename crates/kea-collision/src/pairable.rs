@@ -63,6 +63,7 @@ impl CollisionWorld {
         self.bounds_stale = true;
         self.moved.clear();
         self.events.clear();
+        self.event_record.forget();
         self.events_quiet = false;
         self.failed_pairs.clear();
         self.unrest = Some(0);

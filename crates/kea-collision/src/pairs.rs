@@ -113,6 +113,9 @@ pub(crate) struct Pairs {
     by_collider: kea::edge_lists::EdgeLists,
     #[cfg_attr(feature = "serde", serde(skip))]
     by_collider_kept: bool,
+    /// Slots of the pairs removed since the events were last recorded (`events.rs`).
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub removed: Vec<u32>,
 }
 
 impl Pairs {
@@ -130,6 +133,12 @@ impl Pairs {
     /// `pairs` pairs.
     pub(crate) fn reserve_lists(&mut self, colliders: usize, pairs: usize) {
         self.by_collider.reserve(colliders, pairs);
+        reserve_total(&mut self.removed, pairs);
+    }
+
+    /// Forgets the pairs removed so far (their events are recorded).
+    pub(crate) fn clear_removed(&mut self) {
+        self.removed.clear();
     }
 
     /// Makes `n` free slots with heap room for [`MULTI_MANIFOLDS`] manifolds each, for pairs
@@ -198,6 +207,7 @@ impl Pairs {
         p.touching = false;
         p.touching_now = false;
         self.map.remove(&p.colliders);
+        self.removed.push(slot);
         if self.by_collider_kept {
             self.by_collider.unlink(slot, 0, p.colliders.0);
             self.by_collider.unlink(slot, 1, p.colliders.1);
@@ -277,5 +287,6 @@ impl Pairs {
         self.map.clone_from(&other.map);
         self.by_collider.clone_from(&other.by_collider);
         self.by_collider_kept = other.by_collider_kept;
+        self.removed.clone_from(&other.removed);
     }
 }

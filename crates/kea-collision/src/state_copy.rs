@@ -83,6 +83,7 @@ macro_rules! each_state_field {
         $m!(unrest);
         $m!(unrested);
         $m!(events_quiet);
+        $m!(event_record);
         $m!(pairable);
         $m!(bounds_stale);
     };

@@ -15,14 +15,20 @@ impl CollisionWorld {
     /// constraint capacity full is left out (counted in the statistics, and tried again next
     /// step) rather than stopping the world.
     /// `quiet`: the narrow phase had nothing to do (see `narrow_pass.rs`).
-    pub(crate) fn apply(&mut self, world: &mut World, quiet: bool) -> CollisionResult<()> {
+    /// `listed`: the narrow phase listed the pairs it may have changed (`visited_pairs`).
+    pub(crate) fn apply(
+        &mut self,
+        world: &mut World,
+        quiet: bool,
+        listed: bool,
+    ) -> CollisionResult<()> {
         self.stats.dropped_manifolds = 0;
         // The workers stay out of `self` while their findings are applied.
         let workers = std::mem::take(&mut self.workers);
         let applied = self.apply_found(world, &workers[..self.active_workers]);
         self.workers = workers;
         applied?;
-        self.record_events(world, quiet);
+        self.record_events(world, quiet, listed);
         if self.stats.dropped_manifolds > 0 {
             log::warn!(
                 "{} contact manifolds left out: the world holds at most {} constraints",
@@ -123,47 +129,6 @@ impl CollisionWorld {
             });
         }
         self.pairs.remove(slot);
-    }
-
-    /// Destroys the manifolds no longer generated, and records the pairs' events.
-    fn record_events(&mut self, world: &mut World, quiet: bool) {
-        // A quiet update after a quiet one: every pair rests as it did, touching as it
-        // did, so the events are the last update's (each touching pair persisting).
-        let same = quiet && self.events_quiet && self.pending_events.is_empty();
-        self.events_quiet = quiet && self.pending_events.is_empty();
-        if same {
-            return;
-        }
-        self.events.clear();
-        self.events.append(&mut self.pending_events);
-        for p in self.pairs.slots.iter_mut().filter(|p| p.alive) {
-            if !p.resting {
-                p.manifolds.retain(|m| {
-                    if !m.seen {
-                        let _ = world.destroy_constraint(m.handle); // may be gone with its body
-                    }
-                    m.seen
-                });
-            }
-            // A resting pair touches as it did (the narrow phase passed it by).
-            let now = if p.resting {
-                p.touching
-            } else {
-                p.touching_now
-            };
-            let kind = match (p.touching, now) {
-                (false, true) => Some(ContactEventKind::Began),
-                (true, true) => Some(ContactEventKind::Persisted),
-                (true, false) => Some(ContactEventKind::Ended),
-                (false, false) => None,
-            };
-            p.touching = now;
-            if let Some(kind) = kind {
-                let (a, b) = p.colliders;
-                let colliders = [handle_of(&self.slots, a), handle_of(&self.slots, b)];
-                self.events.push(ContactEvent { kind, colliders });
-            }
-        }
     }
 }
 

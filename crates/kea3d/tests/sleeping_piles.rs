@@ -126,3 +126,86 @@ fn balls_landing_on_a_sleeping_pit_wake_it_on_the_bits_of_full_passes() {
     }
     step_both(&mut w, &mut twin, 240, "a ball dropped");
 }
+
+/// Beside a sleeping pyramid, a box slides along the floor (its pair with the floor looked at
+/// every step, the pile's passed by: the narrow phase lists the pairs it visits and merges the
+/// pile's events with the sled's), a pendulum swings over the floor with a ball bouncing
+/// under it (pairs that begin and end touching, and a pair that parts and touches again), a
+/// ball lands on the pile and wakes it, and a sleeping box and a sleeping jointed pair lose
+/// their body and joint. The forgetful twin, which passes over every pair and rebuilds every
+/// event, must agree at every step.
+#[test]
+fn a_sleeping_pile_beside_moving_bodies_steps_on_the_bits_of_full_passes() {
+    use kea3d::prelude::{Body, Collider, Joint};
+    let mut w = scene("pyramid");
+    let mut twin = w.clone();
+    let bodies = w.dynamics().body_count() as u32;
+    let (asleep, _) = step_both(&mut w, &mut twin, 240, "settling");
+    assert_eq!(asleep, bodies, "the pyramid falls asleep whole");
+    // Two boxes joined by a ball joint, resting on the floor away from everything: asleep
+    // by the time they are taken apart.
+    let mut made = Vec::new();
+    for world in [&mut w, &mut twin] {
+        let add = |world: &mut PhysicsWorld, at: [Real; 3], c: Collider| {
+            let b = world.insert_body(Body::dynamic().position(at)).unwrap();
+            world.insert_collider(c, Some(b)).unwrap();
+            b
+        };
+        let sled = add(world, [-6.0, 0.5, 4.0], Collider::cuboid([0.5; 3]));
+        world.set_linear_velocity(sled, [4.0, 0.0, 0.0]).unwrap();
+        let bob = add(world, [8.0, 1.2, 4.0], Collider::ball(0.2));
+        world
+            .insert_joint(bob, None, Joint::hinge([10.0, 1.2, 4.0], [0.0, 0.0, 1.0]))
+            .unwrap();
+        let bouncer = add(world, [9.0, 1.5, 4.0], Collider::ball(0.25));
+        let pair = [
+            add(world, [-6.0, 0.5, -4.0], Collider::cuboid([0.5; 3])),
+            add(world, [-4.9, 0.5, -4.0], Collider::cuboid([0.5; 3])),
+        ];
+        let joint = world
+            .insert_joint(pair[0], Some(pair[1]), Joint::ball([-5.45, 0.5, -4.0]))
+            .unwrap();
+        made.push((sled, bob, bouncer, pair, joint));
+    }
+    assert_eq!(made[0].0, made[1].0, "the same handles in both");
+    step_both(
+        &mut w,
+        &mut twin,
+        90,
+        "the sled slides, the pendulum swings",
+    );
+    let events = w.collision().events();
+    assert!(
+        events.len() > 100,
+        "the pile's resting pairs are still reported: {}",
+        events.len()
+    );
+    // A sleeping box of the pyramid goes while the others move.
+    let (_, top) = w.named_bodies().last().unwrap().clone();
+    let (_, _, bouncer, pair, joint) = made[0];
+    for world in [&mut w, &mut twin] {
+        assert!(world.dynamics().body(top).unwrap().is_sleeping());
+        world.remove_body(top).unwrap();
+    }
+    step_both(&mut w, &mut twin, 120, "a box went");
+    // The jointed pair, asleep, loses its joint and then a body.
+    for world in [&mut w, &mut twin] {
+        assert!(world.dynamics().body(pair[1]).unwrap().is_sleeping());
+        world.remove_joint(joint).unwrap();
+    }
+    step_both(&mut w, &mut twin, 30, "a joint went");
+    for world in [&mut w, &mut twin] {
+        world.remove_body(pair[0]).unwrap();
+    }
+    step_both(&mut w, &mut twin, 30, "a jointed body went");
+    // A ball thrown onto the pile wakes it.
+    for world in [&mut w, &mut twin] {
+        world.set_position(bouncer, [0.0, 12.0, 0.0]).unwrap();
+        world.set_linear_velocity(bouncer, [0.0, 0.0, 0.0]).unwrap();
+    }
+    step_both(&mut w, &mut twin, 120, "a ball on the pile");
+    assert!(
+        w.dynamics().body_count() as u32 > bodies,
+        "bodies were added and removed as planned"
+    );
+}
