@@ -46,8 +46,12 @@ pub(crate) struct EventRecord {
     pending: usize,
     /// `slots` and `pending` describe `CollisionWorld::events` (not after a restore).
     kept: bool,
+    /// Every pair event persisted: none began or ended.
+    steady: bool,
     spare_events: Vec<ContactEvent>,
     spare_slots: Vec<u32>,
+    /// The visited pairs' events of an update, before they are merged in.
+    fresh: Vec<(u32, Option<ContactEvent>)>,
 }
 
 impl Clone for EventRecord {
@@ -62,10 +66,13 @@ impl Clone for EventRecord {
         self.slots.clone_from(&o.slots);
         self.pending = o.pending;
         self.kept = o.kept;
+        self.steady = o.steady;
         self.spare_events.clear();
         self.spare_events.reserve(o.spare_events.capacity());
         self.spare_slots.clear();
         self.spare_slots.reserve(o.spare_slots.capacity());
+        self.fresh.clear();
+        self.fresh.reserve(o.fresh.capacity());
     }
 }
 
@@ -76,6 +83,7 @@ impl EventRecord {
             v.reserve(events.saturating_sub(v.len()));
         }
         self.spare_events.reserve(events);
+        self.fresh.reserve(events);
     }
 
     /// The events no longer match the record (they were cleared).
@@ -115,60 +123,78 @@ impl CollisionWorld {
                 self.event_record.slots.push(slot);
             }
         }
-        self.event_record.kept = true;
+        let r = &mut self.event_record;
+        r.kept = true;
+        r.steady = self.events[r.pending..]
+            .iter()
+            .all(|e| e.kind == ContactEventKind::Persisted);
     }
 
     /// The visited pairs' events read from the pairs, the others' carried on from the last
     /// update's list, in slot order: what `rebuild_events` would make.
     fn merge_events(&mut self, world: &mut World) {
+        // The visited pairs' events first, read from the pairs.
+        let visited = std::mem::take(&mut self.visited_pairs);
+        let mut fresh = std::mem::take(&mut self.event_record.fresh);
+        fresh.clear();
+        for &slot in &visited {
+            fresh.push((slot, self.pair_event(world, slot)));
+        }
+        let mut removed = std::mem::take(&mut self.pairs.removed);
+        removed.sort_unstable();
+        let r = &mut self.event_record;
+        // Last update's pair events all persisted and no pair went: the runs between the
+        // visited pairs are copied whole, and if the visited pairs' events are as they were
+        // (a pair that does not touch, or touches on) the list is.
+        let whole = r.steady && removed.is_empty();
+        let unchanged = whole
+            && r.pending == 0
+            && self.pending_events.is_empty()
+            && fresh.iter().all(
+                |&(slot, event)| match (r.slots.binary_search(&slot), event) {
+                    (Ok(k), Some(e)) => self.events[k] == e,
+                    (Err(_), None) => true,
+                    _ => false,
+                },
+            );
+        if !unchanged {
+            self.merge_fresh(&fresh, whole, &removed);
+        }
+        self.event_record.fresh = fresh;
+        self.visited_pairs = visited;
+        self.pairs.removed = removed;
+    }
+
+    /// The new list: pending events, then the visited pairs' `fresh` events merged in slot
+    /// order with the others' carried on (`whole`: copied as they are).
+    fn merge_fresh(&mut self, fresh: &[(u32, Option<ContactEvent>)], whole: bool, removed: &[u32]) {
         let r = &mut self.event_record;
         let mut events = std::mem::take(&mut r.spare_events);
         let mut slots = std::mem::take(&mut r.spare_slots);
-        let (old_events, old_slots) = (
-            std::mem::take(&mut self.events),
-            std::mem::take(&mut r.slots),
-        );
-        let old_pending = r.pending;
-        let visited = std::mem::take(&mut self.visited_pairs);
         events.clear();
         slots.clear();
         let pending = self.pending_events.len();
         events.append(&mut self.pending_events);
-        let mut removed = std::mem::take(&mut self.pairs.removed);
-        removed.sort_unstable();
-        let (mut i, mut j) = (0, 0);
-        while i < old_slots.len() || j < visited.len() {
-            let old = old_slots.get(i).copied();
-            let next = visited.get(j).copied();
-            if let Some(slot) = old.filter(|&s| next.is_none_or(|v| s < v)) {
-                // Passed by: touching as it was, or gone (forgotten since).
-                let e = old_events[old_pending + i];
-                i += 1;
-                let gone = removed.binary_search(&slot).is_ok();
-                if !gone && e.kind != ContactEventKind::Ended {
-                    events.push(ContactEvent {
-                        kind: ContactEventKind::Persisted,
-                        colliders: e.colliders,
-                    });
-                    slots.push(slot);
-                }
-                continue;
-            }
-            let slot = next.expect("a visited pair is next");
-            if old == Some(slot) {
-                i += 1;
-            }
-            j += 1;
-            if let Some(event) = self.pair_event(world, slot) {
+        let old_pair_events = &self.events[r.pending..];
+        let old_slots = &r.slots;
+        // Carried-on events all persist: the list is steady if the visited pairs' do.
+        let mut steady = true;
+        let mut i = 0;
+        for &(slot, event) in fresh.iter().chain(std::iter::once(&(u32::MAX, None))) {
+            let end = i + old_slots[i..].partition_point(|&s| s < slot);
+            let run = (&old_pair_events[i..end], &old_slots[i..end]);
+            carry_on(run, whole, removed, (&mut events, &mut slots));
+            i = end + usize::from(old_slots.get(end) == Some(&slot));
+            if let Some(event) = event {
+                steady &= event.kind == ContactEventKind::Persisted;
                 events.push(event);
                 slots.push(slot);
             }
         }
-        let r = &mut self.event_record;
+        let old_events = std::mem::replace(&mut self.events, events);
+        let old_slots = std::mem::replace(&mut r.slots, slots);
         (r.spare_events, r.spare_slots) = (old_events, old_slots);
-        (self.events, r.slots, r.pending) = (events, slots, pending);
-        self.visited_pairs = visited;
-        self.pairs.removed = removed;
+        (r.pending, r.steady) = (pending, steady);
     }
 
     /// Pair `slot`'s event this update, if it is live: a pair the narrow phase looked at
@@ -202,5 +228,31 @@ impl CollisionWorld {
         let (a, b) = p.colliders;
         let colliders = [handle_of(&self.slots, a), handle_of(&self.slots, b)];
         Some(ContactEvent { kind, colliders })
+    }
+}
+
+/// Carries the events of pairs the narrow phase passed by into the next list: each still
+/// touching, so persisting (one that began last update persists now, one that ended is
+/// gone), but for pairs removed since. `whole`: every event persisted and none went, so the
+/// run is copied as it is.
+fn carry_on(
+    (events, slots): (&[ContactEvent], &[u32]),
+    whole: bool,
+    removed: &[u32],
+    (into_events, into_slots): (&mut Vec<ContactEvent>, &mut Vec<u32>),
+) {
+    if whole {
+        into_events.extend_from_slice(events);
+        into_slots.extend_from_slice(slots);
+        return;
+    }
+    for (e, &slot) in events.iter().zip(slots) {
+        if e.kind != ContactEventKind::Ended && removed.binary_search(&slot).is_err() {
+            into_events.push(ContactEvent {
+                kind: ContactEventKind::Persisted,
+                colliders: e.colliders,
+            });
+            into_slots.push(slot);
+        }
     }
 }

@@ -159,11 +159,13 @@ impl World {
                 }
             }
         }
+        // Nothing wakes without a frontier: the flags stay empty (read as false), so that
+        // passes over them cost nothing.
         s.wake.clear();
-        s.wake.resize(n, false);
         if !frontier {
             return;
         }
+        s.wake.resize(n, false);
         // Sleeping bodies may wake: this step's passes look at every constraint slot.
         s.awake_constraints_listed = false;
         for &[a, b] in &self.constraint_bodies {

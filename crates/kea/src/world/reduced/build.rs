@@ -187,8 +187,7 @@ impl World {
         let mut k = 0;
         while k < plan.len() {
             let LinkPlan { body, joint, .. } = plan[k];
-            let (from, to) = (r.start[body as usize], r.start[body as usize + 1]);
-            for &(j, other) in &r.adjacency[from as usize..to as usize] {
+            for (j, other) in r.joints_of(body) {
                 if j == joint {
                     continue; // the way back to the parent
                 }

@@ -203,10 +203,8 @@ pub(super) struct ReducedScratch {
     base_joint: Vec<u32>,
     /// The roots of the sets that qualify this step.
     roots: Vec<u32>,
-    /// Joints between links, by body: `adjacency[start[b]..start[b + 1]]` = (joint, other).
-    start: Vec<u32>,
-    adjacency: Vec<(u32, u32)>,
-    fill: Vec<u32>,
+    /// Joints between links: (body, joint, other body), sorted (`World::link_adjacency`).
+    adjacency: Vec<(u32, u32, u32)>,
     /// The slots of the joints a tree may take, ascending, as of joint revision
     /// `joint_slots_of` (`qualify.rs`).
     joint_slots: Vec<u32>,

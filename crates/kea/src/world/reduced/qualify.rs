@@ -231,46 +231,25 @@ impl World {
         }
     }
 
-    /// The joints between links, by body (`adjacency[start[b]..start[b + 1]]`: joint slot,
-    /// other body), for laying trees out.
+    /// The joints between links, by body: (body, joint slot, other body), sorted, so that a
+    /// body's are a run (`ReducedScratch::joints_of`), for laying trees out. Only the joints'
+    /// slots are read, not every contact's nor every body's (a tree built every step, a ball
+    /// joint's, beside a sleeping pile costs its joints).
     pub(super) fn link_adjacency(&mut self) {
-        let n = self.bodies.slot_count();
         self.list_joint_slots();
         let r = &mut self.scratch.reduced;
-        r.start.clear();
-        r.start.resize(n + 1, 0);
-        // Joints between links (a contact between two links of a tree joins nothing): only
-        // the joints' slots are read, not every contact's (a tree built every step, a ball
-        // joint's, beside a pile would otherwise scan the pile's contacts every step).
         let bodies = &self.constraint_bodies;
-        let linked = |r: &ReducedScratch, [a, b]: [u32; 2]| {
-            a != EMPTY && r.role_of(a) == Role::Link && r.role_of(b) == Role::Link
-        };
-        for &slot in &r.joint_slots {
-            let pair = bodies[slot as usize];
-            if linked(r, pair) {
-                r.start[pair[0] as usize + 1] += 1;
-                r.start[pair[1] as usize + 1] += 1;
-            }
-        }
-        for i in 0..n {
-            r.start[i + 1] += r.start[i];
-        }
         r.adjacency.clear();
-        r.adjacency.resize(r.start[n] as usize, (0, 0));
-        r.fill.clear();
-        r.fill.extend_from_slice(&r.start[..n]);
         for k in 0..r.joint_slots.len() {
             let slot = r.joint_slots[k];
             let [a, b] = bodies[slot as usize];
-            if linked(r, [a, b]) {
-                for (x, y) in [(a, b), (b, a)] {
-                    let k = r.fill[x as usize] as usize;
-                    r.adjacency[k] = (slot, y);
-                    r.fill[x as usize] += 1;
-                }
+            // Joints between links (a contact between two links of a tree joins nothing).
+            if a != EMPTY && r.role_of(a) == Role::Link && r.role_of(b) == Role::Link {
+                r.adjacency.push((a, slot, b));
+                r.adjacency.push((b, slot, a));
             }
         }
+        r.adjacency.sort_unstable();
     }
 
     /// Lists the slots that hold a joint a tree may take, ascending, once per joint revision
@@ -292,6 +271,15 @@ impl World {
 }
 
 impl ReducedScratch {
+    /// Body slot `body`'s joints to other links, by joint slot ascending: (joint slot,
+    /// other body) (after `World::link_adjacency`).
+    pub(super) fn joints_of(&self, body: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
+        let from = self.adjacency.partition_point(|&(b, _, _)| b < body);
+        let run = self.adjacency[from..].iter();
+        run.take_while(move |&&(b, _, _)| b == body)
+            .map(|&(_, joint, other)| (joint, other))
+    }
+
     /// The role of a constraint's side (`NO_BODY`: the static world, a base).
     pub(super) fn role_of(&self, x: u32) -> Role {
         if x == NO_BODY {
