@@ -496,7 +496,7 @@ impl Sandbox {
 
     fn settings(&mut self, rng: &mut Rng) -> Outcome {
         let w = self.physics.dynamics_mut();
-        match rng.below(11) {
+        match rng.below(12) {
             0 => w.update_settings(|s| s.gravity = rng.vec3(-20.0, 20.0)),
             1 => w.update_settings(|s| s.epsilon = rng.real(0.0, 0.1)),
             2 => w.update_settings(|s| s.gamma = rng.real(0.0, 1.0)),
@@ -543,6 +543,23 @@ impl Sandbox {
                 ][rng.below(3)];
                 w.update_settings(|s| s.integrator = integrator)
             }
+            // Sleeping on (thresholds loose enough that bodies fall asleep within a run, and
+            // wake when touched, pushed or taken apart) or off.
+            11 => w.update_settings(|s| {
+                s.dem = if rng.chance(0.7) {
+                    kea::DemSettings {
+                        mode: kea::DemMode::PartitionAutoDisable,
+                        velocity_threshold: rng.real(0.0, 2.0),
+                        angular_velocity_threshold: rng.real(0.0, 2.0),
+                        acceleration_threshold: rng.real(0.0, 20.0),
+                        angular_acceleration_threshold: rng.real(0.0, 20.0),
+                        alive_window: rng.real(0.0, 0.5),
+                        ..kea::DemSettings::default()
+                    }
+                } else {
+                    kea::DemSettings::default()
+                }
+            }),
             _ => {
                 self.physics.collision_mut().touch_distance = rng.real(0.0, 0.01);
                 Ok(())
