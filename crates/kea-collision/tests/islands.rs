@@ -225,3 +225,84 @@ fn a_clone_taken_mid_run_lists_the_same_islands_and_steps_to_the_same_bits() {
     assert_eq!(list.len(), 2, "{list:?}");
     assert!((0..2).all(|k| list.is_asleep(k)));
 }
+
+/// The largest move up or down of any of `bodies` since their heights `before`.
+fn largest_move(w: &World, bodies: &[BodyHandle], before: &[Real]) -> Real {
+    bodies
+        .iter()
+        .zip(before)
+        .map(|(&b, &y)| (y - w.body(b).unwrap().position().y).abs())
+        .fold(0.0, Real::max)
+}
+
+#[test]
+fn a_contacts_warm_start_survives_sleep_and_wake() {
+    // A stack of 8 boxes falls asleep carrying its weight: each contact's force at the end of
+    // its last awake step (the next step's warm start) is kept while it sleeps.
+    // The iterative path (the exact path, which a stack takes by default, starts from no
+    // guess).
+    let (mut w, mut c) = world(8, true);
+    w.update_settings(|s| s.routing.mode = kea::SolverMode::Iterative)
+        .unwrap();
+    let pile = stack(&mut w, &mut c, 0.0, 8);
+    for _ in 0..240 {
+        common::step(&mut c, &mut w, DT).unwrap();
+    }
+    assert!(pile.iter().all(|&b| w.body(b).unwrap().is_sleeping()));
+    let warm = |w: &World| -> Vec<(kea::ConstraintHandle, Vec<kea::PointForce>)> {
+        w.contacts()
+            .map(|(h, contact, _)| (h, contact.warm_forces().to_vec()))
+            .collect()
+    };
+    let asleep = warm(&w);
+    let weight: Real = pile
+        .iter()
+        .map(|&b| w.body(b).unwrap().mass())
+        .sum::<Real>()
+        * 9.81;
+    let floor: Real = asleep
+        .iter()
+        .filter(|(h, _)| w.constraint_bodies(*h).unwrap().contains(&None))
+        .flat_map(|(_, f)| f.iter().map(|f| f.normal))
+        .sum();
+    assert!(
+        (floor - weight).abs() < 0.05 * weight,
+        "the floor's warm start carries the stack: {floor} against {weight} N"
+    );
+    for _ in 0..30 {
+        common::step(&mut c, &mut w, DT).unwrap();
+    }
+    assert_eq!(
+        warm(&w),
+        asleep,
+        "asleep, the warm starts are kept as they were"
+    );
+    // Woken, the stack takes up its load from the kept warm start and barely moves; the same
+    // stack with its warm starts cleared sags in the first step.
+    let mut cold = (w.clone(), c.clone());
+    for (h, forces) in &asleep {
+        let zero = vec![kea::PointForce::default(); forces.len()];
+        cold.0.contact_mut(*h).unwrap().set_forces(&zero);
+    }
+    let heights: Vec<Real> = pile
+        .iter()
+        .map(|&b| w.body(b).unwrap().position().y)
+        .collect();
+    let mut drops = Vec::new();
+    for (w, c) in [(&mut w, &mut c), (&mut cold.0, &mut cold.1)] {
+        w.wake_body(pile[0]).unwrap();
+        common::step(c, w, DT).unwrap();
+        assert!(
+            pile.iter().all(|&b| !w.body(b).unwrap().is_sleeping()),
+            "woken whole"
+        );
+        drops.push(largest_move(w, &pile, &heights));
+    }
+    let (warm_drop, cold_drop) = (drops[0], drops[1]);
+    println!("warm start: {warm_drop:.2e} m, cold: {cold_drop:.2e} m");
+    assert!(
+        warm_drop < 0.25 * cold_drop && warm_drop < 1.0e-4,
+        "woken from its warm start the stack moves {warm_drop:.2e} m in a step, from a cold \
+         start {cold_drop:.2e} m"
+    );
+}
