@@ -80,9 +80,57 @@ fn every_demo_scene_steps_warm_without_allocating() {
     }
     STEPS_HERE.with(|c| c.set(true));
     #[cfg(feature = "parallel")]
-    pool.install(|| check_scenes(&names));
+    pool.install(|| {
+        check_scenes(&names);
+        check_sleeping_pile_beside_motion();
+    });
     #[cfg(not(feature = "parallel"))]
-    check_scenes(&names);
+    {
+        check_scenes(&names);
+        check_sleeping_pile_beside_motion();
+    }
+}
+
+/// A pyramid asleep beside a box sliding to a stop and a swinging pendulum: the steps that
+/// list the awake bodies' constraints and the pairs that may move, and merge the pile's
+/// contact events with the moving bodies', allocate nothing once warm either.
+fn check_sleeping_pile_beside_motion() {
+    use kea3d::prelude::{Body, Collider, Joint};
+    let path = format!("{}/../../scenes/pyramid.json", env!("CARGO_MANIFEST_DIR"));
+    let scene = Scene::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut w = PhysicsWorld::from_scene(build(&scene).unwrap());
+    w.dynamics_mut()
+        .update_settings(|s| s.dem.mode = kea::DemMode::PartitionAutoDisable)
+        .unwrap();
+    for _ in 0..240 {
+        w.step(DT).unwrap();
+    }
+    let sled = w
+        .insert_body(Body::dynamic().position([-6.0, 0.5, 4.0]))
+        .unwrap();
+    w.insert_collider(Collider::cuboid([0.5; 3]), Some(sled))
+        .unwrap();
+    w.set_linear_velocity(sled, [2.0, 0.0, 0.0]).unwrap();
+    let bob = w
+        .insert_body(Body::dynamic().position([8.0, 1.2, 4.0]))
+        .unwrap();
+    w.insert_collider(Collider::ball(0.2), Some(bob)).unwrap();
+    w.insert_joint(bob, None, Joint::hinge([10.0, 1.2, 4.0], [0.0, 0.0, 1.0]))
+        .unwrap();
+    for _ in 0..120 {
+        w.step(DT).unwrap();
+    }
+    let asleep = w.step(DT).unwrap().sleeping_bodies;
+    assert!(asleep >= 200, "the pile sleeps beside the motion: {asleep}");
+    let n = allocations_in(|| {
+        for _ in 0..240 {
+            w.step(DT).unwrap();
+        }
+    });
+    assert_eq!(
+        n, 0,
+        "{n} allocations over 240 warm steps beside a sleeping pile"
+    );
 }
 
 fn check_scenes(names: &[std::path::PathBuf]) {
