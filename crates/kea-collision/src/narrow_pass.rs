@@ -135,6 +135,9 @@ impl CollisionWorld {
         }
         // One worker runs the list: at most a chunk, the room each worker keeps.
         let most = (self.pairs.len() / LIST_SHARE).min(PAIR_CHUNK);
+        if self.unrested.len() + self.found_pairs.len() > most {
+            return false;
+        }
         let list = &mut self.visited_pairs;
         list.clear();
         list.extend_from_slice(&self.unrested);

@@ -133,3 +133,70 @@ fn projection_closes_joints_in_steps_where_a_limit_comes_or_goes() {
     assert!(projected < 1e-4, "with projection: {projected}");
     assert!(unprojected > 10.0 * projected, "without: {unprojected}");
 }
+
+/// Many resting boxes (so that a step lists its awake bodies' constraints rather than
+/// scanning every slot) beside a pendulum; the pile is held by joints to the world.
+fn pile_beside_a_pendulum(pile: usize) -> (World, kea::BodyHandle) {
+    let mut world = World::with_capacity(pile + 1, 4 * pile + 8).unwrap();
+    for i in 0..pile {
+        let b = world
+            .create_body(&BodyDef {
+                position: Vec3::new(3.0 + i as kea::Real, 0.0, 0.0),
+                ..BodyDef::default()
+            })
+            .unwrap();
+        world
+            .create_joint(
+                b,
+                None,
+                kea::JointSpec::fixed(Vec3::new(3.0 + i as kea::Real, 0.0, 0.0)),
+            )
+            .unwrap();
+    }
+    let bob = world
+        .create_body(&BodyDef {
+            position: Vec3::new(1.0, 0.0, 0.0),
+            ..BodyDef::default()
+        })
+        .unwrap();
+    world
+        .create_joint(bob, None, kea::JointSpec::ball(Vec3::ZERO))
+        .unwrap();
+    (world, bob)
+}
+
+#[test]
+fn joint_error_sees_joints_made_and_worlds_copied_in_since_the_last_step() {
+    let (mut world, bob) = pile_beside_a_pendulum(40);
+    world
+        .update_settings(|s| s.dem.mode = kea::DemMode::PartitionAutoDisable)
+        .unwrap();
+    for _ in 0..120 {
+        world.step(1.0 / 60.0).unwrap();
+    }
+    // A joint made after the step, opened 0.1 m: the last step's listing did not have it.
+    let other = world
+        .create_body(&BodyDef {
+            position: Vec3::new(-2.0, 0.0, 0.0),
+            ..BodyDef::default()
+        })
+        .unwrap();
+    world
+        .create_joint(
+            other,
+            Some(bob),
+            kea::JointSpec::ball(Vec3::new(-1.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    world
+        .body_mut(other)
+        .unwrap()
+        .set_position(Vec3::new(-2.1, 0.0, 0.0))
+        .unwrap();
+    let e = world.joint_error();
+    assert!(e > 0.09, "the new joint's gap is seen: {e}");
+    // A smaller world's state copied in: nothing of the last step's listing is read.
+    let (small, _) = pile_beside_a_pendulum(0);
+    world.copy_state_from(&small);
+    assert!(world.joint_error() < 1e-6);
+}

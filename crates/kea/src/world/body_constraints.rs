@@ -48,6 +48,11 @@ impl BodyConstraints {
         }
     }
 
+    /// Room for `bodies` bodies and `constraints` constraints in all.
+    pub(crate) fn reserve(&mut self, bodies: usize, constraints: usize) {
+        self.lists.reserve(bodies, constraints);
+    }
+
     /// Forgets every edge.
     #[cfg(feature = "serde")]
     pub(crate) fn clear(&mut self) {

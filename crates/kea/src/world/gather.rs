@@ -64,6 +64,9 @@ impl World {
         let params = self.solver_params(1.0 / 60.0);
         self.scratch.wake.clear(); // the next step plans its own waking
         self.awake.refresh(&self.bodies);
+        // The listing of the awake bodies' constraints as they are now (the last step's may
+        // name slots since changed, or a world since copied in).
+        self.list_awake_constraints();
         self.collect_bodies();
         self.gather_rows(&params);
         let s = &self.scratch;

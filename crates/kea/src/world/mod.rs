@@ -434,6 +434,8 @@ impl World {
         reserve_total(&mut s.solver_bodies, nb);
         reserve_total(&mut s.island_flag, nb);
         reserve_total(&mut s.wake, nb);
+        reserve_total(&mut s.awake_constraints, nc);
+        self.body_constraints.reserve(nb, nc);
         reserve_total(&mut s.quarantine_root, nb);
         s.sleep_sets.reserve(nb);
         s.quarantine_sets.reserve(nb);
