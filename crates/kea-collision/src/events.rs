@@ -117,17 +117,16 @@ impl CollisionWorld {
         self.event_record.slots.clear();
         self.event_record.pending = self.pending_events.len();
         self.events.append(&mut self.pending_events);
+        let mut steady = true;
         for slot in 0..self.pairs.slots.len() as u32 {
             if let Some(event) = self.pair_event(world, slot) {
+                steady &= event.kind == ContactEventKind::Persisted;
                 self.events.push(event);
                 self.event_record.slots.push(slot);
             }
         }
         let r = &mut self.event_record;
-        r.kept = true;
-        r.steady = self.events[r.pending..]
-            .iter()
-            .all(|e| e.kind == ContactEventKind::Persisted);
+        (r.kept, r.steady) = (true, steady);
     }
 
     /// The visited pairs' events read from the pairs, the others' carried on from the last
